@@ -1,0 +1,89 @@
+# restir — C99 reference renderer for the ReSTIR family.
+# Needs only a C99 compiler (gcc or clang), make, libc, libm and pthreads.
+#
+#   make                 build build/restir
+#   make run             render scenes/cornell.scene to out/cornell.{pfm,png}
+#   make test            build and run the test suite (ends with "N passed, N failed")
+#   make test-long       the longer statistical suites too
+#   make test-data       load every file of ../shared/data (real-world OBJ/MTL/PFM)
+#   make bench           benchmarks, machine-readable JSON on stdout
+# Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  SEED=n  T=filter  BUILD=dir
+
+PRECISION ?= double
+SANITIZE ?= 0
+WERROR ?= 0
+
+ifeq ($(SANITIZE),1)
+BUILD_SAN := /san
+endif
+ifeq ($(PRECISION),float)
+BUILD_PREC := /float
+endif
+BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)
+
+CFLAGS ?= -O2
+CFLAGS += -std=c99 -Wall -Wextra -Wpedantic -ffp-contract=off -D_POSIX_C_SOURCE=200809L
+CPPFLAGS += -Iinclude -MMD -MP
+LDLIBS += -lm -lpthread
+ifeq ($(PRECISION),float)
+CPPFLAGS += -DRESTIR_REAL_FLOAT
+endif
+ifeq ($(SANITIZE),1)
+CFLAGS += -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+LDFLAGS += -fsanitize=address,undefined
+endif
+ifeq ($(WERROR),1)
+CFLAGS += -Werror
+endif
+
+LIB_SRC := $(sort $(filter-out src/cli/main.c,$(wildcard src/*/*.c)))
+LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
+TEST_SRC := $(sort $(wildcard tests/*.c))
+TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
+
+.PHONY: all run test test-long test-data bench clean
+all: $(BUILD)/restir
+
+$(BUILD)/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/librestir.a: $(LIB_OBJ)
+	@rm -f $@
+	$(AR) rcs $@ $^
+
+$(BUILD)/restir: $(BUILD)/src/cli/main.o $(BUILD)/librestir.a
+	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
+
+# The test registry is generated from the TEST(...) / TEST_LONG(...) lines, so a new
+# test is a new function and nothing else.
+$(BUILD)/test_registry.h: $(TEST_SRC)
+	@mkdir -p $(dir $@)
+	@sed -n -e 's/^TEST(\([A-Za-z0-9_]*\)).*/X(\1, 0)/p' -e 's/^TEST_LONG(\([A-Za-z0-9_]*\)).*/X(\1, 1)/p' $(TEST_SRC) > $@.tmp
+	@mv $@.tmp $@
+
+$(BUILD)/tests/test_main.o: $(BUILD)/test_registry.h
+$(BUILD)/tests/%.o: CPPFLAGS += -I$(BUILD) -Itests -DRESTIR_BIN='"$(BUILD)/restir"' -DRESTIR_TMP='"$(BUILD)/test-tmp"'
+
+$(BUILD)/tests/run: $(TEST_OBJ) $(BUILD)/librestir.a
+	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
+
+run: $(BUILD)/restir
+	$(BUILD)/restir render scenes/cornell.scene -o out/cornell.pfm --png out/cornell.png
+
+test: $(BUILD)/restir $(BUILD)/tests/run
+	$(BUILD)/tests/run $(if $(SEED),--seed $(SEED)) $(T)
+
+test-long: $(BUILD)/restir $(BUILD)/tests/run
+	$(BUILD)/tests/run --long $(if $(SEED),--seed $(SEED)) $(T)
+
+test-data: $(BUILD)/restir
+	sh tests/test-data.sh $(BUILD)/restir ../shared/data
+
+bench: $(BUILD)/restir
+	$(BUILD)/restir bench all
+
+clean:
+	rm -rf build out
+
+-include $(LIB_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(BUILD)/src/cli/main.d

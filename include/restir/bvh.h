@@ -1,0 +1,61 @@
+/* Bounding volume hierarchy over triangles: binned-SAH build, 32-byte flattened
+ * nodes, ordered stack traversal, watertight ray/triangle test (Woop et al. 2013).
+ * Geometry is float (DESIGN §3). */
+#ifndef RESTIR_BVH_H
+#define RESTIR_BVH_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "restir/error.h"
+#include "restir/vec.h"
+
+typedef struct {
+    vec3f origin, dir;
+    float tmin, tmax;
+} ray;
+
+#define BVH_NO_HIT UINT32_MAX
+
+typedef struct {
+    float t;
+    float b1, b2;  /* barycentric coordinates of vertices 1 and 2 */
+    uint32_t tri;  /* original triangle index, or BVH_NO_HIT */
+} bvh_hit;
+
+/* 32 bytes: bounds, then either the right child's index (interior; the left child
+ * is the next node) or the first primitive (leaf), and the primitive count (0 = interior)
+ * with the split axis packed in. */
+typedef struct {
+    float min[3];
+    uint32_t offset;  /* leaf: first index into prim_order; interior: right child */
+    float max[3];
+    uint32_t count_axis; /* leaf: primitive count (>0) in the low 24 bits; interior: axis << 24 */
+} bvh_node;
+
+typedef struct {
+    bvh_node *nodes;
+    size_t node_count;
+    uint32_t *prim_order;   /* leaf slots -> original triangle index */
+    vec3f *leaf_vertices;   /* 3 vertices per leaf slot, in prim_order order */
+    size_t prim_count;
+    int depth;
+    double sah_cost;
+} bvh;
+
+/* Builds over tri_count triangles given as 3 consecutive vertices each. */
+int bvh_build(bvh *b, const vec3f *tri_vertices, size_t tri_count, rerror *e);
+void bvh_free(bvh *b);
+
+/* Closest hit with t in (r->tmin, r->tmax). Returns 1 on a hit. */
+int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h);
+/* Any hit with t in (r->tmin, r->tmax). Returns 1 if occluded. */
+int bvh_occluded(const bvh *b, const ray *r);
+
+/* Watertight ray/triangle test (Woop, Benthin, Wald 2013). 1 on a hit in range. */
+int ray_triangle_watertight(const ray *r, vec3f v0, vec3f v1, vec3f v2, float *t, float *b1, float *b2);
+
+/* Robust, scale-invariant ray-origin offset along the (geometric) normal n
+ * (Wächter & Binder, Ray Tracing Gems ch. 6): integer ULP offsets scaled with |p|. */
+vec3f offset_ray_origin(vec3f p, vec3f n);
+
+#endif

@@ -1,0 +1,77 @@
+/* The addressed counter-based random number generator (DESIGN §3, docs/rng.md).
+ *
+ * A random number is a pure function of its address:
+ *     u = U(seed, pixel, sample, stream, vertex, slot)
+ * so a path can be replayed from its identity alone, and nothing consumed in one
+ * stream can put another stream out of step (the failure mode of streamed RNGs in
+ * random replay, notes pitfall 1). The hash is pcg4d (Jarzynski & Olano 2020). */
+#ifndef RESTIR_RNG_H
+#define RESTIR_RNG_H
+
+#include <stdint.h>
+#include "restir/vec.h"
+
+/* Streams: each purpose draws from its own stream. Only RNG_BSDF is replayed by
+ * the random-replay shift. Values are part of the documented bit-exact scheme. */
+enum rng_stream {
+    RNG_CAMERA = 0,    /* sub-pixel jitter */
+    RNG_BSDF = 1,      /* lobe choice + direction sampling at each vertex (replayed) */
+    RNG_NEE = 2,       /* light selection + point on the light */
+    RNG_RR = 3,        /* Russian roulette */
+    RNG_RIS = 4,       /* reservoir selection */
+    RNG_NEIGHBOR = 5,  /* spatial neighbour choice */
+    RNG_MUTATE = 6,    /* MCMC proposals and acceptance */
+    RNG_THRESHOLD = 7, /* randomised thresholds (e.g. footprint criterion) */
+    RNG_TEST = 8       /* tests and tools (never used by estimators) */
+};
+
+/* The address of one random number. `sample` identifies the path (or sample) within
+ * the pixel: e.g. spp index for the path tracer, frame*trees+tree for ReSTIR.
+ * stream < 256, vertex < 256, slot < 65536. */
+typedef struct {
+    uint32_t seed;
+    uint32_t pixel;
+    uint32_t sample;
+    uint32_t stream;
+    uint32_t vertex;
+    uint32_t slot;
+} rng_key;
+
+static inline rng_key rng_key_make(uint32_t seed, uint32_t pixel, uint32_t sample)
+{
+    rng_key k;
+    k.seed = seed;
+    k.pixel = pixel;
+    k.sample = sample;
+    k.stream = 0;
+    k.vertex = 0;
+    k.slot = 0;
+    return k;
+}
+
+static inline rng_key rng_key_at(rng_key base, uint32_t stream, uint32_t vertex, uint32_t slot)
+{
+    base.stream = stream;
+    base.vertex = vertex;
+    base.slot = slot;
+    return base;
+}
+
+/* pcg4d: four 32-bit words in, four well-mixed 32-bit words out. */
+void rng_pcg4d(uint32_t v[4]);
+
+/* 32 random bits of the address. */
+uint32_t rng_bits(rng_key k);
+/* Uniform in [0,1) with 24 (float build) or 53 (double build) random mantissa bits. */
+real rng_uniform(rng_key k);
+/* Always 53 bits / always 24 bits, independent of PRECISION. */
+double rng_uniform_double(rng_key k);
+float rng_uniform_float(rng_key k);
+
+/* Convenience: rng_uniform at (stream, vertex, slot) of a path's base key. */
+static inline real rng_u(rng_key base, uint32_t stream, uint32_t vertex, uint32_t slot)
+{
+    return rng_uniform(rng_key_at(base, stream, vertex, slot));
+}
+
+#endif

@@ -1,0 +1,25 @@
+/* Deterministic parallelism: work is split into fixed tiles (or fixed index ranges),
+ * each tile's result depends only on its own pixels, so output bytes do not depend on
+ * the thread count or on scheduling. threads == 1 starts no thread at all. */
+#ifndef RESTIR_THREADS_H
+#define RESTIR_THREADS_H
+
+/* Called once per tile: pixels [x0,x1) x [y0,y1). `worker` is in [0, threads). */
+typedef void (*tile_fn)(void *ctx, int x0, int y0, int x1, int y1, int worker);
+/* Called once per item index in [0, count). */
+typedef void (*item_fn)(void *ctx, long index, int worker);
+
+/* Number of online cores (at least 1). */
+int threads_default(void);
+
+/* Runs fn over all tiles of a width x height image with `threads` workers.
+ * Optional progress: after each finished tile, progress(ctx_progress, done, total)
+ * is called from whichever worker finished it, under a lock. Returns 0, or -1 if
+ * threads could not be started (then everything ran on the calling thread). */
+int parallel_tiles(int width, int height, int tile_size, int threads, tile_fn fn, void *ctx,
+                   void (*progress)(void *ctx_progress, long done, long total), void *ctx_progress);
+
+/* Runs fn(ctx, i, worker) for every i in [0, count), in chunks, with `threads` workers. */
+int parallel_items(long count, int threads, item_fn fn, void *ctx);
+
+#endif

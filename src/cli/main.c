@@ -1,0 +1,81 @@
+/* restir: dispatch `restir <command> [options]` to the command's own parser. */
+#include <stdio.h>
+#include <string.h>
+#include "restir/cli.h"
+
+int cmd_help(int argc, char **argv);
+
+const cli_command cli_commands[] = {
+    {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
+    {NULL, NULL, NULL},
+};
+
+static const cli_command *find_command(const char *name)
+{
+    const cli_command *c;
+    for (c = cli_commands; c->name; ++c)
+        if (!strcmp(c->name, name)) return c;
+    return NULL;
+}
+
+static void print_usage(FILE *out)
+{
+    const cli_command *c;
+    fprintf(out, "usage: restir <command> [options]   (restir <command> --help for its options)\n\ncommands:\n");
+    for (c = cli_commands; c->name; ++c) fprintf(out, "  %-10s %s\n", c->name, c->summary);
+    fprintf(out, "\nrestir --version prints the version.\n");
+}
+
+int cmd_help(int argc, char **argv)
+{
+    const cli_command *c;
+    char help[] = "--help";
+    char *sub_argv[3];
+    if (argc < 2) {
+        print_usage(stdout);
+        return 0;
+    }
+    c = find_command(argv[1]);
+    if (!c) {
+        fprintf(stderr, "restir: unknown command '%s'\n", argv[1]);
+        return 2;
+    }
+    if (c->run == cmd_help) {
+        print_usage(stdout);
+        return 0;
+    }
+    sub_argv[0] = argv[1];
+    sub_argv[1] = help;
+    sub_argv[2] = NULL;
+    return c->run(2, sub_argv);
+}
+
+int main(int argc, char **argv)
+{
+    const cli_command *c;
+    if (argc < 2) {
+        print_usage(stderr);
+        return 2;
+    }
+    if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
+        printf("restir %s (%s estimator arithmetic)\n", RESTIR_VERSION,
+#ifdef RESTIR_REAL_FLOAT
+               "float"
+#else
+               "double"
+#endif
+        );
+        return 0;
+    }
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        print_usage(stdout);
+        return 0;
+    }
+    c = find_command(argv[1]);
+    if (!c) {
+        fprintf(stderr, "restir: unknown command '%s'\n", argv[1]);
+        print_usage(stderr);
+        return 2;
+    }
+    return c->run(argc - 1, argv + 1);
+}

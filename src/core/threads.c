@@ -1,0 +1,132 @@
+/* A deterministic tile pool on pthreads. Workers take tile indices from a shared
+ * counter; which worker renders a tile never changes what the tile contains. */
+#include "restir/threads.h"
+
+#include <pthread.h>
+#include <unistd.h>
+
+int threads_default(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : (int)n;
+}
+
+typedef struct {
+    pthread_mutex_t lock;
+    long next, total;
+    long done;
+    /* tiles */
+    int width, height, tile_size, tiles_x;
+    tile_fn tile;
+    /* items */
+    long item_count, chunk;
+    item_fn item;
+    void *ctx;
+    void (*progress)(void *, long, long);
+    void *ctx_progress;
+} pool;
+
+typedef struct {
+    pool *p;
+    int worker;
+} worker_arg;
+
+static long take_index(pool *p)
+{
+    long i;
+    pthread_mutex_lock(&p->lock);
+    i = p->next < p->total ? p->next++ : -1;
+    pthread_mutex_unlock(&p->lock);
+    return i;
+}
+
+static void finish_index(pool *p)
+{
+    pthread_mutex_lock(&p->lock);
+    p->done++;
+    if (p->progress) p->progress(p->ctx_progress, p->done, p->total);
+    pthread_mutex_unlock(&p->lock);
+}
+
+static void run_unit(pool *p, long i, int worker)
+{
+    if (p->tile) {
+        int tx = (int)(i % p->tiles_x), ty = (int)(i / p->tiles_x);
+        int x0 = tx * p->tile_size, y0 = ty * p->tile_size;
+        int x1 = x0 + p->tile_size < p->width ? x0 + p->tile_size : p->width;
+        int y1 = y0 + p->tile_size < p->height ? y0 + p->tile_size : p->height;
+        p->tile(p->ctx, x0, y0, x1, y1, worker);
+    } else {
+        long a = i * p->chunk, b = a + p->chunk < p->item_count ? a + p->chunk : p->item_count;
+        for (; a < b; ++a) p->item(p->ctx, a, worker);
+    }
+}
+
+static void *worker_main(void *arg)
+{
+    worker_arg *w = arg;
+    long i;
+    while ((i = take_index(w->p)) >= 0) {
+        run_unit(w->p, i, w->worker);
+        finish_index(w->p);
+    }
+    return NULL;
+}
+
+static int run_pool(pool *p, int threads)
+{
+    pthread_t ids[256];
+    worker_arg args[256];
+    int started = 0, i, status = 0;
+    if (threads > 256) threads = 256;
+    if (threads > p->total) threads = p->total > 0 ? (int)p->total : 1;
+    pthread_mutex_init(&p->lock, NULL);
+    if (threads > 1) {
+        for (i = 0; i < threads; ++i) {
+            args[i].p = p;
+            args[i].worker = i;
+            if (pthread_create(&ids[i], NULL, worker_main, &args[i]) != 0) {
+                status = -1;
+                break;
+            }
+            started++;
+        }
+    }
+    if (started == 0) {
+        worker_arg self;
+        self.p = p;
+        self.worker = 0;
+        worker_main(&self);
+    }
+    for (i = 0; i < started; ++i) pthread_join(ids[i], NULL);
+    pthread_mutex_destroy(&p->lock);
+    return status;
+}
+
+int parallel_tiles(int width, int height, int tile_size, int threads, tile_fn fn, void *ctx,
+                   void (*progress)(void *, long, long), void *ctx_progress)
+{
+    pool p = {0};
+    if (tile_size < 1) tile_size = 16;
+    p.width = width;
+    p.height = height;
+    p.tile_size = tile_size;
+    p.tiles_x = (width + tile_size - 1) / tile_size;
+    p.total = (long)p.tiles_x * ((height + tile_size - 1) / tile_size);
+    p.tile = fn;
+    p.ctx = ctx;
+    p.progress = progress;
+    p.ctx_progress = ctx_progress;
+    return run_pool(&p, threads);
+}
+
+int parallel_items(long count, int threads, item_fn fn, void *ctx)
+{
+    pool p = {0};
+    p.item_count = count;
+    p.chunk = count / (64L * (threads > 0 ? threads : 1)) + 1;
+    p.total = (count + p.chunk - 1) / p.chunk;
+    p.item = fn;
+    p.ctx = ctx;
+    return run_pool(&p, threads);
+}
