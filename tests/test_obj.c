@@ -613,3 +613,28 @@ TEST_LONG(obj_million_triangles)
     scene_free(&s);
     remove(path);
 }
+
+/* Warnings are capped; the last one counts the rest. A library named twice is read
+ * once; a name defined by two libraries keeps the first definition (one warning). */
+TEST(obj_warning_cap_and_redefinitions)
+{
+    scene s, empty;
+    rerror e;
+    char *text = malloc(20000), *p = text;
+    int i;
+    CHECK(text != NULL);
+    test_write_file("one.mtl", "newmtl shared\nKd 0.1 0.1 0.1\n");
+    test_write_file("two.mtl", "newmtl shared\nKd 0.9 0.9 0.9\n");
+    p += sprintf(p, "mtllib one.mtl\nmtllib one.mtl two.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl shared\nf 1 2 3\n");
+    for (i = 0; i < 150; ++i) p += sprintf(p, "usemtl undefined%d\nf 1 2 3\n", i);
+    test_write_file("many.obj", text);
+    free(text);
+    CHECKF(!scene_load(&s, test_tmp_path("many.obj"), &e), "%s", e.msg);
+    CHECK(s.warning_count == SCENE_MAX_WARNINGS);
+    CHECKF(strstr(s.warnings[0], "two.mtl:1: material 'shared' defined again"), "%s", s.warnings[0]);
+    CHECKF(strstr(s.warnings[SCENE_MAX_WARNINGS - 1], "and 52 more warnings"), "%s", s.warnings[SCENE_MAX_WARNINGS - 1]);
+    CHECK(s.materials[s.triangles[0].material].diffuse.r == (real)0.1);
+    scene_free(&s);
+    memset(&empty, 0, sizeof empty);
+    scene_free(&empty); /* freeing a zeroed scene is harmless */
+}
