@@ -4,9 +4,11 @@
 #include "restir/cli.h"
 
 int cmd_help(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
 
 const cli_command cli_commands[] = {
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
+    {"compare", cmd_compare, "image metrics (MSE ... MAPE, FLIP) of TEST.pfm against REF.pfm"},
     {NULL, NULL, NULL},
 };
 
