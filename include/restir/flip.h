@@ -34,7 +34,8 @@ void flip_default_params(flip_params *p);
  * An all-black reference gives start = stop = 0, count = 2. */
 int flip_auto_exposure(const image *ref, double *start, double *stop, int *count, rerror *e);
 
-/* The ACES filmic fit (Narkowicz 2016) with FLIP's 0.6 pre-exposure folded in, clamped to [0,1]. */
+/* The ACES filmic fit (Narkowicz 2016) with FLIP's 0.6 pre-exposure folded in; input clipped
+ * to >= 0 first, output clamped to [0,1]. */
 double flip_tonemap_aces(double x);
 
 /* LDR-FLIP of two linear-RGB images shown on a display: values are clamped to [0, 1]

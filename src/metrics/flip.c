@@ -382,9 +382,11 @@ typedef struct {
 
 double flip_tonemap_aces(double x)
 {
-    double y = (ACES_K0 * x * x + ACES_K1 * x) / (ACES_K3 * x * x + ACES_K4 * x + ACES_K5);
-    if (!(y > 0)) return 0;
-    return y > 1 || !isfinite(y) ? 1 : y;
+    double y;
+    if (!(x > 0)) return 0;    /* negative (and NaN) input is clipped to 0 first */
+    if (x > 1e30) return 1;    /* the curve tends to k0/k3 > 1: clamped (and x^2 cannot overflow) */
+    y = (ACES_K0 * x * x + ACES_K1 * x) / (ACES_K3 * x * x + ACES_K4 * x + ACES_K5);
+    return y > 1 ? 1 : y;
 }
 
 static void load_row(void *ctx, long row, int worker)
@@ -398,8 +400,7 @@ static void load_row(void *ctx, long row, int worker)
         size_t i = (size_t)row * j->g->width + x;
         for (c = 0; c < 3; ++c) {
             if (j->transform == INPUT_ACES) {
-                double v = p[c] > 0 ? p[c] * j->gain : 0.0; /* negative radiance is clipped first */
-                rgb[c] = isinf(v) ? 1.0 : flip_tonemap_aces(v);
+                rgb[c] = flip_tonemap_aces(p[c] * j->gain);
             } else {
                 rgb[c] = p[c] < 0 ? 0.0 : (p[c] > 1 ? 1.0 : p[c]);
             }
