@@ -122,6 +122,11 @@ int scene_intersect(const scene *s, const ray *r, surface_hit *h);
  * (normal ng_to, or NULL for a non-surface point) is unoccluded. Origins are offset
  * robustly and scale-invariantly on both ends. */
 int scene_visible(const scene *s, vec3f from, vec3f ng_from, vec3f to, const vec3f *ng_to);
+/* The shadow ray scene_visible traces (any hit in (tmin, tmax) means occluded):
+ * between the two offset end points with the unnormalised direction (t = 1 at the
+ * far end), the range shortened at each surface end by its offset distance, traced
+ * from the lexicographically smaller end so that (a, b) and (b, a) give the same ray. */
+ray scene_visibility_ray(vec3f from, vec3f ng_from, vec3f to, const vec3f *ng_to);
 /* Ray leaving a surface point in direction dir (origin offset to the side dir points to). */
 ray scene_spawn_ray(vec3f p, vec3f ng, vec3f dir);
 
