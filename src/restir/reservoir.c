@@ -35,15 +35,12 @@ int reservoir_stream(reservoir *r, const path_sample *y, real w, real u)
 /* GRIS Eq. 22: W_Y = (1 / p̂(Y)) sum_j w_j. */
 void reservoir_finalize(reservoir *r)
 {
-    real W;
     r->W = 0;
     if (!path_sample_is_valid(&r->y)) return;
-    W = r->y.target > 0 ? r->wsum / r->y.target : (real)NAN;
-    if (!isfinite(W)) {
-        r->n_invalid++;
-        return;
-    }
-    r->W = W;
+    if (r->y.target > 0 && isfinite(r->wsum / r->y.target))
+        r->W = r->wsum / r->y.target;
+    else
+        r->n_invalid++; /* a positive weight was given to a sample with p̂ = 0 */
 }
 
 void reservoir_add_confidence(reservoir *r, real c) { r->confidence += c; }
