@@ -20,8 +20,9 @@ typedef struct {
 
 int moments_init(moments *m, int width, int height, rerror *e);
 void moments_free(moments *m);
-/* Adds one run (an independent render). Fails on a size mismatch or a non-finite pixel. */
-int moments_add(moments *m, const image *run, rerror *e);
+/* Adds one run (an independent render). Fails on a size mismatch or a non-finite pixel;
+ * `name` (may be NULL) names the run in the message ("name: what"). */
+int moments_add(moments *m, const image *run, const char *name, rerror *e);
 /* The per-pixel mean and unbiased sample variance of ONE run (not of the mean) as float
  * images. Needs runs >= 2 for the variance (runs == 1 gives variance 0). */
 int moments_images(const moments *m, image *mean, image *var, rerror *e);
@@ -32,7 +33,8 @@ int moments_images(const moments *m, image *mean, image *var, rerror *e);
  *   PREFIX.moments.json  {"format": "restir-moments", "version": 1, "runs": K,
  *                          "width": W, "height": H, "mean": "...", "var": "...",
  *                          "run_means": [[r,g,b], ...]}   (run_means optional)
- * All three are written atomically; either all exist afterwards or none was replaced. */
+ * The three files are staged and renamed together (output_set.h): an error leaves
+ * no partial file set behind. */
 int moments_write(const char *prefix, const moments *m, rerror *e);
 /* Writes a file set from given images (run_means may be NULL, then omitted). */
 int moments_write_images(const char *prefix, const image *mean, const image *var, long runs,
