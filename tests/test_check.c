@@ -420,3 +420,208 @@ TEST_LONG(check_calibration_long)
         CHECKF(t.different <= 0.1 * t.trials + 3.5 * sqrt(0.09 * t.trials), "different %d", t.different);
     }
 }
+
+/* ---- moments files and the command line ---- */
+
+/* Writes runs of a synthetic side as PREFIX_k.pfm and returns the file list "a b c". */
+static int write_runs(char *list, size_t size, const synth *p, uint32_t side, int runs, const char *prefix)
+{
+    image img;
+    rerror e;
+    int k;
+    size_t used = 0;
+    if (image_alloc(&img, p->width, p->height, &e)) return -1;
+    list[0] = '\0';
+    for (k = 0; k < runs; ++k) {
+        char name[128];
+        const char *path;
+        snprintf(name, sizeof name, "%s_%d.pfm", prefix, k);
+        path = test_tmp_path(name);
+        synth_run(&img, p, test_seed(), side, (uint32_t)k);
+        if (pfm_write(path, &img, &e)) break;
+        used += (size_t)snprintf(list + used, size - used, "%s%s", k ? " " : "", path);
+    }
+    image_free(&img);
+    return k == runs && used < size ? 0 : -1;
+}
+
+TEST(check_moments_file_roundtrip)
+{
+    synth p = synth_default();
+    moments m;
+    moments_file f;
+    image img;
+    rerror e;
+    int k;
+    size_t i;
+    char prefix[1100];
+    snprintf(prefix, sizeof prefix, "%s", test_tmp_path("roundtrip"));
+    CHECK(moments_init(&m, p.width, p.height, &e) == 0);
+    CHECK(image_alloc(&img, p.width, p.height, &e) == 0);
+    for (k = 0; k < 5; ++k) {
+        synth_run(&img, &p, test_seed(), 0, (uint32_t)k);
+        CHECK(moments_add(&m, &img, "run", &e) == 0);
+    }
+    CHECK(moments_write(prefix, &m, &e) == 0);
+    CHECKF(moments_read(prefix, &f, &e) == 0, "%s", e.msg);
+    CHECK(f.runs == 5 && f.run_means != NULL);
+    for (i = 0; i < 15; ++i) CHECK(f.run_means[i] == m.run_means[i]);
+    for (i = 0; i < (size_t)p.width * p.height * 3; ++i) {
+        CHECK(f.mean.px[i] == (float)m.mean[i]);
+        CHECK(f.var.px[i] == (float)(m.m2[i] / 4.0));
+    }
+    moments_file_free(&f);
+    /* The .moments.json path works as well as the prefix. */
+    {
+        char json[1100];
+        snprintf(json, sizeof json, "%s.moments.json", prefix);
+        CHECK(moments_read(json, &f, &e) == 0);
+        moments_file_free(&f);
+    }
+    /* Welford against a two-pass computation at one pixel. */
+    {
+        double v[5], mean, var;
+        for (k = 0; k < 5; ++k) {
+            synth_run(&img, &p, test_seed(), 0, (uint32_t)k);
+            v[k] = image_pixel(&img, 20, 7)[1];
+        }
+        stats_mean_var(v, 5, &mean, &var);
+        CHECK_NEAR(m.mean[3 * (7 * p.width + 20) + 1], mean, 1e-12 * fabs(mean));
+        CHECK_NEAR(m.m2[3 * (7 * p.width + 20) + 1] / 4.0, var, 1e-10 * var);
+    }
+    /* Broken sidecars: "file: what". */
+    {
+        const char *bad = test_write_file("bad.moments.json", "{\"format\": \"restir-moments\", \"version\": 1,\n"
+                                                              "\"runs\": 3, \"width\": 32, \"height\": 32,\n"
+                                                              "\"mean\": \"roundtrip.mean.pfm\", \"var\": "
+                                                              "\"roundtrip.var.pfm\", \"run_means\": [[1,2,3]]}");
+        CHECK(moments_read(bad, &f, &e) != 0);
+        CHECKF(strstr(e.msg, "bad.moments.json") && strstr(e.msg, "run_means"), "%s", e.msg);
+        bad = test_write_file("bad2.moments.json", "{\"format\": \"restir-moments\", \"version\": 1,\n\"runs\": 3,,}");
+        CHECK(moments_read(bad, &f, &e) != 0);
+        CHECKF(strstr(e.msg, "bad2.moments.json:2:"), "%s", e.msg);
+        bad = test_write_file("bad3.moments.json", "{\"format\": \"restir-moments\", \"version\": 1,\n"
+                                                   "\"runs\": 5, \"width\": 31, \"height\": 32,\n"
+                                                   "\"mean\": \"roundtrip.mean.pfm\", \"var\": \"roundtrip.var.pfm\"}");
+        CHECK(moments_read(bad, &f, &e) != 0);
+        CHECKF(strstr(e.msg, "roundtrip.mean.pfm") && strstr(e.msg, "31"), "%s", e.msg);
+    }
+    image_free(&img);
+    moments_free(&m);
+}
+
+TEST(check_cli_verdicts_and_outputs)
+{
+    static char a_list[8192], b_list[8192], c_list[8192], out[16384];
+    synth pa = synth_default(), pc;
+    char json[1100], zmap[1100], zpng[1100], bz[1100];
+    image z;
+    rerror e;
+    int status;
+    /* test_tmp_path() rotates 8 buffers: keep copies. */
+    snprintf(json, sizeof json, "%s", test_tmp_path("check.json"));
+    snprintf(zmap, sizeof zmap, "%s", test_tmp_path("z.pfm"));
+    snprintf(zpng, sizeof zpng, "%s", test_tmp_path("z.png"));
+    snprintf(bz, sizeof bz, "%s", test_tmp_path("bz.pfm"));
+    pc = pa;
+    pc.scale = 1.3;
+    CHECK(write_runs(a_list, sizeof a_list, &pa, 0, 6, "cli_a") == 0);
+    CHECK(write_runs(b_list, sizeof b_list, &pa, 1, 6, "cli_b") == 0);
+    CHECK(write_runs(c_list, sizeof c_list, &pc, 1, 6, "cli_c") == 0);
+    remove(json);
+    status = test_cli(out, sizeof out, "check --a %s --b %s --json %s --z-map %s --block-z-map %s", a_list, b_list,
+                      json, zmap, bz);
+    CHECKF(status == 0, "status %d: %s", status, out);
+    CHECK(strstr(out, "verdict: consistent"));
+    CHECK(test_file_exists(json) && test_file_exists(zmap) && test_file_exists(bz));
+    CHECK(pfm_read(zmap, &z, NULL, &e) == 0 && z.width == 32 && z.height == 32);
+    image_free(&z);
+    CHECK(pfm_read(bz, &z, NULL, &e) == 0 && z.width == 4 && z.height == 4);
+    image_free(&z);
+    status = test_cli(out, sizeof out, "check --a %s --b %s --json %s --z-map %s --correction bh --quiet", a_list,
+                      c_list, json, zpng);
+    CHECKF(status == 1, "status %d: %s", status, out);
+    CHECK(strstr(out, "verdict: different"));
+    CHECK(test_file_exists(zpng));
+    {
+        FILE *f = fopen(json, "rb");
+        size_t n;
+        CHECK(f != NULL);
+        n = fread(out, 1, sizeof out - 1, f);
+        fclose(f);
+        out[n] = '\0';
+        CHECK(strstr(out, "\"verdict\": \"different\"") && strstr(out, "\"exit_status\": 1"));
+        CHECK(strstr(out, "\"correction\": \"bh\""));
+    }
+    /* A against its own moments file set and against an exact reference. */
+    {
+        moments m;
+        image img;
+        int k;
+        char prefix[1100];
+        snprintf(prefix, sizeof prefix, "%s", test_tmp_path("cli_moments"));
+        CHECK(moments_init(&m, 32, 32, &e) == 0 && image_alloc(&img, 32, 32, &e) == 0);
+        for (k = 0; k < 6; ++k) {
+            synth_run(&img, &pa, test_seed(), 1, (uint32_t)k);
+            CHECK(moments_add(&m, &img, "run", &e) == 0);
+        }
+        CHECK(moments_write(prefix, &m, &e) == 0);
+        status = test_cli(out, sizeof out, "check --a %s --b-moments %s", a_list, prefix);
+        CHECKF(status == 0, "status %d: %s", status, out);
+        status = test_cli(out, sizeof out, "check --a-moments %s --b %s", prefix, c_list);
+        CHECKF(status == 1, "status %d: %s", status, out);
+        /* --ref with a variance: the moments' own mean and variance images. */
+        status = test_cli(out, sizeof out, "check --a %s --ref %s.mean.pfm --ref-var %s.var.pfm --ref-runs 6", a_list,
+                          prefix, prefix);
+        CHECKF(status == 0, "status %d: %s", status, out);
+        CHECK(strstr(out, "independent pixels"));
+        image_free(&img);
+        moments_free(&m);
+    }
+}
+
+TEST(check_cli_errors_leave_no_outputs)
+{
+    static char a_list[8192], out[8192];
+    synth pa = synth_default(), small = synth_default();
+    char json[1100];
+    const char *other;
+    int status;
+    snprintf(json, sizeof json, "%s", test_tmp_path("err.json"));
+    small.width = 16;
+    CHECK(write_runs(a_list, sizeof a_list, &pa, 0, 3, "err_a") == 0);
+    CHECK(write_runs(out, sizeof out, &small, 0, 2, "err_small") == 0);
+    remove(json);
+    status = test_cli(out, sizeof out, "check --a %s --b %s --json %s", a_list, test_tmp_path("err_small_0.pfm"), json);
+    CHECK(status == 2 && !test_file_exists(json));
+    status = test_cli(out, sizeof out, "check --a %s --b %s %s --json %s", a_list, test_tmp_path("err_small_0.pfm"),
+                      test_tmp_path("err_small_1.pfm"), json);
+    CHECKF(status == 2 && strstr(out, "err_small_0.pfm: image is 16 x 32"), "%d %s", status, out);
+    CHECK(!test_file_exists(json));
+    status = test_cli(out, sizeof out, "check --a %s --b %s --json %s", a_list, test_tmp_path("missing.pfm"), json);
+    CHECKF(status == 2 && strstr(out, "missing.pfm"), "%s", out);
+    status = test_cli(out, sizeof out, "check --a %s --ref %s --ref-var x.pfm", a_list, test_tmp_path("err_a_0.pfm"));
+    CHECK(status == 2);
+    status = test_cli(out, sizeof out, "check --a %s --ref %s --alpha 2", a_list, test_tmp_path("err_a_0.pfm"));
+    CHECK(status == 2);
+    status = test_cli(out, sizeof out, "check --a %s --ref %s --frobnicate", a_list, test_tmp_path("err_a_0.pfm"));
+    CHECK(status == 2 && strstr(out, "frobnicate"));
+    /* A non-finite pixel is an input error naming the file and pixel. */
+    {
+        image img;
+        rerror e;
+        CHECK(image_alloc(&img, 32, 32, &e) == 0);
+        image_pixel(&img, 5, 6)[2] = NAN;
+        other = test_tmp_path("nan.pfm");
+        CHECK(pfm_write(other, &img, &e) == 0);
+        image_free(&img);
+        status = test_cli(out, sizeof out, "check --a %s %s --ref %s --json %s", a_list, test_tmp_path("nan.pfm"),
+                          test_tmp_path("err_a_0.pfm"), json);
+        CHECKF(status == 2 && strstr(out, "nan.pfm") && strstr(out, "(5, 6)"), "%s", out);
+        CHECK(!test_file_exists(json));
+    }
+    /* One run only. */
+    status = test_cli(out, sizeof out, "check --a %s --ref %s", test_tmp_path("err_a_0.pfm"),
+                      test_tmp_path("err_a_1.pfm"));
+    CHECKF(status == 2 && strstr(out, "at least 2"), "%s", out);
+}

@@ -4,9 +4,11 @@
 #include "restir/cli.h"
 
 int cmd_help(int argc, char **argv);
+int cmd_check(int argc, char **argv);
 
 const cli_command cli_commands[] = {
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
+    {"check", cmd_check, "statistical test: do two renderers estimate the same image?"},
     {NULL, NULL, NULL},
 };
 

@@ -25,12 +25,21 @@ void json_put_string(FILE *fp, const char *s)
     fputc('"', fp);
 }
 
+/* The shortest of %.15g, %.16g, %.17g that reads back as exactly v. */
 void json_put_number(FILE *fp, double v)
 {
-    if (isfinite(v))
-        fprintf(fp, "%.17g", v);
-    else
+    char buf[40];
+    int digits;
+    if (!isfinite(v)) {
         fputs("null", fp);
+        return;
+    }
+    for (digits = 15; digits < 17; ++digits) {
+        snprintf(buf, sizeof buf, "%.*g", digits, v);
+        if (strtod(buf, NULL) == v) break;
+    }
+    if (digits == 17) snprintf(buf, sizeof buf, "%.17g", v);
+    fputs(buf, fp);
 }
 
 #define JSON_MAX_BYTES (64L << 20)
