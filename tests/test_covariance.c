@@ -2,6 +2,7 @@
  * a brute-force evaluation of the definition, and against analytic values for white
  * noise and for white noise blurred with a known kernel. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -270,4 +271,80 @@ TEST(covariance_errors)
     image_free(&b);
     covariance_free(&c);
     CHECK(covariance_init(&c, 8, 8, 0, 1, &e) != 0);
+}
+
+int cmd_compare_covariance(int argc, char **argv);
+
+/* Runs cmd_compare_covariance in-process with a NULL-terminated argument list. */
+static int run_covariance_cli(const char *first, ...)
+{
+    char *argv[64];
+    int argc = 0;
+    va_list ap;
+    const char *s = first;
+    va_start(ap, first);
+    while (s && argc < 63) {
+        argv[argc++] = (char *)s;
+        s = va_arg(ap, const char *);
+    }
+    va_end(ap);
+    argv[argc] = NULL;
+    fflush(stdout);
+    return cmd_compare_covariance(argc, argv);
+}
+
+TEST(covariance_cli)
+{
+    char files[4][1100], curve[1100], json[1100], map_path[1100], small[1100];
+    covariance_accum c;
+    image img, map;
+    rerror e;
+    double want[4];
+    int k, x, y, r;
+    FILE *f;
+    char line[256];
+    CHECK(image_alloc(&img, 20, 16, &e) == 0);
+    CHECK(covariance_init(&c, 20, 16, 3, 0, &e) == 0);
+    for (k = 0; k < 4; ++k) {
+        char name[64];
+        snprintf(name, sizeof name, "cov_%d.pfm", k);
+        snprintf(files[k], sizeof files[k], "%s", test_tmp_path(name));
+        for (y = 0; y < 16; ++y)
+            for (x = 0; x < 20; ++x) set_grey(&img, x, y, pixel_offset(x, y) + gauss(test_seed(), (uint32_t)(y * 20 + x / 2), (uint32_t)k));
+        CHECK(pfm_write(files[k], &img, &e) == 0);
+        CHECK(covariance_add(&c, &img, files[k], &e) == 0);
+    }
+    CHECK(covariance_result(&c, want, NULL, &e) == 0);
+    covariance_free(&c);
+    snprintf(curve, sizeof curve, "%s", test_tmp_path("cov_curve.csv"));
+    snprintf(json, sizeof json, "%s", test_tmp_path("cov.json"));
+    snprintf(map_path, sizeof map_path, "%s", test_tmp_path("cov_map.pfm"));
+    CHECK(run_covariance_cli("compare", "--covariance", files[0], files[1], files[2], files[3], "--radius", "3",
+                             "--curve", curve, "--json", json, "--map", map_path, (const char *)NULL) == 0);
+    f = fopen(curve, "r");
+    CHECK(f != NULL);
+    CHECK(fgets(line, sizeof line, f) && !strcmp(line, "radius,covariance\n"));
+    for (r = 0; r <= 3; ++r) {
+        int rr;
+        double v;
+        CHECK(fgets(line, sizeof line, f) && sscanf(line, "%d,%lf", &rr, &v) == 2);
+        CHECK(rr == r);
+        CHECK_NEAR(v, want[r], 1e-8 * fabs(want[r]));
+    }
+    fclose(f);
+    CHECK(test_file_exists(json));
+    CHECK(pfm_read(map_path, &map, NULL, &e) == 0 && map.width == 20 && map.height == 16);
+    image_free(&map);
+    /* Errors: one image; a size mismatch leaves no outputs. */
+    remove(json);
+    CHECK(run_covariance_cli("compare", "--covariance", files[0], "--json", json, (const char *)NULL) == 2);
+    image_free(&img);
+    CHECK(image_alloc(&img, 21, 16, &e) == 0);
+    snprintf(small, sizeof small, "%s", test_tmp_path("cov_other.pfm"));
+    CHECK(pfm_write(small, &img, &e) == 0);
+    CHECK(run_covariance_cli("compare", "--covariance", files[0], files[1], small, "--json", json,
+                             (const char *)NULL) == 2);
+    CHECK(!test_file_exists(json));
+    CHECK(run_covariance_cli("compare", "--covariance", files[0], files[1], "--radius", "x", (const char *)NULL) == 2);
+    image_free(&img);
 }
