@@ -4,11 +4,13 @@
 #include "restir/cli.h"
 
 int cmd_help(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
 int cmd_check(int argc, char **argv);
 int cmd_plot(int argc, char **argv);
 
 const cli_command cli_commands[] = {
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
+    {"compare", cmd_compare, "image metrics (MSE ... MAPE, FLIP) of TEST.pfm against REF.pfm"},
     {"check", cmd_check, "statistical test: do two renderers estimate the same image?"},
     {"plot", cmd_plot, "line plots (log-log by default) of a CSV table as SVG"},
     {NULL, NULL, NULL},
