@@ -905,8 +905,8 @@ TEST(generate_write_obj_roundtrips_vertices)
     }
     fclose(f);
     CHECK(v == s.position_count && faces == s.triangle_count);
-    CHECK(generate_displaced_sphere(&s, 0, &e) != 0);
     free_generated_scene(&s);
+    CHECK(generate_displaced_sphere(&s, 0, &e) != 0 && s.triangles == NULL);
 }
 
 /* ------------------------------------------------------------------------------- */
