@@ -34,6 +34,7 @@ enum {
     /* Below this depth the SAH decides; deeper nodes are halved by count, which keeps
      * the depth (and the traversal stack) bounded even for adversarial inputs. */
     BVH_SAH_DEPTH_LIMIT = 48,
+    /* Depth <= 48 + log2(2^32) < 96, and the stack holds at most one node per level. */
     BVH_STACK_SIZE = 96
 };
 
@@ -381,7 +382,7 @@ void bvh_free(bvh *b)
 
 typedef struct {
     float org[3], dir[3];
-    /* Woop et al. 2013 §3: kz = axis of the largest |dir| component, kx and ky the
+    /* Woop et al. 2013: kz = axis of the largest |dir| component, kx and ky the
      * other two (swapped when dir[kz] < 0 to keep the winding), shear sx, sy, sz. */
     int kx, ky, kz;
     float sx, sy, sz;
@@ -435,11 +436,12 @@ static float larger(float a, float b) { return a > b ? a : b; }
  * coordinate magnitude of the origin and the scene box), applied as -+ slack / |dir_i|
  * folded into c. The slack exceeds the rounding of the slab distances (a few ulps of
  * M) and the displacement of a triangle's vertices by the translation and shear of
- * the triangle test (< 6 ulps of R; Woop et al. 2013 §4 make the same argument for
- * enlarged bounds), so the traversal never skips a box whose triangle the triangle
+ * the triangle test (< 6 ulps of R; Woop et al. 2013 note that their test needs bounds
+ * enlarged in the traversal for this reason), so the traversal never skips a box whose triangle the triangle
  * test would hit: the BVH finds exactly what a loop over all triangles finds. The
  * price is boxes larger by ~1e-6 of the scene's extent plus its distance from the
- * coordinate origin. */
+ * coordinate origin. (A NaN can only come from overflow at absurd coordinates; the
+ * slab test then keeps the interval unchanged, which is conservative too.) */
 static void setup_box_test(ray_setup *s, const bvh_node *root)
 {
     float reach = 0, magnitude = 0, slack;
@@ -471,7 +473,7 @@ static inline float face(const bvh_node *n, size_t byte_offset)
 
 /* Conservative slab test (Kay & Kajiya 1986) against [tmin, tfar_limit], inclusive so
  * that hits tied in t with the current closest hit are still found. Writes the entry
- * distance. All inputs are finite, so no NaN arises. */
+ * distance. Written so that a NaN slab distance leaves the interval unchanged. */
 static inline int box_overlaps(const ray_setup *s, const bvh_node *n, float tfar_limit, float *entry)
 {
     float tnear = s->tmin, tfar = tfar_limit, t;
@@ -492,7 +494,7 @@ static inline int box_overlaps(const ray_setup *s, const bvh_node *n, float tfar
 }
 
 /* ------------------------------------------------------------------------------- */
-/* Watertight ray/triangle test (Woop, Benthin, Wald 2013, Fig. 5/§3)               */
+/* Watertight ray/triangle test (Woop, Benthin, Wald 2013)                          */
 
 /* p: the 9 floats of the triangle. On a hit of the (infinite) line with the closed
  * triangle, writes t and the barycentrics of vertices 1 and 2 and returns 1. The caller
@@ -511,8 +513,9 @@ static inline int watertight_test(const ray_setup *s, const float p[9], float *t
     float v = ax * cy - ay * cx;
     float w = bx * ay - by * ax;
     float det, tt;
-    /* An edge function that is exactly 0 in float may have either sign: re-evaluate in
-     * double, where the products of floats are exact and the sign is therefore right. */
+    /* An edge function that is exactly 0 in float may have either sign: re-evaluate
+     * all three in double, where the products of floats are exact, so the difference
+     * is rounded once and its sign is right (the paper's fallback). */
     if (u == 0.0f || v == 0.0f || w == 0.0f) {
         u = (float)((double)cx * by - (double)cy * bx);
         v = (float)((double)ax * cy - (double)ay * cx);
@@ -521,7 +524,7 @@ static inline int watertight_test(const ray_setup *s, const float p[9], float *t
     /* Mixed signs: the ray passes outside (both windings accepted: no culling). */
     if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return 0;
     det = u + v + w;
-    if (det == 0.0f) return 0; /* ray in the triangle's plane, or NaN-free degenerate */
+    if (det == 0.0f) return 0; /* the ray lies in the triangle's plane */
     /* Scaled hit distance from the sheared z coordinates. */
     tt = (u * (s->sz * az) + v * (s->sz * bz) + w * (s->sz * cz)) / det;
     *t = tt;
@@ -548,6 +551,12 @@ int ray_triangle_watertight(const ray *r, vec3f v0, vec3f v1, vec3f v2, float *t
 /* ------------------------------------------------------------------------------- */
 /* Traversal                                                                        */
 
+/* The 9 coordinates of the triangle in leaf slot `slot`. */
+static inline const float *leaf_triangle(const bvh *b, uint32_t slot, float p[9])
+{
+    memcpy(p, &b->leaf_vertices[3 * (size_t)slot], 9 * sizeof(float));
+    return p;
+}
 
 /* A stack entry: a node still to visit and where the ray enters its box, so that a
  * closest hit found meanwhile can cull it without touching the node again. */
@@ -575,8 +584,7 @@ static inline void prefetch_right_child(const bvh *b, const bvh_node *n)
 /* Tests both children of interior node `at` and decides where to go: returns the
  * child to visit next (or UINT32_MAX for none) and pushes the other one if it is hit
  * too. Near child first by the sign of the ray direction on the split axis: the left
- * child holds the smaller centroids along that axis. Written with selects instead of
- * branches where the outcome is unpredictable (whether a box is hit). */
+ * child holds the smaller centroids along that axis. */
 static inline uint32_t enter_children(const ray_setup *s, const bvh *b, uint32_t at, float tfar_limit,
                                       stack_entry *stack, int *top)
 {
@@ -619,10 +627,9 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
         } else {
             uint32_t slot, end = n->offset + count;
             for (slot = n->offset; slot < end; ++slot) {
-                float t, b1, b2;
+                float p[9], t, b1, b2;
                 uint32_t tri = b->prim_order[slot];
-                if (!watertight_test(&s, (const float *)(const void *)&b->leaf_vertices[3 * (size_t)slot], &t, &b1, &b2))
-                    continue;
+                if (!watertight_test(&s, leaf_triangle(b, slot, p), &t, &b1, &b2)) continue;
                 if (!(t > s.tmin && t < s.tmax)) continue;
                 /* Closest t; among exactly equal t the lowest triangle index, so that the
                  * answer does not depend on the tree. */
@@ -671,9 +678,8 @@ int bvh_occluded(const bvh *b, const ray *r)
         } else {
             uint32_t slot, end = n->offset + count;
             for (slot = n->offset; slot < end; ++slot) {
-                float t, b1, b2;
-                if (watertight_test(&s, (const float *)(const void *)&b->leaf_vertices[3 * (size_t)slot], &t, &b1, &b2) &&
-                    t > s.tmin && t < s.tmax)
+                float p[9], t, b1, b2;
+                if (watertight_test(&s, leaf_triangle(b, slot, p), &t, &b1, &b2) && t > s.tmin && t < s.tmax)
                     return 1;
             }
         }
