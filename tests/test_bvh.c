@@ -573,13 +573,97 @@ TEST(offset_ray_origin_no_self_intersection_at_any_scale)
     }
 }
 
-/* The offset is a fixed number of ulps of the coordinate (|p| >= 1/32): multiplying a
- * point by a power of two multiplies its offset by the same power of two. */
+/* The paper's rule, literally (Wächter & Binder 2019, constants int_scale = 256,
+ * float_scale = 1/65536, origin = 1/32): per-coordinate ulps, a fixed offset near 0.
+ * Kept here only to show why offset_ray_origin deviates from it. */
+static vec3f offset_wachter_binder_literal(vec3f p, vec3f n)
+{
+    float pin[3], nin[3], out[3];
+    int i;
+    memcpy(pin, &p, sizeof pin);
+    memcpy(nin, &n, sizeof nin);
+    for (i = 0; i < 3; ++i) {
+        if (fabsf(pin[i]) < 1.0f / 32.0f) {
+            out[i] = pin[i] + nin[i] / 65536.0f;
+        } else {
+            int32_t ulps = (int32_t)(256.0f * nin[i]);
+            uint32_t bits;
+            memcpy(&bits, &pin[i], sizeof bits);
+            bits += (uint32_t)(pin[i] < 0 ? -ulps : ulps);
+            memcpy(&out[i], &bits, sizeof bits);
+        }
+    }
+    return v3f(out[0], out[1], out[2]);
+}
+
+/* Rays spawned from a floor at y = 0 spanning [-S, S]^2, in both hemispheres; returns
+ * how many re-hit the floor. Hit points closer to the coordinate origin than S/64 are
+ * skipped (there the offset, 256 ulps of the point's largest coordinate, is too small
+ * for a triangle of size S: the documented residual of offset_ray_origin). */
+static long floor_rehits(float scale, int literal, uint32_t tag, long *rays)
+{
+    soup m = {0};
+    scene s;
+    rerror e;
+    long i, bad = 0;
+    vec3f c[4];
+    c[0] = v3f(-scale, 0, -scale), c[1] = v3f(scale, 0, -scale), c[2] = v3f(scale, 0, scale), c[3] = v3f(-scale, 0, scale);
+    soup_add(&m, c[0], c[2], c[1]);
+    soup_add(&m, c[0], c[3], c[2]);
+    if (scene_from_soup(&s, &m, &e)) return -1;
+    for (i = 0; i < 5000; ++i) {
+        vec3f target = v3f((urand(tag, (uint32_t)i, 0) * 1.8f - 0.9f) * scale, 0,
+                           (urand(tag, (uint32_t)i, 1) * 1.8f - 0.9f) * scale);
+        vec3f o = v3f_add(target, v3f_scale(v3f(0.3f, 0.5f, -0.2f), scale));
+        ray r = make_ray(o, v3f_sub(target, o));
+        surface_hit h, g;
+        int side;
+        if (fmaxf(fabsf(target.x), fabsf(target.z)) < scale / 64 || !scene_intersect(&s, &r, &h)) continue;
+        for (side = 0; side < 2; ++side) {
+            vec3f n = side ? v3f_scale(h.ng, -1.0f) : h.ng;
+            vec3 t, b, nn = v3_from_f(n);
+            vec3 l = warp_uniform_hemisphere(v2(urand(tag + 1, (uint32_t)i, (uint32_t)side), urand(tag + 2, (uint32_t)i, (uint32_t)side)));
+            vec3f d;
+            v3_basis(nn, &t, &b);
+            d = v3f_from(v3_add(v3_add(v3_scale(t, l.x), v3_scale(b, l.y)), v3_scale(nn, l.z)));
+            r = scene_spawn_ray(h.position, h.ng, d);
+            if (literal) r.origin = offset_wachter_binder_literal(h.position, n);
+            (*rays)++;
+            bad += scene_intersect(&s, &r, &g);
+        }
+    }
+    free_test_scene(&s);
+    soup_free(&m);
+    return bad;
+}
+
+/* A floor at y = 0 (the common case) at every scale: no spawned ray re-hits it. The
+ * paper's literal rule fails here once the scene is large (mm units), which is why
+ * offset_ray_origin counts ulps of the largest coordinate. */
+TEST(offset_ray_origin_floor_at_zero_any_scale)
+{
+    static const float scales[5] = {1e-3f, 1.0f, 1e3f, 1e4f, 1e5f};
+    long rays, bad, literal_bad;
+    int k;
+    for (k = 0; k < 5; ++k) {
+        rays = 0;
+        bad = floor_rehits(scales[k], 0, 110, &rays);
+        CHECKF(rays > 9000 && bad == 0, "scale %g: %ld of %ld spawned rays re-hit the floor", (double)scales[k], bad,
+               rays);
+    }
+    rays = 0;
+    literal_bad = floor_rehits(1e3f, 1, 110, &rays);
+    CHECKF(literal_bad > rays / 100, "the literal rule was expected to fail at scale 1e3: %ld of %ld", literal_bad, rays);
+}
+
+/* The offset is a fixed number of ulps of the point's largest coordinate: multiplying
+ * a point by a power of two multiplies its offset by the same power of two, also for
+ * points near the coordinate origin. */
 TEST(offset_ray_origin_scales_with_the_point)
 {
     long i;
     for (i = 0; i < 1000; ++i) {
-        vec3f p = v3f_add(urand_box(80, (uint32_t)i, 0.05f, 1.9f), v3f(0, 0, 0));
+        vec3f p = urand_box(80, (uint32_t)i, i % 3 ? 0.05f : 1e-4f, i % 3 ? 1.9f : 2e-3f);
         vec3f n = urand_direction(81, (uint32_t)i);
         vec3f a, b, d1, d2;
         if (i % 2) p.x = -p.x;
