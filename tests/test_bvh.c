@@ -835,6 +835,85 @@ TEST(scene_visible_symmetric)
     soup_free(&m);
 }
 
+/* A room (floor at y = 0) with a cube in it, scaled by 2^k, and what the ray queries
+ * answer there: for fixed random rays from inside, the hit triangle and t of the
+ * primary ray, of one spawned bounce, and the visibility to another hit point. */
+typedef struct {
+    uint32_t tri, bounce_tri;
+    float t, bounce_t;
+    int visible;
+} room_answer;
+
+static int room_answers(float scale, long count, room_answer *out)
+{
+    soup m = {0};
+    scene s;
+    rerror e;
+    surface_hit prev;
+    long i;
+    int have_prev = 0;
+    size_t k;
+    closed_mesh(&m, 4, 0, 1.0f, v3f(0, 1, 0));                 /* the room: y in [0, 2] */
+    closed_mesh(&m, 2, 0, 0.3f, v3f(0.2f, 0.3f, -0.1f));       /* a cube standing near the floor */
+    for (k = 0; k < 3 * m.count; ++k) m.v[k] = v3f_scale(m.v[k], scale);
+    if (scene_from_soup(&s, &m, &e)) return -1;
+    memset(out, 0, (size_t)count * sizeof *out);
+    for (i = 0; i < count; ++i) {
+        vec3f o = v3f_scale(v3f_add(urand_box(120, (uint32_t)i, -0.9f, 0.9f), v3f(0, 1, 0)), scale);
+        ray r = make_ray(o, urand_direction(121, (uint32_t)i));
+        surface_hit h, g;
+        vec3 t, b, nn;
+        vec3 l = warp_cosine_hemisphere(v2(urand(122, (uint32_t)i, 0), urand(122, (uint32_t)i, 1)));
+        if (!scene_intersect(&s, &r, &h)) continue;
+        out[i].tri = h.triangle;
+        out[i].t = h.t;
+        nn = v3_from_f(v3f_dot(h.ng, r.dir) > 0 ? v3f_scale(h.ng, -1.0f) : h.ng);
+        v3_basis(nn, &t, &b);
+        r = scene_spawn_ray(h.position, h.ng, v3f_from(v3_add(v3_add(v3_scale(t, l.x), v3_scale(b, l.y)), v3_scale(nn, l.z))));
+        if (scene_intersect(&s, &r, &g)) {
+            out[i].bounce_tri = g.triangle + 1;
+            out[i].bounce_t = g.t;
+        }
+        if (have_prev) out[i].visible = 1 + scene_visible(&s, h.position, h.ng, prev.position, &prev.ng);
+        prev = h;
+        have_prev = 1;
+    }
+    free_test_scene(&s);
+    soup_free(&m);
+    return 0;
+}
+
+/* Scale invariance, exactly: scaling a scene by a power of two scales every rounding
+ * in the watertight test, the BVH and the offsets by the same power of two, so every
+ * answer must be bit-identical (a scene in mm and in m differ by 1000, not 1024, and
+ * then agree up to rounding). Offsets with an absolute threshold fail this. */
+TEST(scene_queries_exactly_scale_covariant)
+{
+    enum { N = 3000 };
+    static room_answer base[N], scaled[N];
+    static const float scales[4] = {1.0f / 1024.0f, 1024.0f, 16384.0f, 1048576.0f};
+    long i, hits = 0, visible = 0, occluded = 0;
+    int k;
+    CHECK(room_answers(1.0f, N, base) == 0);
+    for (i = 0; i < N; ++i) {
+        hits += base[i].bounce_tri != 0;
+        visible += base[i].visible == 2;
+        occluded += base[i].visible == 1;
+    }
+    CHECKF(hits > N / 2 && visible > N / 4 && occluded > N / 50, "hits %ld visible %ld occluded %ld", hits, visible,
+           occluded);
+    for (k = 0; k < 4; ++k) {
+        CHECK(room_answers(scales[k], N, scaled) == 0);
+        for (i = 0; i < N; ++i) {
+            CHECKF(scaled[i].tri == base[i].tri && scaled[i].bounce_tri == base[i].bounce_tri &&
+                       same_bits(scaled[i].t, base[i].t * scales[k]) &&
+                       same_bits(scaled[i].bounce_t, base[i].bounce_t * scales[k]) && scaled[i].visible == base[i].visible,
+                   "scale %g, ray %ld: tri %u/%u bounce %u/%u visible %d/%d", (double)scales[k], i, scaled[i].tri,
+                   base[i].tri, scaled[i].bounce_tri, base[i].bounce_tri, scaled[i].visible, base[i].visible);
+        }
+    }
+}
+
 /* scene_intersect: position from barycentrics, the true (unflipped) face normal,
  * interpolated shading normals, material and object ids. */
 TEST(scene_intersect_surface_data)

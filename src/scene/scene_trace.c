@@ -1,7 +1,8 @@
 /* Ray queries on a scene: building the acceleration structure, closest hits with
  * surface data, visibility between two points and rays leaving a surface. Every ray
- * that starts on a surface is offset with offset_ray_origin (Wächter & Binder 2019)
- * to the side it leaves to, so no epsilon in t is ever needed: tmin is 0. */
+ * that starts on a surface is offset with offset_ray_origin (after Wächter & Binder
+ * 2019) to the side it leaves to, so no epsilon in t is needed: spawned rays have
+ * tmin = 0, and shadow segments are only shortened by the offsets themselves. */
 #include "restir/scene.h"
 
 #include <math.h>
