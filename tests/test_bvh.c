@@ -1085,7 +1085,7 @@ TEST_LONG(bvh_matches_brute_force_long)
     random_soup(&m, 200, 20000);
     closed_mesh(&m, 20, 1, 0.7f, v3f(0.1f, 0.2f, 0.3f));
     CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
-    for (i = 0; i < 30000; ++i) {
+    for (i = 0; i < 15000; ++i) {
         ray r = make_ray(urand_box(201, (uint32_t)i, -1.5f, 1.5f), urand_direction(201, (uint32_t)i));
         if (i % 2) r.dir = v3f_sub(m.v[(size_t)(urand(202, (uint32_t)i, 0) * 3 * (float)m.count) % (3 * m.count)], r.origin);
         CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
