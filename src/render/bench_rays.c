@@ -245,8 +245,9 @@ int bench_rays(const scene *s, const bench_rays_options *o, FILE *json_out, rerr
     int repeats = o->repeats < 1 ? 1 : o->repeats;
 
     if (o->width < 1 || o->height < 1) return rerror_set(e, "bench rays: image size must be positive");
-    if (s->accel.node_count == 0 && s->triangle_count == 0)
-        return rerror_at(e, s->path, 0, "scene has no triangles");
+    if (s->triangle_count == 0) return rerror_at(e, s->path, 0, "scene has no triangles");
+    if (s->accel.node_count == 0)
+        return rerror_at(e, s->path, 0, "scene has no BVH (not prepared, or only degenerate triangles)");
     primary.rays = rmalloc((size_t)pixels, sizeof(ray), e);
     secondary.rays = rmalloc((size_t)pixels, sizeof(ray), e);
     shadow.rays = rmalloc((size_t)pixels, sizeof(ray), e);
