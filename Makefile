@@ -50,7 +50,8 @@ $(BUILD)/%.o: %.c
 
 $(BUILD)/librestir.a: $(LIB_OBJ)
 	@rm -f $@
-	$(AR) rcs $@ $^
+	@echo "AR $@"
+	@$(AR) rcs $@ $^
 
 $(BUILD)/restir: $(BUILD)/src/cli/main.o $(BUILD)/librestir.a
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)

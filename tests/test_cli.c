@@ -132,3 +132,13 @@ TEST(cli_threads_bit_identical)
         CHECKF(files_equal(a, b), "%d threads differ from 1 thread", threads[i]);
     }
 }
+
+/* `bench rays` produces JSON with the three ray kinds (numbers are not asserted). */
+TEST(cli_bench_rays_smoke)
+{
+    CHECKF(test_cli(out, sizeof out, "bench rays --generated 4 --size 16x16 --repeats 1 --threads 2") == 0, "%s", out);
+    CHECK(strstr(out, "primary_mrays") != NULL);
+    CHECK(strstr(out, "secondary_mrays") != NULL);
+    CHECK(strstr(out, "shadow_mrays") != NULL);
+    CHECK(test_cli(out, sizeof out, "bench warp") == 2);
+}
