@@ -84,12 +84,12 @@ typedef struct {
     real pdf;       /* pdf_lobe(wi), solid angle (1 for a delta lobe) */
     real lobe_prob; /* P(lobe | wo) */
     rgb weight;     /* f_cos / (lobe_prob * pdf): the path-throughput factor */
-} bsdf_sample;
+} bsdf_sample_record;
 
 /* ---- construction and lobe structure ---- */
 bsdf bsdf_from_material(const material *m);
 int bsdf_lobe_count(const bsdf *b);
-enum bsdf_lobe_kind bsdf_lobe_kind(const bsdf *b, int lobe);
+enum bsdf_lobe_kind bsdf_lobe_kind_of(const bsdf *b, int lobe);
 int bsdf_lobe_is_delta(const bsdf *b, int lobe);
 /* Linear roughness of the lobe: 1 for diffuse, 0 for delta, r for GGX lobes. */
 real bsdf_lobe_roughness(const bsdf *b, int lobe);
@@ -116,7 +116,7 @@ real bsdf_lobe_pdf(const bsdf *b, int lobe, vec3 wo, vec3 wi);
 /* Samples wi from `lobe` with u in [0,1)^2. Returns 1 and fills *s (lobe_prob =
  * P(lobe|wo)), or 0 if there is no valid sample (below the horizon, TIR into a
  * transmission lobe, P(lobe|wo) = 0, wo.z = 0). */
-int bsdf_lobe_sample(const bsdf *b, int lobe, vec3 wo, vec2 u, bsdf_sample *s);
+int bsdf_lobe_sample(const bsdf *b, int lobe, vec3 wo, vec2 u, bsdf_sample_record *s);
 /* Inverse sampling: the u with bsdf_lobe_sample(b, lobe, wo, u).wi == wi.
  * Returns 1 and fills *u if wi is in the image of the lobe's sampler (pdf > 0),
  * 0 otherwise and always for delta lobes (their u is arbitrary). */
@@ -129,7 +129,7 @@ rgb bsdf_eval(const bsdf *b, vec3 wo, vec3 wi);
 real bsdf_pdf(const bsdf *b, vec3 wo, vec3 wi);
 /* Selects a lobe with u_lobe, then samples it with u: three numbers per bounce.
  * s->weight = f_l cos / (P(l|wo) pdf_l) (one-sample lobe selection). */
-int bsdf_sample(const bsdf *b, vec3 wo, real u_lobe, vec2 u, bsdf_sample *s);
+int bsdf_sample(const bsdf *b, vec3 wo, real u_lobe, vec2 u, bsdf_sample_record *s);
 
 /* ---- the local shading frame ---- */
 typedef struct { vec3 t, b, n; } shading_frame;

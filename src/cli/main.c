@@ -4,8 +4,12 @@
 #include "restir/cli.h"
 
 int cmd_help(int argc, char **argv);
+int cmd_render(int argc, char **argv);
+int cmd_info(int argc, char **argv);
 
 const cli_command cli_commands[] = {
+    {"render", cmd_render, "render a scene (.scene or .obj) to PFM + PNG"},
+    {"info", cmd_info, "scene statistics: triangles, materials, emitters, BVH"},
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
     {NULL, NULL, NULL},
 };

@@ -1,0 +1,37 @@
+/* Table-driven option parsing shared by every command: a command lists its options
+ * once (name, type, destination, help) and gets parsing, validation and --help. */
+#ifndef RESTIR_CLI_ARGS_H
+#define RESTIR_CLI_ARGS_H
+
+#include <stdio.h>
+#include "restir/vec.h"
+
+enum cli_option_type {
+    OPT_FLAG,   /* int, set to 1 */
+    OPT_INT,    /* int >= 0 unless min is set */
+    OPT_UINT32, /* uint32_t */
+    OPT_REAL,   /* double */
+    OPT_STRING, /* const char * */
+    OPT_VEC3,   /* double[3] from "x,y,z" */
+    OPT_SIZE,   /* int[2] from "WxH" */
+    OPT_CHOICE  /* int index into `choices` (NULL-terminated) */
+};
+
+typedef struct {
+    const char *name; /* "--spp" */
+    enum cli_option_type type;
+    void *dest;
+    const char *help;
+    const char *const *choices; /* OPT_CHOICE only */
+    double min, max;            /* numeric bounds when min < max */
+    int *seen;                  /* optional: set to 1 when given */
+} cli_option;
+
+/* Parses argv[1..argc-1]. Non-option arguments go to positional[] (up to max_positional).
+ * Returns 0, 1 if --help was printed, or 2 after printing "restir CMD: what is wrong". */
+int cli_parse(const char *command, int argc, char **argv, const cli_option *options, const char **positional,
+              int max_positional, int *positional_count);
+
+void cli_print_help(FILE *out, const char *command, const char *usage, const cli_option *options);
+
+#endif

@@ -1,0 +1,68 @@
+/* G-buffer channels as images. */
+#include "restir/aov.h"
+
+#include <string.h>
+#include "restir/rng.h"
+
+static const char *const aov_names[] = {"normal", "albedo", "depth", "object"};
+
+int aov_parse(const char *name)
+{
+    int i;
+    for (i = 0; i < 4; ++i)
+        if (!strcmp(name, aov_names[i])) return i;
+    return -1;
+}
+
+const char *aov_name(enum aov_kind kind) { return aov_names[kind]; }
+
+static rgb material_albedo(const material *m)
+{
+    switch (m->type) {
+    case MAT_CONDUCTOR:
+    case MAT_DIELECTRIC:
+    case MAT_ROUGH_DIELECTRIC:
+        return m->specular;
+    default:
+        return m->diffuse;
+    }
+}
+
+/* A stable colour per object id: three hashed channels, kept away from black. */
+static rgb object_colour(uint32_t object)
+{
+    rng_key k = rng_key_make(0x0b1ec7u, object, 0);
+    return rgb_make((real)0.2 + (real)0.8 * rng_u(k, RNG_TEST, 0, 0), (real)0.2 + (real)0.8 * rng_u(k, RNG_TEST, 0, 1),
+                    (real)0.2 + (real)0.8 * rng_u(k, RNG_TEST, 0, 2));
+}
+
+static rgb texel_value(const gbuffer_texel *t, const scene *s, enum aov_kind kind)
+{
+    if (!t->valid) return rgb_gray(0);
+    switch (kind) {
+    case AOV_NORMAL:
+        return rgb_make((real)0.5 + (real)0.5 * t->hit.ns.x, (real)0.5 + (real)0.5 * t->hit.ns.y,
+                        (real)0.5 + (real)0.5 * t->hit.ns.z);
+    case AOV_ALBEDO:
+        return material_albedo(&s->materials[t->hit.material]);
+    case AOV_DEPTH:
+        return rgb_gray(t->depth);
+    case AOV_OBJECT:
+        return object_colour(t->hit.object);
+    }
+    return rgb_gray(0);
+}
+
+void aov_render(const gbuffer *g, const scene *s, enum aov_kind kind, image *out)
+{
+    int x, y;
+    for (y = 0; y < g->height; ++y) {
+        for (x = 0; x < g->width; ++x) {
+            rgb c = texel_value(gbuffer_at(g, x, y), s, kind);
+            float *p = image_pixel(out, x, y);
+            p[0] = (float)c.r;
+            p[1] = (float)c.g;
+            p[2] = (float)c.b;
+        }
+    }
+}

@@ -1,0 +1,134 @@
+/* The command line: usage errors, bad input (exit 2, one "file:line:" line, no output
+ * file left behind), AOV output, and byte-identical output for any thread count. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "test.h"
+
+static char out[65536];
+
+/* A small closed-enough scene: a floor quad, a box-ish triangle and a light. */
+static const char *tiny_obj =
+    "mtllib tiny.mtl\n"
+    "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n"
+    "v -0.2 1.5 -0.2\nv 0.2 1.5 -0.2\nv 0.2 1.5 0.2\nv -0.2 1.5 0.2\n"
+    "v -0.5 0 0\nv 0.5 0 0\nv 0 0.8 0\n"
+    "o floor\nusemtl white\nf 1 4 3 2\n"
+    "o light\nusemtl light\nf 5 6 7 8\n"
+    "o wedge\nusemtl white\nf 9 10 11\n";
+static const char *tiny_mtl = "newmtl white\nKd 0.7 0.7 0.7\nnewmtl light\nKd 0 0 0\nKe 5 5 5\n";
+static const char *tiny_scene = "mesh tiny.obj\ncamera eye 0 1 4 target 0 0.5 0 up 0 1 0 fov 45\nsize 40 30\n";
+
+static const char *write_tiny_scene(void)
+{
+    test_write_file("tiny.obj", tiny_obj);
+    test_write_file("tiny.mtl", tiny_mtl);
+    return test_write_file("tiny.scene", tiny_scene);
+}
+
+static int files_equal(const char *a, const char *b)
+{
+    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+    int ca, cb, same = fa && fb;
+    while (same) {
+        ca = fgetc(fa);
+        cb = fgetc(fb);
+        if (ca != cb) same = 0;
+        if (ca == EOF) break;
+    }
+    if (fa) fclose(fa);
+    if (fb) fclose(fb);
+    return same;
+}
+
+TEST(cli_version_and_help)
+{
+    CHECK(test_cli(out, sizeof out, "--version") == 0);
+    CHECK(strstr(out, "restir ") != NULL);
+    CHECK(test_cli(out, sizeof out, "help") == 0);
+    CHECK(strstr(out, "render") != NULL);
+    CHECK(test_cli(out, sizeof out, "render --help") == 0);
+    CHECK(strstr(out, "--threads") != NULL);
+    CHECK(test_cli(out, sizeof out, "info --help") == 0);
+}
+
+TEST(cli_usage_errors_exit_2)
+{
+    CHECK(test_cli(out, sizeof out, "frobnicate") == 2);
+    CHECK(test_cli(out, sizeof out, "render") == 2);
+    CHECK(test_cli(out, sizeof out, "render x.scene --no-such-option") == 2);
+    CHECK(strstr(out, "--no-such-option") != NULL);
+    CHECK(test_cli(out, sizeof out, "render x.scene --size 12by4") == 2);
+    CHECK(test_cli(out, sizeof out, "render x.scene --threads 0") == 2);
+    CHECK(test_cli(out, sizeof out, "render x.scene --eye 1,2") == 2);
+    CHECK(test_cli(out, sizeof out, "render x.scene --method warp-drive") == 2);
+}
+
+TEST(cli_missing_scene_exit_2_no_output)
+{
+    const char *dest = test_tmp_path("missing.pfm");
+    char dest_copy[1024];
+    snprintf(dest_copy, sizeof dest_copy, "%s", dest);
+    remove(dest_copy);
+    CHECK(test_cli(out, sizeof out, "render %s/does-not-exist.scene -o %s", test_tmpdir(), dest_copy) == 2);
+    CHECKF(strstr(out, "does-not-exist.scene") != NULL, "message: %s", out);
+    CHECK(strchr(out, '\n') == strrchr(out, '\n')); /* exactly one line */
+    CHECK(!test_file_exists(dest_copy));
+}
+
+/* A malformed scene line is reported as file:line and nothing is written. */
+TEST(cli_bad_scene_line_reported_with_line_number)
+{
+    char dest[1024];
+    const char *path;
+    write_tiny_scene();
+    path = test_write_file("bad.scene", "mesh tiny.obj\nsize 40 x30\n");
+    snprintf(dest, sizeof dest, "%s", test_tmp_path("bad.pfm"));
+    remove(dest);
+    CHECK(test_cli(out, sizeof out, "render %s -o %s", path, dest) == 2);
+    CHECKF(strstr(out, "bad.scene:2:") != NULL, "message: %s", out);
+    CHECK(!test_file_exists(dest));
+}
+
+TEST(cli_info_reports_scene)
+{
+    const char *path = write_tiny_scene();
+    CHECK(test_cli(out, sizeof out, "info %s", path) == 0);
+    CHECKF(strstr(out, "triangles    5") != NULL, "%s", out);
+    CHECK(strstr(out, "emitters     2") != NULL);
+}
+
+TEST(cli_aov_writes_pfm_and_png)
+{
+    const char *path = write_tiny_scene();
+    char pfm[1024], png[1024];
+    const char *aovs[] = {"normal", "albedo", "depth", "object"};
+    int i;
+    snprintf(pfm, sizeof pfm, "%s", test_tmp_path("aov.pfm"));
+    snprintf(png, sizeof png, "%s", test_tmp_path("aov.png"));
+    for (i = 0; i < 4; ++i) {
+        remove(pfm);
+        remove(png);
+        CHECKF(test_cli(out, sizeof out, "render %s --method aov --aov %s -o %s --quiet", path, aovs[i], pfm) == 0,
+               "%s", out);
+        CHECK(test_file_exists(pfm));
+        CHECK(test_file_exists(png));
+    }
+}
+
+/* Output bytes do not depend on the thread count (DESIGN §3). */
+TEST(cli_threads_bit_identical)
+{
+    const char *path = write_tiny_scene();
+    char a[1024], b[1024];
+    int threads[] = {2, 7};
+    int i;
+    snprintf(a, sizeof a, "%s", test_tmp_path("threads1.pfm"));
+    CHECK(test_cli(out, sizeof out, "render %s --threads 1 --jitter -o %s --no-png --quiet", path, a) == 0);
+    for (i = 0; i < 2; ++i) {
+        snprintf(b, sizeof b, "%s/threads%d.pfm", test_tmpdir(), threads[i]);
+        CHECK(test_cli(out, sizeof out, "render %s --threads %d --jitter -o %s --no-png --quiet", path, threads[i],
+                       b) == 0);
+        CHECKF(files_equal(a, b), "%d threads differ from 1 thread", threads[i]);
+    }
+}
