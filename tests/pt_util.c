@@ -124,7 +124,7 @@ void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material)
 }
 
 /* Two triangles (p, p+e1, p+e1+e2), (p, p+e1+e2, p+e2): front normal along e1 x e2. */
-static void quad(scene *s, vec3f p, vec3f e1, vec3f e2, uint32_t material)
+void test_scene_quad(scene *s, vec3f p, vec3f e1, vec3f e2, uint32_t material)
 {
     vec3f p1 = v3f_add(p, e1), p2 = v3f_add(p1, e2), p3 = v3f_add(p, e2);
     test_scene_triangle(s, p, p1, p2, material);
@@ -134,12 +134,12 @@ static void quad(scene *s, vec3f p, vec3f e1, vec3f e2, uint32_t material)
 void test_scene_inward_box(scene *s, vec3f lo, vec3f hi, uint32_t m)
 {
     vec3f dx = v3f(hi.x - lo.x, 0, 0), dy = v3f(0, hi.y - lo.y, 0), dz = v3f(0, 0, hi.z - lo.z);
-    quad(s, lo, dy, dz, m);                /* x = lo, normal +x */
-    quad(s, v3f_add(lo, dx), dz, dy, m);   /* x = hi, normal -x */
-    quad(s, lo, dz, dx, m);                /* y = lo, normal +y */
-    quad(s, v3f_add(lo, dy), dx, dz, m);   /* y = hi, normal -y */
-    quad(s, lo, dx, dy, m);                /* z = lo, normal +z */
-    quad(s, v3f_add(lo, dz), dy, dx, m);   /* z = hi, normal -z */
+    test_scene_quad(s, lo, dy, dz, m);                /* x = lo, normal +x */
+    test_scene_quad(s, v3f_add(lo, dx), dz, dy, m);   /* x = hi, normal -x */
+    test_scene_quad(s, lo, dz, dx, m);                /* y = lo, normal +y */
+    test_scene_quad(s, v3f_add(lo, dy), dx, dz, m);   /* y = hi, normal -y */
+    test_scene_quad(s, lo, dx, dy, m);                /* z = lo, normal +z */
+    test_scene_quad(s, v3f_add(lo, dz), dy, dx, m);   /* z = hi, normal -z */
 }
 
 void test_scene_camera(scene *s, vec3 eye, vec3 target, vec3 up, real fov_y, int res)
@@ -159,3 +159,98 @@ void test_scene_scale(scene *s, float k)
     s->camera.eye = v3_scale(s->camera.eye, (real)k);
     s->camera.target = v3_scale(s->camera.target, (real)k);
 }
+
+void test_scene_outward_box(scene *s, vec3f lo, vec3f hi, uint32_t m)
+{
+    vec3f dx = v3f(hi.x - lo.x, 0, 0), dy = v3f(0, hi.y - lo.y, 0), dz = v3f(0, 0, hi.z - lo.z);
+    test_scene_quad(s, lo, dz, dy, m);              /* x = lo, normal -x */
+    test_scene_quad(s, v3f_add(lo, dx), dy, dz, m); /* x = hi, normal +x */
+    test_scene_quad(s, lo, dx, dz, m);              /* y = lo, normal -y */
+    test_scene_quad(s, v3f_add(lo, dy), dz, dx, m); /* y = hi, normal +y */
+    test_scene_quad(s, lo, dy, dx, m);              /* z = lo, normal -z */
+    test_scene_quad(s, v3f_add(lo, dz), dx, dy, m); /* z = hi, normal +z */
+}
+
+material *test_scene_last_material(scene *s) { return &s->materials[s->material_count - 1]; }
+
+/* Sidak: P(min of m independent p-values <= p) = 1 - (1 - p)^m. */
+static double sidak(double p, int m) { return m > 0 ? -expm1((double)m * log1p(-fmin(p, 1 - 1e-16))) : 1; }
+
+/* Block mean, its variance, and the effective sample count (sum x)^2 / sum x^2 of one
+ * channel of a state. The ESS counts the "hits" of a rare-event estimator: with k
+ * equal nonzero samples it is k. */
+static void block_stats(const pt_state *st, int bx, int by, int block, int c, double *mean, double *var, double *ess)
+{
+    int x, y, n = 0;
+    double k = (double)st->spp, m = 0, v = 0, sx = 0, sxx = 0;
+    for (y = by; y < by + block && y < st->height; ++y) {
+        for (x = bx; x < bx + block && x < st->width; ++x) {
+            size_t i = 3 * ((size_t)y * st->width + x) + c;
+            double pm = st->sum[i] / k, ss = st->sum_sq[i] - st->sum[i] * st->sum[i] / k;
+            m += pm;
+            v += (ss > 0 ? ss : 0) / (k * (k - 1));
+            sx += st->sum[i];
+            sxx += st->sum_sq[i];
+            n++;
+        }
+    }
+    *mean = m / n;
+    *var = v / ((double)n * n);
+    *ess = sxx > 0 ? sx * sx / sxx : 0;
+}
+
+/* The z-test of one block and channel. Returns 0 if the block is not testable: both
+ * variances 0 (then the means must agree exactly, else *p = 0), or too few effective
+ * samples on a side for the normal approximation (a rare-event estimator whose hits
+ * were not observed has an estimated variance of 0 and would give absurd z). */
+static int block_test(const pt_state *a, const pt_state *b, int bx, int by, int block, int c, double *z, double *p)
+{
+    const double min_ess = 20;
+    double ma, va, ea, mb, vb, eb;
+    block_stats(a, bx, by, block, c, &ma, &va, &ea);
+    block_stats(b, bx, by, block, c, &mb, &vb, &eb);
+    if (va + vb == 0) {
+        *z = 0;
+        *p = ma == mb ? 1 : 0;
+        return ma != mb;
+    }
+    if (ea < min_ess || eb < min_ess) return 0;
+    *z = (ma - mb) / sqrt(va + vb);
+    *p = normal_two_sided_p(*z);
+    return 1;
+}
+
+void pt_compare_states(const pt_state *a, const pt_state *b, int block, pt_compare *r)
+{
+    double p_min = 1, p_mean_min = 1;
+    int bx, by, c, side = a->width > a->height ? a->width : a->height;
+    memset(r, 0, sizeof *r);
+    for (by = 0; by < a->height; by += block)
+        for (bx = 0; bx < a->width; bx += block)
+            for (c = 0; c < 3; ++c) {
+                double z, p;
+                if (!block_test(a, b, bx, by, block, c, &z, &p)) {
+                    r->skipped++;
+                    continue;
+                }
+                r->tests++;
+                if (p <= p_min) {
+                    r->worst_z = z;
+                    p_min = p;
+                }
+            }
+    r->p_blocks = sidak(p_min, r->tests);
+    for (c = 0; c < 3; ++c) {
+        double ma, va, ea, mb, vb, eb;
+        block_stats(a, 0, 0, side, c, &ma, &va, &ea);
+        block_stats(b, 0, 0, side, c, &mb, &vb, &eb);
+        r->mean_a[c] = ma;
+        r->mean_b[c] = mb;
+        r->se_mean[c] = sqrt(va + vb);
+        if (va + vb > 0) p_mean_min = fmin(p_mean_min, normal_two_sided_p((ma - mb) / sqrt(va + vb)));
+        else if (ma != mb) p_mean_min = 0;
+    }
+    r->p_mean = sidak(p_mean_min, 3);
+}
+
+int pt_compare_equal(const pt_compare *r, double alpha) { return r->p_blocks > alpha && r->p_mean > alpha; }
