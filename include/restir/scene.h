@@ -68,6 +68,11 @@ typedef struct {
     size_t keyframe_count;
     int width, height;
 
+    /* Load-time warnings, each one line "file:line: what" (undefined materials, ignored
+     * transparency, dropped degenerate triangles, ...). The library never prints them. */
+    char **warnings;
+    size_t warning_count;
+
     /* Built by scene_prepare(): */
     bvh accel;
     vec3f bounds_min, bounds_max;
@@ -76,13 +81,25 @@ typedef struct {
 /* Loads a .scene file or a bare .obj (then the camera frames the bounding box
  * and the image is 512x512). All errors are "file:line: what is wrong". */
 int scene_load(scene *s, const char *path, rerror *e);
+
+typedef struct {
+    int allow_missing_mtl; /* a material library that cannot be opened is a warning, not an error */
+} scene_load_options;
+
+/* scene_load with options (NULL = defaults, which is what scene_load uses). */
+int scene_load_with_options(scene *s, const char *path, const scene_load_options *options, rerror *e);
+/* Number of triangles whose material has nonzero emission. */
+size_t scene_emitter_count(const scene *s);
+
 /* Builds the BVH and bounds; fails on an empty scene. */
 int scene_prepare(scene *s, rerror *e);
 void scene_free(scene *s);
 
 /* Camera pose at a frame (keyframes interpolated; the static camera otherwise). */
 camera_pose scene_camera_at(const scene *s, int frame);
-/* Places the camera to see the whole bounding box (used for bare OBJ files). */
+/* Places the camera to see the whole bounding box (used for bare OBJ files): looks at
+ * the centre of the triangles' bounding box from the +z side, up +y, vertical fov 40
+ * degrees, at the distance where the bounding sphere fits the narrower field of view. */
 camera_pose scene_frame_bounds(const scene *s);
 
 /* A surface point found by a ray. Normals are unit length. ng is the true face
@@ -105,6 +122,11 @@ int scene_intersect(const scene *s, const ray *r, surface_hit *h);
  * (normal ng_to, or NULL for a non-surface point) is unoccluded. Origins are offset
  * robustly and scale-invariantly on both ends. */
 int scene_visible(const scene *s, vec3f from, vec3f ng_from, vec3f to, const vec3f *ng_to);
+/* The shadow ray scene_visible traces (any hit in (tmin, tmax) means occluded):
+ * between the two offset end points with the unnormalised direction (t = 1 at the
+ * far end), the range shortened at each surface end by its offset distance, traced
+ * from the lexicographically smaller end so that (a, b) and (b, a) give the same ray. */
+ray scene_visibility_ray(vec3f from, vec3f ng_from, vec3f to, const vec3f *ng_to);
 /* Ray leaving a surface point in direction dir (origin offset to the side dir points to). */
 ray scene_spawn_ray(vec3f p, vec3f ng, vec3f dir);
 

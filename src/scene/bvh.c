@@ -1,0 +1,665 @@
+/* Bounding volume hierarchy over triangles.
+ *
+ * Build: top-down binned SAH (Wald 2007, "On fast construction of SAH-based bounding
+ * volume hierarchies"): BVH_BINS = 16 centroid bins per axis, all three axes tried at
+ * every node, leaves of at most BVH_MAX_LEAF = 8 triangles, a node becomes a leaf when
+ * the SAH says splitting does not pay. Nodes are stored depth-first: the left child of
+ * an interior node is the next node, the right child is at `offset`.
+ *
+ * Traversal: one stack, near child first (chosen by the sign of the ray direction on
+ * the node's split axis). The box test is made conservative with respect to the
+ * rounding of both the slab test and the watertight triangle test (see ray_setup),
+ * so the BVH finds exactly what a loop over all triangles finds.
+ *
+ * Triangle test: Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection"
+ * (JCGT 2(1)): translate to the ray origin, permute so the dominant direction axis is
+ * z, shear so the ray is the z axis, then 2D edge functions with a double-precision
+ * re-evaluation when one is exactly zero. Watertight along shared edges and vertices. */
+#include "restir/bvh.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The node layout is part of the interface (two nodes per 64-byte cache line). */
+typedef char bvh_node_must_be_32_bytes[(sizeof(bvh_node) == 32) ? 1 : -1];
+/* Vertices are read as float[9] per triangle. */
+typedef char vec3f_must_be_12_bytes[(sizeof(vec3f) == 12) ? 1 : -1];
+
+enum {
+    BVH_BINS = 16,
+    BVH_MAX_LEAF = 8,
+    /* Below this depth the SAH decides; deeper nodes are halved by count, which keeps
+     * the depth (and the traversal stack) bounded even for adversarial inputs. */
+    BVH_SAH_DEPTH_LIMIT = 48,
+    BVH_STACK_SIZE = 96
+};
+
+/* SAH constants: cost of one node traversal and one triangle test, in the same unit. */
+static const double SAH_TRAVERSAL_COST = 1.0;
+static const double SAH_TRIANGLE_COST = 1.0;
+
+#define COUNT_MASK 0xffffffu
+
+/* ------------------------------------------------------------------------------- */
+/* Boxes                                                                            */
+
+typedef struct {
+    float lo[3], hi[3];
+} box3;
+
+static box3 box_empty(void)
+{
+    box3 b;
+    int i;
+    for (i = 0; i < 3; ++i) {
+        b.lo[i] = FLT_MAX;
+        b.hi[i] = -FLT_MAX;
+    }
+    return b;
+}
+
+static void box_grow(box3 *b, const box3 *o)
+{
+    int i;
+    for (i = 0; i < 3; ++i) {
+        if (o->lo[i] < b->lo[i]) b->lo[i] = o->lo[i];
+        if (o->hi[i] > b->hi[i]) b->hi[i] = o->hi[i];
+    }
+}
+
+static void box_grow_point(box3 *b, const float p[3])
+{
+    int i;
+    for (i = 0; i < 3; ++i) {
+        if (p[i] < b->lo[i]) b->lo[i] = p[i];
+        if (p[i] > b->hi[i]) b->hi[i] = p[i];
+    }
+}
+
+/* Surface area (in double: the SAH sums many of them). 0 for an empty box. */
+static double box_area(const box3 *b)
+{
+    double dx = (double)b->hi[0] - b->lo[0], dy = (double)b->hi[1] - b->lo[1];
+    double dz = (double)b->hi[2] - b->lo[2];
+    if (dx < 0 || dy < 0 || dz < 0) return 0;
+    return 2 * (dx * dy + dy * dz + dz * dx);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Degenerate triangles                                                             */
+
+static int vec3f_is_finite(vec3f v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+
+/* A triangle with a non-finite vertex, or whose edge cross product is exactly zero
+ * (repeated vertices, collinear vertices), has no area: it can never be hit. The
+ * cross product is evaluated in double, where differences of floats of similar
+ * magnitude and all products of them are exact, so exactly collinear float vertices
+ * give exactly zero. Such triangles are left out of the BVH, and the public
+ * ray_triangle_watertight() rejects them too, so both agree. */
+static int triangle_is_degenerate(vec3f a, vec3f b, vec3f c)
+{
+    double e1x, e1y, e1z, e2x, e2y, e2z;
+    if (!vec3f_is_finite(a) || !vec3f_is_finite(b) || !vec3f_is_finite(c)) return 1;
+    e1x = (double)b.x - a.x, e1y = (double)b.y - a.y, e1z = (double)b.z - a.z;
+    e2x = (double)c.x - a.x, e2y = (double)c.y - a.y, e2z = (double)c.z - a.z;
+    return e1y * e2z - e1z * e2y == 0 && e1z * e2x - e1x * e2z == 0 && e1x * e2y - e1y * e2x == 0;
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Build                                                                            */
+
+typedef struct {
+    const box3 *prim_box;   /* per valid primitive */
+    const float (*centroid)[3];
+    uint32_t *index;        /* valid-primitive ids, partitioned in place */
+    bvh_node *nodes;
+    size_t node_count;
+    int depth;
+    double sah_cost;        /* unnormalised: sum of cost * area */
+} builder;
+
+typedef struct {
+    box3 bounds;
+    uint32_t count;
+} bin;
+
+/* Bin of a centroid coordinate; used for both binning and partitioning so that the
+ * two always agree. */
+static int bin_of(float c, float lo, float scale)
+{
+    int k = (int)((c - lo) * scale);
+    return k < 0 ? 0 : (k >= BVH_BINS ? BVH_BINS - 1 : k);
+}
+
+typedef struct {
+    int axis;      /* -1: no useful split found */
+    int split;     /* primitives with bin < split go left */
+    double cost;   /* SAH cost relative to the node's area */
+} split_choice;
+
+/* SAH over BVH_BINS bins on each axis with a non-flat centroid extent:
+ * cost(split) = C_trav + C_tri * (A_L N_L + A_R N_R) / A_node. */
+static split_choice find_sah_split(const builder *b, uint32_t begin, uint32_t end,
+                                   const box3 *node_box, const box3 *centroid_box)
+{
+    split_choice best;
+    double node_area = box_area(node_box);
+    int axis;
+    best.axis = -1;
+    best.split = 0;
+    best.cost = INFINITY;
+    if (node_area <= 0) return best;
+    for (axis = 0; axis < 3; ++axis) {
+        bin bins[BVH_BINS];
+        double right_cost[BVH_BINS];
+        float lo = centroid_box->lo[axis], extent = centroid_box->hi[axis] - lo;
+        float scale;
+        box3 acc;
+        uint32_t i, n;
+        int k;
+        if (!(extent > 0)) continue;
+        scale = (float)BVH_BINS / extent;
+        for (k = 0; k < BVH_BINS; ++k) {
+            bins[k].bounds = box_empty();
+            bins[k].count = 0;
+        }
+        for (i = begin; i < end; ++i) {
+            uint32_t p = b->index[i];
+            k = bin_of(b->centroid[p][axis], lo, scale);
+            box_grow(&bins[k].bounds, &b->prim_box[p]);
+            bins[k].count++;
+        }
+        /* Sweep from the right: right_cost[k] = A(bins k..) * N(bins k..). */
+        acc = box_empty();
+        n = 0;
+        for (k = BVH_BINS - 1; k > 0; --k) {
+            box_grow(&acc, &bins[k].bounds);
+            n += bins[k].count;
+            right_cost[k] = box_area(&acc) * n;
+        }
+        /* Sweep from the left and combine. */
+        acc = box_empty();
+        n = 0;
+        for (k = 1; k < BVH_BINS; ++k) {
+            double cost;
+            box_grow(&acc, &bins[k - 1].bounds);
+            n += bins[k - 1].count;
+            if (n == 0 || n == end - begin) continue;
+            cost = SAH_TRAVERSAL_COST + SAH_TRIANGLE_COST * (box_area(&acc) * n + right_cost[k]) / node_area;
+            if (cost < best.cost) {
+                best.cost = cost;
+                best.axis = axis;
+                best.split = k;
+            }
+        }
+    }
+    return best;
+}
+
+/* Moves primitives whose centroid bin is < split to the front; returns the middle. */
+static uint32_t partition_by_bin(builder *b, uint32_t begin, uint32_t end, const box3 *centroid_box,
+                                 split_choice s)
+{
+    float lo = centroid_box->lo[s.axis];
+    float scale = (float)BVH_BINS / (centroid_box->hi[s.axis] - lo);
+    uint32_t i = begin, j = end;
+    while (i < j) {
+        if (bin_of(b->centroid[b->index[i]][s.axis], lo, scale) < s.split) {
+            i++;
+        } else {
+            uint32_t t = b->index[--j];
+            b->index[j] = b->index[i];
+            b->index[i] = t;
+        }
+    }
+    return i;
+}
+
+static int largest_axis(const box3 *bx)
+{
+    float dx = bx->hi[0] - bx->lo[0], dy = bx->hi[1] - bx->lo[1], dz = bx->hi[2] - bx->lo[2];
+    return dx >= dy && dx >= dz ? 0 : (dy >= dz ? 1 : 2);
+}
+
+static void make_leaf(builder *b, bvh_node *node, uint32_t begin, uint32_t end, double area)
+{
+    node->offset = begin;
+    node->count_axis = end - begin;
+    b->sah_cost += SAH_TRIANGLE_COST * (end - begin) * area;
+}
+
+/* Builds the subtree of index[begin, end) at node `at`; its nodes follow `at`. */
+static void build_node(builder *b, size_t at, uint32_t begin, uint32_t end, int depth)
+{
+    bvh_node *node = &b->nodes[at];
+    box3 bounds = box_empty(), centroid_box = box_empty();
+    uint32_t i, count = end - begin, mid;
+    split_choice s;
+    double area;
+    size_t left;
+
+    for (i = begin; i < end; ++i) {
+        box_grow(&bounds, &b->prim_box[b->index[i]]);
+        box_grow_point(&centroid_box, b->centroid[b->index[i]]);
+    }
+    memcpy(node->min, bounds.lo, sizeof node->min);
+    memcpy(node->max, bounds.hi, sizeof node->max);
+    area = box_area(&bounds);
+    if (depth > b->depth) b->depth = depth;
+
+    if (count == 1) {
+        make_leaf(b, node, begin, end, area);
+        return;
+    }
+    s.axis = -1;
+    if (depth < BVH_SAH_DEPTH_LIMIT) s = find_sah_split(b, begin, end, &bounds, &centroid_box);
+    if (count <= BVH_MAX_LEAF && (s.axis < 0 || s.cost >= SAH_TRIANGLE_COST * count)) {
+        make_leaf(b, node, begin, end, area);
+        return;
+    }
+    if (s.axis >= 0) {
+        mid = partition_by_bin(b, begin, end, &centroid_box, s);
+    } else {
+        /* No SAH split (all centroids coincide, or too deep): halve by count. Any
+         * partition is a correct BVH; this one bounds the depth by log2(count). */
+        s.axis = largest_axis(&centroid_box);
+        mid = begin + count / 2;
+    }
+    node->count_axis = (uint32_t)s.axis << 24;
+    b->sah_cost += SAH_TRAVERSAL_COST * area;
+
+    left = b->node_count++;
+    build_node(b, left, begin, mid, depth + 1);
+    node = &b->nodes[at];
+    node->offset = (uint32_t)b->node_count++;
+    build_node(b, node->offset, mid, end, depth + 1);
+}
+
+static void triangle_box(const vec3f *v, box3 *bx, float centroid[3])
+{
+    int k;
+    *bx = box_empty();
+    for (k = 0; k < 3; ++k) {
+        float p[3];
+        p[0] = v[k].x;
+        p[1] = v[k].y;
+        p[2] = v[k].z;
+        box_grow_point(bx, p);
+    }
+    for (k = 0; k < 3; ++k) centroid[k] = 0.5f * bx->lo[k] + 0.5f * bx->hi[k];
+}
+
+int bvh_build(bvh *b, const vec3f *tri_vertices, size_t tri_count, rerror *e)
+{
+    builder bd;
+    box3 *prim_box = NULL;
+    float (*centroid)[3] = NULL;
+    uint32_t *original = NULL;
+    size_t i, valid = 0;
+    double root_area;
+
+    memset(b, 0, sizeof *b);
+    if (tri_count >= UINT32_MAX / 2) /* node indices are 32-bit; there are < 2n nodes */
+        return rerror_set(e, "bvh: %zu triangles are more than the 32-bit node format holds", tri_count);
+
+    prim_box = rmalloc(tri_count, sizeof *prim_box, e);
+    centroid = rmalloc(tri_count, sizeof *centroid, e);
+    original = rmalloc(tri_count, sizeof *original, e);
+    if (!prim_box || !centroid || !original) goto fail;
+    for (i = 0; i < tri_count; ++i) {
+        const vec3f *v = &tri_vertices[3 * i];
+        if (triangle_is_degenerate(v[0], v[1], v[2])) continue;
+        triangle_box(v, &prim_box[valid], centroid[valid]);
+        original[valid++] = (uint32_t)i;
+    }
+    b->prim_count = valid;
+    if (valid == 0) goto done; /* nothing can be hit; queries return "no hit" */
+
+    memset(&bd, 0, sizeof bd);
+    bd.prim_box = prim_box;
+    bd.centroid = (const float(*)[3])centroid;
+    bd.index = rmalloc(valid, sizeof *bd.index, e);
+    bd.nodes = rmalloc(2 * valid - 1, sizeof *bd.nodes, e);
+    if (!bd.index || !bd.nodes) {
+        free(bd.index);
+        free(bd.nodes);
+        goto fail;
+    }
+    for (i = 0; i < valid; ++i) bd.index[i] = (uint32_t)i;
+    bd.node_count = 1;
+    build_node(&bd, 0, 0, (uint32_t)valid, 0);
+
+    /* Leaf slots -> original triangles, and the leaf vertices in slot order. */
+    b->prim_order = bd.index;
+    b->leaf_vertices = rmalloc(3 * valid, sizeof *b->leaf_vertices, e);
+    if (!b->leaf_vertices) {
+        free(bd.nodes);
+        goto fail;
+    }
+    for (i = 0; i < valid; ++i) {
+        b->prim_order[i] = original[bd.index[i]];
+        memcpy(&b->leaf_vertices[3 * i], &tri_vertices[3 * (size_t)b->prim_order[i]], 3 * sizeof(vec3f));
+    }
+    b->nodes = realloc(bd.nodes, bd.node_count * sizeof *bd.nodes);
+    if (!b->nodes) b->nodes = bd.nodes;
+    b->node_count = bd.node_count;
+    b->depth = bd.depth;
+    {
+        box3 root;
+        memcpy(root.lo, b->nodes[0].min, sizeof root.lo);
+        memcpy(root.hi, b->nodes[0].max, sizeof root.hi);
+        root_area = box_area(&root);
+    }
+    b->sah_cost = root_area > 0 ? bd.sah_cost / root_area : 0;
+done:
+    free(prim_box);
+    free(centroid);
+    free(original);
+    return 0;
+fail:
+    free(prim_box);
+    free(centroid);
+    free(original);
+    bvh_free(b);
+    return -1;
+}
+
+void bvh_free(bvh *b)
+{
+    free(b->nodes);
+    free(b->prim_order);
+    free(b->leaf_vertices);
+    memset(b, 0, sizeof *b);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Per-ray precomputation                                                            */
+
+typedef struct {
+    float org[3], dir[3];
+    /* Woop et al. 2013 §3: kz = axis of the largest |dir| component, kx and ky the
+     * other two (swapped when dir[kz] < 0 to keep the winding), shear sx, sy, sz. */
+    int kx, ky, kz;
+    float sx, sy, sz;
+    /* Slab test: inverse direction, which box face is the near one per axis, and a
+     * per-axis bias in t that enlarges every box by `slack` in world units. */
+    float inv[3];
+    int negative[3];
+    float near_bias[3], far_bias[3];
+    float tmin, tmax;
+} ray_setup;
+
+static int largest_abs_axis(const float d[3])
+{
+    float ax = fabsf(d[0]), ay = fabsf(d[1]), az = fabsf(d[2]);
+    return ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+}
+
+/* Triangle part of the setup. Returns 0 for a ray that cannot hit anything (zero or
+ * non-finite direction, non-finite origin, empty range). */
+static int setup_triangle_test(ray_setup *s, const ray *r)
+{
+    s->org[0] = r->origin.x, s->org[1] = r->origin.y, s->org[2] = r->origin.z;
+    s->dir[0] = r->dir.x, s->dir[1] = r->dir.y, s->dir[2] = r->dir.z;
+    s->tmin = r->tmin;
+    s->tmax = r->tmax;
+    if (!vec3f_is_finite(r->origin) || !vec3f_is_finite(r->dir)) return 0;
+    if (r->dir.x == 0 && r->dir.y == 0 && r->dir.z == 0) return 0;
+    if (!(r->tmin < r->tmax)) return 0; /* also rejects NaN bounds */
+    s->kz = largest_abs_axis(s->dir);
+    s->kx = s->kz == 2 ? 0 : s->kz + 1;
+    s->ky = s->kx == 2 ? 0 : s->kx + 1;
+    if (s->dir[s->kz] < 0) {
+        int t = s->kx;
+        s->kx = s->ky;
+        s->ky = t;
+    }
+    s->sx = s->dir[s->kx] / s->dir[s->kz];
+    s->sy = s->dir[s->ky] / s->dir[s->kz];
+    s->sz = 1.0f / s->dir[s->kz];
+    return 1;
+}
+
+/* Box part of the setup. The slab test and the triangle test both round. To keep the
+ * BVH exactly as complete as a brute-force loop, every box is enlarged by
+ *     slack = 2^-20 * R,   R = max over axes of the distance from the origin to the
+ *                          far side of the scene box,
+ * which exceeds the rounding of (box - origin) * inv (< 2 ulp of R) and the shift of
+ * a triangle's vertices caused by translation and shear in the triangle test
+ * (< 6 ulp of R, Woop et al. 2013 §4 make the same argument for enlarged bounds).
+ * The enlargement is applied as a bias in t, slack / |dir_i|, so it works at any
+ * distance from the coordinate origin (adding slack to the origin could round away). */
+static void setup_box_test(ray_setup *s, const bvh_node *root)
+{
+    float reach = 0, slack;
+    int i;
+    for (i = 0; i < 3; ++i) {
+        float a = fabsf(root->min[i] - s->org[i]), b = fabsf(root->max[i] - s->org[i]);
+        if (a > reach) reach = a;
+        if (b > reach) reach = b;
+    }
+    slack = reach * (1.0f / 1048576.0f);
+    for (i = 0; i < 3; ++i) {
+        /* A zero component gets a huge finite inverse instead of infinity, so that
+         * 0 * inv never makes a NaN and a parallel ray outside the slab is culled. */
+        float d = s->dir[i];
+        float inv = fabsf(d) > 1e-30f ? 1.0f / d : copysignf(1e30f, d);
+        s->inv[i] = inv;
+        s->negative[i] = inv < 0;
+        s->near_bias[i] = -slack * fabsf(inv);
+        s->far_bias[i] = slack * fabsf(inv);
+    }
+}
+
+/* Conservative slab test against [tmin, tfar_limit] (inclusive, so that hits tied in
+ * t with the current closest are still found). */
+static inline int box_overlaps(const ray_setup *s, const bvh_node *n, float tfar_limit)
+{
+    float tnear = s->tmin, tfar = tfar_limit;
+    int i;
+    for (i = 0; i < 3; ++i) {
+        float near_plane = s->negative[i] ? n->max[i] : n->min[i];
+        float far_plane = s->negative[i] ? n->min[i] : n->max[i];
+        float t0 = (near_plane - s->org[i]) * s->inv[i] + s->near_bias[i];
+        float t1 = (far_plane - s->org[i]) * s->inv[i] + s->far_bias[i];
+        /* Written so that a NaN leaves the interval unchanged (conservative). */
+        tnear = t0 > tnear ? t0 : tnear;
+        tfar = t1 < tfar ? t1 : tfar;
+    }
+    return tnear <= tfar;
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Watertight ray/triangle test (Woop, Benthin, Wald 2013, Fig. 5/§3)               */
+
+/* p: the 9 floats of the triangle. On a hit of the (infinite) line with the closed
+ * triangle, writes t and the barycentrics of vertices 1 and 2 and returns 1. The caller
+ * checks the t range. */
+static inline int watertight_test(const ray_setup *s, const float p[9], float *t, float *b1, float *b2)
+{
+    const int kx = s->kx, ky = s->ky, kz = s->kz;
+    /* Translate to the ray origin; z = the dominant direction axis. */
+    const float az = p[kz] - s->org[kz], bz = p[3 + kz] - s->org[kz], cz = p[6 + kz] - s->org[kz];
+    /* Shear so that the ray becomes the +z axis through (0,0). */
+    const float ax = (p[kx] - s->org[kx]) - s->sx * az, ay = (p[ky] - s->org[ky]) - s->sy * az;
+    const float bx = (p[3 + kx] - s->org[kx]) - s->sx * bz, by = (p[3 + ky] - s->org[ky]) - s->sy * bz;
+    const float cx = (p[6 + kx] - s->org[kx]) - s->sx * cz, cy = (p[6 + ky] - s->org[ky]) - s->sy * cz;
+    /* Scaled barycentrics: 2D edge functions of the edges opposite a, b, c. */
+    float u = cx * by - cy * bx;
+    float v = ax * cy - ay * cx;
+    float w = bx * ay - by * ax;
+    float det, tt;
+    /* An edge function that is exactly 0 in float may have either sign: re-evaluate in
+     * double, where the products of floats are exact and the sign is therefore right. */
+    if (u == 0.0f || v == 0.0f || w == 0.0f) {
+        u = (float)((double)cx * by - (double)cy * bx);
+        v = (float)((double)ax * cy - (double)ay * cx);
+        w = (float)((double)bx * ay - (double)by * ax);
+    }
+    /* Mixed signs: the ray passes outside (both windings accepted: no culling). */
+    if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return 0;
+    det = u + v + w;
+    if (det == 0.0f) return 0; /* ray in the triangle's plane, or NaN-free degenerate */
+    /* Scaled hit distance from the sheared z coordinates. */
+    tt = (u * (s->sz * az) + v * (s->sz * bz) + w * (s->sz * cz)) / det;
+    *t = tt;
+    *b1 = v / det;
+    *b2 = w / det;
+    return 1;
+}
+
+int ray_triangle_watertight(const ray *r, vec3f v0, vec3f v1, vec3f v2, float *t, float *b1, float *b2)
+{
+    ray_setup s;
+    float p[9], tt, u1, u2;
+    if (triangle_is_degenerate(v0, v1, v2) || !setup_triangle_test(&s, r)) return 0;
+    memcpy(p, &v0, sizeof v0);
+    memcpy(p + 3, &v1, sizeof v1);
+    memcpy(p + 6, &v2, sizeof v2);
+    if (!watertight_test(&s, p, &tt, &u1, &u2) || !(tt > s.tmin && tt < s.tmax)) return 0;
+    *t = tt;
+    *b1 = u1;
+    *b2 = u2;
+    return 1;
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Traversal                                                                        */
+
+static inline const float *leaf_triangle(const bvh *b, uint32_t slot, float p[9])
+{
+    memcpy(p, &b->leaf_vertices[3 * (size_t)slot], 9 * sizeof(float));
+    return p;
+}
+
+/* Near child first: the left child holds the smaller centroids along the split axis. */
+static inline void children_in_order(const ray_setup *s, const bvh_node *n, uint32_t at,
+                                     uint32_t *first, uint32_t *second)
+{
+    int axis = (int)(n->count_axis >> 24);
+    if (s->negative[axis]) {
+        *first = n->offset;
+        *second = at + 1;
+    } else {
+        *first = at + 1;
+        *second = n->offset;
+    }
+}
+
+int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
+{
+    ray_setup s;
+    uint32_t stack[BVH_STACK_SIZE];
+    int top = 0, found = 0;
+    uint32_t at = 0;
+    float best_t = r->tmax, best_b1 = 0, best_b2 = 0;
+    uint32_t best_tri = BVH_NO_HIT;
+
+    h->tri = BVH_NO_HIT;
+    if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
+    setup_box_test(&s, &b->nodes[0]);
+    for (;;) {
+        const bvh_node *n = &b->nodes[at];
+        if (box_overlaps(&s, n, best_t)) {
+            uint32_t count = n->count_axis & COUNT_MASK;
+            if (count == 0) {
+                uint32_t second;
+                children_in_order(&s, n, at, &at, &second);
+                stack[top++] = second;
+                continue;
+            }
+            {
+                uint32_t slot, end = n->offset + count;
+                for (slot = n->offset; slot < end; ++slot) {
+                    float p[9], t, b1, b2;
+                    uint32_t tri = b->prim_order[slot];
+                    if (!watertight_test(&s, leaf_triangle(b, slot, p), &t, &b1, &b2)) continue;
+                    if (!(t > s.tmin && t < s.tmax)) continue;
+                    /* Closest t; among exactly equal t the lowest triangle index, so
+                     * that the answer does not depend on the tree. */
+                    if (!found || t < best_t || (t == best_t && tri < best_tri)) {
+                        found = 1;
+                        best_t = t;
+                        best_b1 = b1;
+                        best_b2 = b2;
+                        best_tri = tri;
+                    }
+                }
+            }
+        }
+        if (top == 0) break;
+        at = stack[--top];
+    }
+    if (!found) return 0;
+    h->t = best_t;
+    h->b1 = best_b1;
+    h->b2 = best_b2;
+    h->tri = best_tri;
+    return 1;
+}
+
+int bvh_occluded(const bvh *b, const ray *r)
+{
+    ray_setup s;
+    uint32_t stack[BVH_STACK_SIZE];
+    int top = 0;
+    uint32_t at = 0;
+
+    if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
+    setup_box_test(&s, &b->nodes[0]);
+    for (;;) {
+        const bvh_node *n = &b->nodes[at];
+        if (box_overlaps(&s, n, s.tmax)) {
+            uint32_t count = n->count_axis & COUNT_MASK;
+            if (count == 0) {
+                uint32_t second;
+                children_in_order(&s, n, at, &at, &second);
+                stack[top++] = second;
+                continue;
+            }
+            {
+                uint32_t slot, end = n->offset + count;
+                for (slot = n->offset; slot < end; ++slot) {
+                    float p[9], t, b1, b2;
+                    if (watertight_test(&s, leaf_triangle(b, slot, p), &t, &b1, &b2) && t > s.tmin && t < s.tmax)
+                        return 1;
+                }
+            }
+        }
+        if (top == 0) break;
+        at = stack[--top];
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Ray origin offset                                                                */
+
+/* Wächter & Binder 2019, "A Fast and Robust Method for Avoiding Self-Intersection"
+ * (Ray Tracing Gems, ch. 6): move each coordinate of p by int_scale * n_i units in the
+ * last place (so the offset grows with |p_i|, like the rounding error of the hit point
+ * does), except within `origin` of zero, where ulps become tiny and a fixed
+ * float_scale * n_i is added instead. n must point to the side the ray leaves to. */
+vec3f offset_ray_origin(vec3f p, vec3f n)
+{
+    const float origin = 1.0f / 32.0f, float_scale = 1.0f / 65536.0f, int_scale = 256.0f;
+    float pin[3], nin[3], out[3];
+    int i;
+    memcpy(pin, &p, sizeof pin);
+    memcpy(nin, &n, sizeof nin);
+    for (i = 0; i < 3; ++i) {
+        if (fabsf(pin[i]) < origin) {
+            out[i] = pin[i] + float_scale * nin[i];
+        } else {
+            int32_t ulps = (int32_t)(int_scale * nin[i]);
+            uint32_t bits;
+            memcpy(&bits, &pin[i], sizeof bits);
+            /* For negative p the bit pattern grows away from zero, so the step flips. */
+            bits += (uint32_t)(pin[i] < 0 ? -ulps : ulps);
+            memcpy(&out[i], &bits, sizeof bits);
+        }
+    }
+    return v3f(out[0], out[1], out[2]);
+}

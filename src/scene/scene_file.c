@@ -1,0 +1,347 @@
+/* The scene file: one directive per line (docs/scene-format.md).
+ *
+ *   mesh PATH                         (several allowed; relative to the scene file)
+ *   camera eye X Y Z target X Y Z up X Y Z fov DEGREES
+ *   keyframe FRAME eye ... target ... up ... fov ...
+ *   size WIDTH HEIGHT
+ *   material NAME [type T] [kd R G B] [ks R G B] [ke R G B] [roughness R] [ior N]
+ *
+ * Names and paths containing spaces are written in double quotes. The file is read
+ * completely first; then the meshes are loaded in order, then the material lines are
+ * applied in order, so a material line may come before the mesh that uses it. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir/scene_builder.h"
+#include "restir/text.h"
+
+typedef struct {
+    char name[MATERIAL_NAME_MAX];
+    long line;
+    int has_type, has_kd, has_ks, has_ke, has_roughness, has_ior;
+    enum material_type type;
+    rgb kd, ks, ke;
+    real roughness, ior;
+} material_line;
+
+typedef struct {
+    scene_builder *b;
+    text_reader text;
+    const char *path;
+    char dir[4096];
+    char **meshes;
+    long *mesh_lines;
+    size_t mesh_count, mesh_capacity, mesh_line_capacity;
+    material_line *materials;
+    size_t material_count, material_capacity;
+    size_t keyframe_capacity;
+    long camera_line, size_line, keyframe_line;
+} scene_parser;
+
+static const char *const type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric"};
+
+/* The next token; a token starting with '"' runs to the next '"' (no escapes). */
+static int next_word(scene_parser *p, char **rest, char **word, rerror *e)
+{
+    char *s = text_skip_space(*rest), *end;
+    if (*s != '"') {
+        *word = text_next_token(rest);
+        return 0;
+    }
+    end = strchr(s + 1, '"');
+    if (!end) return rerror_at(e, p->path, p->text.line, "unterminated quoted string");
+    *end = '\0';
+    *word = s + 1;
+    *rest = end + 1;
+    if (**rest && !text_is_space((unsigned char)**rest))
+        return rerror_at(e, p->path, p->text.line, "expected a space after the closing quote");
+    return 0;
+}
+
+static int read_reals(scene_parser *p, char **rest, const char *what, int count, double *out, rerror *e)
+{
+    int i;
+    for (i = 0; i < count; ++i) {
+        char *tok = text_next_token(rest);
+        enum number_status st;
+        if (!tok) return rerror_at(e, p->path, p->text.line, "%s: expected %d number%s", what, count, count > 1 ? "s" : "");
+        st = text_parse_double(tok, &out[i]);
+        if (st != NUMBER_OK)
+            return rerror_at(e, p->path, p->text.line, "%s: %s '%s'", what, text_number_problem(st), tok);
+    }
+    return 0;
+}
+
+static int read_int(scene_parser *p, char **rest, const char *what, long lo, long hi, long *out, rerror *e)
+{
+    char *tok = text_next_token(rest);
+    const char *end;
+    enum number_status st;
+    if (!tok) return rerror_at(e, p->path, p->text.line, "%s: expected an integer", what);
+    st = text_parse_long(tok, &end, out);
+    if (st == NUMBER_OK && *end) st = NUMBER_MALFORMED;
+    if (st != NUMBER_OK)
+        return rerror_at(e, p->path, p->text.line, "%s: %s '%s' (expected an integer)", what,
+                         text_number_problem(st), tok);
+    if (*out < lo || *out > hi) return rerror_at(e, p->path, p->text.line, "%s: %ld outside [%ld, %ld]", what, *out, lo, hi);
+    return 0;
+}
+
+static int no_more(scene_parser *p, char *rest, const char *what, rerror *e)
+{
+    char *tok = text_next_token(&rest);
+    if (tok) return rerror_at(e, p->path, p->text.line, "%s: unexpected '%.60s'", what, tok);
+    return 0;
+}
+
+static vec3 vec3_of(const double v[3]) { return v3((real)v[0], (real)v[1], (real)v[2]); }
+
+/* eye X Y Z target X Y Z up X Y Z fov F, in any order, each exactly once. */
+static int read_pose(scene_parser *p, char *rest, const char *what, camera_pose *pose, rerror *e)
+{
+    int have_eye = 0, have_target = 0, have_up = 0, have_fov = 0;
+    char *key;
+    double v[3], forward[3], cross[3], lf, lu, lc;
+    while ((key = text_next_token(&rest)) != NULL) {
+        int *have = !strcmp(key, "eye") ? &have_eye
+                    : !strcmp(key, "target") ? &have_target
+                    : !strcmp(key, "up") ? &have_up
+                    : !strcmp(key, "fov") ? &have_fov
+                    : NULL;
+        if (!have) return rerror_at(e, p->path, p->text.line, "%s: unknown key '%.60s' (eye, target, up, fov)", what, key);
+        if (*have) return rerror_at(e, p->path, p->text.line, "%s: '%s' given twice", what, key);
+        *have = 1;
+        if (have == &have_fov) {
+            if (read_reals(p, &rest, "fov", 1, v, e)) return -1;
+            if (!(v[0] > 0 && v[0] < 180))
+                return rerror_at(e, p->path, p->text.line, "%s: fov %g outside (0, 180) degrees", what, v[0]);
+            pose->fov_y_degrees = (real)v[0];
+            continue;
+        }
+        if (read_reals(p, &rest, key, 3, v, e)) return -1;
+        if (have == &have_eye) pose->eye = vec3_of(v);
+        else if (have == &have_target) pose->target = vec3_of(v);
+        else pose->up = vec3_of(v);
+    }
+    if (!have_eye || !have_target || !have_up || !have_fov)
+        return rerror_at(e, p->path, p->text.line, "%s: missing '%s' (needs eye, target, up and fov)", what,
+                         !have_eye ? "eye" : !have_target ? "target" : !have_up ? "up" : "fov");
+    /* The gluLookAt basis needs target != eye and up not parallel to the view. */
+    forward[0] = (double)pose->target.x - pose->eye.x;
+    forward[1] = (double)pose->target.y - pose->eye.y;
+    forward[2] = (double)pose->target.z - pose->eye.z;
+    cross[0] = forward[1] * pose->up.z - forward[2] * pose->up.y;
+    cross[1] = forward[2] * pose->up.x - forward[0] * pose->up.z;
+    cross[2] = forward[0] * pose->up.y - forward[1] * pose->up.x;
+    lf = sqrt(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
+    lu = sqrt((double)v3_dot(pose->up, pose->up));
+    lc = sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+    if (!(lf > 0)) return rerror_at(e, p->path, p->text.line, "%s: eye and target are the same point", what);
+    if (!(lc > 1e-6 * lf * lu))
+        return rerror_at(e, p->path, p->text.line, "%s: up is zero or parallel to the view direction", what);
+    return 0;
+}
+
+static int directive_camera(scene_parser *p, char *rest, rerror *e)
+{
+    scene *s = p->b->s;
+    if (p->camera_line)
+        return rerror_at(e, p->path, p->text.line, "camera given twice (first on line %ld)", p->camera_line);
+    if (p->keyframe_line)
+        return rerror_at(e, p->path, p->text.line, "camera and keyframe lines cannot be mixed (keyframe on line %ld)",
+                         p->keyframe_line);
+    if (read_pose(p, rest, "camera", &s->camera, e)) return -1;
+    p->camera_line = p->text.line;
+    s->has_camera = 1;
+    return 0;
+}
+
+static int directive_keyframe(scene_parser *p, char *rest, rerror *e)
+{
+    scene *s = p->b->s;
+    long frame;
+    camera_keyframe k;
+    if (p->camera_line)
+        return rerror_at(e, p->path, p->text.line, "camera and keyframe lines cannot be mixed (camera on line %ld)",
+                         p->camera_line);
+    if (read_int(p, &rest, "keyframe", -1000000000L, 1000000000L, &frame, e)) return -1;
+    if (s->keyframe_count && frame <= s->keyframes[s->keyframe_count - 1].frame)
+        return rerror_at(e, p->path, p->text.line, "keyframe %ld: frames must increase (previous keyframe is %d)", frame,
+                         s->keyframes[s->keyframe_count - 1].frame);
+    memset(&k, 0, sizeof k);
+    k.frame = (int)frame;
+    if (read_pose(p, rest, "keyframe", &k.pose, e)) return -1;
+    if (builder_reserve((void **)&s->keyframes, &p->keyframe_capacity, s->keyframe_count + 1, sizeof k, e))
+        return -1;
+    s->keyframes[s->keyframe_count++] = k;
+    s->camera = s->keyframes[0].pose;
+    s->has_camera = 1;
+    if (!p->keyframe_line) p->keyframe_line = p->text.line;
+    return 0;
+}
+
+static int directive_size(scene_parser *p, char *rest, rerror *e)
+{
+    long w, h;
+    if (p->size_line) return rerror_at(e, p->path, p->text.line, "size given twice (first on line %ld)", p->size_line);
+    if (read_int(p, &rest, "size", 1, 65536, &w, e) || read_int(p, &rest, "size", 1, 65536, &h, e) ||
+        no_more(p, rest, "size", e))
+        return -1;
+    p->b->s->width = (int)w;
+    p->b->s->height = (int)h;
+    p->size_line = p->text.line;
+    return 0;
+}
+
+static int directive_mesh(scene_parser *p, char *rest, rerror *e)
+{
+    char *name, full[4096];
+    size_t n;
+    if (next_word(p, &rest, &name, e)) return -1;
+    if (!name || !*name) return rerror_at(e, p->path, p->text.line, "mesh: missing file name");
+    if (no_more(p, rest, "mesh", e)) return -1;
+    if (text_join_path(full, sizeof full, p->dir, name)) return rerror_at(e, p->path, p->text.line, "mesh: path too long");
+    if (builder_reserve((void **)&p->meshes, &p->mesh_capacity, p->mesh_count + 1, sizeof(char *), e) ||
+        builder_reserve((void **)&p->mesh_lines, &p->mesh_line_capacity, p->mesh_count + 1, sizeof(long), e))
+        return -1;
+    n = strlen(full);
+    p->meshes[p->mesh_count] = rmalloc(n + 1, 1, e);
+    if (!p->meshes[p->mesh_count]) return -1;
+    memcpy(p->meshes[p->mesh_count], full, n + 1);
+    p->mesh_lines[p->mesh_count++] = p->text.line;
+    return 0;
+}
+
+static int read_colour(scene_parser *p, char **rest, const char *key, double hi, rgb *out, int *has, rerror *e)
+{
+    double v[3];
+    int i;
+    if (read_reals(p, rest, key, 3, v, e)) return -1;
+    for (i = 0; i < 3; ++i)
+        if (v[i] < 0 || v[i] > hi)
+            return rerror_at(e, p->path, p->text.line, "material %s: %g outside [0, %g]", key, v[i], hi);
+    *out = rgb_make((real)v[0], (real)v[1], (real)v[2]);
+    *has = 1;
+    return 0;
+}
+
+static int read_material_key(scene_parser *p, material_line *m, const char *key, char **rest, rerror *e)
+{
+    double v;
+    if (!strcmp(key, "type")) {
+        char *t = text_next_token(rest);
+        int i;
+        if (!t) return rerror_at(e, p->path, p->text.line, "material type: missing value");
+        for (i = 0; i < 5; ++i)
+            if (!strcmp(t, type_names[i])) break;
+        if (i == 5)
+            return rerror_at(e, p->path, p->text.line,
+                             "material type: unknown '%.60s' (lambert, conductor, plastic, dielectric, rough-dielectric)",
+                             t);
+        m->type = (enum material_type)i;
+        m->has_type = 1;
+        return 0;
+    }
+    if (!strcmp(key, "kd")) return read_colour(p, rest, "kd", 1, &m->kd, &m->has_kd, e);
+    if (!strcmp(key, "ks")) return read_colour(p, rest, "ks", 1, &m->ks, &m->has_ks, e);
+    if (!strcmp(key, "ke")) return read_colour(p, rest, "ke", 1e30, &m->ke, &m->has_ke, e);
+    if (!strcmp(key, "roughness") || !strcmp(key, "ior")) {
+        int is_ior = key[0] == 'i';
+        if (read_reals(p, rest, key, 1, &v, e)) return -1;
+        if (is_ior ? !(v > 0) : (v < 0 || v > 1))
+            return rerror_at(e, p->path, p->text.line, "material %s: %g outside %s", key, v, is_ior ? "(0, inf)" : "[0, 1]");
+        if (is_ior) m->ior = (real)v, m->has_ior = 1;
+        else m->roughness = (real)v, m->has_roughness = 1;
+        return 0;
+    }
+    return rerror_at(e, p->path, p->text.line, "material: unknown key '%.60s' (type, kd, ks, ke, roughness, ior)", key);
+}
+
+static int directive_material(scene_parser *p, char *rest, rerror *e)
+{
+    material_line m;
+    char *name, *key;
+    memset(&m, 0, sizeof m);
+    if (next_word(p, &rest, &name, e)) return -1;
+    if (!name) return rerror_at(e, p->path, p->text.line, "material: missing name");
+    if (strlen(name) >= MATERIAL_NAME_MAX)
+        return rerror_at(e, p->path, p->text.line, "material: name longer than %d bytes", MATERIAL_NAME_MAX - 1);
+    snprintf(m.name, sizeof m.name, "%s", name);
+    m.line = p->text.line;
+    while ((key = text_next_token(&rest)) != NULL)
+        if (read_material_key(p, &m, key, &rest, e)) return -1;
+    if (builder_reserve((void **)&p->materials, &p->material_capacity, p->material_count + 1, sizeof m, e)) return -1;
+    p->materials[p->material_count++] = m;
+    return 0;
+}
+
+static int read_directive(scene_parser *p, char *line, rerror *e)
+{
+    char *rest = line, *word = text_next_token(&rest);
+    if (!word) return 0;
+    if (!strcmp(word, "mesh")) return directive_mesh(p, rest, e);
+    if (!strcmp(word, "camera")) return directive_camera(p, rest, e);
+    if (!strcmp(word, "keyframe")) return directive_keyframe(p, rest, e);
+    if (!strcmp(word, "size")) return directive_size(p, rest, e);
+    if (!strcmp(word, "material")) return directive_material(p, rest, e);
+    return rerror_at(e, p->path, p->text.line, "unknown directive '%.60s' (mesh, camera, keyframe, size, material)", word);
+}
+
+/* A material line changes the fields it names; a name no mesh defined becomes a new
+ * material that starts from the default (Lambertian, Kd 0.8). */
+static int apply_material_line(scene_parser *p, const material_line *m, rerror *e)
+{
+    scene_builder *b = p->b;
+    material *dst;
+    uint32_t index;
+    if (builder_material(b, m->name, &index, e)) return rerror_at(e, p->path, m->line, "material: out of memory");
+    dst = &b->s->materials[index];
+    if (b->material_origin[index] == MATERIAL_UNDEFINED) b->material_origin[index] = MATERIAL_FROM_SCENE;
+    if (m->has_type) dst->type = m->type;
+    if (m->has_kd) dst->diffuse = m->kd;
+    if (m->has_ks) dst->specular = m->ks;
+    if (m->has_ke) dst->emission = m->ke;
+    if (m->has_roughness) dst->roughness = m->roughness;
+    if (m->has_ior) dst->ior = m->ior;
+    return 0;
+}
+
+/* A mesh that cannot be opened is reported at its mesh line; errors inside it at the OBJ's own lines. */
+static int load_mesh(scene_parser *p, size_t i, rerror *e)
+{
+    FILE *f = fopen(p->meshes[i], "rb");
+    if (!f) return rerror_at(e, p->path, p->mesh_lines[i], "cannot open mesh '%s': %s", p->meshes[i], strerror(errno));
+    fclose(f);
+    return obj_load(p->b, p->meshes[i], e);
+}
+
+static void parser_free(scene_parser *p)
+{
+    size_t i;
+    for (i = 0; i < p->mesh_count; ++i) free(p->meshes[i]);
+    free(p->meshes);
+    free(p->mesh_lines);
+    free(p->materials);
+    text_close(&p->text);
+}
+
+int scene_file_load(scene_builder *b, const char *path, rerror *e)
+{
+    scene_parser p;
+    char *line;
+    size_t i;
+    int status = 0;
+    memset(&p, 0, sizeof p);
+    p.b = b;
+    p.path = path;
+    text_directory_of(path, p.dir, sizeof p.dir);
+    if (text_open(&p.text, path, e)) return -1;
+    while (!status && (line = text_next_line(&p.text)) != NULL) status = read_directive(&p, line, e);
+    if (!status && !p.mesh_count) status = rerror_at(e, path, 0, "no mesh directive (the scene has no geometry)");
+    for (i = 0; !status && i < p.mesh_count; ++i) status = load_mesh(&p, i, e);
+    for (i = 0; !status && i < p.material_count; ++i) status = apply_material_line(&p, &p.materials[i], e);
+    parser_free(&p);
+    return status;
+}

@@ -1,0 +1,163 @@
+/* scene_load: a scene file or a bare OBJ, then the checks and defaults every scene gets;
+ * the camera at a frame; framing the bounds; freeing. */
+#include <float.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir/scene_builder.h"
+
+#define DEFAULT_IMAGE_SIZE 512
+#define FRAMING_FOV_DEGREES 40.0
+
+static int ends_with_obj(const char *path)
+{
+    size_t n = strlen(path);
+    return n >= 4 && path[n - 4] == '.' && (path[n - 3] == 'o' || path[n - 3] == 'O') &&
+           (path[n - 2] == 'b' || path[n - 2] == 'B') && (path[n - 1] == 'j' || path[n - 1] == 'J');
+}
+
+static int out_of_memory(rerror *e) { return rerror_set(e, "out of memory"); }
+
+/* Materials still undefined after all files: the default, with a warning naming the
+ * usemtl that asked for them. The implicit "default" (faces before any usemtl) is
+ * silent unless a library or the scene file defined it. */
+static int settle_materials(scene_builder *b, rerror *e)
+{
+    size_t i;
+    for (i = 0; i < b->s->material_count; ++i) {
+        if (b->material_origin[i] != MATERIAL_UNDEFINED || !b->material_first_use[i]) continue;
+        if (builder_warn(b, b->material_first_use[i], 0,
+                         "material '%s' is not defined by any material library or material line; using the default "
+                         "(Lambertian, Kd 0.8)",
+                         b->s->materials[i].name))
+            return out_of_memory(e);
+    }
+    return 0;
+}
+
+static int finish(scene_builder *b, rerror *e)
+{
+    scene *s = b->s;
+    if (settle_materials(b, e)) return -1;
+    if (!s->triangle_count)
+        return rerror_at(e, s->path, 0, "the scene has no triangles (%zu vertices%s)", s->position_count,
+                         b->degenerate_triangles ? ", only degenerate faces" : "");
+    if (b->degenerate_triangles &&
+        builder_warn(b, s->path, 0, "%zu degenerate triangles (zero area, no normal) were dropped",
+                     b->degenerate_triangles))
+        return out_of_memory(e);
+    if (b->suppressed_warnings) {
+        /* The last slot says how many more there were. */
+        char **w = &s->warnings[s->warning_count - 1];
+        char msg[sizeof s->path + 64];
+        size_t n;
+        snprintf(msg, sizeof msg, "%s: ... and %zu more warnings", s->path, b->suppressed_warnings + 1);
+        n = strlen(msg);
+        free(*w);
+        *w = malloc(n + 1);
+        if (!*w) return out_of_memory(e);
+        memcpy(*w, msg, n + 1);
+    }
+    if (!s->width) s->width = s->height = DEFAULT_IMAGE_SIZE;
+    if (!s->has_camera) s->camera = scene_frame_bounds(s);
+    return 0;
+}
+
+int scene_load_with_options(scene *s, const char *path, const scene_load_options *options, rerror *e)
+{
+    scene_builder b;
+    int status;
+    memset(s, 0, sizeof *s);
+    if (strlen(path) >= sizeof s->path) return rerror_set(e, "%.200s...: path too long", path);
+    memcpy(s->path, path, strlen(path) + 1);
+    builder_init(&b, s, options, e);
+    status = ends_with_obj(path) ? obj_load(&b, path, e) : scene_file_load(&b, path, e);
+    if (!status) status = finish(&b, e);
+    builder_finish(&b);
+    if (status) scene_free(s);
+    return status;
+}
+
+int scene_load(scene *s, const char *path, rerror *e) { return scene_load_with_options(s, path, NULL, e); }
+
+void scene_free(scene *s)
+{
+    size_t i;
+    free(s->positions);
+    free(s->normals);
+    free(s->triangles);
+    free(s->materials);
+    for (i = 0; i < s->object_count; ++i) free(s->object_names[i]);
+    free(s->object_names);
+    free(s->keyframes);
+    for (i = 0; i < s->warning_count; ++i) free(s->warnings[i]);
+    free(s->warnings);
+    bvh_free(&s->accel);
+    memset(s, 0, sizeof *s);
+}
+
+size_t scene_emitter_count(const scene *s)
+{
+    size_t i, n = 0;
+    for (i = 0; i < s->triangle_count; ++i)
+        if (!rgb_is_black(s->materials[s->triangles[i].material].emission)) n++;
+    return n;
+}
+
+static vec3 lerp3(vec3 a, vec3 b, real t) { return v3_add(a, v3_scale(v3_sub(b, a), t)); }
+
+camera_pose scene_camera_at(const scene *s, int frame)
+{
+    const camera_keyframe *k = s->keyframes;
+    size_t n = s->keyframe_count, i;
+    camera_pose pose;
+    real t;
+    if (!n) return s->camera;
+    if (frame <= k[0].frame) return k[0].pose;
+    if (frame >= k[n - 1].frame) return k[n - 1].pose;
+    for (i = 0; k[i + 1].frame <= frame; ++i) {
+    }
+    /* Linear in every component between the keyframes around the frame. */
+    t = (real)(frame - k[i].frame) / (real)(k[i + 1].frame - k[i].frame);
+    pose.eye = lerp3(k[i].pose.eye, k[i + 1].pose.eye, t);
+    pose.target = lerp3(k[i].pose.target, k[i + 1].pose.target, t);
+    pose.up = lerp3(k[i].pose.up, k[i + 1].pose.up, t);
+    pose.fov_y_degrees = k[i].pose.fov_y_degrees + (k[i + 1].pose.fov_y_degrees - k[i].pose.fov_y_degrees) * t;
+    return pose;
+}
+
+camera_pose scene_frame_bounds(const scene *s)
+{
+    camera_pose pose;
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX}, c[3], radius2 = 0;
+    double half_y = FRAMING_FOV_DEGREES * 0.5 * 3.14159265358979323846 / 180, half, aspect, distance;
+    size_t i;
+    int k, axis;
+    for (i = 0; i < s->triangle_count; ++i)
+        for (k = 0; k < 3; ++k) {
+            vec3f p = s->positions[s->triangles[i].v[k]];
+            double q[3];
+            q[0] = p.x;
+            q[1] = p.y;
+            q[2] = p.z;
+            for (axis = 0; axis < 3; ++axis) {
+                if (q[axis] < lo[axis]) lo[axis] = q[axis];
+                if (q[axis] > hi[axis]) hi[axis] = q[axis];
+            }
+        }
+    if (!s->triangle_count) lo[0] = lo[1] = lo[2] = hi[0] = hi[1] = hi[2] = 0;
+    for (axis = 0; axis < 3; ++axis) {
+        c[axis] = 0.5 * (lo[axis] + hi[axis]);
+        radius2 += 0.25 * (hi[axis] - lo[axis]) * (hi[axis] - lo[axis]);
+    }
+    /* The bounding sphere (radius = half the diagonal) fits the narrower of the vertical
+     * and horizontal fields of view at distance radius / sin(half angle). */
+    aspect = s->width > 0 && s->height > 0 ? (double)s->width / s->height : 1;
+    half = aspect >= 1 ? half_y : atan(tan(half_y) * aspect);
+    distance = radius2 > 0 ? sqrt(radius2) / sin(half) : 1;
+    pose.target = v3((real)c[0], (real)c[1], (real)c[2]);
+    pose.eye = v3((real)c[0], (real)c[1], (real)(c[2] + distance));
+    pose.up = v3(0, 1, 0);
+    pose.fov_y_degrees = (real)FRAMING_FOV_DEGREES;
+    return pose;
+}

@@ -1,0 +1,966 @@
+/* BVH, watertight triangle test, ray-origin offsets, scene ray queries, generated scene.
+ *
+ * The reference for every BVH answer is a loop over all triangles with the same
+ * watertight test: the BVH must return the very same triangle, t and barycentrics
+ * (bit for bit), and the same any-hit answer. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "restir/bvh.h"
+#include "restir/generate.h"
+#include "restir/rng.h"
+#include "restir/scene.h"
+#include "restir/warp.h"
+#include "test.h"
+
+/* ------------------------------------------------------------------------------- */
+/* Helpers                                                                          */
+
+/* A triangle soup: 3 consecutive vertices per triangle. */
+typedef struct {
+    vec3f *v;
+    size_t count, cap;
+} soup;
+
+static void soup_add(soup *m, vec3f a, vec3f b, vec3f c)
+{
+    if (m->count == m->cap) {
+        m->cap = m->cap ? 2 * m->cap : 256;
+        m->v = realloc(m->v, 3 * m->cap * sizeof *m->v);
+    }
+    m->v[3 * m->count] = a;
+    m->v[3 * m->count + 1] = b;
+    m->v[3 * m->count + 2] = c;
+    m->count++;
+}
+
+static void soup_free(soup *m)
+{
+    free(m->v);
+    memset(m, 0, sizeof *m);
+}
+
+/* Uniform [0,1) from the test stream; `tag` separates the uses within a test. */
+static float urand(uint32_t tag, uint32_t i, uint32_t slot)
+{
+    return rng_uniform_float(rng_key_at(rng_key_make(test_seed(), i, tag), RNG_TEST, 0, slot));
+}
+
+static vec3f urand_box(uint32_t tag, uint32_t i, float lo, float hi)
+{
+    return v3f(lo + (hi - lo) * urand(tag, i, 0), lo + (hi - lo) * urand(tag, i, 1), lo + (hi - lo) * urand(tag, i, 2));
+}
+
+static vec3f urand_direction(uint32_t tag, uint32_t i)
+{
+    return v3f_from(warp_uniform_sphere(v2(urand(tag, i, 3), urand(tag, i, 4))));
+}
+
+static ray make_ray(vec3f o, vec3f d)
+{
+    ray r;
+    r.origin = o;
+    r.dir = d;
+    r.tmin = 0;
+    r.tmax = INFINITY;
+    return r;
+}
+
+static int brute_intersect(const soup *m, const ray *r, bvh_hit *h)
+{
+    size_t i;
+    h->tri = BVH_NO_HIT;
+    for (i = 0; i < m->count; ++i) {
+        float t, b1, b2;
+        if (!ray_triangle_watertight(r, m->v[3 * i], m->v[3 * i + 1], m->v[3 * i + 2], &t, &b1, &b2)) continue;
+        if (h->tri == BVH_NO_HIT || t < h->t) {
+            h->t = t;
+            h->b1 = b1;
+            h->b2 = b2;
+            h->tri = (uint32_t)i;
+        }
+    }
+    return h->tri != BVH_NO_HIT;
+}
+
+static int brute_occluded(const soup *m, const ray *r)
+{
+    size_t i;
+    for (i = 0; i < m->count; ++i) {
+        float t, b1, b2;
+        if (ray_triangle_watertight(r, m->v[3 * i], m->v[3 * i + 1], m->v[3 * i + 2], &t, &b1, &b2)) return 1;
+    }
+    return 0;
+}
+
+static int same_bits(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }
+
+/* Compares BVH and brute force on one ray; returns 0 and describes the first
+ * difference in `why`. Counts hits so that callers can insist on non-trivial cases. */
+static int agrees_with_brute_force(const soup *m, const bvh *b, const ray *r, long *hits, char *why, size_t why_size)
+{
+    bvh_hit hb, hr;
+    int fb = bvh_intersect(b, r, &hb), fr = brute_intersect(m, r, &hr);
+    int ob = bvh_occluded(b, r), orf = brute_occluded(m, r);
+    if (fb != fr || (fb && (hb.tri != hr.tri || !same_bits(hb.t, hr.t) || !same_bits(hb.b1, hr.b1) ||
+                            !same_bits(hb.b2, hr.b2)))) {
+        snprintf(why, why_size, "closest: bvh %d tri %u t %.9g, brute %d tri %u t %.9g", fb, hb.tri,
+                 fb ? (double)hb.t : 0.0, fr, hr.tri, fr ? (double)hr.t : 0.0);
+        return 0;
+    }
+    if (ob != orf || ob != fr) {
+        snprintf(why, why_size, "any-hit: bvh %d brute %d closest %d", ob, orf, fr);
+        return 0;
+    }
+    if (fb && !(isfinite(hb.t) && isfinite(hb.b1) && isfinite(hb.b2))) {
+        snprintf(why, why_size, "non-finite hit t %g b %g %g", (double)hb.t, (double)hb.b1, (double)hb.b2);
+        return 0;
+    }
+    *hits += fb;
+    return 1;
+}
+
+/* A random soup: triangles of log-uniform size in [-1,1]^3. */
+static void random_soup(soup *m, uint32_t tag, int count)
+{
+    int i;
+    for (i = 0; i < count; ++i) {
+        vec3f c = urand_box(tag, (uint32_t)i, -1, 1);
+        float size = 0.01f * powf(50.0f, urand(tag, (uint32_t)i, 5));
+        vec3f a = v3f_add(c, v3f_scale(urand_box(tag + 1, (uint32_t)i, -1, 1), size));
+        vec3f b = v3f_add(c, v3f_scale(urand_box(tag + 2, (uint32_t)i, -1, 1), size));
+        vec3f d = v3f_add(c, v3f_scale(urand_box(tag + 3, (uint32_t)i, -1, 1), size));
+        soup_add(m, a, b, d);
+    }
+}
+
+/* Closed meshes over the lattice of a cube's surface, n cells per edge. Every vertex
+ * is a function of its lattice point only, so shared vertices are bit-identical and
+ * the mesh is closed. shape 0: the cube [-1,1]^3; shape 1: projected to the unit
+ * sphere. Then scaled and shifted. Outward winding. */
+static vec3f lattice_point(const int p[3], int n, int shape, float scale, vec3f shift)
+{
+    float c[3];
+    int a;
+    for (a = 0; a < 3; ++a) c[a] = 2.0f * (float)p[a] / (float)n - 1.0f;
+    if (shape == 1) {
+        float len = sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        for (a = 0; a < 3; ++a) c[a] /= len;
+    }
+    return v3f(c[0] * scale + shift.x, c[1] * scale + shift.y, c[2] * scale + shift.z);
+}
+
+static void closed_mesh(soup *m, int n, int shape, float scale, vec3f shift)
+{
+    int axis, side, iu, iv, q;
+    for (axis = 0; axis < 3; ++axis) {
+        int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        for (side = 0; side < 2; ++side) {
+            for (iv = 0; iv < n; ++iv) {
+                for (iu = 0; iu < n; ++iu) {
+                    vec3f c[4];
+                    for (q = 0; q < 4; ++q) {
+                        int p[3];
+                        p[axis] = side ? n : 0;
+                        p[u] = iu + (q == 1 || q == 2);
+                        p[v] = iv + (q >= 2);
+                        c[q] = lattice_point(p, n, shape, scale, shift);
+                    }
+                    if (side) {
+                        soup_add(m, c[0], c[1], c[2]);
+                        soup_add(m, c[0], c[2], c[3]);
+                    } else {
+                        soup_add(m, c[0], c[2], c[1]);
+                        soup_add(m, c[0], c[3], c[2]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/* A scene over a soup (unshared vertices): one material, one object. */
+static int scene_from_soup(scene *s, const soup *m, rerror *e)
+{
+    size_t i;
+    int k;
+    memset(s, 0, sizeof *s);
+    strcpy(s->path, "test-soup");
+    s->positions = malloc(3 * m->count * sizeof *s->positions);
+    s->triangles = malloc(m->count * sizeof *s->triangles);
+    memcpy(s->positions, m->v, 3 * m->count * sizeof *s->positions);
+    s->position_count = 3 * m->count;
+    s->triangle_count = m->count;
+    for (i = 0; i < m->count; ++i) {
+        for (k = 0; k < 3; ++k) {
+            s->triangles[i].v[k] = (uint32_t)(3 * i + (size_t)k);
+            s->triangles[i].n[k] = -1;
+        }
+        s->triangles[i].material = 0;
+        s->triangles[i].object = 0;
+    }
+    return scene_prepare(s, e);
+}
+
+/* Frees what the tests allocate by hand (scene_free belongs to the scene loader). */
+static void free_test_scene(scene *s)
+{
+    free(s->positions);
+    free(s->normals);
+    free(s->triangles);
+    bvh_free(&s->accel);
+    memset(s, 0, sizeof *s);
+}
+
+static void free_generated_scene(scene *s)
+{
+    size_t i;
+    for (i = 0; i < s->object_count; ++i) free(s->object_names[i]);
+    free(s->object_names);
+    free(s->materials);
+    free_test_scene(s);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Structure                                                                         */
+
+/* Every node bounds its subtree, leaves hold 1..8 triangles, every valid triangle
+ * is in exactly one leaf and the leaf vertices are its vertices; stats are recorded. */
+TEST(bvh_structure_valid)
+{
+    soup m = {0};
+    bvh b;
+    rerror e;
+    size_t i, seen_slots = 0;
+    unsigned char *seen;
+    random_soup(&m, 10, 20000);
+    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+    CHECK(sizeof(bvh_node) == 32);
+    CHECK(b.prim_count == m.count);
+    CHECK(b.node_count >= 1 && b.node_count <= 2 * m.count - 1);
+    CHECKF(b.depth > 5 && b.depth < 64, "depth %d", b.depth);
+    CHECKF(b.sah_cost > 1 && b.sah_cost < 1000, "sah %g", b.sah_cost);
+    seen = calloc(m.count, 1);
+    for (i = 0; i < b.node_count; ++i) {
+        const bvh_node *n = &b.nodes[i];
+        uint32_t count = n->count_axis & 0xffffffu;
+        int k;
+        if (count == 0) {
+            const bvh_node *kids[2];
+            int c;
+            CHECK(n->offset > i + 1 && n->offset < b.node_count && (n->count_axis >> 24) < 3);
+            kids[0] = &b.nodes[i + 1];
+            kids[1] = &b.nodes[n->offset];
+            for (c = 0; c < 2; ++c)
+                for (k = 0; k < 3; ++k) CHECK(kids[c]->min[k] >= n->min[k] && kids[c]->max[k] <= n->max[k]);
+        } else {
+            uint32_t slot;
+            CHECK(count <= 8 && n->offset + count <= b.prim_count);
+            for (slot = n->offset; slot < n->offset + count; ++slot) {
+                uint32_t tri = b.prim_order[slot];
+                CHECK(tri < m.count && !seen[tri]);
+                seen[tri] = 1;
+                seen_slots++;
+                CHECK(memcmp(&b.leaf_vertices[3 * slot], &m.v[3 * tri], 3 * sizeof(vec3f)) == 0);
+                for (k = 0; k < 3; ++k) {
+                    vec3f v = m.v[3 * tri + (size_t)k];
+                    CHECK(v.x >= n->min[0] && v.x <= n->max[0] && v.y >= n->min[1] && v.y <= n->max[1] &&
+                          v.z >= n->min[2] && v.z <= n->max[2]);
+                }
+            }
+        }
+    }
+    CHECK(seen_slots == m.count);
+    free(seen);
+    bvh_free(&b);
+    soup_free(&m);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* BVH == brute force                                                                */
+
+TEST(bvh_matches_brute_force_random_soup)
+{
+    soup m = {0};
+    bvh b;
+    rerror e;
+    char why[256];
+    long i, hits = 0;
+    random_soup(&m, 20, 3000);
+    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+    for (i = 0; i < 3000; ++i) {
+        ray r = make_ray(urand_box(30, (uint32_t)i, -1.5f, 1.5f), urand_direction(30, (uint32_t)i));
+        /* Every third ray gets a finite, random range: the range must be honoured. */
+        if (i % 3 == 1) {
+            r.tmin = urand(31, (uint32_t)i, 0) * 0.5f;
+            r.tmax = r.tmin + urand(31, (uint32_t)i, 1) * 2.0f;
+        }
+        /* Every third ray is aimed at a vertex exactly (shared-nothing soup, but it
+         * exercises the exactly-zero edge functions and the double fallback). */
+        if (i % 3 == 2) r.dir = v3f_sub(m.v[(size_t)i % (3 * m.count)], r.origin);
+        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
+    }
+    CHECKF(hits > 1000, "only %ld hits", hits);
+    bvh_free(&b);
+    soup_free(&m);
+}
+
+TEST(bvh_matches_brute_force_sphere)
+{
+    scene s;
+    soup m = {0};
+    bvh b;
+    rerror e;
+    char why[256];
+    long i, hits = 0;
+    size_t t;
+    CHECKF(generate_displaced_sphere(&s, 14, &e) == 0, "%s", e.msg);
+    for (t = 0; t < s.triangle_count; ++t)
+        soup_add(&m, s.positions[s.triangles[t].v[0]], s.positions[s.triangles[t].v[1]],
+                 s.positions[s.triangles[t].v[2]]);
+    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+    for (i = 0; i < 3000; ++i) {
+        ray r;
+        if (i % 2) { /* from outside toward a point near the sphere */
+            vec3f o = v3f_scale(urand_direction(40, (uint32_t)i), 4.0f);
+            r = make_ray(o, v3f_sub(urand_box(41, (uint32_t)i, -1.1f, 1.1f), o));
+        } else { /* from inside: aimed exactly at a mesh vertex half of the time */
+            vec3f o = urand_box(42, (uint32_t)i, -0.5f, 0.5f);
+            r = make_ray(o, i % 4 ? urand_direction(42, (uint32_t)i) : v3f_sub(m.v[(size_t)i % (3 * m.count)], o));
+        }
+        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
+    }
+    CHECKF(hits > 2000, "only %ld hits", hits);
+    bvh_free(&b);
+    soup_free(&m);
+    free_generated_scene(&s);
+}
+
+/* Degenerate triangles (repeated vertices, zero area, exactly collinear) are never hit;
+ * axis-aligned triangles and axis-parallel rays (zero direction components, rays lying
+ * in a triangle's plane) give no NaN and the same answers as brute force. */
+TEST(bvh_degenerate_and_axis_aligned)
+{
+    soup m = {0};
+    bvh b;
+    rerror e;
+    char why[256];
+    long i, hits = 0;
+    size_t first_degenerate, degenerate_count, t;
+    random_soup(&m, 50, 300);
+    first_degenerate = m.count;
+    for (i = 0; i < 100; ++i) {
+        /* Integer-valued coordinates keep collinear points exactly collinear in float. */
+        vec3f a = v3f(floorf(urand(51, (uint32_t)i, 0) * 8 - 4) * 0.25f, floorf(urand(51, (uint32_t)i, 1) * 8 - 4) * 0.25f,
+                      floorf(urand(51, (uint32_t)i, 2) * 8 - 4) * 0.25f);
+        vec3f d = v3f(floorf(urand(52, (uint32_t)i, 0) * 5 - 2) * 0.125f, floorf(urand(52, (uint32_t)i, 1) * 5 - 2) * 0.125f,
+                      floorf(urand(52, (uint32_t)i, 2) * 5 - 2) * 0.125f);
+        soup_add(&m, a, a, a);                                            /* a point */
+        soup_add(&m, a, v3f_add(a, d), a);                                /* repeated vertex */
+        soup_add(&m, a, v3f_add(a, d), v3f_add(a, v3f_scale(d, 2.0f)));  /* collinear */
+        soup_add(&m, v3f_add(a, v3f_scale(d, 3.0f)), a, v3f_add(a, d));  /* collinear, other order */
+    }
+    degenerate_count = m.count - first_degenerate;
+    for (i = 0; i < 150; ++i) { /* axis-aligned triangles in the planes x, y or z = const */
+        int axis = i % 3;
+        float c = floorf(urand(53, (uint32_t)i, 0) * 8 - 4) * 0.25f;
+        vec3f p[3];
+        int k;
+        for (k = 0; k < 3; ++k) {
+            float q[3];
+            q[axis] = c;
+            q[(axis + 1) % 3] = urand(54, (uint32_t)i, (uint32_t)(2 * k)) * 2 - 1;
+            q[(axis + 2) % 3] = urand(54, (uint32_t)i, (uint32_t)(2 * k + 1)) * 2 - 1;
+            p[k] = v3f(q[0], q[1], q[2]);
+        }
+        soup_add(&m, p[0], p[1], p[2]);
+    }
+    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+    CHECKF(b.prim_count == m.count - degenerate_count, "prims %zu of %zu, %zu degenerate", b.prim_count, m.count,
+           degenerate_count);
+    for (i = 0; i < 6000; ++i) {
+        ray r = make_ray(urand_box(55, (uint32_t)i, -1.2f, 1.2f), urand_direction(55, (uint32_t)i));
+        bvh_hit h;
+        switch (i % 4) {
+        case 0: /* axis-parallel: two zero components */
+            r.dir = v3f(0, 0, 0);
+            if (i % 8 == 0) r.dir.x = -1; else r.dir.z = 1;
+            break;
+        case 1: /* one zero component, origin on a plane of the axis-aligned triangles */
+            r.origin.y = floorf(urand(56, (uint32_t)i, 0) * 8 - 4) * 0.25f;
+            r.dir.y = 0;
+            break;
+        case 2: /* aimed exactly at a vertex of a degenerate triangle */
+            r.dir = v3f_sub(m.v[3 * (first_degenerate + (size_t)i % degenerate_count) + (size_t)i % 3], r.origin);
+            break;
+        default:
+            break;
+        }
+        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
+        if (bvh_intersect(&b, &r, &h))
+            CHECKF(h.tri < first_degenerate || h.tri >= first_degenerate + degenerate_count, "ray %ld hit degenerate %u",
+                   i, h.tri);
+    }
+    CHECKF(hits > 1000, "only %ld hits", hits);
+    /* The public test alone also rejects them. */
+    for (t = first_degenerate; t < first_degenerate + degenerate_count; ++t) {
+        float tt, b1, b2;
+        ray r = make_ray(v3f(0.01f, 0.02f, 3), v3f_sub(m.v[3 * t], v3f(0.01f, 0.02f, 3)));
+        CHECK(!ray_triangle_watertight(&r, m.v[3 * t], m.v[3 * t + 1], m.v[3 * t + 2], &tt, &b1, &b2));
+    }
+    /* Rays with zero or non-finite direction, or an empty range, hit nothing. */
+    {
+        ray r = make_ray(v3f(0, 0, 0), v3f(0, 0, 0));
+        bvh_hit h;
+        CHECK(!bvh_intersect(&b, &r, &h) && !bvh_occluded(&b, &r) && h.tri == BVH_NO_HIT);
+        r.dir = v3f(NAN, 0, 1);
+        CHECK(!bvh_intersect(&b, &r, &h) && !bvh_occluded(&b, &r));
+        r.dir = v3f(0, 0, 1);
+        r.tmin = 1;
+        r.tmax = 1;
+        CHECK(!bvh_intersect(&b, &r, &h) && !bvh_occluded(&b, &r));
+    }
+    bvh_free(&b);
+    soup_free(&m);
+}
+
+/* Woop et al. 2013 §3: an edge function that rounds to exactly 0 in float is
+ * re-evaluated in double. Fibonacci coordinates make the exact edge function +-1
+ * while both float products round to the same value: the ray along +z through the
+ * origin passes 1/|BC| outside edge BC of the first triangle (a miss that float
+ * alone would call a hit on the edge) and just inside it for the mirrored one. */
+TEST(watertight_double_precision_fallback)
+{
+    const float f23 = 28657, f24 = 46368, f25 = 75025;
+    vec3f b = v3f(f25, f24, 1), c = v3f(-f24, -f23, 1);
+    vec3f a_outside = v3f(f24 + f23, -(f25 + f24), 1), a_inside = v3f(-(f24 + f23), f25 + f24, 1);
+    ray r = make_ray(v3f(0, 0, 0), v3f(0, 0, 1));
+    float t, b1, b2;
+    bvh tree;
+    bvh_hit h;
+    vec3f tri[3];
+    rerror e;
+    CHECK((double)f25 * f23 - (double)f24 * f24 == 1);   /* exact edge function */
+    CHECK(f25 * f23 - f24 * f24 == 0);                   /* what float makes of it */
+    CHECK(!ray_triangle_watertight(&r, a_outside, b, c, &t, &b1, &b2));
+    CHECK(ray_triangle_watertight(&r, a_inside, b, c, &t, &b1, &b2) && t == 1);
+    tri[0] = a_outside, tri[1] = b, tri[2] = c;
+    CHECKF(bvh_build(&tree, tri, 1, &e) == 0, "%s", e.msg);
+    CHECK(!bvh_intersect(&tree, &r, &h) && !bvh_occluded(&tree, &r));
+    bvh_free(&tree);
+}
+
+/* A BVH over nothing but degenerate triangles is empty and answers "no hit". */
+TEST(bvh_all_degenerate_is_empty)
+{
+    vec3f v[6];
+    bvh b;
+    rerror e;
+    ray r = make_ray(v3f(0, 0, -1), v3f(0, 0, 1));
+    bvh_hit h;
+    v[0] = v[1] = v[2] = v3f(0, 0, 0);
+    v[3] = v3f(0, 0, 0), v[4] = v3f(1, 1, 1), v[5] = v3f(2, 2, 2);
+    CHECKF(bvh_build(&b, v, 2, &e) == 0, "%s", e.msg);
+    CHECK(b.node_count == 0 && b.prim_count == 0);
+    CHECK(!bvh_intersect(&b, &r, &h) && !bvh_occluded(&b, &r));
+    bvh_free(&b);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Watertightness                                                                    */
+
+/* Rays from inside a closed mesh aimed exactly at its vertices and at points on its
+ * shared edges must all hit something. Returns the number of leaks. */
+static long count_leaks(const soup *m, const bvh *b, long rays, uint32_t tag)
+{
+    long i, leaks = 0;
+    for (i = 0; i < rays; ++i) {
+        size_t tri = (size_t)(urand(tag, (uint32_t)i, 0) * (float)m->count) % m->count;
+        int corner = (int)(urand(tag, (uint32_t)i, 1) * 3) % 3;
+        vec3f a = m->v[3 * tri + (size_t)corner], c = m->v[3 * tri + (size_t)(corner + 1) % 3];
+        vec3f o = urand_box(tag + 1, (uint32_t)i, -0.4f, 0.4f), target;
+        bvh_hit h;
+        ray r;
+        if (i % 4 == 0)
+            target = a; /* a vertex */
+        else            /* a point on the edge a-c */
+            target = v3f_add(a, v3f_scale(v3f_sub(c, a), urand(tag, (uint32_t)i, 2)));
+        r = make_ray(o, v3f_sub(target, o));
+        if (!bvh_intersect(b, &r, &h)) leaks++;
+    }
+    return leaks;
+}
+
+TEST(bvh_watertight_closed_meshes)
+{
+    int shape;
+    for (shape = 0; shape < 2; ++shape) {
+        soup m = {0};
+        bvh b;
+        rerror e;
+        long leaks;
+        closed_mesh(&m, shape ? 9 : 5, shape, 1.0f, v3f(0.0f, 0.0f, 0.0f));
+        CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+        leaks = count_leaks(&m, &b, 50000, 60 + 2u * (uint32_t)shape);
+        CHECKF(leaks == 0, "%s: %ld of 50000 rays aimed at edges/vertices leaked", shape ? "sphere" : "cube", leaks);
+        bvh_free(&b);
+        soup_free(&m);
+    }
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Ray-origin offsets: no self-intersection at any scale                             */
+
+/* For each hit point on the mesh (from rays out of the interior and from outside),
+ * spawns rays into both hemispheres. A self-intersection is a hit on the triangle the
+ * ray starts on (sphere) or on any triangle of the same face plane (cube). Returns
+ * the number of self-intersections out of `*rays`. */
+static long count_self_intersections(const scene *s, int is_cube, float scale, vec3f shift, long points, uint32_t tag,
+                                     long *rays)
+{
+    long i, bad = 0;
+    int side;
+    for (i = 0; i < points; ++i) {
+        vec3f dir = urand_direction(tag, (uint32_t)i), o;
+        surface_hit h, g;
+        ray r;
+        if (i % 2) {
+            o = v3f_add(v3f_scale(urand_box(tag, (uint32_t)i, -0.5f, 0.5f), scale), shift);
+        } else {
+            o = v3f_add(v3f_scale(dir, -4.0f * scale), shift);
+            dir = v3f_sub(v3f_add(v3f_scale(urand_box(tag + 1, (uint32_t)i, -0.9f, 0.9f), scale), shift), o);
+        }
+        r = make_ray(o, dir);
+        if (!scene_intersect(s, &r, &h)) continue;
+        for (side = 0; side < 2; ++side) {
+            /* Uniform in the hemisphere about +-ng: grazing directions included. */
+            vec3 t, bb, n = v3_from_f(side ? v3f_scale(h.ng, -1.0f) : h.ng);
+            vec3 l = warp_uniform_hemisphere(v2(urand(tag + 2, (uint32_t)i, (uint32_t)side), urand(tag + 3, (uint32_t)i, (uint32_t)side)));
+            vec3f d;
+            v3_basis(n, &t, &bb);
+            d = v3f_from(v3_add(v3_add(v3_scale(t, l.x), v3_scale(bb, l.y)), v3_scale(n, l.z)));
+            r = scene_spawn_ray(h.position, h.ng, d);
+            (*rays)++;
+            if (!scene_intersect(s, &r, &g)) continue;
+            if (is_cube ? (g.ng.x == h.ng.x && g.ng.y == h.ng.y && g.ng.z == h.ng.z) : g.triangle == h.triangle) bad++;
+        }
+    }
+    return bad;
+}
+
+TEST(offset_ray_origin_no_self_intersection_at_any_scale)
+{
+    static const float scales[4] = {1e-3f, 1.0f, 1e3f, 1e4f};
+    int k, shape;
+    for (k = 0; k < 4; ++k) {
+        for (shape = 0; shape < 2; ++shape) {
+            float sc = scales[k];
+            vec3f shift = v3f_scale(shape ? v3f(0.3f, -0.2f, 0.45f) : v3f(0.25f, 0.5f, -0.75f), sc);
+            soup m = {0};
+            scene s;
+            rerror e;
+            long rays = 0, bad;
+            closed_mesh(&m, shape ? 10 : 4, shape, sc, shift);
+            CHECKF(scene_from_soup(&s, &m, &e) == 0, "%s", e.msg);
+            bad = count_self_intersections(&s, !shape, sc, shift, 2000, 70 + 4u * (uint32_t)k, &rays);
+            CHECKF(rays > 3000, "only %ld rays", rays);
+            CHECKF(bad == 0, "scale %g %s: %ld of %ld spawned rays re-hit their own surface", (double)sc,
+                   shape ? "sphere" : "cube", bad, rays);
+            free_test_scene(&s);
+            soup_free(&m);
+        }
+    }
+}
+
+/* The offset is a fixed number of ulps of the coordinate (|p| >= 1/32): multiplying a
+ * point by a power of two multiplies its offset by the same power of two. */
+TEST(offset_ray_origin_scales_with_the_point)
+{
+    long i;
+    for (i = 0; i < 1000; ++i) {
+        vec3f p = v3f_add(urand_box(80, (uint32_t)i, 0.05f, 1.9f), v3f(0, 0, 0));
+        vec3f n = urand_direction(81, (uint32_t)i);
+        vec3f a, b, d1, d2;
+        if (i % 2) p.x = -p.x;
+        a = offset_ray_origin(p, n);
+        b = offset_ray_origin(v3f_scale(p, 1024.0f), n);
+        d1 = v3f_sub(a, p);
+        d2 = v3f_sub(b, v3f_scale(p, 1024.0f));
+        CHECKF(same_bits(d1.x * 1024.0f, d2.x) && same_bits(d1.y * 1024.0f, d2.y) && same_bits(d1.z * 1024.0f, d2.z),
+               "point %ld: offset not scale-covariant", i);
+        /* It moves to the side n points to. */
+        CHECKF(v3f_dot(d1, n) > 0, "point %ld: offset against the normal", i);
+    }
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Scene queries                                                                     */
+
+/* Surface points on a closed mesh: hits of rays from the interior region, half of them
+ * aimed at points on the mesh's edges (the corners and edges of a box are where
+ * offsets go wrong first). */
+static long surface_points(const scene *s, const soup *m, float scale, vec3f shift, long count, uint32_t tag,
+                           surface_hit *out)
+{
+    long i, n = 0;
+    for (i = 0; i < count; ++i) {
+        vec3f o = v3f_add(v3f_scale(urand_box(tag, (uint32_t)i, -0.9f, 0.9f), scale), shift);
+        ray r = make_ray(o, urand_direction(tag, (uint32_t)i));
+        if (i % 2) {
+            size_t tri = (size_t)(urand(tag + 1, (uint32_t)i, 0) * (float)m->count) % m->count;
+            vec3f a = m->v[3 * tri], c = m->v[3 * tri + 1];
+            r.dir = v3f_sub(v3f_add(a, v3f_scale(v3f_sub(c, a), urand(tag + 1, (uint32_t)i, 1))), o);
+        }
+        if (scene_intersect(s, &r, &out[n])) n++;
+    }
+    return n;
+}
+
+/* Both points lie (to 1e-5 of the box size) in the plane of one face of the box
+ * [-1,1]^3 * scale + shift: the segment between them runs along that face, where
+ * occlusion is decided by rounding and is physically meaningless (it grazes the
+ * surface). Such pairs are not asked about. */
+static int in_common_face_plane(vec3f a, vec3f b, float scale, vec3f shift)
+{
+    float pa[3], pb[3], c[3];
+    int i, side;
+    memcpy(pa, &a, sizeof pa);
+    memcpy(pb, &b, sizeof pb);
+    memcpy(c, &shift, sizeof c);
+    for (i = 0; i < 3; ++i)
+        for (side = -1; side <= 1; side += 2) {
+            float plane = c[i] + (float)side * scale, tol = 1e-5f * scale;
+            if (fabsf(pa[i] - plane) < tol && fabsf(pb[i] - plane) < tol) return 1;
+        }
+    return 0;
+}
+
+/* Inside a closed box (convex from inside) every pair of surface points sees each
+ * other, at every scale: the offsets never produce a false occlusion, also for points
+ * on or next to the box's edges (concave from inside), as long as the segment does
+ * not run inside one face's plane. */
+TEST(scene_visible_inside_convex_box_at_any_scale)
+{
+    static const float scales[4] = {1e-3f, 1.0f, 1e3f, 1e4f};
+    int k;
+    for (k = 0; k < 4; ++k) {
+        float sc = scales[k];
+        vec3f shift = v3f_scale(v3f(0.25f, 0.5f, -0.75f), sc);
+        soup m = {0};
+        scene s;
+        rerror e;
+        surface_hit pts[400];
+        long n, i, blocked = 0, pairs = 0, same_face = 0;
+        closed_mesh(&m, 4, 0, sc, shift);
+        CHECKF(scene_from_soup(&s, &m, &e) == 0, "%s", e.msg);
+        n = surface_points(&s, &m, sc, shift, 400, 90 + 2u * (uint32_t)k, pts);
+        CHECK(n > 350);
+        for (i = 0; i + 1 < n; ++i) {
+            long j;
+            for (j = i + 1; j < n; j += 7) {
+                if (in_common_face_plane(pts[i].position, pts[j].position, sc, shift)) {
+                    /* Two points of one flat face: the offsets put both ends on the same
+                     * side of the face (not on opposite sides, which would cross it). */
+                    if (pts[i].ng.x == pts[j].ng.x && pts[i].ng.y == pts[j].ng.y && pts[i].ng.z == pts[j].ng.z) {
+                        same_face++;
+                        CHECKF(scene_visible(&s, pts[i].position, pts[i].ng, pts[j].position, &pts[j].ng),
+                               "scale %g: points %ld, %ld on one face do not see each other", (double)sc, i, j);
+                    }
+                    continue;
+                }
+                pairs++;
+                blocked += !scene_visible(&s, pts[i].position, pts[i].ng, pts[j].position, &pts[j].ng);
+            }
+        }
+        CHECKF(pairs > 9000 && same_face > 500, "only %ld pairs, %ld on one face", pairs, same_face);
+        CHECKF(blocked == 0, "scale %g: %ld of %ld pairs falsely occluded", (double)sc, blocked, pairs);
+        free_test_scene(&s);
+        soup_free(&m);
+    }
+}
+
+/* visible(a, b) == visible(b, a) in a closed box with an occluding cube inside, and
+ * both answers occur. */
+TEST(scene_visible_symmetric)
+{
+    soup m = {0};
+    scene s;
+    rerror e;
+    surface_hit pts[600];
+    long n, i, visible = 0, occluded = 0;
+    closed_mesh(&m, 4, 0, 1.0f, v3f(0, 0, 0));
+    closed_mesh(&m, 2, 0, 0.35f, v3f(0.1f, -0.05f, 0.02f)); /* the occluder */
+    CHECKF(scene_from_soup(&s, &m, &e) == 0, "%s", e.msg);
+    /* Points on the box and on the occluder (origins between the two). */
+    n = 0;
+    for (i = 0; i < 600; ++i) {
+        vec3f o = urand_box(100, (uint32_t)i, -0.95f, 0.95f);
+        ray r = make_ray(o, urand_direction(101, (uint32_t)i));
+        if (fabsf(o.x - 0.1f) < 0.4f && fabsf(o.y + 0.05f) < 0.4f && fabsf(o.z - 0.02f) < 0.4f) continue;
+        if (scene_intersect(&s, &r, &pts[n])) n++;
+    }
+    CHECK(n > 300);
+    for (i = 0; i + 1 < n; ++i) {
+        long j;
+        for (j = i + 1; j < n; j += 5) {
+            int ab = scene_visible(&s, pts[i].position, pts[i].ng, pts[j].position, &pts[j].ng);
+            int ba = scene_visible(&s, pts[j].position, pts[j].ng, pts[i].position, &pts[i].ng);
+            CHECKF(ab == ba, "pair %ld %ld: visible(a,b) = %d, visible(b,a) = %d", i, j, ab, ba);
+            visible += ab;
+            occluded += !ab;
+        }
+    }
+    CHECKF(visible > 1000 && occluded > 1000, "visible %ld occluded %ld", visible, occluded);
+    /* Segments that graze the occluder: b is where the ray from a through a point on
+     * one of the occluder's edges meets the outer box (found in a scene without the
+     * occluder). Rounding decides these, and still both directions must agree. */
+    {
+        soup outer = {0};
+        scene box_only;
+        long grazing = 0;
+        closed_mesh(&outer, 4, 0, 1.0f, v3f(0, 0, 0));
+        CHECKF(scene_from_soup(&box_only, &outer, &e) == 0, "%s", e.msg);
+        for (i = 0; i < 4000; ++i) {
+            const surface_hit *a = &pts[i % n];
+            size_t tri = outer.count + (size_t)(urand(102, (uint32_t)i, 0) * 48.0f) % 48; /* occluder triangles */
+            int corner = (int)(urand(102, (uint32_t)i, 1) * 3) % 3;
+            vec3f p = m.v[3 * tri + (size_t)corner], q = m.v[3 * tri + (size_t)(corner + 1) % 3];
+            vec3f target = v3f_add(p, v3f_scale(v3f_sub(q, p), urand(102, (uint32_t)i, 2)));
+            surface_hit b;
+            ray r = scene_spawn_ray(a->position, a->ng, v3f_sub(target, a->position));
+            int ab, ba;
+            if (!scene_intersect(&box_only, &r, &b)) continue;
+            ab = scene_visible(&s, a->position, a->ng, b.position, &b.ng);
+            ba = scene_visible(&s, b.position, b.ng, a->position, &a->ng);
+            CHECKF(ab == ba, "grazing pair %ld: visible(a,b) = %d, visible(b,a) = %d", i, ab, ba);
+            grazing++;
+        }
+        CHECK(grazing > 2000);
+        free_test_scene(&box_only);
+        soup_free(&outer);
+    }
+    /* A point not on a surface (ng_to = NULL): the occluder's centre is hidden from
+     * every point on the outer box. */
+    for (i = 0; i < n; ++i) {
+        vec3f p = pts[i].position;
+        if (fmaxf(fabsf(p.x), fmaxf(fabsf(p.y), fabsf(p.z))) < 0.99f) continue;
+        CHECKF(!scene_visible(&s, p, pts[i].ng, v3f(0.1f, -0.05f, 0.02f), NULL), "point %ld sees into the occluder", i);
+    }
+    free_test_scene(&s);
+    soup_free(&m);
+}
+
+/* scene_intersect: position from barycentrics, the true (unflipped) face normal,
+ * interpolated shading normals, material and object ids. */
+TEST(scene_intersect_surface_data)
+{
+    scene s;
+    rerror e;
+    surface_hit h;
+    ray r;
+    memset(&s, 0, sizeof s);
+    strcpy(s.path, "test");
+    s.positions = malloc(6 * sizeof *s.positions);
+    s.normals = malloc(3 * sizeof *s.normals);
+    s.triangles = malloc(2 * sizeof *s.triangles);
+    /* Triangle 0 in z = 0, counter-clockwise seen from +z; triangle 1 in z = 2, clockwise. */
+    s.positions[0] = v3f(0, 0, 0), s.positions[1] = v3f(2, 0, 0), s.positions[2] = v3f(0, 2, 0);
+    s.positions[3] = v3f(0, 0, 2), s.positions[4] = v3f(0, 2, 2), s.positions[5] = v3f(2, 0, 2);
+    s.position_count = 6;
+    s.normals[0] = v3f(0, 0, 1), s.normals[1] = v3f(1, 0, 1), s.normals[2] = v3f(0, 1, 1);
+    s.normal_count = 3;
+    s.triangles[0].v[0] = 0, s.triangles[0].v[1] = 1, s.triangles[0].v[2] = 2;
+    s.triangles[0].n[0] = 0, s.triangles[0].n[1] = 1, s.triangles[0].n[2] = 2;
+    s.triangles[0].material = 3, s.triangles[0].object = 4;
+    s.triangles[1].v[0] = 3, s.triangles[1].v[1] = 4, s.triangles[1].v[2] = 5;
+    s.triangles[1].n[0] = 0, s.triangles[1].n[1] = -1, s.triangles[1].n[2] = 2;
+    s.triangles[1].material = 5, s.triangles[1].object = 6;
+    s.triangle_count = 2;
+    CHECKF(scene_prepare(&s, &e) == 0, "%s", e.msg);
+    CHECK(s.bounds_min.x == 0 && s.bounds_max.x == 2 && s.bounds_max.z == 2);
+
+    /* From below, through (0.5, 0.5) of triangle 0: b1 = b2 = 0.25. */
+    r = make_ray(v3f(0.5f, 0.5f, -1), v3f(0, 0, 1));
+    CHECK(scene_intersect(&s, &r, &h));
+    CHECK(h.triangle == 0 && h.material == 3 && h.object == 4);
+    CHECK_NEAR(h.t, 1, 1e-6);
+    CHECK_NEAR(h.b1, 0.25, 1e-6);
+    CHECK_NEAR(h.b2, 0.25, 1e-6);
+    CHECK_NEAR(h.position.x, 0.5, 1e-6);
+    CHECK_NEAR(h.position.y, 0.5, 1e-6);
+    CHECK(h.position.z == 0);
+    CHECK(h.ng.x == 0 && h.ng.y == 0 && h.ng.z == 1); /* not flipped toward the ray */
+    /* ns = normalize(0.5 (0,0,1) + 0.25 (1,0,1) + 0.25 (0,1,1)) */
+    CHECK_NEAR(h.ns.x, 0.25 / sqrt(1.125), 1e-6);
+    CHECK_NEAR(h.ns.z, 1.0 / sqrt(1.125), 1e-6);
+
+    /* From above after passing triangle 0's range: hits triangle 1 (clockwise, so its
+     * normal is -z) and its shading normal falls back to ng (one n[] is -1). */
+    r = make_ray(v3f(0.5f, 0.5f, 3), v3f(0, 0, -1));
+    CHECK(scene_intersect(&s, &r, &h));
+    CHECK(h.triangle == 1 && h.material == 5 && h.object == 6);
+    CHECK(h.ng.z == -1 && h.ns.z == -1);
+    /* The spawned ray leaves to the side it points to and hits triangle 0 next. */
+    r = scene_spawn_ray(h.position, h.ng, v3f(0, 0, -1));
+    CHECK(r.tmin == 0 && isinf(r.tmax) && r.origin.z < 2);
+    CHECK(scene_intersect(&s, &r, &h) && h.triangle == 0);
+    /* The two triangles see each other; a point beyond triangle 0 is hidden. */
+    CHECK(scene_visible(&s, v3f(0.5f, 0.5f, 2), v3f(0, 0, -1), v3f(0.5f, 0.5f, 0), &(vec3f){0, 0, 1}));
+    CHECK(!scene_visible(&s, v3f(0.5f, 0.5f, 2), v3f(0, 0, -1), v3f(0.5f, 0.5f, -1), NULL));
+    free_test_scene(&s);
+}
+
+TEST(scene_prepare_empty_scene_fails)
+{
+    scene s;
+    rerror e;
+    memset(&s, 0, sizeof s);
+    strcpy(s.path, "empty.obj");
+    CHECK(scene_prepare(&s, &e) != 0);
+    CHECKF(!strcmp(e.msg, "empty.obj: scene has no triangles"), "message: %s", e.msg);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Generated scene                                                                   */
+
+typedef struct {
+    uint32_t a, b;
+} edge;
+
+static int compare_edges(const void *x, const void *y)
+{
+    const edge *p = x, *q = y;
+    if (p->a != q->a) return p->a < q->a ? -1 : 1;
+    return p->b < q->b ? -1 : p->b > q->b;
+}
+
+/* >= 100k triangles at subdivision 92, and closed: every directed edge of the sphere
+ * appears once and its reverse once (consistent outward winding, no holes). */
+TEST(generate_displaced_sphere_closed)
+{
+    scene s;
+    rerror e;
+    edge *edges;
+    size_t i, sphere_tris = 0, n = 0;
+    CHECKF(generate_displaced_sphere(&s, 92, &e) == 0, "%s", e.msg);
+    CHECKF(s.triangle_count >= 100000, "%zu triangles", s.triangle_count);
+    CHECK(s.material_count == 2 && s.object_count == 2 && s.has_camera);
+    CHECK(!rgb_is_black(s.materials[1].emission) && rgb_is_black(s.materials[0].emission));
+    edges = malloc(3 * s.triangle_count * sizeof *edges);
+    for (i = 0; i < s.triangle_count; ++i) {
+        int k;
+        if (s.triangles[i].object != 0) continue;
+        sphere_tris++;
+        for (k = 0; k < 3; ++k) {
+            edges[n].a = s.triangles[i].v[k];
+            edges[n].b = s.triangles[i].v[(k + 1) % 3];
+            n++;
+        }
+    }
+    CHECK(sphere_tris == 12 * 92 * 92);
+    CHECK(s.position_count == 6 * 92 * 92 + 2 + 4); /* Euler: V = E - F + 2 */
+    qsort(edges, n, sizeof *edges, compare_edges);
+    for (i = 0; i < n; ++i) {
+        edge rev, *found;
+        CHECKF(i == 0 || compare_edges(&edges[i - 1], &edges[i]) != 0, "directed edge used twice");
+        rev.a = edges[i].b;
+        rev.b = edges[i].a;
+        found = bsearch(&rev, edges, n, sizeof *edges, compare_edges);
+        CHECKF(found != NULL, "edge %u-%u has no opposite", edges[i].a, edges[i].b);
+    }
+    free(edges);
+    /* The light faces down, toward the sphere. */
+    {
+        const triangle *t = &s.triangles[s.triangle_count - 1];
+        vec3f a = s.positions[t->v[0]], b = s.positions[t->v[1]], c = s.positions[t->v[2]];
+        CHECK(v3f_cross(v3f_sub(b, a), v3f_sub(c, a)).y < 0);
+    }
+    free_generated_scene(&s);
+}
+
+TEST(generate_write_obj_roundtrips_vertices)
+{
+    scene s;
+    rerror e;
+    const char *path = test_tmp_path("gen/sphere.obj");
+    char line[256], mtl[1024];
+    FILE *f;
+    size_t v = 0, faces = 0;
+    CHECKF(generate_displaced_sphere(&s, 6, &e) == 0, "%s", e.msg);
+    CHECKF(generate_write_obj(&s, path, &e) == 0, "%s", e.msg);
+    snprintf(mtl, sizeof mtl, "%s", test_tmp_path("gen/sphere.mtl"));
+    CHECK(test_file_exists(mtl));
+    f = fopen(path, "r");
+    CHECK(f != NULL);
+    while (fgets(line, sizeof line, f)) {
+        float x, y, z;
+        if (sscanf(line, "v %f %f %f", &x, &y, &z) == 3) {
+            CHECKF(v < s.position_count && same_bits(x, s.positions[v].x) && same_bits(y, s.positions[v].y) &&
+                       same_bits(z, s.positions[v].z),
+                   "vertex %zu differs", v);
+            v++;
+        }
+        if (line[0] == 'f') faces++;
+    }
+    fclose(f);
+    CHECK(v == s.position_count && faces == s.triangle_count);
+    CHECK(generate_displaced_sphere(&s, 0, &e) != 0);
+    free_generated_scene(&s);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Longer versions                                                                    */
+
+TEST_LONG(bvh_matches_brute_force_long)
+{
+    soup m = {0};
+    bvh b;
+    rerror e;
+    char why[256];
+    long i, hits = 0;
+    random_soup(&m, 200, 20000);
+    closed_mesh(&m, 20, 1, 0.7f, v3f(0.1f, 0.2f, 0.3f));
+    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+    for (i = 0; i < 30000; ++i) {
+        ray r = make_ray(urand_box(201, (uint32_t)i, -1.5f, 1.5f), urand_direction(201, (uint32_t)i));
+        if (i % 2) r.dir = v3f_sub(m.v[(size_t)(urand(202, (uint32_t)i, 0) * 3 * (float)m.count) % (3 * m.count)], r.origin);
+        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
+    }
+    bvh_free(&b);
+    soup_free(&m);
+}
+
+TEST_LONG(bvh_watertight_long)
+{
+    int shape;
+    for (shape = 0; shape < 2; ++shape) {
+        soup m = {0};
+        bvh b;
+        rerror e;
+        long leaks;
+        closed_mesh(&m, shape ? 40 : 16, shape, 1.0f, v3f(0.01f, -0.02f, 0.03f));
+        CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+        leaks = count_leaks(&m, &b, 1000000, 210 + 2u * (uint32_t)shape);
+        CHECKF(leaks == 0, "%ld of 10^6 rays leaked", leaks);
+        bvh_free(&b);
+        soup_free(&m);
+    }
+}
+
+/* A 1M-triangle build: prints the time and the tree statistics. */
+TEST_LONG(bvh_build_one_million)
+{
+    scene s;
+    rerror e;
+    struct timespec t0, t1;
+    CHECKF(generate_displaced_sphere(&s, 289, &e) == 0, "%s", e.msg);
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    CHECKF(scene_prepare(&s, &e) == 0, "%s", e.msg);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    printf("     %zu triangles: build %.2f s, %zu nodes, depth %d, SAH cost %.2f\n", s.triangle_count,
+           (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec), s.accel.node_count,
+           s.accel.depth, s.accel.sah_cost);
+    CHECK(s.accel.prim_count == s.triangle_count);
+    free_generated_scene(&s);
+}
