@@ -34,12 +34,14 @@ int rerror_at(rerror *e, const char *file, long line, const char *fmt, ...)
 void *rmalloc(size_t count, size_t size, rerror *e)
 {
     void *p;
+    size_t bytes;
     if (size && count > (size_t)-1 / size) {
         rerror_set(e, "allocation of %zu x %zu bytes overflows", count, size);
         return NULL;
     }
-    p = malloc(count * size ? count * size : 1);
-    if (!p) rerror_set(e, "out of memory (%zu bytes)", count * size);
+    bytes = count * size;
+    p = malloc(bytes > 0 ? bytes : 1);
+    if (!p) rerror_set(e, "out of memory (%zu bytes)", bytes);
     return p;
 }
 

@@ -1,0 +1,117 @@
+/* restir bench rays SCENE | rays --generated N | all: machine-readable benchmarks (JSON on
+ * stdout). Timings are never asserted in tests; compare ratios measured in one run. */
+#include <stdio.h>
+#include <string.h>
+#include "args.h"
+#include "restir/bench.h"
+#include "restir/generate.h"
+#include "restir/progress.h"
+#include "scene_args.h"
+
+#define SHARED_BUNNY "../shared/data/common-3d-test-models/stanford-bunny.obj"
+
+typedef struct {
+    bench_rays_options rays;
+    int generated;   /* subdivision level of the displaced sphere, 0 = none */
+    int rays_size[2];
+    int has_rays_size;
+} bench_args;
+
+static int bench_rays_on(scene *s, const bench_args *a, int *first)
+{
+    rerror e;
+    if (!*first) printf(",\n");
+    *first = 0;
+    if (bench_rays(s, &a->rays, stdout, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    fflush(stdout);
+    return 0;
+}
+
+static int bench_generated(int subdivisions, const bench_args *a, int *first)
+{
+    scene s;
+    rerror e;
+    int status;
+    memset(&s, 0, sizeof s);
+    if (generate_displaced_sphere(&s, subdivisions, &e) || scene_prepare(&s, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        scene_free(&s);
+        return 2;
+    }
+    status = bench_rays_on(&s, a, first);
+    scene_free(&s);
+    return status;
+}
+
+static int bench_file(const char *path, const bench_args *a, int *first)
+{
+    scene s;
+    scene_overrides none;
+    int status;
+    memset(&none, 0, sizeof none);
+    status = load_scene_for_command("bench", path, &none, &s, NULL, NULL);
+    if (status) return status;
+    status = bench_rays_on(&s, a, first);
+    scene_free(&s);
+    return status;
+}
+
+static int file_exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f) fclose(f);
+    return f != NULL;
+}
+
+/* `bench all`: the shipped Cornell box, the >= 100k-triangle generated sphere, and the
+ * Stanford bunny when ../shared/data is present (the Embree yardstick's scene). */
+static int bench_all(const bench_args *a, int *first)
+{
+    int status = bench_file("scenes/cornell.scene", a, first);
+    if (!status) status = bench_generated(92, a, first);
+    if (!status && file_exists(SHARED_BUNNY)) status = bench_file(SHARED_BUNNY, a, first);
+    return status;
+}
+
+int cmd_bench(int argc, char **argv)
+{
+    bench_args a;
+    const char *positional[2];
+    int count, status, first = 1;
+    memset(&a, 0, sizeof a);
+    bench_rays_default_options(&a.rays);
+    {
+        const cli_option options[] = {
+            {"--generated", OPT_INT, &a.generated, "bench rays on the generated displaced sphere of this subdivision (92: 100k tris)", NULL, 1, 2000, NULL},
+            {"--threads", OPT_INT, &a.rays.threads, "thread count measured besides 1 (default: online cores)", NULL, 1, 256, NULL},
+            {"--repeats", OPT_INT, &a.rays.repeats, "timed repetitions; the median is reported", NULL, 1, 1000, NULL},
+            {"--size", OPT_SIZE, a.rays_size, "primary ray grid (default 512x512)", NULL, 0, 0, &a.has_rays_size},
+            {"--seed", OPT_UINT32, &a.rays.seed, "seed of the jitter and bounce directions", NULL, 0, 0, NULL},
+            {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
+        };
+        status = cli_parse("bench", argc, argv, options, positional, 2, &count);
+        if (status == 1) {
+            cli_print_help(stdout, "bench", "rays SCENE | rays --generated N | all [options]", options);
+            return 0;
+        }
+    }
+    if (status) return status;
+    if (a.has_rays_size) {
+        a.rays.width = a.rays_size[0];
+        a.rays.height = a.rays_size[1];
+    }
+    if (count < 1 || (strcmp(positional[0], "rays") && strcmp(positional[0], "all")) ||
+        (!strcmp(positional[0], "rays") && count != 2 && !a.generated)) {
+        fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N` or `all`\n");
+        return 2;
+    }
+    printf("[\n");
+    if (!strcmp(positional[0], "all")) status = bench_all(&a, &first);
+    else if (a.generated) status = bench_generated(a.generated, &a, &first);
+    else status = bench_file(positional[1], &a, &first);
+    printf("\n]\n");
+    return status;
+}
