@@ -24,7 +24,7 @@ typedef struct {
     unsigned char *material_origin;  /* per material: enum material_origin */
     char **material_first_use;       /* per material: "file:line" of the first usemtl naming it, or NULL */
     size_t suppressed_warnings;
-    size_t degenerate_triangles;     /* dropped: their normal cannot be normalised */
+    size_t degenerate_triangles;     /* dropped: zero face normal */
     scene_load_options options;
 } scene_builder;
 
@@ -50,8 +50,8 @@ int builder_object(scene_builder *b, const char *name, uint32_t *index, rerror *
 
 int builder_add_position(scene_builder *b, vec3f p, rerror *e);
 int builder_add_normal(scene_builder *b, vec3f n, rerror *e);
-/* Appends the triangle unless its geometric normal (v1-v0)x(v2-v0) cannot be normalised
- * in float (|n|^2 <= FLT_MIN, e.g. collinear corners), which only counts it as dropped. */
+/* Appends the triangle unless its geometric normal (v1-v0)x(v2-v0), computed in double,
+ * is zero (collinear or repeated corners), which only counts it as dropped. */
 int builder_add_triangle(scene_builder *b, const triangle *t, rerror *e);
 
 /* Grows *array (of elem_size elements, capacity *capacity) to hold at least need. */

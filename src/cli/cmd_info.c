@@ -6,14 +6,6 @@
 
 static const char *const material_type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric"};
 
-static size_t count_emitters(const scene *s)
-{
-    size_t i, n = 0;
-    for (i = 0; i < s->triangle_count; ++i)
-        if (!rgb_is_black(s->materials[s->triangles[i].material].emission)) n++;
-    return n;
-}
-
 static void print_materials(const scene *s)
 {
     size_t i;
@@ -34,7 +26,7 @@ static void print_info(const scene *s, double load_seconds, double bvh_seconds)
     printf("vertices     %zu (normals %zu)\n", s->position_count, s->normal_count);
     printf("objects      %zu\n", s->object_count);
     printf("materials    %zu\n", s->material_count);
-    printf("emitters     %zu triangles\n", count_emitters(s));
+    printf("emitters     %zu triangles\n", scene_emitter_count(s));
     printf("bounds       (%g %g %g) - (%g %g %g)\n", s->bounds_min.x, s->bounds_min.y, s->bounds_min.z,
            s->bounds_max.x, s->bounds_max.y, s->bounds_max.z);
     printf("bvh          %zu nodes, depth %d, SAH cost %.3f\n", s->accel.node_count, s->accel.depth, s->accel.sah_cost);
@@ -50,7 +42,7 @@ static void print_info(const scene *s, double load_seconds, double bvh_seconds)
 int cmd_info(int argc, char **argv)
 {
     scene_overrides ov;
-    cli_option options[8];
+    cli_option options[10];
     const char *positional[1];
     int n, count, status;
     double load_s, bvh_s;

@@ -137,6 +137,7 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "restir render: expected one SCENE argument (see restir render --help)\n");
         return 2;
     }
+    a.overrides.quiet = a.quiet;
     status = load_scene_for_command("render", positional[0], &a.overrides, &s, &t.load, &t.prepare);
     if (status) return status;
     status = render_and_write(&a, &s, &t);

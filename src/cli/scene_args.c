@@ -12,6 +12,7 @@ int scene_override_options(cli_option *rows, scene_overrides *o)
         {"--up", OPT_VEC3, o->up, "camera up vector", NULL, 0, 0, &o->has_up},
         {"--fov", OPT_REAL, &o->fov, "vertical field of view in degrees", NULL, 0.001, 179.999, &o->has_fov},
         {"--size", OPT_SIZE, o->size, "image size, e.g. 512x512", NULL, 0, 0, &o->has_size},
+        {"--allow-missing-mtl", OPT_FLAG, &o->allow_missing_mtl, "a missing material library is a warning (default: an error)", NULL, 0, 0, NULL},
     };
     int i, n = (int)(sizeof defs / sizeof defs[0]);
     for (i = 0; i < n; ++i) rows[i] = defs[i];
@@ -48,12 +49,16 @@ int load_scene_for_command(const char *command, const char *path, const scene_ov
                            double *load_seconds, double *prepare_seconds)
 {
     rerror e;
+    scene_load_options load_options;
     double t0 = now_seconds(), t1;
-    if (scene_load(s, path, &e)) {
+    size_t i;
+    load_options.allow_missing_mtl = o->allow_missing_mtl;
+    if (scene_load_with_options(s, path, &load_options, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
     t1 = now_seconds();
+    for (i = 0; i < s->warning_count && !o->quiet; ++i) fprintf(stderr, "warning: %s\n", s->warnings[i]);
     if (apply_overrides(o, s, &e) || scene_prepare(s, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         scene_free(s);

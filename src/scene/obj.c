@@ -60,13 +60,6 @@ static int at_line(obj_parser *o, rerror *e)
     return rerror_at(e, o->path, o->text.line, "%s", msg);
 }
 
-static int fail(obj_parser *o, rerror *e, const char *fmt, const char *arg)
-{
-    char msg[768];
-    snprintf(msg, sizeof msg, fmt, arg);
-    return rerror_at(e, o->path, o->text.line, "%s", msg);
-}
-
 /* Reads count_min..count_max numbers; the first `keep` go to out (as float). */
 static int parse_numbers(obj_parser *o, char *rest, const char *keyword, int count_min, int count_max, float *out,
                          int keep, rerror *e)
@@ -207,18 +200,20 @@ static int current_ids(obj_parser *o, uint32_t *material, uint32_t *object, rerr
     return 0;
 }
 
+/* Room for n corners in the per-face scratch arrays (doubling). */
 static int face_reserve(obj_parser *o, size_t n, rerror *e)
 {
-    size_t c1 = o->face_capacity, c2 = c1, c3 = c1, c4 = c1 * 3, c4_need = 3 * n;
+    size_t cap = o->face_capacity ? o->face_capacity : 16, c1, c2, c3, c4;
     if (n <= o->face_capacity) return 0;
-    if (builder_reserve((void **)&o->face_position, &c1, n, sizeof *o->face_position, e) ||
-        builder_reserve((void **)&o->face_normal, &c2, n, sizeof *o->face_normal, e) ||
-        builder_reserve((void **)&o->face_corner, &c3, n, sizeof *o->face_corner, e) ||
-        builder_reserve((void **)&o->face_triangles, &c4, c4_need, sizeof *o->face_triangles, e))
+    while (cap < n) cap *= 2;
+    c1 = c2 = c3 = o->face_capacity;
+    c4 = 3 * o->face_capacity;
+    if (builder_reserve((void **)&o->face_position, &c1, cap, sizeof *o->face_position, e) ||
+        builder_reserve((void **)&o->face_normal, &c2, cap, sizeof *o->face_normal, e) ||
+        builder_reserve((void **)&o->face_corner, &c3, cap, sizeof *o->face_corner, e) ||
+        builder_reserve((void **)&o->face_triangles, &c4, 3 * cap, sizeof *o->face_triangles, e))
         return -1;
-    o->face_capacity = c1 < c2 ? c1 : c2;
-    if (c3 < o->face_capacity) o->face_capacity = c3;
-    if (c4 / 3 < o->face_capacity) o->face_capacity = c4 / 3;
+    o->face_capacity = cap;
     return 0;
 }
 
@@ -364,10 +359,10 @@ static int read_statement(obj_parser *o, char *line, rerror *e)
     if (!strcmp(keyword, "mtllib")) return read_mtllib(o, rest, e);
     if (is_ignored_statement(keyword)) return 0;
     if (!strcmp(keyword, "surf"))
-        return fail(o, e, "free-form surfaces ('%s') are not supported; export the model as polygons", keyword);
+        return rerror_at(e, o->path, o->text.line, "free-form surfaces ('surf') are not supported; export polygons");
     if (!strcmp(keyword, "call") || !strcmp(keyword, "csh"))
-        return fail(o, e, "'%s' (including other files, running commands) is not supported", keyword);
-    return fail(o, e, "unknown OBJ statement '%.60s'", keyword);
+        return rerror_at(e, o->path, o->text.line, "'%s' (including files, running commands) is not supported", keyword);
+    return rerror_at(e, o->path, o->text.line, "unknown OBJ statement '%.60s'", keyword);
 }
 
 static void parser_free(obj_parser *o)

@@ -1,7 +1,6 @@
 /* Growing a scene while its files are parsed (see scene_builder.h). */
 #include "restir/scene_builder.h"
 
-#include <float.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -167,11 +166,14 @@ int builder_add_triangle(scene_builder *b, const triangle *t, rerror *e)
 {
     scene *s = b->s;
     vec3f p0 = s->positions[t->v[0]], p1 = s->positions[t->v[1]], p2 = s->positions[t->v[2]];
-    vec3f n = v3f_cross(v3f_sub(p1, p0), v3f_sub(p2, p0));
-    float len2 = v3f_dot(n, n);
-    /* The same float expression the ray queries use for the face normal: if it cannot
-     * be normalised, the triangle has no front face, no area to hit and none to sample. */
-    if (!(len2 > FLT_MIN) || !isfinite(len2)) {
+    /* The face normal (v1-v0)x(v2-v0) in double (as the ray queries compute it): if it is
+     * zero the triangle has no front face, no area to hit and none to sample. Tiny but
+     * nonzero triangles stay. */
+    double ax = (double)p1.x - p0.x, ay = (double)p1.y - p0.y, az = (double)p1.z - p0.z;
+    double bx = (double)p2.x - p0.x, by = (double)p2.y - p0.y, bz = (double)p2.z - p0.z;
+    double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+    double len2 = nx * nx + ny * ny + nz * nz;
+    if (!(len2 > 0) || !isfinite(len2)) {
         b->degenerate_triangles++;
         return 0;
     }

@@ -1,0 +1,71 @@
+/* Weighted reservoir streaming and the unbiased contribution weight of (G)RIS. */
+#include "restir/reservoir.h"
+
+#include <math.h>
+
+void reservoir_init(reservoir *r)
+{
+    path_sample_clear(&r->y);
+    r->wsum = 0;
+    r->W = 0;
+    r->confidence = 0;
+    r->n_invalid = 0;
+}
+
+/* Chao 1982: after the step, each streamed candidate is the selection with probability
+ * w_j / sum w, because a later candidate replaces it with probability w / wsum. */
+int wrs_update(real *wsum, real w, real u, uint32_t *n_invalid)
+{
+    if (w == 0) return 0;
+    if (!(w > 0) || !isfinite(w)) { /* NaN, negative or infinite: skip and count */
+        if (n_invalid) (*n_invalid)++;
+        return 0;
+    }
+    *wsum += w;
+    return u < w / *wsum;
+}
+
+int reservoir_stream(reservoir *r, const path_sample *y, real w, real u)
+{
+    if (!wrs_update(&r->wsum, w, u, &r->n_invalid)) return 0;
+    r->y = *y;
+    return 1;
+}
+
+/* GRIS Eq. 22: W_Y = (1 / p̂(Y)) sum_j w_j. */
+void reservoir_finalize(reservoir *r)
+{
+    r->W = 0;
+    if (!path_sample_is_valid(&r->y)) return;
+    if (r->y.target > 0 && isfinite(r->wsum / r->y.target))
+        r->W = r->wsum / r->y.target;
+    else
+        r->n_invalid++; /* a positive weight was given to a sample with p̂ = 0 */
+}
+
+void reservoir_add_confidence(reservoir *r, real c) { r->confidence += c; }
+
+void reservoir_cap_confidence(reservoir *r, real cap)
+{
+    if (r->confidence > cap) r->confidence = cap;
+}
+
+/* GRIS Eq. 19 (with the Iverson bracket of Stochastic MIS Eq. 6 for a failed shift). */
+real gris_resampling_weight(real mis, real target, real ucw, real jacobian)
+{
+    if (mis == 0 || target == 0 || ucw == 0 || jacobian == 0) return 0;
+    return mis * target * ucw * jacobian;
+}
+
+/* GRIS Eq. 1 with M -> N path trees (the constant 1/N is exact: all trees are canonical). */
+real ris_candidate_weight(real target, real ucw, real n_trees)
+{
+    return gris_resampling_weight((real)1 / n_trees, target, ucw, 1);
+}
+
+/* GRIS Eq. 3: the estimate f(Y) W_Y, here with the RGB contribution F. */
+rgb reservoir_estimate(const reservoir *r)
+{
+    if (!path_sample_is_valid(&r->y) || r->W == 0) return rgb_gray(0);
+    return rgb_scale(r->y.F, r->W);
+}
