@@ -25,8 +25,11 @@ static int make_furnace(scene *s, rgb le, rgb rho, int res)
 
 /* A small "Cornell-like" box [0,1]^3, open towards the camera, with a ceiling light,
  * coloured Lambertian walls, a plastic (two-lobe) block, a rough conductor panel and a
- * smooth glass cube (Dirac lobes only). */
-static int make_glossy_box(scene *s, int res)
+ * smooth glass cube (Dirac lobes only). The camera looks along +z from (0.5 + shift,
+ * 0.5 - shift, -1.3). With shift = 0 the box's edges project exactly onto the pixel
+ * centres of the image diagonals, so those primary hits lie ON two walls at once (see
+ * pt_strategies_agree_on_exact_edges); make_glossy_box uses a small shift. */
+static int make_glossy_box_at(scene *s, int res, real shift)
 {
     uint32_t white, red, green, light, plastic, metal, glass;
     if (test_scene_begin(s, 64, 8)) return -1;
@@ -53,9 +56,12 @@ static int make_glossy_box(scene *s, int res)
     test_scene_outward_box(s, v3f(0.15f, 0, 0.45f), v3f(0.45f, 0.35f, 0.8f), plastic);
     test_scene_quad(s, v3f(0.9f, 0.05f, 0.3f), v3f(-0.25f, 0, 0.5f), v3f(0, 0.6f, 0), metal);
     test_scene_outward_box(s, v3f(0.55f, 0, 0.15f), v3f(0.8f, 0.25f, 0.4f), glass);
-    test_scene_camera(s, v3((real)0.5, (real)0.5, (real)-1.3), v3((real)0.5, (real)0.5, 0), v3(0, 1, 0), 42, res);
+    test_scene_camera(s, v3((real)0.5 + shift, (real)0.5 - shift, (real)-1.3), v3((real)0.5 + shift, (real)0.5 - shift, 0),
+                      v3(0, 1, 0), 42, res);
     return 0;
 }
+
+static int make_glossy_box(scene *s, int res) { return make_glossy_box_at(s, res, (real)0.003); }
 
 static int prepare(scene *s)
 {
@@ -270,6 +276,53 @@ TEST(pt_strategies_reject_ablations_glossy_box)
     if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_MIS_SUM, PT_STRATEGY_NEE, 256, 2);
     if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_MIS, 256, 5);
     scene_free(&s);
+}
+
+/* KNOWN FAILURE at the time of writing: with the symmetric camera, the pixel centres of
+ * the image diagonals see points exactly on the floor/wall edges. NEE's shadow rays
+ * (scene_visibility_ray) step off both surfaces of such a concave edge, but BSDF rays
+ * (scene_spawn_ray: normal offset, tmin = 0) re-hit the adjacent wall, so BSDF-only is
+ * darker than NEE and MIS on those pixels (z ~ 6-8 per pixel at 8192 spp; with --jitter
+ * the effect has measure zero). The fix belongs to scene_spawn_ray (BVH module).
+ * make_glossy_box (shift 0.003) keeps the fast tests off this degenerate case. */
+TEST_LONG(pt_strategies_agree_on_exact_edges)
+{
+    scene s;
+    pt_options o;
+    pt_result nee, bsdf;
+    double worst = 0;
+    int k, c, worst_k = 0;
+    CHECK(make_glossy_box_at(&s, 24, 0) == 0);
+    if (prepare(&s)) return;
+    pt_options_default(&o);
+    o.spp = 8192;
+    o.max_depth = 5;
+    o.threads = 2;
+    o.strategy = PT_STRATEGY_NEE;
+    o.seed = test_seed() * 31u + 1;
+    if (render(&s, &o, &nee)) return;
+    o.strategy = PT_STRATEGY_BSDF;
+    o.seed = test_seed() * 31u + 2;
+    if (render(&s, &o, &bsdf)) return;
+    /* The diagonal pixels (k, k) of the lower right quarter: the floor/wall edge. Per-pixel
+     * z from the per-pixel variances (8192 samples; both sides have >= 100 effective
+     * samples there), Sidak over 8 pixels x 3 channels at level 1e-3: |z| > 4.3. */
+    for (k = 16; k < 24; ++k)
+        for (c = 0; c < 3; ++c) {
+            size_t i = 3 * ((size_t)k * 24 + k) + c;
+            double n = o.spp, ma = nee.state.sum[i] / n, mb = bsdf.state.sum[i] / n;
+            double va = (nee.state.sum_sq[i] - nee.state.sum[i] * ma) / (n * (n - 1));
+            double vb = (bsdf.state.sum_sq[i] - bsdf.state.sum[i] * mb) / (n * (n - 1));
+            double z = (ma - mb) / sqrt(va + vb);
+            if (fabs(z) > fabs(worst)) {
+                worst = z;
+                worst_k = k;
+            }
+        }
+    pt_result_free(&nee);
+    pt_result_free(&bsdf);
+    scene_free(&s);
+    CHECKF(fabs(worst) < 4.3, "nee vs bsdf on the edge pixels: pixel (%d,%d) z = %.2f", worst_k, worst_k, worst);
 }
 
 /* A large light close above a rough two-lobe plastic floor: here the NEE and BSDF pdfs
