@@ -70,7 +70,7 @@ $(BUILD)/tests/run: $(TEST_OBJ) $(BUILD)/librestir.a
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
 
 run: $(BUILD)/restir
-	$(BUILD)/restir render scenes/cornell.scene -o out/cornell.pfm --png out/cornell.png
+	$(BUILD)/restir render scenes/cornell.scene --method pt --spp 64 -o out/cornell.pfm --png out/cornell.png
 
 test: $(BUILD)/restir $(BUILD)/tests/run
 	$(BUILD)/tests/run $(if $(SEED),--seed $(SEED)) $(T)

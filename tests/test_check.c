@@ -477,7 +477,7 @@ TEST(check_moments_file_roundtrip)
     moments_file_free(&f);
     /* The .moments.json path works as well as the prefix. */
     {
-        char json[1100];
+        char json[1200];
         snprintf(json, sizeof json, "%s.moments.json", prefix);
         CHECK(moments_read(json, &f, &e) == 0);
         moments_file_free(&f);

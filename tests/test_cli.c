@@ -142,3 +142,21 @@ TEST(cli_bench_rays_smoke)
     CHECK(strstr(out, "shadow_mrays") != NULL);
     CHECK(test_cli(out, sizeof out, "bench warp") == 2);
 }
+
+/* The whole diff-test pipeline from the command line: `render --runs K` writes moments,
+ * `check` calls NEE-only vs MIS path tracing consistent (exit 0) and rejects the
+ * deliberately wrong light pdf (exit 1). */
+TEST(cli_render_runs_feed_check)
+{
+    const char *common = "render scenes/cornell.scene --size 24x24 --spp 16 --runs 8 --quiet --max-depth 2 --no-png";
+    char a[1024], b[1024], bad[1024];
+    snprintf(a, sizeof a, "%s", test_tmp_path("runs-mis.pfm"));
+    snprintf(b, sizeof b, "%s", test_tmp_path("runs-nee.pfm"));
+    snprintf(bad, sizeof bad, "%s", test_tmp_path("runs-bad.pfm"));
+    CHECK(test_cli(out, sizeof out, "%s --seed %u -o %s", common, test_seed(), a) == 0);
+    CHECK(test_cli(out, sizeof out, "%s --seed %u --pt-strategy nee -o %s", common, test_seed() + 1000, b) == 0);
+    CHECK(test_cli(out, sizeof out, "%s --seed %u --ablate light-pdf -o %s", common, test_seed() + 2000, bad) == 0);
+    a[strlen(a) - 4] = b[strlen(b) - 4] = bad[strlen(bad) - 4] = '\0'; /* prefixes */
+    CHECKF(test_cli(out, sizeof out, "check --a-moments %s --b-moments %s --quiet", a, b) == 0, "%s", out);
+    CHECKF(test_cli(out, sizeof out, "check --a-moments %s --b-moments %s --quiet", a, bad) == 1, "%s", out);
+}

@@ -6,6 +6,8 @@
 #include "restir/bench.h"
 #include "restir/generate.h"
 #include "restir/progress.h"
+#include "restir/pt.h"
+#include "restir/threads.h"
 #include "scene_args.h"
 
 #define SHARED_BUNNY "../shared/data/common-3d-test-models/stanford-bunny.obj"
@@ -66,13 +68,65 @@ static int file_exists(const char *path)
     return f != NULL;
 }
 
-/* `bench all`: the shipped Cornell box, the >= 100k-triangle generated sphere, and the
- * Stanford bunny when ../shared/data is present (the Embree yardstick's scene). */
+/* Path-tracing samples/s and rays/s on a prepared scene, 1 thread and all threads. */
+static int bench_pt_on(const scene *s, const char *name, const bench_args *a, int *first)
+{
+    rerror e;
+    int t, counts[2];
+    counts[0] = 1;
+    counts[1] = a->rays.threads > 0 ? a->rays.threads : threads_default();
+    for (t = 0; t < 2; ++t) {
+        if (t == 1 && counts[1] == 1) break;
+        if (!*first) printf(",\n");
+        *first = 0;
+        if (bench_pt(stdout, s, name, 4, counts[t], &e)) {
+            fprintf(stderr, "%s\n", e.msg);
+            return 2;
+        }
+        fflush(stdout);
+    }
+    return 0;
+}
+
+static int bench_pt_file(const char *path, const bench_args *a, int *first)
+{
+    scene s;
+    scene_overrides none;
+    int status;
+    memset(&none, 0, sizeof none);
+    status = load_scene_for_command("bench", path, &none, &s, NULL, NULL);
+    if (status) return status;
+    status = bench_pt_on(&s, path, a, first);
+    scene_free(&s);
+    return status;
+}
+
+static int bench_pt_generated(int subdivisions, const bench_args *a, int *first)
+{
+    scene s;
+    rerror e;
+    int status;
+    memset(&s, 0, sizeof s);
+    if (generate_displaced_sphere(&s, subdivisions, &e) || scene_prepare(&s, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        scene_free(&s);
+        return 2;
+    }
+    status = bench_pt_on(&s, "generated:displaced_sphere", a, first);
+    scene_free(&s);
+    return status;
+}
+
+/* `bench all`: rays on the shipped Cornell box, the >= 100k-triangle generated sphere and
+ * the Stanford bunny when ../shared/data is present (the Embree yardstick's scene); then
+ * path-tracing throughput on the Cornell box and the generated sphere. */
 static int bench_all(const bench_args *a, int *first)
 {
     int status = bench_file("scenes/cornell.scene", a, first);
     if (!status) status = bench_generated(92, a, first);
     if (!status && file_exists(SHARED_BUNNY)) status = bench_file(SHARED_BUNNY, a, first);
+    if (!status) status = bench_pt_file("scenes/cornell.scene", a, first);
+    if (!status) status = bench_pt_generated(92, a, first);
     return status;
 }
 

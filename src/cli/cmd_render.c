@@ -8,6 +8,7 @@
 #include "restir/atomic_file.h"
 #include "restir/camera.h"
 #include "restir/gbuffer.h"
+#include "restir/moments.h"
 #include "restir/progress.h"
 #include "restir/threads.h"
 #include "render_pt.h"
@@ -21,6 +22,7 @@ typedef struct {
     int method, aov;
     const char *output, *png, *stats;
     int no_png, quiet, jitter, threads, frame;
+    int runs; /* --runs K: K independent renders -> mean, variance and count (restir check) */
     uint32_t seed;
     double exposure;
     scene_overrides overrides;
@@ -71,26 +73,81 @@ static int render_aov_image(const render_args *a, const scene *s, image *img)
     return 0;
 }
 
+/* One image with the chosen method and seed. `progressive_pfm` is where the path
+ * tracer rewrites its progressive output (NULL: nowhere). */
+static int render_one(const render_args *a, const scene *s, uint32_t seed, const char *progressive_pfm, image *img,
+                      render_timings *t)
+{
+    rerror e;
+    if (a->method == METHOD_PT)
+        return render_pt_image(&a->pt, s, seed, a->threads, a->jitter, a->frame, a->quiet, progressive_pfm, img,
+                               &t->pt);
+    if (image_alloc(img, s->width, s->height, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    return render_aov_image(a, s, img);
+}
+
+/* --runs K: K renders with seeds seed, seed+1, ..., seed+K-1 (independent, since every
+ * random number's address contains the seed), reduced to per-pixel mean and sample
+ * variance (docs/statistics.md, "moments files"). The mean goes to `img` for the preview. */
+static int render_runs(const render_args *a, const scene *s, const char *out, image *img, render_timings *t)
+{
+    moments m;
+    rerror e;
+    char prefix[4096], name[64];
+    size_t n = strlen(out);
+    int k, status = 0;
+    e.msg[0] = '\0';
+    snprintf(prefix, sizeof prefix, "%.*s", (int)(n > 4 && !strcmp(out + n - 4, ".pfm") ? n - 4 : n), out);
+    if (moments_init(&m, s->width, s->height, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    for (k = 0; k < a->runs && !status; ++k) {
+        image run;
+        status = render_one(a, s, a->seed + (uint32_t)k, NULL, &run, t);
+        if (status) break;
+        snprintf(name, sizeof name, "seed %u", a->seed + (uint32_t)k);
+        if (moments_add(&m, &run, name, &e)) status = 2;
+        image_free(&run);
+    }
+    if (!status && moments_write(prefix, &m, &e)) status = 2;
+    if (!status) {
+        image var;
+        if (moments_images(&m, img, &var, &e)) status = 2;
+        else image_free(&var);
+    }
+    if (status == 2 && e.msg[0]) fprintf(stderr, "%s\n", e.msg);
+    moments_free(&m);
+    return status;
+}
+
 static int render_and_write(const render_args *a, scene *s, render_timings *t)
 {
     image img;
-    rerror e;
     char out[4096], png[4096];
     int status;
     double t0;
     if (a->output) snprintf(out, sizeof out, "%s", a->output);
     else default_output_path(out, sizeof out, s->path, "");
     t0 = now_seconds();
-    if (a->method == METHOD_PT) {
-        status = render_pt_image(&a->pt, s, a->seed, a->threads, a->jitter, a->frame, a->quiet, out, &img, &t->pt);
+    if (a->runs > 0) {
+        status = render_runs(a, s, out, &img, t);
         if (status) return status;
-    } else {
-        if (image_alloc(&img, s->width, s->height, &e)) {
-            fprintf(stderr, "%s\n", e.msg);
-            return 2;
+        t->render = now_seconds() - t0;
+        if (!a->no_png) {
+            if (a->png) snprintf(png, sizeof png, "%s", a->png);
+            else preview_path(png, sizeof png, out);
+            status = write_outputs(&img, NULL, png, a->exposure);
         }
-        status = render_aov_image(a, s, &img);
+        if (!status && !a->quiet) fprintf(stderr, "wrote %d runs as %s mean/var/moments\n", a->runs, out);
+        image_free(&img);
+        return status;
     }
+    status = render_one(a, s, a->seed, out, &img, t);
+    if (status) return status;
     t->render = now_seconds() - t0;
     if (a->no_png) png[0] = '\0';
     else if (a->png) snprintf(png, sizeof png, "%s", a->png);
@@ -116,7 +173,7 @@ int cmd_render(int argc, char **argv)
     render_pt_args_default(&a.pt);
     a.threads = threads_default();
     a.seed = 1;
-    a.method = METHOD_AOV;
+    a.method = METHOD_PT;
     {
         const cli_option rows[] = {
             {"-o", OPT_STRING, &a.output, "output PFM (default out/<scene>.pfm)", NULL, 0, 0, NULL},
@@ -131,6 +188,7 @@ int cmd_render(int argc, char **argv)
             {"--frame", OPT_INT, &a.frame, "frame index (camera keyframes)", NULL, 0, 1e9, NULL},
             {"--jitter", OPT_FLAG, &a.jitter, "jittered sub-pixel primary rays (default: pixel centres)", NULL, 0, 0,
              NULL},
+            {"--runs", OPT_INT, &a.runs, "K independent runs (seeds seed..seed+K-1): writes PREFIX.mean.pfm, PREFIX.var.pfm, PREFIX.moments.json for restir check", NULL, 1, 1e6, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
         };

@@ -27,7 +27,7 @@ void preview_path(char *buf, size_t size, const char *pfm_path)
 int write_outputs(const image *img, const char *pfm_path, const char *png_path, double exposure)
 {
     rerror e;
-    if (pfm_write(pfm_path, img, &e) || (png_path && *png_path && png_write_preview(png_path, img, exposure, &e))) {
+    if ((pfm_path && pfm_write(pfm_path, img, &e)) || (png_path && *png_path && png_write_preview(png_path, img, exposure, &e))) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }

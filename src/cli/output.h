@@ -8,7 +8,8 @@
 void default_output_path(char *buf, size_t size, const char *scene_path, const char *suffix);
 /* The PNG preview path next to a .pfm path ("x.pfm" -> "x.png"). */
 void preview_path(char *buf, size_t size, const char *pfm_path);
-/* Writes the PFM and (unless png_path is empty) the PNG; prints errors; returns 0 or 2. */
+/* Writes the PFM (unless pfm_path is NULL) and the PNG (unless png_path is NULL or empty);
+ * prints errors; returns 0 or 2. */
 int write_outputs(const image *img, const char *pfm_path, const char *png_path, double exposure);
 
 #endif
