@@ -160,3 +160,68 @@ TEST(cli_render_runs_feed_check)
     CHECKF(test_cli(out, sizeof out, "check --a-moments %s --b-moments %s --quiet", a, b) == 0, "%s", out);
     CHECKF(test_cli(out, sizeof out, "check --a-moments %s --b-moments %s --quiet", a, bad) == 1, "%s", out);
 }
+
+/* Every kind of bad input, through `restir render`: exit status 2, exactly one line on
+ * stderr that starts with the offending file (and line where there is one), and no output
+ * file left behind. */
+typedef struct {
+    const char *file, *text; /* the scene or OBJ given to render */
+    const char *expect;      /* the message must start with this (after the tmp dir) */
+} bad_input_case;
+
+static int check_bad_input(const bad_input_case *c, char *why, size_t why_size)
+{
+    char dest[1024], png[1024], expect[1200];
+    const char *path = test_write_file(c->file, c->text);
+    int status;
+    snprintf(dest, sizeof dest, "%s", test_tmp_path("bad-input.pfm"));
+    snprintf(png, sizeof png, "%s", test_tmp_path("bad-input.png"));
+    snprintf(expect, sizeof expect, "%s/%s", test_tmpdir(), c->expect);
+    remove(dest);
+    remove(png);
+    status = test_cli(out, sizeof out, "render %s -o %s --spp 1 --size 8x8", path, dest);
+    if (status != 2) return snprintf(why, why_size, "%s: exit %d: %s", c->file, status, out), 0;
+    if (strncmp(out, expect, strlen(expect)) != 0)
+        return snprintf(why, why_size, "%s: message '%s' does not start with '%s'", c->file, out, expect), 0;
+    if (strchr(out, '\n') != out + strlen(out) - 1)
+        return snprintf(why, why_size, "%s: not exactly one line: %s", c->file, out), 0;
+    if (test_file_exists(dest) || test_file_exists(png))
+        return snprintf(why, why_size, "%s: an output file was left behind", c->file), 0;
+    return 1;
+}
+
+TEST(cli_bad_inputs_one_line_exit_2_no_output)
+{
+    static const bad_input_case cases[] = {
+        {"bi-missing-mesh.scene", "mesh nowhere.obj\n", "bi-missing-mesh.scene:1:"},
+        {"bi-number.obj", "v 0 0 0\nv 1 0 0\nv 0 1x 0\nf 1 2 3\n", "bi-number.obj:3:"},
+        {"bi-index-range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "bi-index-range.obj:4:"},
+        {"bi-index-zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "bi-index-zero.obj:4:"},
+        {"bi-short-face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "bi-short-face.obj:4:"},
+        {"bi-nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "bi-nan.obj:2:"},
+        {"bi-inf.obj", "v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n", "bi-inf.obj:2:"},
+        {"bi-directive.scene", "size 8 8\nteleport 1 2 3\n", "bi-directive.scene:2:"},
+        {"bi-empty.obj", "# nothing here\nv 0 0 0\n", "bi-empty.obj"},
+        {"bi-no-emitters.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bi-no-emitters.obj"},
+    };
+    char why[2048];
+    size_t i;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) CHECKF(check_bad_input(&cases[i], why, sizeof why), "%s", why);
+}
+
+/* An unreadable file (a directory named like a scene) and a bad PFM given to compare. */
+TEST(cli_unreadable_and_bad_pfm_exit_2)
+{
+    char dir[1024], pfm[1024];
+    snprintf(dir, sizeof dir, "%s/dir.scene", test_tmpdir());
+    {
+        char cmd[1200];
+        snprintf(cmd, sizeof cmd, "mkdir -p '%s'", dir);
+        CHECK(system(cmd) == 0);
+    }
+    CHECK(test_cli(out, sizeof out, "render %s --spp 1", dir) == 2);
+    CHECKF(strncmp(out, dir, strlen(dir)) == 0, "%s", out);
+    snprintf(pfm, sizeof pfm, "%s", test_write_file("bad.pfm", "PF\n4 4\n-1.0\nshort"));
+    CHECK(test_cli(out, sizeof out, "compare %s %s", pfm, pfm) == 2);
+    CHECKF(strncmp(out, pfm, strlen(pfm)) == 0, "%s", out);
+}

@@ -210,6 +210,13 @@ int cmd_render(int argc, char **argv)
     a.overrides.quiet = a.quiet;
     status = load_scene_for_command("render", positional[0], &a.overrides, &s, &t.load, &t.prepare);
     if (status) return status;
+    if (a.method != METHOD_AOV && scene_emitter_count(&s) == 0) {
+        /* Every lighting method would return a black image: say so instead. */
+        fprintf(stderr, "%s: scene has no emitters (no material with Ke > 0); --method aov renders it unlit\n",
+                s.path);
+        scene_free(&s);
+        return 2;
+    }
     status = render_and_write(&a, &s, &t);
     if (!status && a.stats) status = write_stats(a.stats, &a, &s, &t);
     scene_free(&s);
