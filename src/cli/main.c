@@ -8,6 +8,7 @@ int cmd_render(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
+int cmd_check(int argc, char **argv);
 
 const cli_command cli_commands[] = {
     {"render", cmd_render, "render a scene (.scene or .obj) to PFM + PNG"},
@@ -15,6 +16,7 @@ const cli_command cli_commands[] = {
     {"compare", cmd_compare, "image metrics (MSE ... MAPE, FLIP) of TEST.pfm against REF.pfm"},
     {"bench", cmd_bench, "benchmarks as JSON: rays SCENE | rays --generated N | all"},
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
+    {"check", cmd_check, "statistical test: do two renderers estimate the same image?"},
     {NULL, NULL, NULL},
 };
 

@@ -1,0 +1,91 @@
+/* `restir check`: do two renderers estimate the same image? (docs/statistics.md, "check")
+ *
+ * Each side is K independent runs (or their moments file set), or a reference image that
+ * is exact or carries its own variance. The verdict "different" is a family-wise test at
+ * level alpha made of two parts with alpha/2 each:
+ *   - a Welch t-test of the luminance image means (exact for correlated pixels when the
+ *     per-run image means are known);
+ *   - per-block, per-channel Welch t-tests with a Sidak or Benjamini-Hochberg correction.
+ * Reported alongside: per-pixel and per-block normal-equivalent z maps, a TOST
+ * equivalence verdict on the ratio of image means, and the relative bias with its
+ * confidence interval. */
+#ifndef RESTIR_CHECK_H
+#define RESTIR_CHECK_H
+
+#include "restir/error.h"
+#include "restir/image.h"
+#include "restir/moments.h"
+#include "restir/stats.h"
+
+enum check_correction { CHECK_SIDAK = 0, CHECK_BH = 1 };
+
+typedef struct {
+    double alpha;                     /* level of the "different" verdict (default 0.01) */
+    enum check_correction correction; /* block family correction (default Sidak) */
+    double margin;                    /* relative equivalence margin (default 0.01) */
+    int block_size;                   /* block edge in pixels (default 8; 1 = per pixel) */
+} check_options;
+
+void check_options_default(check_options *o);
+
+enum check_side_kind { CHECK_SIDE_RUNS = 0, CHECK_SIDE_MOMENTS = 1, CHECK_SIDE_EXACT = 2 };
+
+/* One side of the comparison. Build it with exactly one of: begin_runs + add_run... +
+ * end_runs; from_moments; exact. */
+typedef struct {
+    enum check_side_kind kind;
+    int width, height;
+    int block_size, blocks_x, blocks_y;
+    long runs;                /* K; 0 for an exact reference */
+    image mean, var;          /* per-pixel mean and single-run sample variance (var: not for exact) */
+    double *run_means;        /* 3 per run (r, g, b image means), or NULL */
+    double *block_run_means;  /* runs only: [run][block][channel] block means */
+    moments acc;              /* runs only, while accumulating */
+} check_side;
+
+/* Runs: block_size must equal the check_options block size used later. */
+int check_side_begin_runs(check_side *s, int width, int height, int block_size, rerror *e);
+int check_side_add_run(check_side *s, const image *run, const char *name, rerror *e);
+int check_side_end_runs(check_side *s, rerror *e); /* needs >= 2 runs */
+/* Takes ownership of f's images and run means (f is emptied). Needs f->runs >= 2. */
+int check_side_from_moments(check_side *s, moments_file *f, const char *name, rerror *e);
+/* A reference taken as exact (zero variance). Takes ownership of ref (emptied). */
+int check_side_exact(check_side *s, image *ref, rerror *e);
+void check_side_free(check_side *s);
+
+typedef struct {
+    int x, y, channel;  /* block coordinates (in blocks) and channel 0..2 */
+    stats_welch test;
+    double z;           /* normal-equivalent z */
+} check_block;
+
+typedef struct {
+    /* image-mean luminance test (level alpha / 2) */
+    stats_estimate lum_a, lum_b;
+    int lum_a_exact_runs, lum_b_exact_runs; /* 1: from per-run means; 0: independent-pixel bound */
+    stats_welch global;
+    int global_reject;
+    /* block family (level alpha / 2) */
+    int blocks_x, blocks_y;
+    long tests;              /* 3 * blocks */
+    long rejected;
+    double block_threshold;  /* a block test rejects iff its p <= this */
+    check_block worst;       /* smallest p */
+    image block_z;           /* blocks_x x blocks_y, z per channel */
+    /* pixels (diagnostic only, not part of the verdict) */
+    image pixel_z;           /* width x height, z per channel, saturated at +-CHECK_Z_MAX */
+    long pixel_tests;        /* 3 * pixels */
+    long pixels_p_below_alpha; /* uncorrected per-pixel tests with p < alpha */
+    /* equivalence and bias of the luminance image mean */
+    stats_tost tost;
+    double bias, bias_lo, bias_hi; /* mean_a / mean_b - 1 and its (1 - alpha) Fieller interval */
+    int bias_ci_bounded;
+    int different;           /* the verdict */
+} check_result;
+
+#define CHECK_Z_MAX 40.0
+
+int check_compare(const check_side *a, const check_side *b, const check_options *o, check_result *r, rerror *e);
+void check_result_free(check_result *r);
+
+#endif

@@ -1,0 +1,185 @@
+/* restir compare --covariance RUN.pfm... : the average box covariance between pixels
+ * of K independent renders (Mutations Eq. 21; docs/statistics.md, "covariance").
+ * `restir compare` hands its whole argument list here when --covariance is present. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir/atomic_file.h"
+#include "restir/covariance.h"
+#include "restir/image.h"
+#include "restir/json_text.h"
+#include "restir/output_set.h"
+
+static const char usage[] =
+    "usage: restir compare --covariance RUN.pfm... [options]\n"
+    "  K >= 2 independent renders of the same image (Mutations Eq. 21: covariance of each\n"
+    "  pixel with the pixels of the box of radius R around it, averaged over the box, then\n"
+    "  over the image; on luminance)\n"
+    "options:\n"
+    "  --radius R         box radius (default 8, as in Mutations Table 1)\n"
+    "  --exclude-center   leave the pixel itself (its variance) out of each box\n"
+    "  --curve OUT.csv    the value for every radius 0..R (CSV radius,covariance; plot with restir plot)\n"
+    "  --map OUT.pfm      per-pixel box covariance at radius R\n"
+    "  --json OUT.json    machine-readable result\n";
+
+typedef struct {
+    const char **files;
+    int file_count;
+    int radius, exclude_center;
+    const char *curve, *map, *json;
+} covariance_args;
+
+static int usage_error(const char *what, const char *arg)
+{
+    fprintf(stderr, "restir compare --covariance: %s%s\n(restir compare --covariance --help for usage)\n", what, arg);
+    return 2;
+}
+
+static int parse_args(int argc, char **argv, covariance_args *a, int *done)
+{
+    int i;
+    *done = 0;
+    memset(a, 0, sizeof *a);
+    a->radius = 8;
+    a->files = calloc((size_t)argc, sizeof *a->files);
+    if (!a->files) return usage_error("out of memory", "");
+    for (i = 1; i < argc; ++i) {
+        const char *opt = argv[i];
+        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
+            fputs(usage, stdout);
+            *done = 1;
+            return 0;
+        } else if (!strcmp(opt, "--covariance")) {
+            continue;
+        } else if (!strcmp(opt, "--exclude-center")) {
+            a->exclude_center = 1;
+        } else if (!strcmp(opt, "--radius") || !strcmp(opt, "--curve") || !strcmp(opt, "--map") ||
+                   !strcmp(opt, "--json")) {
+            const char *val = i + 1 < argc ? argv[++i] : NULL;
+            if (!val) return usage_error("missing value after ", opt);
+            if (!strcmp(opt, "--radius")) {
+                char *end;
+                long r;
+                errno = 0;
+                r = strtol(val, &end, 10);
+                if (end == val || *end || errno || r < 0 || r > 4096)
+                    return usage_error("--radius must be an integer in 0..4096, not ", val);
+                a->radius = (int)r;
+            } else if (!strcmp(opt, "--curve")) {
+                a->curve = val;
+            } else if (!strcmp(opt, "--map")) {
+                a->map = val;
+            } else {
+                a->json = val;
+            }
+        } else if (!strncmp(opt, "--", 2)) {
+            return usage_error("unknown option ", opt);
+        } else {
+            a->files[a->file_count++] = opt;
+        }
+    }
+    if (a->file_count < 2) return usage_error("needs at least 2 images (independent renders)", "");
+    if (a->exclude_center && a->radius < 1) return usage_error("--exclude-center needs --radius >= 1", "");
+    return 0;
+}
+
+static int accumulate(const covariance_args *a, covariance_accum *c, rerror *e)
+{
+    int i;
+    for (i = 0; i < a->file_count; ++i) {
+        image img;
+        int status;
+        if (pfm_read(a->files[i], &img, NULL, e)) return -1;
+        if (i == 0 && covariance_init(c, img.width, img.height, a->radius, a->exclude_center, e)) {
+            image_free(&img);
+            return -1;
+        }
+        status = covariance_add(c, &img, a->files[i], e);
+        image_free(&img);
+        if (status) return -1;
+    }
+    return 0;
+}
+
+static int write_curve(const char *path, const double *v, int radius, int exclude, rerror *e)
+{
+    atomic_file f;
+    int r;
+    if (atomic_file_open(&f, path, e)) return -1;
+    fprintf(f.fp, "radius,covariance\n");
+    for (r = exclude ? 1 : 0; r <= radius; ++r) fprintf(f.fp, "%d,%.9g\n", r, v[r]);
+    return atomic_file_commit(&f, e);
+}
+
+static int write_json(const char *path, const covariance_args *a, const covariance_accum *c, const double *v,
+                      rerror *e)
+{
+    atomic_file f;
+    int r;
+    if (atomic_file_open(&f, path, e)) return -1;
+    fprintf(f.fp, "{\n  \"metric\": \"covariance\",\n  \"reference\": \"Mutations Eq. 21, box average then image average\",\n");
+    fprintf(f.fp, "  \"channel\": \"luminance\",\n  \"images\": %ld,\n  \"width\": %d,\n  \"height\": %d,\n", c->images,
+            c->width, c->height);
+    fprintf(f.fp, "  \"radius\": %d,\n  \"exclude_center\": %s,\n  \"covariance\": ", a->radius,
+            a->exclude_center ? "true" : "false");
+    json_put_number(f.fp, v[a->radius]);
+    fprintf(f.fp, ",\n  \"per_radius\": [");
+    for (r = 0; r <= a->radius; ++r) {
+        if (r) fputs(", ", f.fp);
+        json_put_number(f.fp, v[r]);
+    }
+    fprintf(f.fp, "]\n}\n");
+    return atomic_file_commit(&f, e);
+}
+
+static int write_outputs(const covariance_args *a, const covariance_accum *c, const double *v, const image *map,
+                         rerror *e)
+{
+    output_set out;
+    const char *staged;
+    output_set_init(&out);
+    if (a->curve && (!(staged = output_set_stage(&out, a->curve, e)) ||
+                     write_curve(staged, v, a->radius, a->exclude_center, e)))
+        goto fail;
+    if (a->map && (!(staged = output_set_stage(&out, a->map, e)) || pfm_write(staged, map, e))) goto fail;
+    if (a->json && (!(staged = output_set_stage(&out, a->json, e)) || write_json(staged, a, c, v, e))) goto fail;
+    return output_set_commit(&out, e);
+fail:
+    output_set_abort(&out);
+    return -1;
+}
+
+int cmd_compare_covariance(int argc, char **argv)
+{
+    covariance_args args;
+    covariance_accum c;
+    image map;
+    double *v = NULL;
+    rerror e;
+    int done, status = 0;
+    memset(&c, 0, sizeof c);
+    memset(&map, 0, sizeof map);
+    if ((status = parse_args(argc, argv, &args, &done)) != 0 || done) {
+        free(args.files);
+        return status;
+    }
+    v = calloc((size_t)args.radius + 1, sizeof *v);
+    if (!v) {
+        rerror_set(&e, "out of memory");
+        status = 2;
+    } else if (accumulate(&args, &c, &e) || covariance_result(&c, v, args.map ? &map : NULL, &e) ||
+               write_outputs(&args, &c, v, &map, &e)) {
+        status = 2;
+    }
+    if (status)
+        fprintf(stderr, "%s\n", e.msg);
+    else
+        printf("covariance (Mutations Eq. 21, luminance, %s centre): %ld images, %d x %d, radius %d: %.6g\n",
+               args.exclude_center ? "without" : "with", c.images, c.width, c.height, args.radius, v[args.radius]);
+    free(v);
+    free(args.files);
+    image_free(&map);
+    covariance_free(&c);
+    return status;
+}
