@@ -4,7 +4,6 @@
 #define RESTIR_TESTS_PT_UTIL_H
 
 #include <stddef.h>
-#include "restir/pt.h"
 #include "restir/scene.h"
 
 /* Upper tail P(X >= x) of a chi-square variable with `dof` degrees of freedom. */
@@ -35,23 +34,5 @@ material *test_scene_last_material(scene *s);
 void test_scene_camera(scene *s, vec3 eye, vec3 target, vec3 up, real fov_y, int res);
 /* Multiplies every position and the camera eye/target by k (a change of units). */
 void test_scene_scale(scene *s, float k);
-
-/* Estimator equality of two independent path-tracer states of the same image: per block
- * of block x block pixels and per channel a z-test on the block means (variance from the
- * per-pixel sums of squares), Sidak-corrected over all blocks and channels (blocks where
- * a side has fewer than 20 effective samples (sum x)^2/sum x^2 are skipped: the normal
- * approximation needs observed hits); and per
- * channel a z-test of the image means, Sidak-corrected over the 3 channels. */
-typedef struct {
-    int tests;            /* block tests (blocks x channels with nonzero variance) */
-    int skipped;          /* blocks x channels without variance or with < 20 effective samples */
-    double p_blocks;      /* Sidak-corrected p-value of the smallest block p */
-    double worst_z;       /* z of that block */
-    double p_mean;        /* Sidak-corrected p-value of the image-mean tests */
-    double mean_a[3], mean_b[3], se_mean[3];
-} pt_compare;
-void pt_compare_states(const pt_state *a, const pt_state *b, int block, pt_compare *r);
-/* Both p-values above alpha. */
-int pt_compare_equal(const pt_compare *r, double alpha);
 
 #endif

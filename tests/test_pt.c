@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "restir/check.h"
 #include "restir/pt.h"
 #include "pt_util.h"
 #include "test.h"
@@ -147,55 +148,97 @@ TEST(pt_furnace_russian_roulette_infinite_depth)
 
 /* ---- estimator equality ------------------------------------------------------------- */
 
-static int render_state(const scene *s, enum pt_strategy strategy, unsigned ablations, uint32_t seed, uint32_t spp,
-                        int depth, pt_result *r)
+/* One side of an estimator comparison: K independent runs (disjoint sample ranges of
+ * one seed) of spp_per_run samples each, fed to the `restir check` library. */
+static int render_side(const scene *s, enum pt_strategy strategy, unsigned ablations, uint32_t seed, int runs,
+                       uint32_t spp_per_run, int depth, int block, check_side *side)
 {
-    pt_options o;
-    pt_options_default(&o);
-    o.strategy = strategy;
-    o.ablations = ablations;
-    o.seed = seed;
-    o.spp = spp;
-    o.max_depth = depth;
-    o.threads = 2;
-    return render(s, &o, r);
-}
-
-/* Renders strategy a and b with independent seeds and compares them. */
-static int compare_strategies(const scene *s, enum pt_strategy a, unsigned abl_a, enum pt_strategy b,
-                              unsigned abl_b, uint32_t spp, int depth, pt_compare *c)
-{
-    pt_result ra, rb;
-    if (render_state(s, a, abl_a, test_seed() * 31u + 1, spp, depth, &ra)) return -1;
-    if (render_state(s, b, abl_b, test_seed() * 31u + 2, spp, depth, &rb)) {
-        pt_result_free(&ra);
+    rerror e;
+    int k;
+    if (check_side_begin_runs(side, s->width, s->height, block, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
         return -1;
     }
-    pt_compare_states(&ra.state, &rb.state, 4, c);
-    pt_result_free(&ra);
-    pt_result_free(&rb);
+    for (k = 0; k < runs; ++k) {
+        pt_options o;
+        pt_result r;
+        int status;
+        pt_options_default(&o);
+        o.strategy = strategy;
+        o.ablations = ablations;
+        o.seed = seed;
+        o.sample_offset = (uint32_t)k * spp_per_run;
+        o.spp = spp_per_run;
+        o.max_depth = depth;
+        o.threads = 2;
+        if (render(s, &o, &r)) {
+            check_side_free(side);
+            return -1;
+        }
+        status = check_side_add_run(side, &r.mean, "run", &e);
+        pt_result_free(&r);
+        if (status) {
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            check_side_free(side);
+            return -1;
+        }
+    }
+    if (check_side_end_runs(side, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        check_side_free(side);
+        return -1;
+    }
     return 0;
 }
 
 #define ALPHA 1e-3
+#define RUNS 8
+
+/* Strategy a (with ablations abl_a) against strategy b with independent seeds: K = 8 runs
+ * each, 8 x 8 pixel blocks, family-wise level 1e-3 (restir check: Welch tests of the
+ * luminance image mean and of every block and channel, Sidak-corrected). */
+static int compare_strategies(const scene *s, enum pt_strategy a, unsigned abl_a, enum pt_strategy b,
+                              unsigned abl_b, uint32_t spp, int depth, check_result *c)
+{
+    check_side sa, sb;
+    check_options opt;
+    rerror e;
+    int status;
+    if (render_side(s, a, abl_a, test_seed() * 31u + 1, RUNS, spp / RUNS, depth, 8, &sa)) return -1;
+    if (render_side(s, b, abl_b, test_seed() * 31u + 2, RUNS, spp / RUNS, depth, 8, &sb)) {
+        check_side_free(&sa);
+        return -1;
+    }
+    check_options_default(&opt);
+    opt.alpha = ALPHA;
+    status = check_compare(&sa, &sb, &opt, c, &e);
+    check_side_free(&sa);
+    check_side_free(&sb);
+    if (status) test_fail(__FILE__, __LINE__, "%s", e.msg);
+    return status;
+}
 
 static void check_equal(const scene *s, enum pt_strategy a, enum pt_strategy b, uint32_t spp, int depth)
 {
-    pt_compare c;
+    check_result c;
     if (compare_strategies(s, a, 0, b, 0, spp, depth, &c)) return;
-    CHECKF(pt_compare_equal(&c, ALPHA),
-           "%s vs %s (d <= %d): block p = %.3g (worst z %.2f of %d tests), mean p = %.3g (means %.5g vs %.5g, se %.3g)",
-           pt_strategy_names[a], pt_strategy_names[b], depth, c.p_blocks, c.worst_z, c.tests, c.p_mean, c.mean_a[1],
-           c.mean_b[1], c.se_mean[1]);
+    check_result_free(&c);
+    CHECKF(!c.different,
+           "%s vs %s (d <= %d): mean p = %.3g (lum %.5g vs %.5g), %ld of %ld blocks rejected, worst block "
+           "(%d,%d) ch %d z %.2f",
+           pt_strategy_names[a], pt_strategy_names[b], depth, c.global.p, c.lum_a.mean, c.lum_b.mean, c.rejected,
+           c.tests, c.worst.x, c.worst.y, c.worst.channel, c.worst.z);
 }
 
 static void check_rejected(const scene *s, enum pt_strategy a, unsigned abl, enum pt_strategy b, uint32_t spp,
                            int depth)
 {
-    pt_compare c;
+    check_result c;
     if (compare_strategies(s, a, abl, b, 0, spp, depth, &c)) return;
-    CHECKF(!pt_compare_equal(&c, ALPHA), "ablation %u of %s not detected against %s: block p = %.3g, mean p = %.3g",
-           abl, pt_strategy_names[a], pt_strategy_names[b], c.p_blocks, c.p_mean);
+    check_result_free(&c);
+    CHECKF(c.different, "ablation %s of %s not detected against %s (d <= %d): mean p = %.3g, worst block z %.2f",
+           pt_ablation_names[abl == PT_ABLATE_LIGHT_PDF ? 0 : (abl == PT_ABLATE_MIS_SUM ? 1 : 2)],
+           pt_strategy_names[a], pt_strategy_names[b], depth, c.global.p, c.worst.z);
 }
 
 /* MIS, NEE-only and BSDF-only estimate the same image: full transport (path length up to 5,
@@ -227,6 +270,160 @@ TEST(pt_strategies_reject_ablations_glossy_box)
     if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_MIS_SUM, PT_STRATEGY_NEE, 256, 2);
     if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_MIS, 256, 5);
     scene_free(&s);
+}
+
+/* A large light close above a rough two-lobe plastic floor: here the NEE and BSDF pdfs
+ * are comparable and the plastic's lobes overlap, so the MIS weight must use the all-lobe
+ * pdf of GRIS Eq. 49; the mis-lobe ablation (the sampled lobe's pdf only) is rejected. */
+static int make_plastic_under_light(scene *s, int res)
+{
+    uint32_t floor_m, light_m;
+    if (test_scene_begin(s, 4, 2)) return -1;
+    floor_m = test_scene_material(s, MAT_PLASTIC, rgb_make((real)0.1, (real)0.15, (real)0.3), rgb_gray(0));
+    test_scene_last_material(s)->specular = rgb_gray(1);
+    test_scene_last_material(s)->roughness = (real)0.9;
+    light_m = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(1, (real)0.8, (real)0.6));
+    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), floor_m);
+    test_scene_quad(s, v3f(-0.5f, 0.4f, -0.5f), v3f(1, 0, 0), v3f(0, 0, 1), light_m);
+    test_scene_camera(s, v3(0, (real)0.3, -2), v3(0, 0, 0), v3(0, 1, 0), 50, res);
+    return 0;
+}
+
+TEST(pt_multi_lobe_mis_uses_all_lobe_pdf)
+{
+    scene s;
+    CHECK(make_plastic_under_light(&s, 24) == 0);
+    if (prepare(&s)) return;
+    check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 128, 2);
+    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_BSDF, 128, 2);
+    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 128, 4);
+    if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_MIS_LOBE, PT_STRATEGY_NEE, 128, 2);
+    scene_free(&s);
+}
+
+static int load_scene(const char *path, int res, scene *s)
+{
+    rerror e;
+    if (scene_load(s, path, &e) || scene_prepare(s, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
+    s->width = s->height = res;
+    return 0;
+}
+
+/* The shipped Cornell scenes of GRIS Fig. 6 (rough and glossy plastic blocks), 32 x 32. */
+static void cornell_equality(const char *path)
+{
+    scene s;
+    if (load_scene(path, 32, &s)) return;
+    check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 256, 5);
+    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_BSDF, 256, 5);
+    if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_NEE, 256, 2);
+    if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_MIS_SUM, PT_STRATEGY_NEE, 256, 2);
+    scene_free(&s);
+}
+
+TEST(pt_cornell_strategies_agree) { cornell_equality("scenes/cornell.scene"); }
+TEST(pt_cornell_glossy_strategies_agree) { cornell_equality("scenes/cornell-glossy.scene"); }
+
+/* Moves every position and the camera by d (a change of origin). */
+static void translate_scene(scene *s, vec3f d)
+{
+    size_t i;
+    for (i = 0; i < s->position_count; ++i) s->positions[i] = v3f_add(s->positions[i], d);
+    s->camera.eye = v3_add(s->camera.eye, v3_from_f(d));
+    s->camera.target = v3_add(s->camera.target, v3_from_f(d));
+}
+
+/* Renders the glossy box scaled by k (after moving it by `shift`) and compares it with
+ * the reference side (restir check, 4 x 4 blocks: a local leak must show). */
+static void check_scaled(const check_side *ref, float k, vec3f shift, uint32_t seed, uint32_t spp_per_run)
+{
+    scene s;
+    check_side side;
+    check_result c;
+    check_options opt;
+    rerror e;
+    CHECK(make_glossy_box(&s, 24) == 0);
+    translate_scene(&s, shift);
+    test_scene_scale(&s, k);
+    if (prepare(&s)) return;
+    if (render_side(&s, PT_STRATEGY_MIS, 0, seed, RUNS, spp_per_run, 4, 4, &side)) return;
+    check_options_default(&opt);
+    opt.alpha = ALPHA;
+    opt.block_size = 4;
+    CHECKF(check_compare(ref, &side, &opt, &c, &e) == 0, "%s", e.msg);
+    check_result_free(&c);
+    check_side_free(&side);
+    scene_free(&s);
+    CHECKF(!c.different, "scale %g (shift %g %g %g): mean p = %.3g (lum %.5g vs %.5g), worst block (%d,%d) ch %d z %.2f",
+           k, shift.x, shift.y, shift.z, c.global.p, c.lum_a.mean, c.lum_b.mean, c.worst.x, c.worst.y,
+           c.worst.channel, c.worst.z);
+}
+
+static int scale_reference(check_side *ref, uint32_t spp_per_run)
+{
+    scene base;
+    int status;
+    if (make_glossy_box(&base, 24) || prepare(&base)) return -1;
+    status = render_side(&base, PT_STRATEGY_MIS, 0, test_seed() * 13u, RUNS, spp_per_run, 4, 4, ref);
+    scene_free(&base);
+    return status;
+}
+
+/* Changing the unit of length (every coordinate and the camera times k) leaves radiance
+ * unchanged: the images at k = 1e-2 and 1e2 (box at the origin) and at k = 1e4 (box moved
+ * off the coordinate planes first) agree with k = 1. Independent seeds: an equality test
+ * of estimators, not of identical paths. */
+TEST(pt_scale_invariance_generated)
+{
+    check_side ref;
+    if (scale_reference(&ref, 32)) return;
+    check_scaled(&ref, 1e-2f, v3f(0, 0, 0), test_seed() * 13u + 1, 32);
+    if (!test_has_failed()) check_scaled(&ref, 1e2f, v3f(0, 0, 0), test_seed() * 13u + 2, 32);
+    if (!test_has_failed()) check_scaled(&ref, 1e4f, v3f(0.37f, 0.48f, 0.26f), test_seed() * 13u + 3, 32);
+    check_side_free(&ref);
+}
+
+/* The same at the extremes with the box touching the coordinate planes (walls at x, y,
+ * z = 0). KNOWN FAILURE at k = 1e4 at the time of writing (k = 1e-3 passes): a point on
+ * the wall x = 0 has y, z ~ 5e3, whose intersection error (~1e-4) exceeds the absolute
+ * offset 2^-16 that offset_ray_origin (Wächter & Binder) applies to a coordinate below
+ * 1/32, so bounce and shadow rays re-hit their own wall and that wall comes out darker.
+ * Moving the box off the planes (pt_scale_invariance_generated) makes it pass. Reported to
+ * the owner of the BVH; the fix belongs there (an offset relative to max |p_i|). */
+TEST_LONG(pt_scale_invariance_extreme)
+{
+    check_side ref;
+    if (scale_reference(&ref, 128)) return;
+    check_scaled(&ref, 1e-3f, v3f(0, 0, 0), test_seed() * 13u + 4, 128);
+    if (!test_has_failed()) check_scaled(&ref, 1e4f, v3f(0, 0, 0), test_seed() * 13u + 5, 128);
+    check_side_free(&ref);
+}
+
+/* The Cornell box in millimetres and in metres (../shared/data/derived). */
+TEST_LONG(pt_scale_invariance_cornell_mm_m)
+{
+    scene mm, m;
+    check_side a, b;
+    check_result c;
+    check_options opt;
+    rerror e;
+    if (load_scene("../shared/data/derived/cornell_tri.obj", 32, &mm)) return;
+    if (load_scene("../shared/data/derived/cornell_tri_m.obj", 32, &m)) return;
+    if (render_side(&mm, PT_STRATEGY_MIS, 0, test_seed() * 17u, RUNS, 64, 6, 8, &a)) return;
+    if (render_side(&m, PT_STRATEGY_MIS, 0, test_seed() * 17u + 1, RUNS, 64, 6, 8, &b)) return;
+    check_options_default(&opt);
+    opt.alpha = ALPHA;
+    CHECKF(check_compare(&a, &b, &opt, &c, &e) == 0, "%s", e.msg);
+    check_result_free(&c);
+    CHECKF(!c.different, "mm vs m: mean p = %.3g (lum %.5g vs %.5g), worst block (%d,%d) z %.2f", c.global.p,
+           c.lum_a.mean, c.lum_b.mean, c.worst.x, c.worst.y, c.worst.z);
+    check_side_free(&a);
+    check_side_free(&b);
+    scene_free(&mm);
+    scene_free(&m);
 }
 
 /* ---- determinism, checkpoints, merging --------------------------------------------- */
