@@ -1,0 +1,98 @@
+/* ReSTIR PT initial resampling (include/restir/initial.h): with one path tree it is the
+ * reference path tracer's tree (the luminance of F(Y) W_Y equals the path tracer's
+ * sample, pixel by pixel), and with N trees it is an unbiased estimator of the same image
+ * (K-run statistics of `restir check`). */
+#include <stdlib.h>
+#include <string.h>
+#include "restir_util.h"
+#include "test.h"
+
+#ifdef RESTIR_REAL_FLOAT
+#define LUM_RTOL 2e-4
+#else
+#define LUM_RTOL 2e-6 /* both images are stored as float */
+#endif
+
+static int restir_frame(const scene *s, const restir_options *base, int frame, restir_result *r)
+{
+    restir_options o = *base;
+    rerror e;
+    o.first_frame = frame;
+    o.frames = 1;
+    if (restir_render(s, &o, r, &e)) {
+        test_fail(__FILE__, __LINE__, "restir_render: %s", e.msg);
+        return -1;
+    }
+    return 0;
+}
+
+static int pt_sample(const scene *s, const restir_options *ro, int frame, int depth, pt_result *r)
+{
+    pt_options o;
+    rerror e;
+    pt_options_default(&o);
+    o.seed = ro->seed;
+    o.sample_offset = (uint32_t)frame;
+    o.spp = 1;
+    o.max_depth = depth;
+    o.russian_roulette = ro->russian_roulette;
+    o.rr_min_depth = ro->rr_min_depth;
+    if (pt_render(s, &o, r, &e)) {
+        test_fail(__FILE__, __LINE__, "pt_render: %s", e.msg);
+        return -1;
+    }
+    return 0;
+}
+
+static double pixel_lum(const image *img, long p) { return 0.2126 * img->px[3 * p] + 0.7152 * img->px[3 * p + 1] + 0.0722 * img->px[3 * p + 2]; }
+
+/* lum(Le(x1) + F(Y) W_Y) = lum(L_PT) for every pixel: with one tree the reservoir's
+ * W = sum_i p̂(x_i) / (P_rr,i p̂(Y)), so lum(F(Y) W) = sum_i lum(F_i) / P_rr,i, the path
+ * tracer's sample. Indirect: lum(F W) = lum(L_PT(D)) - lum(L_PT(2)) of the same sample. */
+static void tree_is_pt(const char *path, int rr, int indirect)
+{
+    scene s;
+    restir_options o;
+    int f, depth = 6;
+    long p, checked = 0;
+    if (rt_load_scene(path, 16, &s)) return;
+    restir_options_default(&o);
+    o.seed = test_seed() * 977u + 5;
+    o.max_depth = depth;
+    o.russian_roulette = rr;
+    o.rr_min_depth = 2;
+    o.paths = indirect ? RESTIR_PATHS_INDIRECT : RESTIR_PATHS_ALL;
+    for (f = 0; f < 6 && !test_has_failed(); ++f) {
+        restir_result rr_res;
+        pt_result full, direct;
+        if (restir_frame(&s, &o, f, &rr_res)) break;
+        if (pt_sample(&s, &o, f, depth, &full)) break;
+        if (indirect && pt_sample(&s, &o, f, 2, &direct)) break;
+        CHECKF(rr_res.stats.initial.record_failed == 0 && rr_res.stats.initial.record_mismatch == 0,
+               "%s: recorded paths differ from the streamed candidates (%llu failed, %llu mismatched)", path,
+               (unsigned long long)rr_res.stats.initial.record_failed,
+               (unsigned long long)rr_res.stats.initial.record_mismatch);
+        for (p = 0; p < (long)s.width * s.height; ++p) {
+            double a = pixel_lum(&rr_res.mean, p);
+            double b = indirect ? pixel_lum(&full.mean, p) - pixel_lum(&direct.mean, p) : pixel_lum(&full.mean, p);
+            double tol = LUM_RTOL * (fabs(b) + (indirect ? pixel_lum(&full.mean, p) : 0)) + 1e-12;
+            CHECKF(fabs(a - b) <= tol, "%s rr %d indirect %d frame %d pixel %ld: restir lum %.9g, path tracer %.9g", path,
+                   rr, indirect, f, p, a, b);
+            checked += b > 0;
+        }
+        restir_result_free(&rr_res);
+        pt_result_free(&full);
+        if (indirect) pt_result_free(&direct);
+    }
+    CHECK(checked > 100);
+    scene_free(&s);
+}
+
+TEST(restir_initial_tree_is_the_path_tracer_tree)
+{
+    tree_is_pt("scenes/cornell.scene", 0, 0);
+    if (!test_has_failed()) tree_is_pt("scenes/cornell-glossy.scene", 0, 0);
+    if (!test_has_failed()) tree_is_pt("scenes/cornell-glossy.scene", 1, 0);
+    if (!test_has_failed()) tree_is_pt("scenes/cornell.scene", 0, 1);
+    if (!test_has_failed()) tree_is_pt("scenes/cornell-glossy.scene", 1, 1);
+}
