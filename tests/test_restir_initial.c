@@ -96,3 +96,58 @@ TEST(restir_initial_tree_is_the_path_tracer_tree)
     if (!test_has_failed()) tree_is_pt("scenes/cornell.scene", 0, 1);
     if (!test_has_failed()) tree_is_pt("scenes/cornell-glossy.scene", 1, 1);
 }
+
+/* ---- unbiasedness with N trees (K-run statistics) -------------------------------------- */
+
+#define ALPHA 1e-3
+
+static void report(const char *what, const check_result *c)
+{
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f (%d,%d,%d: t %.2f dof %.1f diff %.3g)\n", what,
+                rt_mean_z(c), c->lum_a.mean, c->lum_b.mean, c->rejected, c->tests, c->worst.z, c->worst.x, c->worst.y, c->worst.channel, c->worst.test.t, c->worst.test.dof, c->worst.test.diff);
+}
+
+/* restir (options o, K runs) against the path tracer (K runs of spp samples). */
+static int restir_vs_pt(const scene *s, const restir_options *o, int runs, uint32_t pt_spp, check_result *c)
+{
+    check_side a, b;
+    if (rt_restir_side(s, o, runs, &a)) return -1;
+    if (rt_pt_side(s, o->seed * 7u + 3, runs, pt_spp, o->max_depth, o->paths == RESTIR_PATHS_INDIRECT, &b)) {
+        check_side_free(&a);
+        return -1;
+    }
+    return rt_compare(&a, &b, ALPHA, c);
+}
+
+static void initial_unbiased(const char *path, int trees, int rr, int indirect)
+{
+    scene s;
+    restir_options o;
+    check_result c;
+    char what[256];
+    if (rt_load_scene(path, 16, &s)) return;
+    restir_options_default(&o);
+    o.seed = test_seed() * 131u + 17;
+    o.candidates = trees;
+    o.frames = 4;
+    o.max_depth = 5;
+    o.russian_roulette = rr;
+    o.paths = indirect ? RESTIR_PATHS_INDIRECT : RESTIR_PATHS_ALL;
+    o.threads = 2;
+    if (restir_vs_pt(&s, &o, 16, 32, &c)) return;
+    snprintf(what, sizeof what, "%s N=%d rr=%d indirect=%d", path, trees, rr, indirect);
+    report(what, &c);
+    check_result_free(&c);
+    CHECKF(!c.different, "%s: initial sampling differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks "
+                         "rejected, worst z %.2f",
+           what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
+    scene_free(&s);
+}
+
+TEST(restir_initial_unbiased_against_path_tracer)
+{
+    initial_unbiased("scenes/cornell.scene", 4, 0, 0);
+    if (!test_has_failed()) initial_unbiased("scenes/cornell-glossy.scene", 4, 1, 0);
+    if (!test_has_failed()) initial_unbiased("scenes/cornell-glossy.scene", 3, 0, 1);
+}
