@@ -38,7 +38,10 @@ enum shift_failure {
     SHIFT_FAIL_DELTA_LOBE,      /* a Dirac lobe at x_{k-1} or x_k: reconnection impossible */
     SHIFT_FAIL_LOBE_UNAVAILABLE,/* y_{k-1} cannot sample the base lobe (P(ell|wo) = 0, no such lobe) */
     SHIFT_FAIL_OCCLUDED,        /* the reconnection segment y_{k-1} -> x_k is blocked */
-    SHIFT_FAIL_ZERO,            /* the reconnected contribution F(y) is 0 (back face, f = 0, G = 0) */
+    SHIFT_FAIL_BSDF_ZERO,       /* the BSDF at y_{k-1} or x_k is 0 for the reconnected directions
+                                   (e.g. x_k below y_{k-1}'s surface, or w_k and the new incoming
+                                   direction on opposite sides of a reflecting x_k) */
+    SHIFT_FAIL_ZERO,            /* F(y) = 0 otherwise: G = 0 (grazing), no emission towards y_{d-1} */
     SHIFT_FAIL_NONFINITE,       /* F(y) or the Jacobian is not finite */
     SHIFT_FAILURE_COUNT
 };

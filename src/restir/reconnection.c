@@ -22,7 +22,7 @@ static enum shift_failure lobe_bounce(const path_vertex *v, unsigned lobe, vec3 
     rgb f;
     enum shift_failure why = lobe_usable(v, lobe);
     if (why != SHIFT_OK) return why;
-    if (!path_vertex_eval_lobe(v, (int)lobe, w, &f, pdf)) return SHIFT_FAIL_ZERO;
+    if (!path_vertex_eval_lobe(v, (int)lobe, w, &f, pdf)) return SHIFT_FAIL_BSDF_ZERO;
     *weight = rgb_scale(f, 1 / *pdf);
     return SHIFT_OK;
 }
@@ -42,13 +42,14 @@ static enum shift_failure reconnect_nee_light(const restir_context *c, const pat
     const path_context *pc = &c->path;
     rgb f_cos, le;
     real p_bsdf;
-    if (!prev->can_nee) return SHIFT_FAIL_ZERO;
+    if (!prev->can_nee) return SHIFT_FAIL_BSDF_ZERO;
     f_cos = path_vertex_eval(prev, t->direction);
     le = path_vertex_emitted(pc, xk);
     t->light_pdf = path_light_pdf(pc, x->rc_triangle, prev->position, xk->position, xk->ng);
     t->pdf_prev = t->light_pdf;
     t->radiance = le;
-    if (rgb_is_black(f_cos) || rgb_is_black(le) || !(t->light_pdf > 0)) return SHIFT_FAIL_ZERO;
+    if (rgb_is_black(f_cos)) return SHIFT_FAIL_BSDF_ZERO;
+    if (rgb_is_black(le) || !(t->light_pdf > 0)) return SHIFT_FAIL_ZERO;
     p_bsdf = path_vertex_pdf(prev, t->direction);
     t->factor = rgb_scale(rgb_scale(rgb_mul(f_cos, le), 1 / t->light_pdf),
                           mis_weight_nee(pc, mis_light_pdf(c, x, t->light_pdf), p_bsdf));
@@ -86,9 +87,10 @@ static enum shift_failure suffix_at_xk(const restir_context *c, const path_verte
         rgb f_cos;
         real p_bsdf;
         t->pdf_k = 1;
-        if (!xk->can_nee || !(x->light_pdf > 0)) return SHIFT_FAIL_ZERO;
+        if (!(x->light_pdf > 0)) return SHIFT_FAIL_ZERO;
+        if (!xk->can_nee) return SHIFT_FAIL_BSDF_ZERO;
         f_cos = path_vertex_eval(xk, x->rc_wo);
-        if (rgb_is_black(f_cos)) return SHIFT_FAIL_ZERO;
+        if (rgb_is_black(f_cos)) return SHIFT_FAIL_BSDF_ZERO;
         p_bsdf = path_vertex_pdf(xk, x->rc_wo);
         *suffix = rgb_scale(rgb_scale(rgb_mul(f_cos, x->rc_radiance), 1 / x->light_pdf),
                             mis_weight_nee(pc, x->light_pdf, p_bsdf));
@@ -107,6 +109,19 @@ static enum shift_failure suffix_at_xk(const restir_context *c, const path_verte
         }
     }
     return SHIFT_OK;
+}
+
+/* Where the segment y_{k-1} -> x_k starts, exactly as the path sampler starts it:
+ * a BSDF-sampled ray leaves from the robustly offset origin (scene_spawn_ray), so the
+ * base path's x_k lies on the ray from that origin along the sampled direction, and the
+ * direction (and distance) of a reconnection is measured from there too; with the
+ * vertex itself the base direction would be off by |offset| / distance (~1e-4 rad in
+ * the Cornell box), enough to change a glossy F by a percent. NEE measures from the
+ * vertex itself (vertex_sample_light). */
+static vec3 segment_origin(const path_vertex *prev, vec3f xk, unsigned lobe_prev)
+{
+    if (lobe_prev == PATH_LOBE_NEE) return prev->position;
+    return v3_from_f(scene_spawn_ray(prev->hit.position, prev->hit.ng, v3f_sub(xk, prev->hit.position)).origin);
 }
 
 /* Rebuilds x_k as the path sampler would see it arriving along w'_{k-1}. */
@@ -135,7 +150,7 @@ enum shift_failure rc_evaluate(const restir_context *c, const path_vertex *prev,
     t->pdf_k = 1;
     if (k < 2 || k > d) return SHIFT_FAIL_EMPTY;
     lobe_prev = x->lobe[k - 1];
-    to = v3_sub(v3_from_f(x->rc_position), prev->position);
+    to = v3_sub(v3_from_f(x->rc_position), segment_origin(prev, x->rc_position, lobe_prev));
     dist2 = v3_dot(to, to);
     if (!(dist2 > 0)) return SHIFT_FAIL_ZERO;
     t->direction = v3_scale(to, 1 / (real)sqrt(dist2));

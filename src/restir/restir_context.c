@@ -25,6 +25,7 @@ const char *const shift_failure_names[] = {
     "delta_lobe",
     "lobe_unavailable",
     "occluded",
+    "bsdf_zero",
     "zero",
     "nonfinite",
     NULL,
