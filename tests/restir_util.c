@@ -17,10 +17,10 @@ int rt_load_scene(const char *path, int res, scene *s)
     return 0;
 }
 
-static int side_begin(const scene *s, check_side *side)
+static int side_begin(const scene *s, int block, check_side *side)
 {
     rerror e;
-    if (check_side_begin_runs(side, s->width, s->height, 8, &e)) {
+    if (check_side_begin_runs(side, s->width, s->height, block, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         return -1;
     }
@@ -47,10 +47,10 @@ static int side_end(check_side *side)
     return 0;
 }
 
-int rt_restir_side(const scene *s, const restir_options *o, int runs, check_side *side)
+int rt_restir_side(const scene *s, const restir_options *o, int runs, int block, check_side *side)
 {
     int k;
-    if (side_begin(s, side)) return -1;
+    if (side_begin(s, block, side)) return -1;
     for (k = 0; k < runs; ++k) {
         restir_options ok = *o;
         restir_result r;
@@ -93,11 +93,11 @@ static int pt_run(const scene *s, uint32_t seed, uint32_t offset, uint32_t spp, 
     return 0;
 }
 
-int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only,
+int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int block,
                check_side *side)
 {
     int k;
-    if (side_begin(s, side)) return -1;
+    if (side_begin(s, block, side)) return -1;
     for (k = 0; k < runs; ++k) {
         pt_result r, direct;
         int status;
@@ -130,13 +130,14 @@ int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_de
     return 0;
 }
 
-int rt_compare(check_side *a, check_side *b, double alpha, check_result *r)
+int rt_compare(check_side *a, check_side *b, double alpha, int block, check_result *r)
 {
     check_options opt;
     rerror e;
     int status;
     check_options_default(&opt);
     opt.alpha = alpha;
+    opt.block_size = block;
     status = check_compare(a, b, &opt, r, &e);
     check_side_free(a);
     check_side_free(b);

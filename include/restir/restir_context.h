@@ -51,9 +51,10 @@ enum shift_failure {
 enum restir_ablation {
     RESTIR_ABLATE_NONE = 0,
     RESTIR_ABLATE_JACOBIAN = 1, /* "jacobian": |dT/dx| taken as 1 in resampling weights and MIS */
-    RESTIR_ABLATE_LIGHT_PDF = 2 /* "light-pdf": after a shift that moves x_{d-1}, the final
-                                   vertex's NEE/BSDF MIS weight keeps the base path's stale
-                                   light pdf (notes pitfall 6) */
+    RESTIR_ABLATE_LIGHT_PDF = 2 /* "light-pdf": after a shift that moves x_{d-1} (reconnection
+                                   at k = d), the light pdf of the last vertex is not recomputed:
+                                   the base path's stale value enters the NEE estimate and the
+                                   NEE/BSDF MIS weight (notes pitfall 6) */
 };
 #define RESTIR_ABLATION_COUNT 3
 

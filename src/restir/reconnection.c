@@ -27,9 +27,12 @@ static enum shift_failure lobe_bounce(const path_vertex *v, unsigned lobe, vec3 
     return SHIFT_OK;
 }
 
-/* The light pdf the final vertex's MIS weight uses after x_{d-1} moved: the recomputed
- * one, or the base path's stale one under the light-pdf ablation (notes pitfall 6). */
-static real mis_light_pdf(const restir_context *c, const path_sample *x, real recomputed)
+/* The light pdf of the last vertex after the shift moved x_{d-1} to y_{d-1}: it depends
+ * on y_{d-1}, so it is recomputed (notes pitfall 6). The light-pdf ablation keeps the base
+ * path's stale value instead, everywhere the offset path needs it (the NEE estimate's
+ * 1/p_light and the NEE/BSDF MIS weight). The Jacobian keeps the true pdf: the ablation
+ * models a stale cache, not a wrong reconnection. */
+static real last_light_pdf(const restir_context *c, const path_sample *x, real recomputed)
 {
     return c->ablation == RESTIR_ABLATE_LIGHT_PDF ? x->light_pdf : recomputed;
 }
@@ -45,14 +48,13 @@ static enum shift_failure reconnect_nee_light(const restir_context *c, const pat
     if (!prev->can_nee) return SHIFT_FAIL_BSDF_ZERO;
     f_cos = path_vertex_eval(prev, t->direction);
     le = path_vertex_emitted(pc, xk);
-    t->light_pdf = path_light_pdf(pc, x->rc_triangle, prev->position, xk->position, xk->ng);
-    t->pdf_prev = t->light_pdf;
+    t->pdf_prev = path_light_pdf(pc, x->rc_triangle, prev->position, xk->position, xk->ng);
+    t->light_pdf = last_light_pdf(c, x, t->pdf_prev);
     t->radiance = le;
     if (rgb_is_black(f_cos)) return SHIFT_FAIL_BSDF_ZERO;
-    if (rgb_is_black(le) || !(t->light_pdf > 0)) return SHIFT_FAIL_ZERO;
+    if (rgb_is_black(le) || !(t->light_pdf > 0) || !(t->pdf_prev > 0)) return SHIFT_FAIL_ZERO;
     p_bsdf = path_vertex_pdf(prev, t->direction);
-    t->factor = rgb_scale(rgb_scale(rgb_mul(f_cos, le), 1 / t->light_pdf),
-                          mis_weight_nee(pc, mis_light_pdf(c, x, t->light_pdf), p_bsdf));
+    t->factor = rgb_scale(rgb_scale(rgb_mul(f_cos, le), 1 / t->light_pdf), mis_weight_nee(pc, t->light_pdf, p_bsdf));
     return SHIFT_OK;
 }
 
@@ -67,9 +69,9 @@ static rgb emitter_from_prev(const restir_context *c, const path_vertex *prev, c
     memset(&b, 0, sizeof b);
     b.pdf_lobe = pdf_lobe;
     b.pdf_all = path_vertex_pdf(prev, t->direction);
-    t->light_pdf = path_light_pdf(pc, x->rc_triangle, prev->position, xk->position, xk->ng);
+    t->light_pdf = last_light_pdf(c, x, path_light_pdf(pc, x->rc_triangle, prev->position, xk->position, xk->ng));
     t->radiance = le;
-    return rgb_scale(le, mis_weight_bsdf_hit(pc, &b, mis_light_pdf(c, x, t->light_pdf)));
+    return rgb_scale(le, mis_weight_bsdf_hit(pc, &b, t->light_pdf));
 }
 
 /* The part of the path from x_k on, seen from the new incoming direction -w'_{k-1}:
