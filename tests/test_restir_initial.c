@@ -120,22 +120,22 @@ static int restir_vs_pt(const scene *s, const restir_options *o, int runs, uint3
     return rt_compare(&a, &b, ALPHA, 8, c);
 }
 
-static void initial_unbiased(const char *path, int trees, int rr, int indirect)
+static void initial_unbiased_at(const char *path, int trees, int rr, int indirect, int res, int runs, int frames)
 {
     scene s;
     restir_options o;
     check_result c;
     char what[256];
-    if (rt_load_scene(path, 16, &s)) return;
+    if (rt_load_scene(path, res, &s)) return;
     restir_options_default(&o);
     o.seed = test_seed() * 131u + 17;
     o.candidates = trees;
-    o.frames = 4;
+    o.frames = frames;
     o.max_depth = 5;
     o.russian_roulette = rr;
     o.paths = indirect ? RESTIR_PATHS_INDIRECT : RESTIR_PATHS_ALL;
     o.threads = 2;
-    if (restir_vs_pt(&s, &o, 16, 32, &c)) return;
+    if (restir_vs_pt(&s, &o, runs, 32, &c)) return;
     snprintf(what, sizeof what, "%s N=%d rr=%d indirect=%d", path, trees, rr, indirect);
     report(what, &c);
     check_result_free(&c);
@@ -143,6 +143,18 @@ static void initial_unbiased(const char *path, int trees, int rr, int indirect)
                          "rejected, worst z %.2f",
            what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
     scene_free(&s);
+}
+
+static void initial_unbiased(const char *path, int trees, int rr, int indirect)
+{
+    initial_unbiased_at(path, trees, rr, indirect, 16, 16, 4);
+}
+
+TEST_LONG(restir_initial_unbiased_long)
+{
+    initial_unbiased_at("scenes/cornell.scene", 8, 0, 0, 32, 32, 8);
+    if (!test_has_failed()) initial_unbiased_at("scenes/cornell-glossy.scene", 8, 1, 0, 32, 32, 8);
+    if (!test_has_failed()) initial_unbiased_at("scenes/cornell-glossy.scene", 4, 1, 1, 32, 32, 16);
 }
 
 TEST(restir_initial_unbiased_against_path_tracer)

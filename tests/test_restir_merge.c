@@ -18,7 +18,7 @@
 #include "test.h"
 
 #define ALPHA 1e-3
-#define RUNS 16
+static int runs = 16; /* K runs per side (the TEST_LONG versions use more) */
 
 /* A glossy floor (GGX conductor, roughness 0.3) and a white back wall with a small quad
  * light 8 cm above the floor: the light pdf of direct light changes by an order of
@@ -67,7 +67,7 @@ static void report(const char *what, const check_result *c)
 /* The path tracer's side of the comparisons of one scene and case (K = 16 runs). */
 static int reference(const scene *s, const merge_case *m, check_side *pt)
 {
-    return rt_pt_side(s, test_seed() * 7919u + 3, RUNS, m->pt_spp, m->max_depth, m->paths == RESTIR_PATHS_INDIRECT,
+    return rt_pt_side(s, test_seed() * 7919u + 3, runs, m->pt_spp, m->max_depth, m->paths == RESTIR_PATHS_INDIRECT,
                       m->block, pt);
 }
 
@@ -92,7 +92,7 @@ static void expect(const scene *s, const char *name, const merge_case *m, const 
     o.frames = m->frames;
     o.max_depth = m->max_depth;
     o.threads = 2;
-    if (rt_restir_side(s, &o, RUNS, m->block, &a)) return;
+    if (rt_restir_side(s, &o, runs, m->block, &a)) return;
     check_options_default(&opt);
     opt.alpha = ALPHA;
     opt.block_size = m->block;
@@ -122,28 +122,45 @@ static void every_shift_case(const scene *s, const char *path, merge_case m)
 }
 
 /* All paths and indirect paths alone (GRIS's figures measure indirect light). */
-static void every_shift(const char *path)
+static void every_shift_at(const char *path, int res, int scale)
 {
     scene s;
     merge_case all = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 4, 4, 8, 64, 6};
     merge_case indirect = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_INDIRECT, 4, 8, 8, 64, 6};
-    if (rt_load_scene(path, 16, &s)) return;
+    all.frames *= scale;
+    indirect.frames *= scale;
+    all.max_depth = indirect.max_depth = scale > 1 ? 6 : 4;
+    all.radius = indirect.radius = 6.0 * res / 16;
+    if (rt_load_scene(path, res, &s)) return;
     every_shift_case(&s, path, all);
     if (!test_has_failed()) every_shift_case(&s, path, indirect);
     scene_free(&s);
 }
 
+static void every_shift(const char *path) { every_shift_at(path, 16, 1); }
+
 TEST(restir_merge_unbiased_every_shift_cornell) { every_shift("scenes/cornell.scene"); }
 TEST(restir_merge_unbiased_every_shift_cornell_glossy) { every_shift("scenes/cornell-glossy.scene"); }
 
+/* 32 x 32, paths up to d = 6, 32 runs of 16 (all) or 32 (indirect) frames. */
+TEST_LONG(restir_merge_unbiased_every_shift_long)
+{
+    runs = 32;
+    every_shift_at("scenes/cornell.scene", 32, 4);
+    if (!test_has_failed()) every_shift_at("scenes/cornell-glossy.scene", 32, 4);
+    runs = 16;
+}
+
 /* The spot scene: every shift unbiased, and both ablations rejected by the very same
  * comparison (4 x 4 blocks: the biases are local). */
-TEST(restir_merge_spot_unbiased_and_ablations_rejected)
+static void spot_case(int res, int scale)
 {
     scene s;
     check_side pt;
     merge_case m = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 3, 16, 4, 256, 4};
-    if (make_spot(&s, 16) || prepare(&s)) return;
+    m.frames *= scale;
+    m.radius = 4.0 * res / 16;
+    if (make_spot(&s, res) || prepare(&s)) return;
     if (reference(&s, &m, &pt)) return;
     for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift) expect(&s, "spot", &m, &pt, 0);
     for (m.shift = RESTIR_SHIFT_RECONNECTION; m.shift <= RESTIR_SHIFT_HYBRID && !test_has_failed(); m.shift += 2) {
@@ -155,4 +172,14 @@ TEST(restir_merge_spot_unbiased_and_ablations_rejected)
     }
     check_side_free(&pt);
     scene_free(&s);
+}
+
+TEST(restir_merge_spot_unbiased_and_ablations_rejected) { spot_case(16, 1); }
+
+/* 32 x 32, 32 runs of 32 frames. */
+TEST_LONG(restir_merge_spot_long)
+{
+    runs = 32;
+    spot_case(32, 2);
+    runs = 16;
 }

@@ -160,6 +160,11 @@ static void invertibility(const char *path, int shift, long n_paths)
            t.first_failure);
     CHECKF(t.forward_ok > n_paths / 10, "%s: only %ld of %ld shifts succeeded", what, t.forward_ok, t.paths);
     CHECKF(t.identity_ok > n_paths / 2, "%s: only %ld identity shifts succeeded", what, t.identity_ok);
+    /* The glossy blocks make the hybrid shift's invertibility checks fire: they are exercised. */
+    if (shift == RESTIR_SHIFT_HYBRID && strstr(path, "glossy"))
+        CHECKF(t.outcome[SHIFT_FAIL_RC_PREV] > 0 && t.outcome[SHIFT_FAIL_RC_EARLIER] > 0 && t.by_k_ok[3] > 0,
+               "%s: invertibility checks not exercised (rc_prev %ld, rc_earlier %ld, k = 3 shifts %ld)", what,
+               t.outcome[SHIFT_FAIL_RC_PREV], t.outcome[SHIFT_FAIL_RC_EARLIER], t.by_k_ok[3]);
 }
 
 static void all_shifts(long n)
