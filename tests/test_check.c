@@ -349,6 +349,10 @@ TEST(check_power_local_defect)
     CHECK(check_compare(&a, &b, &o, &r, &e) == 0);
     CHECK(r.worst.x == 2 && r.worst.y == 1 && r.worst.z < 0.0);
     check_result_free(&r);
+    o.correction = CHECK_BH; /* the false-discovery-rate correction finds it too */
+    CHECK(check_compare(&a, &b, &o, &r, &e) == 0);
+    CHECK(r.rejected >= 1 && r.different && r.worst.test.p <= r.block_threshold);
+    check_result_free(&r);
     check_side_free(&a);
     check_side_free(&b);
 }

@@ -25,8 +25,12 @@ static int make_furnace(scene *s, rgb le, rgb rho, int res)
 
 /* A small "Cornell-like" box [0,1]^3, open towards the camera, with a ceiling light,
  * coloured Lambertian walls, a plastic (two-lobe) block, a rough conductor panel and a
- * smooth glass cube (Dirac lobes only). */
-static int make_glossy_box(scene *s, int res)
+ * smooth glass cube (Dirac lobes only). The camera looks along +z from (0.5 + dx,
+ * 0.5 + dy, -1.3). With |dx| = |dy| the edges between the floor or ceiling and a side wall
+ * project exactly onto the pixel centres of an image diagonal, so those primary hits lie
+ * ON two walls at once (see pt_strategies_agree_on_exact_edges); make_glossy_box moves the
+ * camera off that degenerate position. */
+static int make_glossy_box_at(scene *s, int res, real dx, real dy)
 {
     uint32_t white, red, green, light, plastic, metal, glass;
     if (test_scene_begin(s, 64, 8)) return -1;
@@ -53,9 +57,12 @@ static int make_glossy_box(scene *s, int res)
     test_scene_outward_box(s, v3f(0.15f, 0, 0.45f), v3f(0.45f, 0.35f, 0.8f), plastic);
     test_scene_quad(s, v3f(0.9f, 0.05f, 0.3f), v3f(-0.25f, 0, 0.5f), v3f(0, 0.6f, 0), metal);
     test_scene_outward_box(s, v3f(0.55f, 0, 0.15f), v3f(0.8f, 0.25f, 0.4f), glass);
-    test_scene_camera(s, v3((real)0.5, (real)0.5, (real)-1.3), v3((real)0.5, (real)0.5, 0), v3(0, 1, 0), 42, res);
+    test_scene_camera(s, v3((real)0.5 + dx, (real)0.5 + dy, (real)-1.3), v3((real)0.5 + dx, (real)0.5 + dy, 0),
+                      v3(0, 1, 0), 42, res);
     return 0;
 }
+
+static int make_glossy_box(scene *s, int res) { return make_glossy_box_at(s, res, (real)0.003, (real)0.0017); }
 
 static int prepare(scene *s)
 {
@@ -115,7 +122,7 @@ static void furnace_case(enum pt_strategy strategy, int rr, int depth, uint32_t 
         mean /= (double)n;
         var /= (double)n * (double)n;
         /* 4.5 sigma (two-sided p ~ 7e-6 per check); the BSDF-only furnace is exact up to rounding. */
-        CHECKF(fabs(mean - expected) <= 4.5 * sqrt(var) + 1e-9 * expected,
+        CHECKF(fabs(mean - expected) <= 4.5 * sqrt(var) + (sizeof(real) == 4 ? 1e-5 : 1e-9) * expected,
                "strategy %s rr %d depth %d channel %d: mean %.9g expected %.9g (se %.3g)", pt_strategy_names[strategy],
                rr, depth, k, mean, expected, sqrt(var));
     }
@@ -272,6 +279,53 @@ TEST(pt_strategies_reject_ablations_glossy_box)
     scene_free(&s);
 }
 
+/* KNOWN FAILURE at the time of writing: with the symmetric camera, the pixel centres of
+ * the image diagonals see points exactly on the floor/wall edges. NEE's shadow rays
+ * (scene_visibility_ray) step off both surfaces of such a concave edge, but BSDF rays
+ * (scene_spawn_ray: normal offset, tmin = 0) re-hit the adjacent wall, so BSDF-only is
+ * darker than NEE and MIS on those pixels (z ~ 6-8 per pixel at 8192 spp; with --jitter
+ * the effect has measure zero). The fix belongs to scene_spawn_ray (BVH module).
+ * make_glossy_box keeps the fast tests off this degenerate camera position. */
+TEST_LONG(pt_strategies_agree_on_exact_edges)
+{
+    scene s;
+    pt_options o;
+    pt_result nee, bsdf;
+    double worst = 0;
+    int k, c, worst_k = 0;
+    CHECK(make_glossy_box_at(&s, 24, 0, 0) == 0);
+    if (prepare(&s)) return;
+    pt_options_default(&o);
+    o.spp = 8192;
+    o.max_depth = 5;
+    o.threads = 2;
+    o.strategy = PT_STRATEGY_NEE;
+    o.seed = test_seed() * 31u + 1;
+    if (render(&s, &o, &nee)) return;
+    o.strategy = PT_STRATEGY_BSDF;
+    o.seed = test_seed() * 31u + 2;
+    if (render(&s, &o, &bsdf)) return;
+    /* The diagonal pixels (k, k) of the lower right quarter: the floor/wall edge. Per-pixel
+     * z from the per-pixel variances (8192 samples; both sides have >= 100 effective
+     * samples there), Sidak over 8 pixels x 3 channels at level 1e-3: |z| > 4.3. */
+    for (k = 16; k < 24; ++k)
+        for (c = 0; c < 3; ++c) {
+            size_t i = 3 * ((size_t)k * 24 + k) + c;
+            double n = o.spp, ma = nee.state.sum[i] / n, mb = bsdf.state.sum[i] / n;
+            double va = (nee.state.sum_sq[i] - nee.state.sum[i] * ma) / (n * (n - 1));
+            double vb = (bsdf.state.sum_sq[i] - bsdf.state.sum[i] * mb) / (n * (n - 1));
+            double z = (ma - mb) / sqrt(va + vb);
+            if (fabs(z) > fabs(worst)) {
+                worst = z;
+                worst_k = k;
+            }
+        }
+    pt_result_free(&nee);
+    pt_result_free(&bsdf);
+    scene_free(&s);
+    CHECKF(fabs(worst) < 4.3, "nee vs bsdf on the edge pixels: pixel (%d,%d) z = %.2f", worst_k, worst_k, worst);
+}
+
 /* A large light close above a rough two-lobe plastic floor: here the NEE and BSDF pdfs
  * are comparable and the plastic's lobes overlap, so the MIS weight must use the all-lobe
  * pdf of GRIS Eq. 49; the mis-lobe ablation (the sampled lobe's pdf only) is rejected. */
@@ -387,12 +441,9 @@ TEST(pt_scale_invariance_generated)
 }
 
 /* The same at the extremes with the box touching the coordinate planes (walls at x, y,
- * z = 0). KNOWN FAILURE at k = 1e4 at the time of writing (k = 1e-3 passes): a point on
- * the wall x = 0 has y, z ~ 5e3, whose intersection error (~1e-4) exceeds the absolute
- * offset 2^-16 that offset_ray_origin (Wächter & Binder) applies to a coordinate below
- * 1/32, so bounce and shadow rays re-hit their own wall and that wall comes out darker.
- * Moving the box off the planes (pt_scale_invariance_generated) makes it pass. Reported to
- * the owner of the BVH; the fix belongs there (an offset relative to max |p_i|). */
+ * z = 0): k = 1e-3 and 1e4. This failed at 1e4 with the per-coordinate Wachter-Binder
+ * offset (an absolute 2^-16 for coordinates below 1/32: too small next to coordinates
+ * ~5e3); it passes since offset_ray_origin scales with the largest coordinate. */
 TEST_LONG(pt_scale_invariance_extreme)
 {
     check_side ref;
@@ -668,11 +719,10 @@ TEST(pt_options_validated)
     scene_free(&s);
 }
 
-#ifndef RESTIR_REAL_FLOAT
 /* NaN/Inf policy: a sample whose L overflows is counted, reported with its address and
  * accumulated as 0; the image stays finite and every pixel keeps the same count. The floor
- * of an emissive furnace box gets the absurd albedo 1.5e308, so NEE from floor points towards
- * close wall points overflows (f Le / p_light > DBL_MAX) while other samples stay finite.
+ * of an emissive furnace box gets the absurd albedo 0.83 REAL_MAX, so NEE from floor points towards
+ * close wall points overflows (f Le / p_light > REAL_MAX) while other samples stay finite.
  * (One sample per pixel: the sum of two finite samples could overflow too.) */
 TEST(pt_nonfinite_samples_counted)
 {
@@ -682,7 +732,7 @@ TEST(pt_nonfinite_samples_counted)
     size_t i, pixels;
     uint32_t m_floor;
     CHECK(make_furnace(&s, rgb_gray(1), rgb_gray((real)0.5), 10) == 0);
-    m_floor = test_scene_material(&s, MAT_LAMBERT, rgb_gray(1.5e308), rgb_gray(1));
+    m_floor = test_scene_material(&s, MAT_LAMBERT, rgb_gray(REAL_MAX * (real)0.83), rgb_gray(1));
     s.triangles[4].material = s.triangles[5].material = m_floor; /* the y = lo quad */
     test_scene_camera(&s, v3(0, 0, 0), v3(0, -1, (real)0.3), v3(0, 0, 1), 120, 16);
     if (prepare(&s)) return;
@@ -699,7 +749,6 @@ TEST(pt_nonfinite_samples_counted)
     pt_result_free(&r);
     scene_free(&s);
 }
-#endif
 
 TEST(pt_bench_json)
 {

@@ -39,7 +39,7 @@
  *   MAT_CONDUCTOR         0: GGX reflection, Schlick Fresnel with F0 = Ks.          r
  *   MAT_PLASTIC           0: diffuse Kd * (1-F(wo))(1-F(wi)),                      r = 1
  *                         1: GGX dielectric coat reflection Ks * F_dielectric(ior). r
- *   MAT_DIELECTRIC        0: delta reflection Ks*F, 1: delta refraction Ks*(1-F).  r = 0
+ *   MAT_DIELECTRIC        0: delta reflection Ks*F, 1: refraction Ks*(1-F)/eta^2. r = 0
  *   MAT_ROUGH_DIELECTRIC  0: GGX reflection, 1: GGX transmission (Walter 2007).    r
  * Lobe selection P(l|wo) (computable before sampling; > 0 wherever the lobe is
  * nonzero):

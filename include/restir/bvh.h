@@ -51,11 +51,14 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h);
 /* Any hit with t in (r->tmin, r->tmax). Returns 1 if occluded. */
 int bvh_occluded(const bvh *b, const ray *r);
 
-/* Watertight ray/triangle test (Woop, Benthin, Wald 2013). 1 on a hit in range. */
+/* Watertight ray/triangle test (Woop, Benthin, Wald 2013). 1 on a hit in range.
+ * Degenerate triangles (zero area, non-finite vertices) are never hit; the BVH leaves
+ * them out, so bvh_intersect == the loop over all triangles with this test. */
 int ray_triangle_watertight(const ray *r, vec3f v0, vec3f v1, vec3f v2, float *t, float *b1, float *b2);
 
 /* Robust, scale-invariant ray-origin offset along the (geometric) normal n
- * (Wächter & Binder, Ray Tracing Gems ch. 6): integer ULP offsets scaled with |p|. */
+ * (Wächter & Binder, Ray Tracing Gems ch. 6): 256 ULPs of the point's largest
+ * coordinate (the paper counts ULPs per coordinate; see bvh.c for why not). */
 vec3f offset_ray_origin(vec3f p, vec3f n);
 
 #endif

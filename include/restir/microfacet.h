@@ -5,8 +5,9 @@
  * G1     Smith masking 1/(1+Lambda) with the one-sided test chi+(w.m / w.n)
  *        (Walter et al. 2007 Eq. 34 written with Lambda)
  * G2     separable: G1(wo,m) G1(wi,m) (Walter et al. 2007 Eq. 23)
- * VNDF   D_wo(m) = G1(wo) max(0, wo.m) D(m) / wo.z (Heitz 2018 JCGT 7(4), Eq. 2),
- *        sampled with Heitz 2018 Listing/Algorithm (hemisphere configuration), inverted here.
+ * VNDF   D_wo(m) = G1(wo) max(0, wo.m) D(m) / wo.z (Heitz 2018, "Sampling the GGX
+ *        Distribution of Visible Normals", JCGT 7(4)), sampled by its hemisphere-
+ *        configuration construction and inverted here (docs/materials.md §3).
  * All microfacet functions expect wo.z > 0 (callers flip to wo's side first). */
 #ifndef RESTIR_MICROFACET_H
 #define RESTIR_MICROFACET_H

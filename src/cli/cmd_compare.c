@@ -264,13 +264,27 @@ static int fail(const rerror *e)
     return 2;
 }
 
+int cmd_compare_covariance(int argc, char **argv);
+
+/* `compare --covariance FILES...` is a different measurement (Mutations Eq. 21 over K
+ * images), with its own options: hand the whole command line to it. */
+static int wants_covariance(int argc, char **argv)
+{
+    int i;
+    for (i = 1; i < argc; ++i)
+        if (!strcmp(argv[i], "--covariance")) return 1;
+    return 0;
+}
+
 int cmd_compare(int argc, char **argv)
 {
     compare_options o;
     compare_results res;
     image test, ref;
     rerror e;
-    int status = 2, parsed = parse_args(argc, argv, &o);
+    int status = 2, parsed;
+    if (wants_covariance(argc, argv)) return cmd_compare_covariance(argc, argv);
+    parsed = parse_args(argc, argv, &o);
     if (parsed) return parsed == 1 ? 0 : 2;
     memset(&res, 0, sizeof res);
     if (pfm_read(o.ref_path, &ref, NULL, &e)) return fail(&e);

@@ -7,18 +7,22 @@ int cmd_help(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
-int cmd_bench(int argc, char **argv);
 int cmd_check(int argc, char **argv);
+int cmd_plot(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
+int cmd_merge(int argc, char **argv);
 int cmd_inspect(int argc, char **argv);
 
 const cli_command cli_commands[] = {
     {"render", cmd_render, "render a scene (.scene or .obj) to PFM + PNG"},
     {"info", cmd_info, "scene statistics: triangles, materials, emitters, BVH"},
     {"compare", cmd_compare, "image metrics (MSE ... MAPE, FLIP) of TEST.pfm against REF.pfm"},
+    {"check", cmd_check, "statistical test: do two renderers estimate the same image?"},
+    {"plot", cmd_plot, "line plots (log-log by default) of a CSV table as SVG"},
     {"bench", cmd_bench, "benchmarks as JSON: rays SCENE | rays --generated N | all"},
+    {"merge", cmd_merge, "combine path-tracer runs: checkpoints, or images with --counts"},
     {"inspect", cmd_inspect, "one pixel's ReSTIR path sample and its shift to a neighbour"},
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
-    {"check", cmd_check, "statistical test: do two renderers estimate the same image?"},
     {NULL, NULL, NULL},
 };
 

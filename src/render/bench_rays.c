@@ -154,26 +154,48 @@ static int compare_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* Median Mrays/s over `repeats` runs. */
-static double time_pass(const bvh *accel, const ray_set *set, int any_hit, int threads, int repeats,
-                        unsigned char *answers)
+static double median(double *v, int n)
 {
-    double rates[64];
+    qsort(v, (size_t)n, sizeof v[0], compare_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* CPU time of the whole process (all threads). */
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+typedef struct {
+    double mrays;          /* rays per wall-clock second: the throughput */
+    double mrays_per_core; /* rays per CPU second: insensitive to other load on the machine */
+} rate;
+
+/* Medians over `repeats` runs. */
+static rate time_pass(const bvh *accel, const ray_set *set, int any_hit, int threads, int repeats,
+                      unsigned char *answers)
+{
+    double wall[64], cpu[64];
+    rate result = {0, 0};
     pass p;
     int r;
-    if (set->count == 0) return 0;
+    if (set->count == 0) return result;
     if (repeats > 64) repeats = 64;
     p.accel = accel;
     p.rays = set->rays;
     p.answers = answers;
     p.any_hit = any_hit;
     for (r = 0; r < repeats; ++r) {
-        double t0 = wall_seconds();
+        double w0 = wall_seconds(), c0 = cpu_seconds();
         parallel_items(set->count, threads, trace_one, &p);
-        rates[r] = set->count / (wall_seconds() - t0) * 1e-6;
+        wall[r] = set->count / (wall_seconds() - w0) * 1e-6;
+        cpu[r] = set->count / (cpu_seconds() - c0) * 1e-6;
     }
-    qsort(rates, (size_t)repeats, sizeof rates[0], compare_double);
-    return repeats % 2 ? rates[repeats / 2] : 0.5 * (rates[repeats / 2 - 1] + rates[repeats / 2]);
+    result.mrays = median(wall, repeats);
+    result.mrays_per_core = median(cpu, repeats);
+    return result;
 }
 
 /* Times a fresh build of the scene's BVH (single-threaded, as scene_prepare does it). */
@@ -223,8 +245,9 @@ int bench_rays(const scene *s, const bench_rays_options *o, FILE *json_out, rerr
     int repeats = o->repeats < 1 ? 1 : o->repeats;
 
     if (o->width < 1 || o->height < 1) return rerror_set(e, "bench rays: image size must be positive");
-    if (s->accel.node_count == 0 && s->triangle_count == 0)
-        return rerror_at(e, s->path, 0, "scene has no triangles");
+    if (s->triangle_count == 0) return rerror_at(e, s->path, 0, "scene has no triangles");
+    if (s->accel.node_count == 0)
+        return rerror_at(e, s->path, 0, "scene has no BVH (not prepared, or only degenerate triangles)");
     primary.rays = rmalloc((size_t)pixels, sizeof(ray), e);
     secondary.rays = rmalloc((size_t)pixels, sizeof(ray), e);
     shadow.rays = rmalloc((size_t)pixels, sizeof(ray), e);
@@ -251,12 +274,13 @@ int bench_rays(const scene *s, const bench_rays_options *o, FILE *json_out, rerr
             o->width, o->height, repeats, primary.count, secondary.count, shadow.count);
     for (t = 0; t < runs; ++t) {
         int threads = thread_counts[t];
-        double p = time_pass(&s->accel, &primary, 0, threads, repeats, answers);
-        double q = time_pass(&s->accel, &secondary, 0, threads, repeats, answers);
-        double r = time_pass(&s->accel, &shadow, 1, threads, repeats, answers);
+        rate p = time_pass(&s->accel, &primary, 0, threads, repeats, answers);
+        rate q = time_pass(&s->accel, &secondary, 0, threads, repeats, answers);
+        rate r = time_pass(&s->accel, &shadow, 1, threads, repeats, answers);
         fprintf(json_out,
-                "%s\n  {\"threads\": %d, \"primary_mrays\": %.3f, \"secondary_mrays\": %.3f, \"shadow_mrays\": %.3f}",
-                t ? "," : "", threads, p, q, r);
+                "%s\n  {\"threads\": %d, \"primary_mrays\": %.3f, \"secondary_mrays\": %.3f, \"shadow_mrays\": %.3f,"
+                "\n   \"per_core\": {\"primary_mrays\": %.3f, \"secondary_mrays\": %.3f, \"shadow_mrays\": %.3f}}",
+                t ? "," : "", threads, p.mrays, q.mrays, r.mrays, p.mrays_per_core, q.mrays_per_core, r.mrays_per_core);
     }
     fprintf(json_out, "\n ]}\n");
     free(primary.rays);

@@ -10,7 +10,7 @@ void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3
     v->position = v3_from_f(h->position);
     v->ng = v3_from_f(h->ng);
     v->ns = v3_from_f(h->ns);
-    v->wo = v3_neg(ray_dir);
+    v->wo = v3_normalize(v3_neg(ray_dir)); /* float ray directions are unit only to ~1e-7 */
     v->frame = shading_frame_make(v->ns);
     v->wo_local = shading_frame_to_local(&v->frame, v->wo);
     v->b = bsdf_from_material(&s->materials[h->material]);

@@ -212,13 +212,22 @@ int bsdf_lobe_sample(const bsdf *b, int lobe, vec3 wo, vec2 u, bsdf_sample_recor
     return finish_sample(ops, &v, wi, s);
 }
 
+/* Largest real below 1: inverses land on the half-open square [0,1)^2 like the samplers' inputs. */
+static real below_one(real x)
+{
+    real top = 1 - REAL_EPSILON / 2;
+    return x < 0 ? 0 : (x > top ? top : x);
+}
+
 int bsdf_lobe_sample_inverse(const bsdf *b, int lobe, vec3 wo, vec3 wi, vec2 *u)
 {
     lobe_view v;
     real flip = make_view(b, wo, &v);
     const lobe_ops *ops = ops_of(bsdf_lobe_kind_of(b, lobe));
     if (!flip || !ops->inverse || !valid_direction(wi)) return 0;
-    return ops->inverse(&v, flip_z(wi, flip), u);
+    if (!ops->inverse(&v, flip_z(wi, flip), u)) return 0;
+    *u = v2(below_one(u->x), below_one(u->y));
+    return 1;
 }
 
 /* ---- all lobes: GRIS Eq. 49 (NEE vertices evaluate every lobe; MIS uses the all-lobe pdf) ---- */

@@ -1,7 +1,8 @@
 /* Ray queries on a scene: building the acceleration structure, closest hits with
  * surface data, visibility between two points and rays leaving a surface. Every ray
- * that starts on a surface is offset with offset_ray_origin (Wächter & Binder 2019)
- * to the side it leaves to, so no epsilon in t is ever needed: tmin is 0. */
+ * that starts on a surface is offset with offset_ray_origin (after Wächter & Binder
+ * 2019) to the side it leaves to, so no epsilon in t is needed: spawned rays have
+ * tmin = 0, and shadow segments are only shortened by the offsets themselves. */
 #include "restir/scene.h"
 
 #include <math.h>
@@ -121,7 +122,8 @@ static float max_abs(vec3f v) { return fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fmaxf
  * noise), n is kept as it is: both ends of such a segment then move to the same side
  * of their common plane instead of to opposite sides, where the segment would cross
  * the plane and be falsely occluded. The tolerance, 2^-18 (|p| + |toward|) in the max
- * norm, is above those rounding errors and below the offset itself (~2^-15 |p|). */
+ * norm, is above those rounding errors and below the offset itself (256 ulps of the
+ * largest coordinate, i.e. 2^-16 to 2^-15 of |p|). */
 static vec3f facing(vec3f n, vec3f p, vec3f toward)
 {
     float d = v3f_dot(n, v3f_sub(toward, p));
