@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "../src/cli/render_restir.h"
+#include "restir/json_text.h"
 #include "restir/reservoir_dump.h"
 #include "restir_util.h"
 #include "test.h"
@@ -132,4 +133,32 @@ TEST(restir_inspect_cli)
     CHECKF(status == 2, "exit %d: %s", status, out);
     status = test_cli(out, sizeof out, "inspect scenes/cornell.scene --size 32x32 --pixel 40,1");
     CHECKF(status == 2 && strstr(out, "outside"), "exit %d: %s", status, out);
+}
+
+/* The --stats counters are well-formed JSON (restir_stats_write_json) with every failure
+ * reason as a key. */
+TEST(restir_stats_json_well_formed)
+{
+    scene s;
+    restir_options o;
+    restir_result r;
+    rerror e;
+    json_reader jr;
+    const char *path = test_tmp_path("restir-stats.json");
+    FILE *f;
+    if (rt_load_scene("scenes/cornell.scene", 8, &s)) return;
+    restir_options_default(&o);
+    o.spatial_passes = 1;
+    if (render(&s, &o, &r)) return;
+    f = fopen(path, "w");
+    CHECK(f != NULL);
+    restir_stats_write_json(f, &r.stats, "");
+    fputc('\n', f);
+    fclose(f);
+    CHECKF(json_reader_open(&jr, path, &e) == 0, "%s", e.msg);
+    CHECKF(json_skip_value(&jr) == 0 && json_expect_end(&jr) == 0, "%s", e.msg);
+    CHECK(strstr(jr.text, "\"rc_prev\"") && strstr(jr.text, "\"shift_outcomes\"") && strstr(jr.text, "\"nonfinite\""));
+    json_reader_close(&jr);
+    restir_result_free(&r);
+    scene_free(&s);
 }
