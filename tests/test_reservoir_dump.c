@@ -45,6 +45,7 @@ static void random_path_sample(path_sample *s, uint32_t index, int with_pss)
         s->rc_geom = dump_urand(key, &n) / 3;
         s->rc_pdf = s->rc_k == d ? 1 : 4 * dump_urand(key, &n);
         s->rc_radiance = rgb_make(dump_urand(key, &n), 2 * dump_urand(key, &n), 0);
+        s->rc_flags = dump_urand(key, &n) < 0.3 ? PATH_RC_FLAG_UNSHIFTABLE : 0;
     }
     s->light_pdf = dump_urand(key, &n);
     path_sample_set_contribution(s, rgb_make(dump_urand(key, &n), dump_urand(key, &n) / 7, 3));
@@ -105,6 +106,9 @@ TEST(path_sample_invariants)
     bad = s; bad.rc_wo = v3(0, 0, 0); CHECK(path_sample_check(&bad, "omega_k", &e) != 0);
     bad = s; bad.rc_pdf = -1; CHECK(path_sample_check(&bad, "pdf", &e) != 0);
     bad = s; bad.F.g = (real)NAN; CHECK(path_sample_check(&bad, "F", &e) != 0);
+    bad = s; bad.rc_flags = 0x2; CHECK(path_sample_check(&bad, "unknown rc flag", &e) != 0);
+    bad = s; bad.rc_k = PATH_RC_NONE; bad.rc_flags = PATH_RC_FLAG_UNSHIFTABLE;
+    CHECK(path_sample_check(&bad, "rc flag without k", &e) != 0);
     bad = s; bad.n_pss = 2; bad.pss[1] = 1; CHECK(path_sample_check(&bad, "pss", &e) != 0);
     CHECKF(strstr(e.msg, "pss[1]") != NULL, "%s", e.msg);
 }
@@ -193,6 +197,7 @@ TEST(reservoir_dump_documented_offsets)
     r.y.rc_pdf = 13;
     r.y.rc_radiance = rgb_make(14, 15, 16);
     r.y.light_pdf = 17;
+    r.y.rc_flags = PATH_RC_FLAG_UNSHIFTABLE;
     path_sample_set_contribution(&r.y, rgb_make(18, 19, 20));
     r.y.seed = 0x01020304u;
     r.y.pixel = 77;
@@ -210,7 +215,7 @@ TEST(reservoir_dump_documented_offsets)
     CHECK(rec[48] == 0xFF && rec[49] == 1 && rec[53] == 0 && rec[54] == 0xFF && rec[63] == 0xFF);
     CHECK(le_u32(rec + 64) == 0xA1B2C3D4u && le_f32(rec + 72) == 0.125f);
     CHECK(le_f32(rec + 76) == 1 && le_f32(rec + 80) == 2 && le_f32(rec + 84) == 3);
-    CHECK(le_f32(rec + 96) == -1 && le_u32(rec + 100) == 0);
+    CHECK(le_f32(rec + 96) == -1 && le_u32(rec + 100) == PATH_RC_FLAG_UNSHIFTABLE);
     CHECK(le_f64(rec + 104) == 0 && le_f64(rec + 112) == 1 && le_f64(rec + 120) == 0);
     CHECK(le_f64(rec + 128) == 11 && le_f64(rec + 136) == 12 && le_f64(rec + 144) == 13);
     CHECK(le_f64(rec + 152) == 14 && le_f64(rec + 160) == 15 && le_f64(rec + 168) == 16);

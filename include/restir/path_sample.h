@@ -39,6 +39,11 @@
 #define PATH_LOBE_NONE 0xFFu /* no lobe: x0, x_d and beyond the path */
 #define PATH_LOBE_NEE 0xFEu  /* GRIS §7.6 ell_{d-1} = N: NEE-sampled last vertex */
 #define PATH_RC_NONE 0u      /* no reconnection vertex: a shift is pure random replay */
+/* rc_flags bit: the reconnection evaluated from the sample's OWN x_{k-1} failed (the
+ * segment x_{k-1} -> x_k fails the visibility test, or the reconnected contribution is
+ * zero), so no shift T_{j->i}(y) can produce this sample; for symmetry every shift of it
+ * fails too (docs/restir-pt.md, "Symmetric shift domains"). */
+#define PATH_RC_FLAG_UNSHIFTABLE 0x1u
 
 /* Technique of the last vertex x_d; the values are GRIS §7.6's n(ell) in {1, 2}. */
 enum path_technique {
@@ -59,6 +64,7 @@ typedef struct {
     uint8_t technique; /* enum path_technique */
     uint8_t rc_k;      /* reconnection index k in [2, d], or PATH_RC_NONE */
     uint8_t n_pss;     /* number of explicit primary-sample numbers in pss[] (0: none) */
+    uint8_t rc_flags;  /* PATH_RC_FLAG_* bits (0 unless rc_k != PATH_RC_NONE) */
     uint8_t lobe[PATH_MAX_LENGTH]; /* lobe[j] = ell_j for 1 <= j <= d-1, else PATH_LOBE_NONE */
 
     /* ---- the reconnection vertex x_k (meaningful iff rc_k != PATH_RC_NONE) */
@@ -67,16 +73,19 @@ typedef struct {
     vec3f rc_position;    /* x_k (float geometry, DESIGN §3) */
     vec3f rc_normal;      /* geometric normal at x_k (front face (v1-v0)x(v2-v0), unit) */
     vec3 rc_wo;           /* omega_k: unit direction x_k -> x_{k+1}; zero vector if k = d */
-    /* Source pdfs of the reconnection Jacobian (Enhanced Eq. 2 denominator): */
-    real rc_pdf_prev; /* p_{k-1}(omega_{k-1}): solid-angle pdf with which x_{k-1} sampled the
-                       * direction to x_k: the single-lobe pdf of ell_{k-1} (lobe selection
-                       * probability excluded), or the NEE solid-angle pdf if x_k = x_d is
-                       * an NEE-sampled light vertex */
+    /* Source pdfs of the reconnection Jacobian (Enhanced Eq. 2 denominator), evaluated
+     * from the vertex positions (omega_{k-1} = normalize(x_k - x_{k-1})) by the same code
+     * as every shift, so that a shift to the own pixel has J = 1 exactly: */
+    real rc_pdf_prev; /* p_{k-1}(omega_{k-1}): pdf with which x_{k-1} samples the direction
+                       * to x_k in the lobe-extended primary sample space: P(ell_{k-1}|wo)
+                       * pdf_{ell_{k-1}}(omega_{k-1}) (lobe selection INCLUDED; the number
+                       * that picks the lobe is a PSS dimension: docs/restir-pt.md), or the
+                       * NEE solid-angle pdf if x_k = x_d is an NEE-sampled light vertex */
     real rc_geom;     /* G(x_{k-1} -> x_k) = |n_g(x_k) . omega_{k-1}| / ||x_k - x_{k-1}||^2 */
-    real rc_pdf;      /* p_k(omega_k): single-lobe pdf of ell_k at x_k for omega_k given the
-                       * incoming direction from x_{k-1}; 1 when k = d (Enhanced Eq. 2) and
-                       * when omega_k is the NEE direction (k = d-1, NEE: the light pdf does
-                       * not depend on the incoming direction, so its ratio is 1) */
+    real rc_pdf;      /* p_k(omega_k) = P(ell_k|wo) pdf_{ell_k}(omega_k) at x_k with wo
+                       * towards x_{k-1}; 1 when k = d (Enhanced Eq. 2) and when omega_k is
+                       * the NEE direction (k = d-1, NEE: the light sample does not depend on
+                       * the incoming direction, so its PSS ratio is 1) */
     /* Suffix radiance L_k arriving at x_k along omega_k (leaving x_{k+1} towards x_k):
      *   k <= d-2:  (product of the PSS bounce weights at x_{k+1}..x_{d-1}) x Le x
      *              the final-vertex NEE/BSDF MIS weight (none of these depend on x_{k-1});

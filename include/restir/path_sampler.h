@@ -76,6 +76,11 @@ rgb path_vertex_emitted(const path_context *c, const path_vertex *v);
  * the same rule applies to sampled directions, so all strategies share one f. */
 rgb path_vertex_eval(const path_vertex *v, vec3 wi);
 real path_vertex_pdf(const path_vertex *v, vec3 wi);
+/* One lobe (GRIS §7.6, a BSDF-sampled vertex evaluates only its lobe): f_l|cos| and the
+ * pdf of sampling wi through this lobe INCLUDING the lobe selection, P(l|wo) pdf_l(wi),
+ * with the side rule of path_vertex_eval. Returns 1 if both are nonzero; 0 (and zeros)
+ * for a Dirac lobe, a lobe index the material lacks, P(l|wo) = 0, or f = 0. */
+int path_vertex_eval_lobe(const path_vertex *v, int lobe, vec3 wi, rgb *f_cos, real *pdf);
 
 /* The light pdf used by the estimator: light_pdf_solid_angle, times 1.05 under the
  * light-pdf ablation. Solid angle at x; y on triangle tri with normal ny. */
@@ -109,6 +114,10 @@ typedef struct {
 
 /* Returns 1 and fills *out, or 0 if the BSDF produced no valid direction. */
 int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index, bsdf_bounce *out);
+/* The same step from explicit numbers (u_lobe picks the lobe, u the direction): random
+ * replay and primary-sample-space mutations supply their own numbers. vertex_sample_bsdf
+ * is this function with the RNG_BSDF numbers of the path, so both agree bit for bit. */
+int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out);
 
 /* ---- MIS (GRIS Eq. 49, balance heuristic) ---- */
 /* p_this / (p_this + p_other); 0 if both are 0. */

@@ -54,6 +54,21 @@ real path_vertex_pdf(const path_vertex *v, vec3 wi)
     return bsdf_pdf(&v->b, v->wo_local, wl);
 }
 
+int path_vertex_eval_lobe(const path_vertex *v, int lobe, vec3 wi, rgb *f_cos, real *pdf)
+{
+    real p[BSDF_MAX_LOBES];
+    vec3 wl = shading_frame_to_local(&v->frame, wi);
+    *f_cos = rgb_gray(0);
+    *pdf = 0;
+    if (lobe < 0 || lobe >= bsdf_lobe_count(&v->b) || bsdf_lobe_is_delta(&v->b, lobe)) return 0;
+    bsdf_lobe_probabilities(&v->b, v->wo_local, p);
+    if (!(p[lobe] > 0) || !sides_consistent(v, wi, wl)) return 0;
+    /* The same f and pdf as a sample of this direction (bsdf.c finish_sample). */
+    *f_cos = bsdf_lobe_eval(&v->b, lobe, v->wo_local, wl);
+    *pdf = p[lobe] * bsdf_lobe_pdf(&v->b, lobe, v->wo_local, wl);
+    return *pdf > 0 && !rgb_is_black(*f_cos);
+}
+
 real path_light_pdf(const path_context *c, uint32_t tri, vec3 x, vec3 y, vec3 ny)
 {
     real p = light_pdf_solid_angle(c->lights, tri, x, y, ny);
@@ -90,9 +105,14 @@ int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key pat
 
 int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index, bsdf_bounce *out)
 {
-    bsdf_sample_record s;
     real u_lobe = rng_u(path, RNG_BSDF, vertex_index, 0);
     vec2 u = v2(rng_u(path, RNG_BSDF, vertex_index, 1), rng_u(path, RNG_BSDF, vertex_index, 2));
+    return vertex_sample_bsdf_numbers(v, u_lobe, u, out);
+}
+
+int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out)
+{
+    bsdf_sample_record s;
     if (!bsdf_sample(&v->b, v->wo_local, u_lobe, u, &s)) return 0;
     out->wi = shading_frame_to_world(&v->frame, s.wi);
     if (!sides_consistent(v, out->wi, s.wi)) return 0;

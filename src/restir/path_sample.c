@@ -68,7 +68,12 @@ static int check_lobes(const path_sample *s, const char *what, rerror *e)
 static int check_reconnection(const path_sample *s, const char *what, rerror *e)
 {
     int k = s->rc_k, d = s->length;
-    if (k == PATH_RC_NONE) return 0;
+    if (k == PATH_RC_NONE) {
+        if (s->rc_flags) return rerror_set(e, "%s: rc_flags = %u without a reconnection vertex", what, s->rc_flags);
+        return 0;
+    }
+    if (s->rc_flags & ~PATH_RC_FLAG_UNSHIFTABLE)
+        return rerror_set(e, "%s: unknown rc_flags bits 0x%X", what, s->rc_flags & ~PATH_RC_FLAG_UNSHIFTABLE);
     if (k < 2 || k > d) return rerror_set(e, "%s: reconnection index k = %d outside [2, d = %d]", what, k, d);
     if (!isfinite(s->rc_bary[0]) || !isfinite(s->rc_bary[1]) || !isfinite(s->rc_position.x) ||
         !isfinite(s->rc_position.y) || !isfinite(s->rc_position.z))

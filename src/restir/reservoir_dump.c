@@ -137,7 +137,7 @@ void reservoir_record_encode(const reservoir *r, uint32_t flags, unsigned char *
     put_f32(&p, s->rc_bary[1]);
     put_vec3f(&p, s->rc_position);
     put_vec3f(&p, s->rc_normal);
-    put_u32(&p, 0);
+    put_u32(&p, s->rc_flags);
     put_vec3(&p, s->rc_wo);
     put_f64(&p, s->rc_pdf_prev);
     put_f64(&p, s->rc_geom);
@@ -174,7 +174,11 @@ void reservoir_record_decode(const unsigned char *buf, uint32_t flags, reservoir
     s->rc_bary[1] = get_f32(&p);
     s->rc_position = get_vec3f(&p);
     s->rc_normal = get_vec3f(&p);
-    (void)get_u32(&p);
+    {
+        uint32_t flags_word = get_u32(&p);
+        /* Out-of-range words keep unknown bits, so path_sample_check rejects them. */
+        s->rc_flags = (uint8_t)(flags_word > 0xFFu ? 0xFFu : flags_word);
+    }
     s->rc_wo = get_vec3(&p);
     s->rc_pdf_prev = get_f64(&p);
     s->rc_geom = get_f64(&p);

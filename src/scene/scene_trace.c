@@ -92,6 +92,28 @@ int scene_intersect(const scene *s, const ray *r, surface_hit *h)
     return 1;
 }
 
+int scene_surface_point(const scene *s, uint32_t tri, float b1, float b2, surface_hit *h)
+{
+    const triangle *t;
+    vec3f a, b, c;
+    if (tri >= s->triangle_count) return 0;
+    t = &s->triangles[tri];
+    a = s->positions[t->v[0]];
+    b = s->positions[t->v[1]];
+    c = s->positions[t->v[2]];
+    /* Exactly the arithmetic of scene_intersect, so a stored hit is rebuilt bit for bit. */
+    h->position = v3f_add(v3f_add(v3f_scale(a, 1.0f - b1 - b2), v3f_scale(b, b1)), v3f_scale(c, b2));
+    h->ng = face_normal(a, b, c);
+    h->ns = shading_normal(s, t, b1, b2, h->ng);
+    h->t = 0;
+    h->b1 = b1;
+    h->b2 = b2;
+    h->triangle = tri;
+    h->material = t->material;
+    h->object = t->object;
+    return 1;
+}
+
 static float max_abs(vec3f v) { return fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fmaxf(fabsf(v.z), 0.0f))); }
 
 /* The normal n of the surface at p, turned to the side where `toward` lies. When

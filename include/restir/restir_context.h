@@ -1,0 +1,81 @@
+/* The shared vocabulary of ReSTIR PT's path reuse (docs/restir-pt.md): which shift
+ * mapping is used, why a shift fails, the reconnection criterion's parameters, the
+ * deliberately broken variants, and the context every pass and shift reads.
+ *
+ * Path indexing follows GRIS §7.1 (path_sample.h): x0 camera, x1 primary hit, ..., x_d
+ * the emitter vertex; k is the reconnection index (x_k is copied by a reconnection). */
+#ifndef RESTIR_RESTIR_CONTEXT_H
+#define RESTIR_RESTIR_CONTEXT_H
+
+#include "restir/path_sampler.h"
+
+/* The shift mappings of GRIS §7.4 (Enhanced §2.3). The shift also decides which
+ * reconnection index a sample stores (connectability.h, rc_select). */
+enum restir_shift {
+    RESTIR_SHIFT_RECONNECTION = 0, /* y_2 = x_2 always (k = 2; ReSTIR GI made unbiased) */
+    RESTIR_SHIFT_REPLAY = 1,       /* random replay of every number from y_1 (no k) */
+    RESTIR_SHIFT_HYBRID = 2        /* replay up to y_{k-1}, reconnect to x_k (GRIS §7.4-7.6) */
+};
+#define RESTIR_SHIFT_COUNT 3
+
+/* Why a shift T(x) produced no offset path. Every value is counted in --stats so users
+ * can see why reuse fails (docs/restir-pt.md, "Failure reasons"). */
+enum shift_failure {
+    SHIFT_OK = 0,
+    SHIFT_FAIL_EMPTY,           /* the base reservoir holds no sample */
+    SHIFT_FAIL_NO_PRIMARY,      /* the destination pixel has no primary hit */
+    SHIFT_FAIL_UNSHIFTABLE,     /* the base's own reconnection fails (PATH_RC_FLAG_UNSHIFTABLE) */
+    SHIFT_FAIL_REPLAY_SAMPLE,   /* a replayed BSDF sample produced no direction */
+    SHIFT_FAIL_REPLAY_ZERO,     /* a replayed bounce has zero throughput */
+    SHIFT_FAIL_REPLAY_MISS,     /* a replayed ray left the scene */
+    SHIFT_FAIL_REPLAY_NO_LIGHT, /* the replayed last vertex is no (front-facing) emitter */
+    SHIFT_FAIL_NEE,             /* the replayed light sample is occluded or contributes 0 */
+    SHIFT_FAIL_RC_EARLIER,      /* invertibility: an earlier offset vertex pair is connectable */
+    SHIFT_FAIL_RC_PREV,         /* invertibility: y_{k-1} itself would be the reconnection vertex */
+    SHIFT_FAIL_RC_ROUGHNESS,    /* y_{k-1} is not rough for the base's lobe ell_{k-1} */
+    SHIFT_FAIL_RC_DISTANCE,     /* ||x_k - y_{k-1}|| < d_min (distance condition, GRIS §7.5) */
+    SHIFT_FAIL_RC_OFFSET_RECONNECTS, /* no k in the base, but the offset path would have one */
+    SHIFT_FAIL_DELTA_LOBE,      /* a Dirac lobe at x_{k-1} or x_k: reconnection impossible */
+    SHIFT_FAIL_LOBE_UNAVAILABLE,/* y_{k-1} cannot sample the base lobe (P(ell|wo) = 0, no such lobe) */
+    SHIFT_FAIL_OCCLUDED,        /* the reconnection segment y_{k-1} -> x_k is blocked */
+    SHIFT_FAIL_BSDF_ZERO,       /* the BSDF at y_{k-1} or x_k is 0 for the reconnected directions
+                                   (e.g. x_k below y_{k-1}'s surface, or w_k and the new incoming
+                                   direction on opposite sides of a reflecting x_k) */
+    SHIFT_FAIL_ZERO,            /* F(y) = 0 otherwise: G = 0 (grazing), no emission towards y_{d-1} */
+    SHIFT_FAIL_NONFINITE,       /* F(y) or the Jacobian is not finite */
+    SHIFT_FAILURE_COUNT
+};
+
+/* Deliberately broken variants (`--ablate NAME`, DESIGN §5): the merge test must
+ * reject each of them. */
+enum restir_ablation {
+    RESTIR_ABLATE_NONE = 0,
+    RESTIR_ABLATE_JACOBIAN = 1, /* "jacobian": |dT/dx| taken as 1 in resampling weights and MIS */
+    RESTIR_ABLATE_LIGHT_PDF = 2 /* "light-pdf": after a shift that moves x_{d-1} (reconnection
+                                   at k = d), the light pdf of the last vertex is not recomputed:
+                                   the base path's stale value enters the NEE estimate and the
+                                   NEE/BSDF MIS weight (notes pitfall 6) */
+};
+#define RESTIR_ABLATION_COUNT 3
+
+/* Reconnection criterion (GRIS §7.4-7.5, §8.3; Enhanced §2.3): x_{k-1} and x_k must be
+ * rough for their lobes and ||x_k - x_{k-1}|| >= min_distance. */
+typedef struct {
+    real roughness_threshold; /* on the lobe's linear roughness (GRIS §8.3: 0.2) */
+    real min_distance;        /* d_min in scene units */
+} rc_criterion;
+
+typedef struct {
+    path_context path; /* scene, lights, MIS: the reference path tracer's per-vertex steps */
+    int shift;         /* enum restir_shift */
+    rc_criterion rc;
+    int ablation;      /* enum restir_ablation */
+} restir_context;
+
+/* NULL-terminated name tables (index = enum value): "reconnection", "replay", "hybrid";
+ * "none", "jacobian", "light-pdf"; and the failure reasons ("ok", "empty", ...). */
+extern const char *const restir_shift_names[];
+extern const char *const restir_ablation_names[];
+extern const char *const shift_failure_names[];
+
+#endif

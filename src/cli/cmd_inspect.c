@@ -1,0 +1,65 @@
+/* restir inspect SCENE --pixel x,y [--neighbor x,y] [restir options]: one pixel's
+ * selected path (vertices, lobes, k, technique, F, W) and its shift to a neighbour with
+ * the Jacobian's factors (docs/restir-pt.md "restir inspect"). */
+#include <stdio.h>
+#include <string.h>
+#include "args.h"
+#include "render_restir.h"
+#include "scene_args.h"
+
+static int parse_pixel(const char *text, int xy[2])
+{
+    char extra;
+    return text && sscanf(text, "%d,%d%c", &xy[0], &xy[1], &extra) == 2;
+}
+
+int cmd_inspect(int argc, char **argv)
+{
+    restir_options o;
+    scene_overrides overrides;
+    cli_option options[48];
+    const char *positional[1], *pixel = NULL, *neighbor = NULL;
+    int n, count, status, xy[2], nxy[2];
+    double load, prepare;
+    scene s;
+    rerror e;
+    restir_options_default(&o);
+    memset(&overrides, 0, sizeof overrides);
+    {
+        const cli_option rows[] = {
+            {"--pixel", OPT_STRING, &pixel, "pixel to inspect, x,y (row 0 at the top)", NULL, 0, 0, NULL},
+            {"--neighbor", OPT_STRING, &neighbor, "pixel to shift the selected path to (default x+1,y)", NULL, 0, 0,
+             NULL},
+            {"--seed", OPT_UINT32, &o.seed, "run seed of the addressed RNG (default 1)", NULL, 0, 0, NULL},
+            {"--jitter", OPT_FLAG, &o.jitter, "jittered primary rays", NULL, 0, 0, NULL},
+        };
+        for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
+    }
+    n += render_restir_options(options + n, &o);
+    n += scene_override_options(options + n, &overrides);
+    memset(&options[n], 0, sizeof options[n]);
+    status = cli_parse("inspect", argc, argv, options, positional, 1, &count);
+    if (status == 1) {
+        cli_print_help(stdout, "inspect", "SCENE --pixel x,y [options]", options);
+        return 0;
+    }
+    if (status) return status;
+    if (count != 1 || !parse_pixel(pixel, xy)) {
+        fprintf(stderr, "restir inspect: expected SCENE and --pixel x,y (see restir inspect --help)\n");
+        return 2;
+    }
+    nxy[0] = xy[0] + 1;
+    nxy[1] = xy[1];
+    if (neighbor && !parse_pixel(neighbor, nxy)) {
+        fprintf(stderr, "restir inspect: --neighbor expects x,y, not '%s'\n", neighbor);
+        return 2;
+    }
+    status = load_scene_for_command("inspect", positional[0], &overrides, &s, &load, &prepare);
+    if (status) return status;
+    if (restir_inspect(stdout, &s, &o, xy[0], xy[1], nxy[0], nxy[1], &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        status = 2;
+    }
+    scene_free(&s);
+    return status;
+}

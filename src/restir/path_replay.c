@@ -1,0 +1,124 @@
+/* Paths from their random numbers, vertex by vertex (include/restir/path_replay.h). */
+#include "restir/path_replay.h"
+
+void trunk_begin(path_trunk *t, const path_vertex *x1)
+{
+    t->n = 1;
+    t->v[1] = *x1;
+    t->beta[1] = rgb_gray(1);
+}
+
+void path_bsdf_numbers(const path_sample *s, int vertex, real u[3])
+{
+    rng_key key = path_sample_key(s);
+    int slot;
+    for (slot = 0; slot < PATH_PSS_PER_VERTEX; ++slot) {
+        int i = (vertex - 1) * PATH_PSS_PER_VERTEX + slot; /* path_sample.h: pss[i] layout */
+        u[slot] = i >= 0 && i < s->n_pss ? s->pss[i] : rng_u(key, RNG_BSDF, (uint32_t)vertex, (uint32_t)slot);
+    }
+}
+
+enum shift_failure trunk_sample(path_trunk *t, const real u[3])
+{
+    int n = t->n;
+    if (!vertex_sample_bsdf_numbers(&t->v[n], u[0], v2(u[1], u[2]), &t->b[n])) return SHIFT_FAIL_REPLAY_SAMPLE;
+    /* The same product, in the same order, as the reference path tracer's throughput. */
+    t->beta[n + 1] = rgb_mul(t->beta[n], t->b[n].weight);
+    return rgb_is_black(t->beta[n + 1]) ? SHIFT_FAIL_REPLAY_ZERO : SHIFT_OK;
+}
+
+enum shift_failure trunk_trace(path_trunk *t, const scene *s)
+{
+    const path_vertex *v = &t->v[t->n];
+    ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(t->b[t->n].wi));
+    surface_hit h;
+    if (!scene_intersect(s, &r, &h)) return SHIFT_FAIL_REPLAY_MISS;
+    path_vertex_make(&t->v[t->n + 1], s, &h, v3_from_f(r.dir));
+    t->n++;
+    return SHIFT_OK;
+}
+
+enum shift_failure trunk_replay(path_trunk *t, const restir_context *c, const path_vertex *x1, const path_sample *s,
+                                int n)
+{
+    enum shift_failure why;
+    trunk_begin(t, x1);
+    while (t->n < n) {
+        real u[3];
+        path_bsdf_numbers(s, t->n, u);
+        if ((why = trunk_sample(t, u)) != SHIFT_OK) return why;
+        if ((why = trunk_trace(t, c->path.scene)) != SHIFT_OK) return why;
+    }
+    return SHIFT_OK;
+}
+
+/* GRIS Eq. 49 for an NEE path: w_nee = p_light / (p_light + p_bsdf). */
+rgb nee_path_contribution(const path_context *c, rgb beta, const nee_sample *n)
+{
+    return rgb_mul(beta, rgb_scale(n->contribution, mis_weight_nee(c, n->pdf_light, n->pdf_bsdf)));
+}
+
+/* GRIS Eq. 49 for a BSDF path: w_bsdf = p_bsdf / (p_bsdf + p_light), with the all-lobe
+ * BSDF pdf and the NEE pdf of the hit point seen from `from`. */
+rgb emitter_path_contribution(const path_context *c, rgb beta_hit, const path_vertex *from, const path_vertex *hit,
+                              const bsdf_bounce *b, real *light_pdf)
+{
+    rgb le = path_vertex_emitted(c, hit);
+    *light_pdf = 0;
+    if (rgb_is_black(le)) return le;
+    if (!b->is_delta && c->strategy == PT_STRATEGY_MIS)
+        *light_pdf = path_light_pdf(c, hit->hit.triangle, from->position, hit->position, hit->ng);
+    return rgb_mul(beta_hit, rgb_scale(le, mis_weight_bsdf_hit(c, b, *light_pdf)));
+}
+
+enum shift_failure trunk_finish(path_trunk *t, const restir_context *c, const path_sample *s, path_end *end)
+{
+    int d = s->length;
+    enum shift_failure why;
+    if (s->technique == PATH_TECH_NEE) {
+        const path_vertex *v = &t->v[d - 1];
+        /* The path tracer draws NEE only where a non-Dirac lobe can receive it. */
+        if (!v->can_nee || !vertex_sample_light(&c->path, v, path_sample_key(s), (uint32_t)(d - 1), &end->nee))
+            return SHIFT_FAIL_NEE;
+        end->F = nee_path_contribution(&c->path, t->beta[d - 1], &end->nee);
+        end->light_pdf = end->nee.pdf_light;
+        return rgb_is_black(end->F) ? SHIFT_FAIL_NEE : SHIFT_OK;
+    } else {
+        real u[3];
+        path_bsdf_numbers(s, d - 1, u);
+        if ((why = trunk_sample(t, u)) != SHIFT_OK) return why;
+        if ((why = trunk_trace(t, c->path.scene)) != SHIFT_OK) return why;
+        end->F = emitter_path_contribution(&c->path, t->beta[d], &t->v[d - 1], &t->v[d], &t->b[d - 1],
+                                           &end->light_pdf);
+        return rgb_is_black(end->F) ? SHIFT_FAIL_REPLAY_NO_LIGHT : SHIFT_OK;
+    }
+}
+
+enum shift_failure path_replay(path_trunk *t, const restir_context *c, const path_vertex *x1, const path_sample *s,
+                               path_end *end)
+{
+    enum shift_failure why;
+    if (s->length < 2 || s->length > PATH_MAX_LENGTH) return SHIFT_FAIL_EMPTY;
+    if ((why = trunk_replay(t, c, x1, s, s->length - 1)) != SHIFT_OK) return why;
+    return trunk_finish(t, c, s, end);
+}
+
+void trunk_lobes(const path_trunk *t, int d, int technique, uint8_t lobe[PATH_MAX_LENGTH])
+{
+    int j;
+    for (j = 0; j < PATH_MAX_LENGTH; ++j) lobe[j] = PATH_LOBE_NONE;
+    for (j = 1; j < d; ++j) lobe[j] = (uint8_t)t->b[j].lobe;
+    if (technique == PATH_TECH_NEE) lobe[d - 1] = PATH_LOBE_NEE;
+}
+
+void trunk_rc_vertices(const path_trunk *t, const restir_context *c, const uint8_t lobe[PATH_MAX_LENGTH], int d,
+                       const path_end *end, int technique, rc_vertex v[PATH_MAX_LENGTH + 1])
+{
+    int j;
+    for (j = 1; j < d; ++j) {
+        v[j].position = t->v[j].position;
+        v[j].rough = rc_vertex_is_rough(&t->v[j].b, lobe[j], c->rc.roughness_threshold);
+    }
+    v[d].position = technique == PATH_TECH_NEE ? v3_from_f(end->nee.y.position) : t->v[d].position;
+    v[d].rough = rc_vertex_is_rough(NULL, PATH_LOBE_NONE, c->rc.roughness_threshold);
+}

@@ -1,0 +1,36 @@
+/* Helpers for the ReSTIR PT tests: scenes, K-run comparisons through the `restir check`
+ * library, and per-pixel primary vertices. */
+#ifndef RESTIR_TESTS_RESTIR_UTIL_H
+#define RESTIR_TESTS_RESTIR_UTIL_H
+
+#include "restir/check.h"
+#include "restir/pt.h"
+#include "restir/restir.h"
+#include "restir/shift.h"
+
+/* Loads and prepares a scene file, then sets the image size to res x res. 0 on success
+ * (a test failure is recorded otherwise). */
+int rt_load_scene(const char *path, int res, scene *s);
+
+/* One side of a comparison (block: the block edge of the per-block tests): K runs of restir_render with disjoint frame ranges
+ * [k * frames, (k+1) * frames), images as the runs. */
+int rt_restir_side(const scene *s, const restir_options *o, int runs, int block, check_side *side);
+/* K runs of the reference path tracer (disjoint sample ranges of spp each); with
+ * indirect_only the run image is PT(max_depth) - PT(2) of the same samples: exactly the
+ * paths of length >= 3. */
+int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int block,
+               check_side *side);
+/* check_compare at level alpha with block x block pixel blocks (the sides' block size);
+ * frees both sides. Returns 0 on success. */
+int rt_compare(check_side *a, check_side *b, double alpha, int block, check_result *r);
+/* The signed normal-equivalent z of the image-mean luminance test of r. */
+double rt_mean_z(const check_result *r);
+
+/* Builds the primary vertex x1 of pixel (x, y) (pixel centre, frame 0). 0 if the ray misses. */
+int rt_primary_vertex(const scene *s, int x, int y, path_vertex *v);
+
+/* A restir context for s (lights built by the caller) with the given shift, the default
+ * thresholds of restir_options_default otherwise. */
+void rt_context(restir_context *c, const scene *s, const light_set *lights, int shift);
+
+#endif

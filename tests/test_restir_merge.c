@@ -1,0 +1,185 @@
+/* Two-domain resampling (include/restir/merge.h): every pixel merged with one random
+ * neighbour, averaged over frames, is an unbiased estimator of the path tracer's image
+ * for every shift (K-run statistics of `restir check`), and the same comparison rejects
+ * the deliberately broken variants --ablate jacobian and --ablate light-pdf.
+ *
+ * Where the ablations show. Both bias a pixel towards what its NEIGHBOURS see, so they
+ * act like a blur of part of the image: the image mean barely moves (pixel pairs (c, n)
+ * and (n, c) cancel to first order) and the per-block tests must be local (4 x 4
+ * blocks). Dropping |dT/dx| biases pixel c by about E[J_{c->n}] - 1, the ratio of the
+ * neighbour's to its own incident (reconnectable) radiance minus one: large where
+ * indirect light changes fast, e.g. at the foot of a lit wall. A stale light pdf biases
+ * direct light by p_light(y_{d-1}) / p_light(x_{d-1}), large next to a small light
+ * close to a surface. The "spot" scene has both. */
+#include <stdlib.h>
+#include <string.h>
+#include "pt_util.h"
+#include "restir_util.h"
+#include "test.h"
+
+#define ALPHA 1e-3
+static int runs = 16; /* K runs per side (the TEST_LONG versions use more) */
+
+/* A glossy floor (GGX conductor, roughness 0.3) and a white back wall with a small quad
+ * light 8 cm above the floor: the light pdf of direct light changes by an order of
+ * magnitude across a few pixels, and the floor's glossy reflection of the lit wall
+ * changes sharply between neighbouring pixels (so E[J_{c->n}] is far from 1). */
+static int make_spot(scene *s, int res)
+{
+    uint32_t metal, white, light;
+    const float h = 0.08f, a = 0.15f;
+    if (test_scene_begin(s, 8, 3)) return -1;
+    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
+    test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.85, (real)0.8);
+    test_scene_last_material(s)->roughness = (real)0.3;
+    white = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.8, (real)0.8, (real)0.8), rgb_gray(0));
+    light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(4, (real)3.5, 3));
+    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), metal);        /* floor, +y */
+    test_scene_quad(s, v3f(-1, 0, 0.6f), v3f(0, 1, 0), v3f(2, 0, 0), white);      /* back wall, -z */
+    test_scene_quad(s, v3f(-a / 2, h, -a / 2), v3f(a, 0, 0), v3f(0, 0, a), light); /* faces -y */
+    test_scene_camera(s, v3(0, (real)1.2, (real)-0.9), v3(0, 0, (real)0.05), v3(0, 1, 0), 40, res);
+    return 0;
+}
+
+static int prepare(scene *s)
+{
+    rerror e;
+    if (scene_prepare(s, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
+    return 0;
+}
+
+typedef struct {
+    int shift, ablation, paths, max_depth, frames, block;
+    uint32_t pt_spp;
+    double radius;
+} merge_case;
+
+static void report(const char *what, const check_result *c)
+{
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
+                rt_mean_z(c), c->lum_a.mean, c->lum_b.mean, c->rejected, c->tests, c->worst.z);
+}
+
+/* The path tracer's side of the comparisons of one scene and case (K = 16 runs). */
+static int reference(const scene *s, const merge_case *m, check_side *pt)
+{
+    return rt_pt_side(s, test_seed() * 7919u + 3, runs, m->pt_spp, m->max_depth, m->paths == RESTIR_PATHS_INDIRECT,
+                      m->block, pt);
+}
+
+/* restir with one spatial pass (K = 16 runs of `frames` frames) against the reference. */
+static void expect(const scene *s, const char *name, const merge_case *m, const check_side *pt, int biased)
+{
+    restir_options o;
+    check_side a;
+    check_result c;
+    check_options opt;
+    rerror e;
+    char what[256];
+    int status;
+    restir_options_default(&o);
+    o.seed = test_seed() * 613u + 7u * (uint32_t)m->shift + 1;
+    o.shift = m->shift;
+    o.ablation = m->ablation;
+    o.paths = m->paths;
+    o.spatial_passes = 1;
+    o.neighbors = 1;
+    o.radius = m->radius;
+    o.frames = m->frames;
+    o.max_depth = m->max_depth;
+    o.threads = 2;
+    if (rt_restir_side(s, &o, runs, m->block, &a)) return;
+    check_options_default(&opt);
+    opt.alpha = ALPHA;
+    opt.block_size = m->block;
+    status = check_compare(&a, pt, &opt, &c, &e);
+    check_side_free(&a);
+    CHECKF(status == 0, "check_compare: %s", e.msg);
+    snprintf(what, sizeof what, "%s %s paths %s ablate %s", name, restir_shift_names[m->shift],
+             restir_paths_names[m->paths], restir_ablation_names[m->ablation]);
+    report(what, &c);
+    check_result_free(&c);
+    if (biased)
+        CHECKF(c.different, "%s: the broken estimator was not detected (mean z %.2f, worst block z %.2f)", what,
+               rt_mean_z(&c), c.worst.z);
+    else
+        CHECKF(!c.different,
+               "%s: merged image differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks rejected, worst "
+               "z %.2f",
+               what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
+}
+
+static void every_shift_case(const scene *s, const char *path, merge_case m)
+{
+    check_side pt;
+    if (reference(s, &m, &pt)) return;
+    for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift) expect(s, path, &m, &pt, 0);
+    check_side_free(&pt);
+}
+
+/* All paths and indirect paths alone (GRIS's figures measure indirect light). */
+static void every_shift_at(const char *path, int res, int scale)
+{
+    scene s;
+    merge_case all = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 4, 4, 8, 64, 6};
+    merge_case indirect = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_INDIRECT, 4, 8, 8, 64, 6};
+    all.frames *= scale;
+    indirect.frames *= scale;
+    all.max_depth = indirect.max_depth = scale > 1 ? 6 : 4;
+    all.radius = indirect.radius = 6.0 * res / 16;
+    if (rt_load_scene(path, res, &s)) return;
+    every_shift_case(&s, path, all);
+    if (!test_has_failed()) every_shift_case(&s, path, indirect);
+    scene_free(&s);
+}
+
+static void every_shift(const char *path) { every_shift_at(path, 16, 1); }
+
+TEST(restir_merge_unbiased_every_shift_cornell) { every_shift("scenes/cornell.scene"); }
+TEST(restir_merge_unbiased_every_shift_cornell_glossy) { every_shift("scenes/cornell-glossy.scene"); }
+
+/* 32 x 32, paths up to d = 6, 32 runs of 16 (all) or 32 (indirect) frames. */
+TEST_LONG(restir_merge_unbiased_every_shift_long)
+{
+    runs = 32;
+    every_shift_at("scenes/cornell.scene", 32, 4);
+    if (!test_has_failed()) every_shift_at("scenes/cornell-glossy.scene", 32, 4);
+    runs = 16;
+}
+
+/* The spot scene: every shift unbiased, and both ablations rejected by the very same
+ * comparison (4 x 4 blocks: the biases are local). */
+static void spot_case(int res, int scale)
+{
+    scene s;
+    check_side pt;
+    merge_case m = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 3, 16, 4, 256, 4};
+    m.frames *= scale;
+    m.radius = 4.0 * res / 16;
+    if (make_spot(&s, res) || prepare(&s)) return;
+    if (reference(&s, &m, &pt)) return;
+    for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift) expect(&s, "spot", &m, &pt, 0);
+    for (m.shift = RESTIR_SHIFT_RECONNECTION; m.shift <= RESTIR_SHIFT_HYBRID && !test_has_failed(); m.shift += 2) {
+        m.ablation = RESTIR_ABLATE_JACOBIAN;
+        expect(&s, "spot", &m, &pt, 1);
+        m.ablation = RESTIR_ABLATE_LIGHT_PDF;
+        if (!test_has_failed()) expect(&s, "spot", &m, &pt, 1);
+        m.ablation = RESTIR_ABLATE_NONE;
+    }
+    check_side_free(&pt);
+    scene_free(&s);
+}
+
+TEST(restir_merge_spot_unbiased_and_ablations_rejected) { spot_case(16, 1); }
+
+/* 32 x 32, 32 runs of 32 frames. */
+TEST_LONG(restir_merge_spot_long)
+{
+    runs = 32;
+    spot_case(32, 2);
+    runs = 16;
+}
