@@ -12,10 +12,11 @@
 #include "restir/progress.h"
 #include "restir/threads.h"
 #include "render_pt.h"
+#include "render_restir.h"
 #include "scene_args.h"
 
-enum render_method { METHOD_AOV, METHOD_PT };
-static const char *const method_names[] = {"aov", "pt", NULL};
+enum render_method { METHOD_AOV, METHOD_PT, METHOD_RESTIR };
+static const char *const method_names[] = {"aov", "pt", "restir", NULL};
 static const char *const aov_choices[] = {"normal", "albedo", "depth", "object", NULL};
 
 typedef struct {
@@ -23,6 +24,10 @@ typedef struct {
     const char *output, *png, *stats;
     int no_png, quiet, jitter, threads, frame;
     int runs; /* --runs K: K independent renders -> mean, variance and count (restir check) */
+    /* Options every lighting method has, parsed once and handed to the method: */
+    int max_depth_given;
+    const char *ablate; /* --ablate NAME, checked against the method's own list */
+    restir_options restir;
     uint32_t seed;
     double exposure;
     scene_overrides overrides;
@@ -31,7 +36,9 @@ typedef struct {
 
 typedef struct {
     double load, prepare, render, write;
-    pt_result pt; /* counters of a --method pt render */
+    pt_result pt;        /* counters of a --method pt render */
+    restir_stats restir; /* counters of a --method restir render (shift failures by reason, ...) */
+    double restir_seconds;
 } render_timings;
 
 static int write_stats(const char *path, const render_args *a, const scene *s, const render_timings *t)
@@ -48,6 +55,11 @@ static int write_stats(const char *path, const render_args *a, const scene *s, c
             s->width, s->height, a->threads, a->seed, a->frame);
     if (a->method == METHOD_AOV) fprintf(f.fp, "  \"aov\": \"%s\",\n", aov_choices[a->aov]);
     if (a->method == METHOD_PT) render_pt_stats_json(f.fp, &a->pt, &t->pt);
+    if (a->method == METHOD_RESTIR) {
+        fprintf(f.fp, "  \"restir\": {\"seconds\": %.6f, \"stats\":\n", t->restir_seconds);
+        restir_stats_write_json(f.fp, &t->restir, "    ");
+        fprintf(f.fp, "  },\n");
+    }
     fprintf(f.fp, "  \"triangles\": %zu,\n", s->triangle_count);
     fprintf(f.fp, "  \"seconds\": {\"load\": %.6f, \"bvh\": %.6f, \"render\": %.6f, \"write\": %.6f}\n}\n", t->load,
             t->prepare, t->render, t->write);
@@ -73,6 +85,28 @@ static int render_aov_image(const render_args *a, const scene *s, image *img)
     return 0;
 }
 
+/* ReSTIR PT (docs/restir-pt.md): the render command's seed, jitter and threads go in. */
+static int render_restir_image(const render_args *a, const scene *s, uint32_t seed, image *img, render_timings *t)
+{
+    restir_options o = a->restir;
+    restir_result r;
+    rerror e;
+    o.seed = seed;
+    o.jitter = a->jitter;
+    o.threads = a->threads;
+    o.quiet = a->quiet;
+    if (restir_render(s, &o, &r, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    *img = r.mean;
+    r.mean.px = NULL;
+    t->restir = r.stats;
+    t->restir_seconds = r.seconds;
+    restir_result_free(&r);
+    return 0;
+}
+
 /* One image with the chosen method and seed. `progressive_pfm` is where the path
  * tracer rewrites its progressive output (NULL: nowhere). */
 static int render_one(const render_args *a, const scene *s, uint32_t seed, const char *progressive_pfm, image *img,
@@ -82,6 +116,7 @@ static int render_one(const render_args *a, const scene *s, uint32_t seed, const
     if (a->method == METHOD_PT)
         return render_pt_image(&a->pt, s, seed, a->threads, a->jitter, a->frame, a->quiet, progressive_pfm, img,
                                &t->pt);
+    if (a->method == METHOD_RESTIR) return render_restir_image(a, s, seed, img, t);
     if (image_alloc(img, s->width, s->height, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
@@ -160,17 +195,72 @@ static int render_and_write(const render_args *a, scene *s, render_timings *t)
     return status;
 }
 
+/* Appends the ReSTIR rows. --max-depth and --ablate exist for every lighting method: the
+ * path tracer's rows stay (with a `seen` flag for --max-depth), --ablate becomes one string
+ * row that apply_shared_options() checks against the chosen method's list. */
+static int add_restir_rows(cli_option *options, int n, render_args *a)
+{
+    cli_option rows[RENDER_RESTIR_OPTION_ROWS];
+    int i, j, count = render_restir_options(rows, &a->restir);
+    for (i = 0; i < n; ++i) {
+        if (!strcmp(options[i].name, "--max-depth")) {
+            options[i].seen = &a->max_depth_given;
+            options[i].help = "maximum path length d in segments (2 = direct light; pt: 1..255, restir: 2..16; default 10)";
+        }
+        if (!strcmp(options[i].name, "--ablate")) {
+            options[i].type = OPT_STRING;
+            options[i].dest = &a->ablate;
+            options[i].choices = NULL;
+            options[i].help = "a deliberately broken estimator: pt: light-pdf|mis-sum|mis-lobe, restir: jacobian|light-pdf";
+        }
+    }
+    for (j = 0; j < count; ++j) {
+        int duplicate = 0;
+        for (i = 0; i < n; ++i) duplicate |= !strcmp(options[i].name, rows[j].name);
+        if (!duplicate) options[n++] = rows[j];
+    }
+    return n;
+}
+
+static int ablation_index(const char *const *names, const char *name)
+{
+    int i;
+    for (i = 0; names[i]; ++i)
+        if (!strcmp(names[i], name)) return i;
+    return -1;
+}
+
+/* Hands the shared options to the chosen method. */
+static int apply_shared_options(render_args *a)
+{
+    if (a->method == METHOD_RESTIR && a->max_depth_given) {
+        if (a->pt.max_depth < 2 || a->pt.max_depth > PATH_MAX_LENGTH) {
+            fprintf(stderr, "restir render: --max-depth: restir needs 2..%d, got %d\n", PATH_MAX_LENGTH, a->pt.max_depth);
+            return 2;
+        }
+        a->restir.max_depth = a->pt.max_depth;
+    }
+    if (!a->ablate) return 0;
+    if (a->method == METHOD_PT && render_pt_set_ablation(&a->pt, a->ablate) == 0) return 0;
+    if (a->method == METHOD_RESTIR && (a->restir.ablation = ablation_index(restir_ablation_names, a->ablate)) >= 0)
+        return 0;
+    fprintf(stderr, "restir render: --ablate: '%s' is not an ablation of --method %s\n", a->ablate,
+            method_names[a->method]);
+    return 2;
+}
+
 int cmd_render(int argc, char **argv)
 {
     render_args a;
     render_timings t;
-    cli_option options[40];
+    cli_option options[64];
     const char *positional[1];
     int n = 0, count, status;
     scene s;
     memset(&a, 0, sizeof a);
     memset(&t, 0, sizeof t);
     render_pt_args_default(&a.pt);
+    restir_options_default(&a.restir);
     a.threads = threads_default();
     a.seed = 1;
     a.method = METHOD_PT;
@@ -196,6 +286,7 @@ int cmd_render(int argc, char **argv)
     }
     n += scene_override_options(options + n, &a.overrides);
     n += render_pt_options(options + n, &a.pt);
+    n = add_restir_rows(options, n, &a);
     memset(&options[n], 0, sizeof options[n]);
     status = cli_parse("render", argc, argv, options, positional, 1, &count);
     if (status == 1) {
@@ -208,6 +299,8 @@ int cmd_render(int argc, char **argv)
         return 2;
     }
     a.overrides.quiet = a.quiet;
+    status = apply_shared_options(&a);
+    if (status) return status;
     status = load_scene_for_command("render", positional[0], &a.overrides, &s, &t.load, &t.prepare);
     if (status) return status;
     if (a.method != METHOD_AOV && scene_emitter_count(&s) == 0) {

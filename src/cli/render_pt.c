@@ -9,6 +9,18 @@
 
 static const char *const ablate_choices[] = {"none", "light-pdf", "mis-sum", "mis-lobe", NULL};
 
+int render_pt_set_ablation(render_pt_args *a, const char *name)
+{
+    int i;
+    for (i = 0; ablate_choices[i]; ++i) {
+        if (!strcmp(ablate_choices[i], name)) {
+            a->ablate = i;
+            return 0;
+        }
+    }
+    return -1;
+}
+
 void render_pt_args_default(render_pt_args *a)
 {
     pt_options o;

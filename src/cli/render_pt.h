@@ -22,6 +22,8 @@ typedef struct {
 } render_pt_args;
 
 void render_pt_args_default(render_pt_args *a);
+/* Sets --ablate by name; -1 if NAME is not one of the path tracer's ablations. */
+int render_pt_set_ablation(render_pt_args *a, const char *name);
 /* Writes the PT option rows into rows[] (room for RENDER_PT_OPTION_ROWS); returns the count. */
 #define RENDER_PT_OPTION_ROWS 11
 int render_pt_options(cli_option *rows, render_pt_args *a);
