@@ -540,7 +540,7 @@ static long count_self_intersections(const scene *s, int is_cube, float scale, v
             vec3f d;
             v3_basis(n, &t, &bb);
             d = v3f_from(v3_add(v3_add(v3_scale(t, l.x), v3_scale(bb, l.y)), v3_scale(n, l.z)));
-            r = scene_spawn_ray(h.position, h.ng, d);
+            r = scene_spawn_ray(h.position, h.ng, d, v3f(0, 0, 0));
             (*rays)++;
             if (!scene_intersect(s, &r, &g)) continue;
             if (is_cube ? (g.ng.x == h.ng.x && g.ng.y == h.ng.y && g.ng.z == h.ng.z) : g.triangle == h.triangle) bad++;
@@ -626,7 +626,7 @@ static long floor_rehits(float scale, int literal, uint32_t tag, long *rays)
             vec3f d;
             v3_basis(nn, &t, &b);
             d = v3f_from(v3_add(v3_add(v3_scale(t, l.x), v3_scale(b, l.y)), v3_scale(nn, l.z)));
-            r = scene_spawn_ray(h.position, h.ng, d);
+            r = scene_spawn_ray(h.position, h.ng, d, v3f(0, 0, 0));
             if (literal) r.origin = offset_wachter_binder_literal(h.position, n);
             (*rays)++;
             bad += scene_intersect(&s, &r, &g);
@@ -812,7 +812,7 @@ TEST(scene_visible_symmetric)
             vec3f p = m.v[3 * tri + (size_t)corner], q = m.v[3 * tri + (size_t)(corner + 1) % 3];
             vec3f target = v3f_add(p, v3f_scale(v3f_sub(q, p), urand(102, (uint32_t)i, 2)));
             surface_hit b;
-            ray r = scene_spawn_ray(a->position, a->ng, v3f_sub(target, a->position));
+            ray r = scene_spawn_ray(a->position, a->ng, v3f_sub(target, a->position), v3f(0, 0, 0));
             int ab, ba;
             if (!scene_intersect(&box_only, &r, &b)) continue;
             ab = scene_visible(&s, a->position, a->ng, b.position, &b.ng);
@@ -869,7 +869,8 @@ static int room_answers(float scale, long count, room_answer *out)
         out[i].t = h.t;
         nn = v3_from_f(v3f_dot(h.ng, r.dir) > 0 ? v3f_scale(h.ng, -1.0f) : h.ng);
         v3_basis(nn, &t, &b);
-        r = scene_spawn_ray(h.position, h.ng, v3f_from(v3_add(v3_add(v3_scale(t, l.x), v3_scale(b, l.y)), v3_scale(nn, l.z))));
+        r = scene_spawn_ray(h.position, h.ng, v3f_from(v3_add(v3_add(v3_scale(t, l.x), v3_scale(b, l.y)), v3_scale(nn, l.z))),
+                            v3f_scale(r.dir, -1.0f));
         if (scene_intersect(&s, &r, &g)) {
             out[i].bounce_tri = g.triangle + 1;
             out[i].bounce_t = g.t;
@@ -965,7 +966,7 @@ TEST(scene_intersect_surface_data)
     CHECK(h.triangle == 1 && h.material == 5 && h.object == 6);
     CHECK(h.ng.z == -1 && h.ns.z == -1);
     /* The spawned ray leaves to the side it points to and hits triangle 0 next. */
-    r = scene_spawn_ray(h.position, h.ng, v3f(0, 0, -1));
+    r = scene_spawn_ray(h.position, h.ng, v3f(0, 0, -1), v3f(0, 0, 0));
     CHECK(r.tmin == 0 && isinf(r.tmax) && r.origin.z < 2);
     CHECK(scene_intersect(&s, &r, &h) && h.triangle == 0);
     /* The two triangles see each other; a point beyond triangle 0 is hidden. */
@@ -1126,4 +1127,46 @@ TEST_LONG(bvh_build_one_million)
            s.accel.depth, s.accel.sah_cost);
     CHECK(s.accel.prim_count == s.triangle_count);
     free_generated_scene(&s);
+}
+
+/* A point exactly on the concave edge of a floor (y = 0) and a wall (x = 0) that both
+ * face into the room: a ray leaving the floor towards the wall must hit the wall's front
+ * face, not pass through it, at every scale (scene_spawn_ray steps along the surface
+ * towards wo, then off it). The incoming direction wo comes from inside the room. */
+TEST(spawn_ray_concave_edge)
+{
+    static const float scales[] = {1e-3f, 1.0f, 1e3f, 1e4f};
+    int k, i;
+    for (k = 0; k < 4; ++k) {
+        float L = scales[k];
+        scene s;
+        rerror e;
+        vec3f pos[6];
+        triangle tris[2];
+        memset(&s, 0, sizeof s);
+        memset(tris, 0, sizeof tris);
+        /* floor: normal +y; wall: normal +x */
+        pos[0] = v3f(0, 0, -L); pos[1] = v3f(0, 0, L); pos[2] = v3f(L, 0, -L);
+        pos[3] = v3f(0, -L, -L); pos[4] = v3f(0, L, -L); pos[5] = v3f(0, 0, L);
+        tris[0].v[0] = 0; tris[0].v[1] = 1; tris[0].v[2] = 2;
+        tris[1].v[0] = 3; tris[1].v[1] = 4; tris[1].v[2] = 5;
+        for (i = 0; i < 2; ++i) tris[i].n[0] = tris[i].n[1] = tris[i].n[2] = -1;
+        s.positions = pos;
+        s.position_count = 6;
+        s.triangles = tris;
+        s.triangle_count = 2;
+        CHECKF(scene_prepare(&s, &e) == 0, "%s", e.msg);
+        CHECK(v3f_dot(v3f_normalize(v3f_cross(v3f_sub(pos[1], pos[0]), v3f_sub(pos[2], pos[0]))), v3f(0, 1, 0)) > 0.99f);
+        CHECK(v3f_dot(v3f_normalize(v3f_cross(v3f_sub(pos[4], pos[3]), v3f_sub(pos[5], pos[3]))), v3f(1, 0, 0)) > 0.99f);
+        for (i = 0; i < 64; ++i) {
+            float z = L * (-0.5f + (float)i / 64.0f);
+            vec3f p = v3f(0, 0, z), wo = v3f_normalize(v3f(0.6f, 0.7f, 0.1f));
+            vec3f dir = v3f_normalize(v3f(-0.8f, 0.5f, 0.3f * (float)(i % 3 - 1)));
+            ray r = scene_spawn_ray(p, v3f(0, 1, 0), dir, wo);
+            surface_hit h;
+            CHECKF(scene_intersect(&s, &r, &h) && h.triangle == 1, "scale %g, sample %d: the ray passed the wall", (double)L, i);
+            CHECK(v3f_dot(h.ng, dir) < 0); /* the front face */
+        }
+        bvh_free(&s.accel);
+    }
 }

@@ -87,13 +87,15 @@ static int phi(const fd_setup *f, const real *ux, real *uy)
     surface_hit h;
     if (trunk_sample(&t, ux) != SHIFT_OK || t.b[f->k - 1].lobe != lobe_prev) return 0;
     xprev = &t.v[f->k - 1];
-    origin = v3_from_f(scene_spawn_ray(xprev->hit.position, xprev->hit.ng, v3f_from(t.b[f->k - 1].wi)).origin);
+    origin = v3_from_f(
+        scene_spawn_ray(xprev->hit.position, xprev->hit.ng, v3f_from(t.b[f->k - 1].wi), v3f_from(xprev->wo)).origin);
     if (!hit_triangle_exactly(s, f->x->rc_triangle, origin, t.b[f->k - 1].wi, &xk)) return 0;
     /* x_k as the base path arrives at it (for the sampling at x_k). */
     scene_surface_point(s, f->x->rc_triangle, f->x->rc_bary[0], f->x->rc_bary[1], &h);
     path_vertex_make(&vk, s, &h, t.b[f->k - 1].wi);
     /* The offset's direction to x_k from its ray origin (as the path sampler would trace it). */
-    origin = v3_from_f(scene_spawn_ray(yprev->hit.position, yprev->hit.ng, v3f_sub(v3f_from(xk), yprev->hit.position))
+    origin = v3_from_f(scene_spawn_ray(yprev->hit.position, yprev->hit.ng, v3f_sub(v3f_from(xk), yprev->hit.position),
+                                       v3f_from(yprev->wo))
                            .origin);
     w = v3_normalize(v3_sub(xk, origin));
     uy[0] = map_lobe_number(xprev, yprev, lobe_prev, ux[0]);

@@ -279,13 +279,11 @@ TEST(pt_strategies_reject_ablations_glossy_box)
     scene_free(&s);
 }
 
-/* KNOWN FAILURE at the time of writing: with the symmetric camera, the pixel centres of
- * the image diagonals see points exactly on the floor/wall edges. NEE's shadow rays
- * (scene_visibility_ray) step off both surfaces of such a concave edge, but BSDF rays
- * (scene_spawn_ray: normal offset, tmin = 0) re-hit the adjacent wall, so BSDF-only is
- * darker than NEE and MIS on those pixels (z ~ 6-8 per pixel at 8192 spp; with --jitter
- * the effect has measure zero). The fix belongs to scene_spawn_ray (BVH module).
- * make_glossy_box keeps the fast tests off this degenerate camera position. */
+/* With the symmetric camera, the pixel centres of the image diagonals see points exactly
+ * on the floor/wall edges. NEE's shadow rays (scene_visibility_ray) step off both surfaces
+ * of such a concave edge; BSDF rays (scene_spawn_ray) must too, or BSDF-only comes out
+ * darker than NEE on those pixels (z ~ 6-9 at 8192 spp before scene_spawn_ray stepped
+ * along the surface towards wo; docs/path-tracer.md "Ray origins"). */
 TEST_LONG(pt_strategies_agree_on_exact_edges)
 {
     scene s;

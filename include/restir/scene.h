@@ -131,7 +131,10 @@ int scene_visible(const scene *s, vec3f from, vec3f ng_from, vec3f to, const vec
  * far end), the range shortened at each surface end by its offset distance, traced
  * from the lexicographically smaller end so that (a, b) and (b, a) give the same ray. */
 ray scene_visibility_ray(vec3f from, vec3f ng_from, vec3f to, const vec3f *ng_to);
-/* Ray leaving a surface point in direction dir (origin offset to the side dir points to). */
-ray scene_spawn_ray(vec3f p, vec3f ng, vec3f dir);
+/* Ray leaving a surface point in direction dir. The origin is moved a few ulps along the
+ * surface towards wo (the unit direction back to where the path came from; zero if none)
+ * and then off the surface to the side dir points to, so that a point on a concave edge
+ * leaves from the open side of both faces (scene_trace.c). */
+ray scene_spawn_ray(vec3f p, vec3f ng, vec3f dir, vec3f wo);
 
 #endif

@@ -117,7 +117,8 @@ static int make_hit_rays(const scene *s, const bench_rays_options *o, const ray_
         if (!scene_intersect(s, &primary->rays[i], &h)) continue;
         n = v3f_dot(h.ng, primary->rays[i].dir) > 0 ? v3f_scale(h.ng, -1.0f) : h.ng;
         secondary->rays[secondary->count++] =
-            scene_spawn_ray(h.position, h.ng, cosine_direction(n, v2(random_at(o, i, 2), random_at(o, i, 3))));
+            scene_spawn_ray(h.position, h.ng, cosine_direction(n, v2(random_at(o, i, 2), random_at(o, i, 3))),
+                            v3f_scale(primary->rays[i].dir, -1.0f));
         target = shadow_target(s, emitters, emitter_count, i, o, &target_n, &has_n);
         shadow->rays[shadow->count] = scene_visibility_ray(h.position, h.ng, target, has_n ? &target_n : NULL);
         shadow->count++;

@@ -117,7 +117,7 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
         if (!vertex_sample_bsdf(&v, key, (uint32_t)i, &b)) break;
         beta = rgb_mul(beta, b.weight);
         if (rgb_is_black(beta) || !roulette_survives(j, key, i, &beta)) break;
-        r = scene_spawn_ray(v.hit.position, v.hit.ng, v3f_from(b.wi));
+        r = scene_spawn_ray(v.hit.position, v.hit.ng, v3f_from(b.wi), v3f_from(v.wo));
         ++*rays;
         if (!scene_intersect(j->s, &r, &h)) break;
         path_vertex_make(&next, j->s, &h, v3_from_f(r.dir));

@@ -30,7 +30,7 @@ enum shift_failure trunk_sample(path_trunk *t, const real u[3])
 enum shift_failure trunk_trace(path_trunk *t, const scene *s)
 {
     const path_vertex *v = &t->v[t->n];
-    ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(t->b[t->n].wi));
+    ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(t->b[t->n].wi), v3f_from(v->wo));
     surface_hit h;
     if (!scene_intersect(s, &r, &h)) return SHIFT_FAIL_REPLAY_MISS;
     path_vertex_make(&t->v[t->n + 1], s, &h, v3_from_f(r.dir));

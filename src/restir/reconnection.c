@@ -123,7 +123,8 @@ static enum shift_failure suffix_at_xk(const restir_context *c, const path_verte
 static vec3 segment_origin(const path_vertex *prev, vec3f xk, unsigned lobe_prev)
 {
     if (lobe_prev == PATH_LOBE_NEE) return prev->position;
-    return v3_from_f(scene_spawn_ray(prev->hit.position, prev->hit.ng, v3f_sub(xk, prev->hit.position)).origin);
+    return v3_from_f(
+        scene_spawn_ray(prev->hit.position, prev->hit.ng, v3f_sub(xk, prev->hit.position), v3f_from(prev->wo)).origin);
 }
 
 /* Rebuilds x_k as the path sampler would see it arriving along w'_{k-1}. */

@@ -184,11 +184,17 @@ int scene_visible(const scene *s, vec3f from, vec3f ng_from, vec3f to, const vec
     return !bvh_occluded(&s->accel, &r);
 }
 
-ray scene_spawn_ray(vec3f p, vec3f ng, vec3f dir)
+ray scene_spawn_ray(vec3f p, vec3f ng, vec3f dir, vec3f wo)
 {
     ray r;
     vec3f n = v3f_dot(ng, dir) < 0 ? v3f_scale(ng, -1.0f) : ng;
-    r.origin = offset_ray_origin(p, n);
+    /* Step first along the surface towards where the path came from (the tangential part
+     * of wo), then off the surface. A hit on a concave edge lies on two faces at once; the
+     * normal offset leaves only one of them, and the origin may still sit on (or, by
+     * rounding, behind) the other face, so rays towards it would pass through it. The
+     * incoming segment crossed free space, so its side of the edge is the open side. */
+    vec3f tangent = v3f_sub(wo, v3f_scale(ng, v3f_dot(wo, ng)));
+    r.origin = offset_ray_origin(offset_ray_origin(p, tangent), n);
     r.dir = dir;
     r.tmin = 0;
     r.tmax = INFINITY;
