@@ -10,10 +10,11 @@
 #include "restir/gbuffer.h"
 #include "restir/progress.h"
 #include "restir/threads.h"
+#include "render_pt.h"
 #include "scene_args.h"
 
-enum render_method { METHOD_AOV };
-static const char *const method_names[] = {"aov", NULL};
+enum render_method { METHOD_AOV, METHOD_PT };
+static const char *const method_names[] = {"aov", "pt", NULL};
 static const char *const aov_choices[] = {"normal", "albedo", "depth", "object", NULL};
 
 typedef struct {
@@ -23,10 +24,12 @@ typedef struct {
     uint32_t seed;
     double exposure;
     scene_overrides overrides;
+    render_pt_args pt; /* --method pt (render_pt.h) */
 } render_args;
 
 typedef struct {
     double load, prepare, render, write;
+    pt_result pt; /* counters of a --method pt render */
 } render_timings;
 
 static int write_stats(const char *path, const render_args *a, const scene *s, const render_timings *t)
@@ -42,6 +45,7 @@ static int write_stats(const char *path, const render_args *a, const scene *s, c
     fprintf(f.fp, "  \"width\": %d,\n  \"height\": %d,\n  \"threads\": %d,\n  \"seed\": %u,\n  \"frame\": %d,\n",
             s->width, s->height, a->threads, a->seed, a->frame);
     if (a->method == METHOD_AOV) fprintf(f.fp, "  \"aov\": \"%s\",\n", aov_choices[a->aov]);
+    if (a->method == METHOD_PT) render_pt_stats_json(f.fp, &a->pt, &t->pt);
     fprintf(f.fp, "  \"triangles\": %zu,\n", s->triangle_count);
     fprintf(f.fp, "  \"seconds\": {\"load\": %.6f, \"bvh\": %.6f, \"render\": %.6f, \"write\": %.6f}\n}\n", t->load,
             t->prepare, t->render, t->write);
@@ -74,15 +78,20 @@ static int render_and_write(const render_args *a, scene *s, render_timings *t)
     char out[4096], png[4096];
     int status;
     double t0;
-    if (image_alloc(&img, s->width, s->height, &e)) {
-        fprintf(stderr, "%s\n", e.msg);
-        return 2;
-    }
-    t0 = now_seconds();
-    status = render_aov_image(a, s, &img);
-    t->render = now_seconds() - t0;
     if (a->output) snprintf(out, sizeof out, "%s", a->output);
     else default_output_path(out, sizeof out, s->path, "");
+    t0 = now_seconds();
+    if (a->method == METHOD_PT) {
+        status = render_pt_image(&a->pt, s, a->seed, a->threads, a->jitter, a->frame, a->quiet, out, &img, &t->pt);
+        if (status) return status;
+    } else {
+        if (image_alloc(&img, s->width, s->height, &e)) {
+            fprintf(stderr, "%s\n", e.msg);
+            return 2;
+        }
+        status = render_aov_image(a, s, &img);
+    }
+    t->render = now_seconds() - t0;
     if (a->no_png) png[0] = '\0';
     else if (a->png) snprintf(png, sizeof png, "%s", a->png);
     else preview_path(png, sizeof png, out);
@@ -97,12 +106,14 @@ static int render_and_write(const render_args *a, scene *s, render_timings *t)
 int cmd_render(int argc, char **argv)
 {
     render_args a;
-    render_timings t = {0, 0, 0, 0};
+    render_timings t;
     cli_option options[40];
     const char *positional[1];
     int n = 0, count, status;
     scene s;
     memset(&a, 0, sizeof a);
+    memset(&t, 0, sizeof t);
+    render_pt_args_default(&a.pt);
     a.threads = threads_default();
     a.seed = 1;
     a.method = METHOD_AOV;
@@ -126,6 +137,7 @@ int cmd_render(int argc, char **argv)
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
     }
     n += scene_override_options(options + n, &a.overrides);
+    n += render_pt_options(options + n, &a.pt);
     memset(&options[n], 0, sizeof options[n]);
     status = cli_parse("render", argc, argv, options, positional, 1, &count);
     if (status == 1) {

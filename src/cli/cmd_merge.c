@@ -1,0 +1,150 @@
+/* restir merge -o OUT.pfm INPUT... : combine independent path-tracer runs.
+ * Inputs are either checkpoints (--checkpoint files of runs over adjacent sample ranges of
+ * one seed: their double sums are added, the result equals one run over the union up to
+ * rounding) or mean images with --counts (the sample-count-weighted mean). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "args.h"
+#include "output.h"
+#include "restir/pt.h"
+
+#define MERGE_MAX_INPUTS 4096
+
+typedef struct {
+    const char *output, *png, *counts, *checkpoint_out;
+    int no_png, quiet;
+    double exposure;
+} merge_args;
+
+static int is_checkpoint(const char *path)
+{
+    char magic[8];
+    FILE *f = fopen(path, "rb");
+    size_t n;
+    if (!f) return 0;
+    n = fread(magic, 1, sizeof magic, f);
+    fclose(f);
+    return n == sizeof magic && !memcmp(magic, "RESTIRPT", 8);
+}
+
+/* "512,512,1024" -> counts[]; returns the number parsed or -1. */
+static int parse_counts(const char *text, double *counts, int max)
+{
+    int n = 0;
+    const char *p = text;
+    while (*p && n < max) {
+        char *end;
+        double v = strtod(p, &end);
+        if (end == p || !(v >= 0)) return -1;
+        counts[n++] = v;
+        if (*end == ',') end++;
+        else if (*end) return -1;
+        p = end;
+    }
+    return *p ? -1 : n;
+}
+
+static int cmp_offset(const void *a, const void *b)
+{
+    const pt_state *x = a, *y = b;
+    return x->sample_offset < y->sample_offset ? -1 : x->sample_offset > y->sample_offset;
+}
+
+static int merge_checkpoints(const merge_args *a, const char **inputs, int n, image *out)
+{
+    pt_state *st = calloc((size_t)n, sizeof *st);
+    rerror e;
+    int i, status = 0;
+    if (!st) return 2;
+    for (i = 0; i < n && !status; ++i)
+        if (pt_checkpoint_read(inputs[i], &st[i], &e)) status = 2;
+    if (!status) {
+        qsort(st, (size_t)n, sizeof *st, cmp_offset);
+        for (i = 1; i < n && !status; ++i)
+            if (pt_state_merge(&st[0], &st[i], &e)) status = 2;
+    }
+    if (!status && pt_state_mean(&st[0], out, &e)) status = 2;
+    if (!status && a->checkpoint_out && pt_checkpoint_write(a->checkpoint_out, &st[0], &e)) status = 2;
+    if (status) fprintf(stderr, "%s\n", e.msg);
+    else if (!a->quiet)
+        fprintf(stderr, "merged %d checkpoints: %u spp (samples %u..%llu)%s\n", n, st[0].spp, st[0].sample_offset,
+                (unsigned long long)st[0].sample_offset + st[0].spp - 1, st[0].nonfinite ? ", with NaN/Inf samples" : "");
+    for (i = 0; i < n; ++i) pt_state_free(&st[i]);
+    free(st);
+    return status;
+}
+
+static int merge_images(const merge_args *a, const char **inputs, int n, image *out)
+{
+    image *imgs = calloc((size_t)n, sizeof *imgs);
+    double *counts = calloc((size_t)n, sizeof *counts);
+    rerror e;
+    int i, loaded = 0, status = 0;
+    if (!imgs || !counts) status = 2;
+    if (!status && (!a->counts || parse_counts(a->counts, counts, n) != n)) {
+        fprintf(stderr, "restir merge: images need --counts with one sample count per input (e.g. --counts 512,512)\n");
+        status = 2;
+    }
+    for (i = 0; i < n && !status; ++i, ++loaded)
+        if (pfm_read(inputs[i], &imgs[i], NULL, &e)) {
+            fprintf(stderr, "%s\n", e.msg);
+            status = 2;
+        }
+    if (!status && pt_merge_means(imgs, counts, n, out, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        status = 2;
+    }
+    for (i = 0; i < loaded; ++i) image_free(&imgs[i]);
+    free(imgs);
+    free(counts);
+    return status;
+}
+
+int cmd_merge(int argc, char **argv)
+{
+    merge_args a;
+    const char **inputs = calloc(MERGE_MAX_INPUTS, sizeof *inputs);
+    image out;
+    char png[4096];
+    int count = 0, status, checkpoints = 0, i;
+    memset(&a, 0, sizeof a);
+    if (!inputs) return 2;
+    {
+        const cli_option options[] = {
+            {"-o", OPT_STRING, &a.output, "output PFM (required)", NULL, 0, 0, NULL},
+            {"--counts", OPT_STRING, &a.counts, "sample counts of image inputs, comma-separated (N,N,...)", NULL, 0, 0, NULL},
+            {"--checkpoint-out", OPT_STRING, &a.checkpoint_out, "also write the merged checkpoint (checkpoint inputs)", NULL, 0, 0, NULL},
+            {"--png", OPT_STRING, &a.png, "PNG preview path (default: the PFM path with .png)", NULL, 0, 0, NULL},
+            {"--no-png", OPT_FLAG, &a.no_png, "do not write the PNG preview", NULL, 0, 0, NULL},
+            {"--exposure", OPT_REAL, &a.exposure, "preview exposure in stops (default 0)", NULL, -64, 64, NULL},
+            {"--quiet", OPT_FLAG, &a.quiet, "no messages on stderr", NULL, 0, 0, NULL},
+            {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
+        };
+        status = cli_parse("merge", argc, argv, options, inputs, MERGE_MAX_INPUTS, &count);
+        if (status == 1) {
+            cli_print_help(stdout, "merge", "-o OUT.pfm RUN.ckpt... | -o OUT.pfm IMG.pfm... --counts N,N,...", options);
+            free(inputs);
+            return 0;
+        }
+    }
+    if (!status && (count < 1 || !a.output)) {
+        fprintf(stderr, "restir merge: expected -o OUT.pfm and at least one input (see restir merge --help)\n");
+        status = 2;
+    }
+    for (i = 0; i < count; ++i) checkpoints += is_checkpoint(inputs[i]);
+    if (!status && checkpoints != 0 && checkpoints != count) {
+        fprintf(stderr, "restir merge: inputs must be all checkpoints or all images\n");
+        status = 2;
+    }
+    if (!status) status = checkpoints ? merge_checkpoints(&a, inputs, count, &out) : merge_images(&a, inputs, count, &out);
+    if (!status) {
+        if (a.no_png) png[0] = '\0';
+        else if (a.png) snprintf(png, sizeof png, "%s", a.png);
+        else preview_path(png, sizeof png, a.output);
+        status = write_outputs(&out, a.output, png, a.exposure);
+        image_free(&out);
+    }
+    free(inputs);
+    return status;
+}

@@ -1,0 +1,40 @@
+/* The path tracer's part of `restir render --method pt`: its option rows and the call
+ * into the library (include/restir/pt.h), kept apart from cmd_render.c so the render
+ * command only has to add the rows and call render_pt_image(). */
+#ifndef RESTIR_CLI_RENDER_PT_H
+#define RESTIR_CLI_RENDER_PT_H
+
+#include "args.h"
+#include "restir/pt.h"
+
+typedef struct {
+    uint32_t spp;            /* --spp: target total samples per pixel */
+    double time_limit;       /* --time-limit SECONDS */
+    int max_depth;           /* --max-depth: max path length d (segments) */
+    int strategy;            /* --pt-strategy mis|nee|bsdf */
+    int ablate;              /* --ablate none|light-pdf|mis-sum|mis-lobe */
+    int rr;                  /* --rr */
+    uint32_t sample_offset;  /* --sample-offset */
+    const char *checkpoint;  /* --checkpoint FILE */
+    double checkpoint_every; /* --checkpoint-every SECONDS */
+    const char *resume;      /* --resume FILE */
+    int progressive;         /* --progressive N: rewrite the output image every N passes */
+} render_pt_args;
+
+void render_pt_args_default(render_pt_args *a);
+/* Writes the PT option rows into rows[] (room for RENDER_PT_OPTION_ROWS); returns the count. */
+#define RENDER_PT_OPTION_ROWS 11
+int render_pt_options(cli_option *rows, render_pt_args *a);
+
+/* Renders s with the path tracer. SIGINT/SIGTERM stop it between passes (the checkpoint, if
+ * any, is written; the image of the samples so far is returned). With a->progressive > 0
+ * the mean image is written to progressive_pfm every N passes. *img receives the mean image
+ * (caller frees), *result (may be NULL) the counters (its state holds no sums). Prints a summary
+ * line on stderr unless quiet. Returns 0, or 2 after printing the error. */
+int render_pt_image(const render_pt_args *a, const scene *s, uint32_t seed, int threads, int jitter, int frame,
+                    int quiet, const char *progressive_pfm, image *img, pt_result *result);
+
+/* JSON fields (no braces) describing a PT render, for the render command's --stats. */
+void render_pt_stats_json(FILE *out, const render_pt_args *a, const pt_result *r);
+
+#endif

@@ -1,0 +1,145 @@
+/* One vertex of unidirectional path sampling: NEE, one-lobe BSDF sampling, and the
+ * balance-heuristic MIS weights of GRIS Eq. 49 (include/restir/path_sampler.h). */
+#include "restir/path_sampler.h"
+
+void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir)
+{
+    real p[BSDF_MAX_LOBES];
+    int l, n;
+    v->hit = *h;
+    v->position = v3_from_f(h->position);
+    v->ng = v3_from_f(h->ng);
+    v->ns = v3_from_f(h->ns);
+    v->wo = v3_neg(ray_dir);
+    v->frame = shading_frame_make(v->ns);
+    v->wo_local = shading_frame_to_local(&v->frame, v->wo);
+    v->b = bsdf_from_material(&s->materials[h->material]);
+    /* NEE can only reach the non-Dirac lobes; skip it where there are none. */
+    bsdf_lobe_probabilities(&v->b, v->wo_local, p);
+    n = bsdf_lobe_count(&v->b);
+    v->can_nee = 0;
+    for (l = 0; l < n; ++l)
+        if (p[l] > 0 && !bsdf_lobe_is_delta(&v->b, l)) v->can_nee = 1;
+}
+
+rgb path_vertex_emitted(const path_context *c, const path_vertex *v)
+{
+    uint32_t tri = v->hit.triangle;
+    /* Only triangles in the light set emit, so that what BSDF sampling can hit is exactly
+     * what NEE can sample (lights_build drops zero-area emitters). */
+    if (tri >= c->lights->triangle_count || c->lights->light_of_triangle[tri] == LIGHT_NONE) return rgb_gray(0);
+    return light_emitted(c->lights->lights[c->lights->light_of_triangle[tri]].emission, v->ng, v->wo);
+}
+
+/* Shading normals may disagree with the true surface about which side a direction is
+ * on. Reflection must stay on wo's geometric side and transmission cross it; where the
+ * shading frame says otherwise, f is taken as 0 (for NEE and BSDF sampling alike). */
+static int sides_consistent(const path_vertex *v, vec3 wi, vec3 wi_local)
+{
+    real go = v3_dot(v->wo, v->ng), gi = v3_dot(wi, v->ng);
+    if (go == 0 || gi == 0) return 0;
+    return (go * gi > 0) == (v->wo_local.z * wi_local.z > 0);
+}
+
+rgb path_vertex_eval(const path_vertex *v, vec3 wi)
+{
+    vec3 wl = shading_frame_to_local(&v->frame, wi);
+    if (!sides_consistent(v, wi, wl)) return rgb_gray(0);
+    return bsdf_eval(&v->b, v->wo_local, wl);
+}
+
+real path_vertex_pdf(const path_vertex *v, vec3 wi)
+{
+    vec3 wl = shading_frame_to_local(&v->frame, wi);
+    return bsdf_pdf(&v->b, v->wo_local, wl);
+}
+
+real path_light_pdf(const path_context *c, uint32_t tri, vec3 x, vec3 y, vec3 ny)
+{
+    real p = light_pdf_solid_angle(c->lights, tri, x, y, ny);
+    return (c->ablations & PT_ABLATE_LIGHT_PDF) ? p * (real)1.05 : p;
+}
+
+int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+                        nee_sample *out)
+{
+    real u[4];
+    vec3 y, d;
+    real dist;
+    int k;
+    out->contribution = rgb_gray(0);
+    out->shadow_ray = 0;
+    for (k = 0; k < 4; ++k) u[k] = rng_u(path, RNG_NEE, vertex_index, (uint32_t)k);
+    if (!light_sample_point(c->lights, u, &out->y)) return 0;
+    y = v3_from_f(out->y.position);
+    d = v3_sub(y, v->position);
+    dist = v3_length(d);
+    if (!(dist > 0)) return 0;
+    out->wi = v3_scale(d, 1 / dist);
+    out->emitted = light_emitted(out->y.emission, v3_from_f(out->y.normal), v3_neg(out->wi));
+    out->pdf_light = path_light_pdf(c, out->y.triangle, v->position, y, v3_from_f(out->y.normal));
+    out->f_cos = path_vertex_eval(v, out->wi);
+    out->pdf_bsdf = path_vertex_pdf(v, out->wi);
+    if (rgb_is_black(out->emitted) || rgb_is_black(out->f_cos) || !(out->pdf_light > 0)) return 0;
+    out->shadow_ray = 1;
+    if (!scene_visible(c->scene, v->hit.position, v->hit.ng, out->y.position, &out->y.normal)) return 0;
+    /* Solid-angle form of the NEE estimator: f|cos| Le / p_light(ω). */
+    out->contribution = rgb_scale(rgb_mul(out->f_cos, out->emitted), 1 / out->pdf_light);
+    return 1;
+}
+
+int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index, bsdf_bounce *out)
+{
+    bsdf_sample_record s;
+    real u_lobe = rng_u(path, RNG_BSDF, vertex_index, 0);
+    vec2 u = v2(rng_u(path, RNG_BSDF, vertex_index, 1), rng_u(path, RNG_BSDF, vertex_index, 2));
+    if (!bsdf_sample(&v->b, v->wo_local, u_lobe, u, &s)) return 0;
+    out->wi = shading_frame_to_world(&v->frame, s.wi);
+    if (!sides_consistent(v, out->wi, s.wi)) return 0;
+    out->lobe = s.lobe;
+    out->is_delta = s.is_delta;
+    out->weight = s.weight;
+    out->pdf_lobe = s.lobe_prob * s.pdf;
+    /* GRIS §7.6: the MIS weight of a BSDF-sampled path uses the pdf summed over all lobes. */
+    out->pdf_all = s.is_delta ? 0 : bsdf_pdf(&v->b, v->wo_local, s.wi);
+    return 1;
+}
+
+/* GRIS Eq. 49: omega_n = p_n / (p_1 + p_2) (balance heuristic, Veach 1997 Eq. 9.4). */
+real mis_balance(real p_this, real p_other)
+{
+    real sum = p_this + p_other;
+    return sum > 0 ? p_this / sum : 0;
+}
+
+/* The power heuristic (Veach 1997 Eq. 9.5, beta = 2): used only by the mis-sum ablation. */
+static real mis_power2(real p_this, real p_other)
+{
+    real a = p_this * p_this, b = p_other * p_other;
+    return a + b > 0 ? a / (a + b) : 0;
+}
+
+real mis_weight_nee(const path_context *c, real p_light, real p_bsdf)
+{
+    switch (c->strategy) {
+    case PT_STRATEGY_NEE: return 1;
+    case PT_STRATEGY_BSDF: return 0;
+    default: return mis_balance(p_light, p_bsdf);
+    }
+}
+
+real mis_weight_bsdf_hit(const path_context *c, const bsdf_bounce *b, real p_light)
+{
+    real p_bsdf;
+    /* NEE cannot produce a direction through a Dirac lobe: BSDF sampling is the only
+     * technique for this path, in every strategy. */
+    if (b->is_delta) return 1;
+    switch (c->strategy) {
+    case PT_STRATEGY_NEE: return 0;
+    case PT_STRATEGY_BSDF: return 1;
+    default: break;
+    }
+    p_bsdf = (c->ablations & PT_ABLATE_MIS_LOBE) ? b->pdf_lobe : b->pdf_all;
+    if (c->ablations & PT_ABLATE_MIS_SUM) return mis_power2(p_bsdf, p_light);
+    return mis_balance(p_bsdf, p_light);
+}

@@ -1,0 +1,175 @@
+/* Test helpers (tests/pt_util.h). */
+#include "pt_util.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Regularised lower incomplete gamma P(a, x) by its power series, for x < a + 1. */
+static double gamma_p_series(double a, double x)
+{
+    double term = 1.0 / a, sum = term, n;
+    for (n = 1; n < 1000; ++n) {
+        term *= x / (a + n);
+        sum += term;
+        if (fabs(term) < fabs(sum) * 1e-15) break;
+    }
+    return sum * exp(-x + a * log(x) - lgamma(a));
+}
+
+/* Regularised upper incomplete gamma Q(a, x) by its continued fraction (modified
+ * Lentz evaluation), for x >= a + 1. */
+static double gamma_q_fraction(double a, double x)
+{
+    const double tiny = 1e-300;
+    double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d, i;
+    for (i = 1; i < 1000; ++i) {
+        double an = -i * (i - a), delta;
+        b += 2;
+        d = an * d + b;
+        if (fabs(d) < tiny) d = tiny;
+        c = b + an / c;
+        if (fabs(c) < tiny) c = tiny;
+        d = 1 / d;
+        delta = d * c;
+        h *= delta;
+        if (fabs(delta - 1) < 1e-15) break;
+    }
+    return exp(-x + a * log(x) - lgamma(a)) * h;
+}
+
+double chi2_upper_tail(double x, double dof)
+{
+    double a = dof / 2, hx = x / 2;
+    if (x <= 0) return 1;
+    return hx < a + 1 ? 1 - gamma_p_series(a, hx) : gamma_q_fraction(a, hx);
+}
+
+double normal_two_sided_p(double z) { return erfc(fabs(z) / sqrt(2.0)); }
+
+double chi2_test(const double *observed, const double *expected, size_t n, double *chi2_out, int *dof_out)
+{
+    double chi2 = 0, pool_obs = 0, pool_exp = 0;
+    int cells = 0;
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        if (expected[i] <= 0) {
+            if (observed[i] > 0) {
+                if (chi2_out) *chi2_out = INFINITY;
+                if (dof_out) *dof_out = 0;
+                return 0;
+            }
+            continue;
+        }
+        if (expected[i] < 5) {
+            pool_obs += observed[i];
+            pool_exp += expected[i];
+            continue;
+        }
+        chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
+        cells++;
+    }
+    if (pool_exp > 0) {
+        chi2 += (pool_obs - pool_exp) * (pool_obs - pool_exp) / pool_exp;
+        cells++;
+    }
+    if (chi2_out) *chi2_out = chi2;
+    if (dof_out) *dof_out = cells - 1;
+    return cells > 1 ? chi2_upper_tail(chi2, cells - 1) : 1;
+}
+
+int test_scene_begin(scene *s, size_t max_triangles, size_t max_materials)
+{
+    memset(s, 0, sizeof *s);
+    strcpy(s->path, "<test scene>");
+    s->positions = calloc(3 * max_triangles + 1, sizeof *s->positions);
+    s->triangles = calloc(max_triangles + 1, sizeof *s->triangles);
+    s->materials = calloc(max_materials + 1, sizeof *s->materials);
+    s->object_names = calloc(1, sizeof *s->object_names);
+    if (s->object_names) s->object_names[0] = calloc(8, 1);
+    if (!s->positions || !s->triangles || !s->materials || !s->object_names || !s->object_names[0]) return -1;
+    strcpy(s->object_names[0], "test");
+    s->object_count = 1;
+    s->width = s->height = 16;
+    return 0;
+}
+
+uint32_t test_scene_material(scene *s, enum material_type type, rgb diffuse, rgb emission)
+{
+    material *m = &s->materials[s->material_count];
+    memset(m, 0, sizeof *m);
+    strcpy(m->name, "test");
+    m->type = type;
+    m->diffuse = diffuse;
+    m->emission = emission;
+    m->roughness = 1;
+    m->ior = (real)1.5;
+    return (uint32_t)s->material_count++;
+}
+
+void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material)
+{
+    triangle *t = &s->triangles[s->triangle_count++];
+    size_t base = s->position_count;
+    s->positions[base] = a;
+    s->positions[base + 1] = b;
+    s->positions[base + 2] = c;
+    s->position_count += 3;
+    t->v[0] = (uint32_t)base;
+    t->v[1] = (uint32_t)base + 1;
+    t->v[2] = (uint32_t)base + 2;
+    t->n[0] = t->n[1] = t->n[2] = -1;
+    t->material = material;
+    t->object = 0;
+}
+
+/* Two triangles (p, p+e1, p+e1+e2), (p, p+e1+e2, p+e2): front normal along e1 x e2. */
+void test_scene_quad(scene *s, vec3f p, vec3f e1, vec3f e2, uint32_t material)
+{
+    vec3f p1 = v3f_add(p, e1), p2 = v3f_add(p1, e2), p3 = v3f_add(p, e2);
+    test_scene_triangle(s, p, p1, p2, material);
+    test_scene_triangle(s, p, p2, p3, material);
+}
+
+void test_scene_inward_box(scene *s, vec3f lo, vec3f hi, uint32_t m)
+{
+    vec3f dx = v3f(hi.x - lo.x, 0, 0), dy = v3f(0, hi.y - lo.y, 0), dz = v3f(0, 0, hi.z - lo.z);
+    test_scene_quad(s, lo, dy, dz, m);                /* x = lo, normal +x */
+    test_scene_quad(s, v3f_add(lo, dx), dz, dy, m);   /* x = hi, normal -x */
+    test_scene_quad(s, lo, dz, dx, m);                /* y = lo, normal +y */
+    test_scene_quad(s, v3f_add(lo, dy), dx, dz, m);   /* y = hi, normal -y */
+    test_scene_quad(s, lo, dx, dy, m);                /* z = lo, normal +z */
+    test_scene_quad(s, v3f_add(lo, dz), dy, dx, m);   /* z = hi, normal -z */
+}
+
+void test_scene_camera(scene *s, vec3 eye, vec3 target, vec3 up, real fov_y, int res)
+{
+    s->camera.eye = eye;
+    s->camera.target = target;
+    s->camera.up = up;
+    s->camera.fov_y_degrees = fov_y;
+    s->has_camera = 1;
+    s->width = s->height = res;
+}
+
+void test_scene_scale(scene *s, float k)
+{
+    size_t i;
+    for (i = 0; i < s->position_count; ++i) s->positions[i] = v3f_scale(s->positions[i], k);
+    s->camera.eye = v3_scale(s->camera.eye, (real)k);
+    s->camera.target = v3_scale(s->camera.target, (real)k);
+}
+
+void test_scene_outward_box(scene *s, vec3f lo, vec3f hi, uint32_t m)
+{
+    vec3f dx = v3f(hi.x - lo.x, 0, 0), dy = v3f(0, hi.y - lo.y, 0), dz = v3f(0, 0, hi.z - lo.z);
+    test_scene_quad(s, lo, dz, dy, m);              /* x = lo, normal -x */
+    test_scene_quad(s, v3f_add(lo, dx), dy, dz, m); /* x = hi, normal +x */
+    test_scene_quad(s, lo, dx, dz, m);              /* y = lo, normal -y */
+    test_scene_quad(s, v3f_add(lo, dy), dz, dx, m); /* y = hi, normal +y */
+    test_scene_quad(s, lo, dy, dx, m);              /* z = lo, normal -z */
+    test_scene_quad(s, v3f_add(lo, dz), dx, dy, m); /* z = hi, normal +z */
+}
+
+material *test_scene_last_material(scene *s) { return &s->materials[s->material_count - 1]; }
+

@@ -1,0 +1,38 @@
+/* Helpers shared by the light and path-tracer tests: small statistics (chi-square
+ * and normal tail probabilities) and in-memory scene construction. */
+#ifndef RESTIR_TESTS_PT_UTIL_H
+#define RESTIR_TESTS_PT_UTIL_H
+
+#include <stddef.h>
+#include "restir/scene.h"
+
+/* Upper tail P(X >= x) of a chi-square variable with `dof` degrees of freedom. */
+double chi2_upper_tail(double x, double dof);
+/* Two-sided normal tail P(|Z| >= |z|). */
+double normal_two_sided_p(double z);
+
+/* Pearson chi-square of observed counts against expected counts; cells with expected
+ * count below 5 are pooled into one (pbrt/Mitsuba practice). Cells with expected 0
+ * must have observed 0, else the p-value is 0. Returns the p-value; *chi2 and *dof
+ * (may be NULL) receive the statistic and the degrees of freedom. */
+double chi2_test(const double *observed, const double *expected, size_t n, double *chi2, int *dof);
+
+/* In-memory scenes. test_scene_begin allocates room for max_triangles triangles
+ * (3 fresh vertices each) and max_materials materials; the scene is freed by scene_free. */
+int test_scene_begin(scene *s, size_t max_triangles, size_t max_materials);
+uint32_t test_scene_material(scene *s, enum material_type type, rgb diffuse, rgb emission);
+void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material);
+/* Parallelogram p, p+e1, p+e1+e2, p+e2 as two triangles; front normal along e1 x e2. */
+void test_scene_quad(scene *s, vec3f p, vec3f e1, vec3f e2, uint32_t material);
+/* An axis-aligned box [lo, hi] whose 12 triangles face INWARD (front face towards the
+ * inside), all with `material`; test_scene_outward_box faces outward. */
+void test_scene_inward_box(scene *s, vec3f lo, vec3f hi, uint32_t material);
+void test_scene_outward_box(scene *s, vec3f lo, vec3f hi, uint32_t material);
+/* Sets the fields of the last added material. */
+material *test_scene_last_material(scene *s);
+/* A camera at eye looking at target, square image of size res. */
+void test_scene_camera(scene *s, vec3 eye, vec3 target, vec3 up, real fov_y, int res);
+/* Multiplies every position and the camera eye/target by k (a change of units). */
+void test_scene_scale(scene *s, float k);
+
+#endif
