@@ -11,6 +11,7 @@ int cmd_check(int argc, char **argv);
 int cmd_plot(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_merge(int argc, char **argv);
+int cmd_generate(int argc, char **argv);
 
 const cli_command cli_commands[] = {
     {"render", cmd_render, "render a scene (.scene or .obj) to PFM + PNG"},
@@ -20,6 +21,7 @@ const cli_command cli_commands[] = {
     {"plot", cmd_plot, "line plots (log-log by default) of a CSV table as SVG"},
     {"bench", cmd_bench, "benchmarks as JSON: rays SCENE | rays --generated N | all"},
     {"merge", cmd_merge, "combine path-tracer runs: checkpoints, or images with --counts"},
+    {"generate", cmd_generate, "write a generated scene (ajar, glass, sphere) as OBJ + MTL + scene file"},
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
     {NULL, NULL, NULL},
 };
