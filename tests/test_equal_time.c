@@ -189,9 +189,9 @@ TEST(equal_time_pt_cornell)
     CHECKF(test_cli(out, sizeof out, "plot %s -o %s", csv, svg2) == 0, "%s", out);
     CHECK(test_file_exists(svg2));
     /* A reference of another size is refused. */
-    s.width = 21;
-    CHECK(equal_time_run(&m, &ref.mean, &eo, &c, &e) != 0 && strstr(e.msg, "reference"));
     equal_time_curve_free(&c);
+    s.width = 21;
+    CHECK(equal_time_run(&m, &ref.mean, &eo, &c, &e) != 0 && strstr(e.msg, "reference") && c.points == NULL);
     pt_result_free(&ref);
     scene_free(&s);
 }
