@@ -180,11 +180,11 @@ static int check_bad_input(const bad_input_case *c, char *why, size_t why_size)
     remove(dest);
     remove(png);
     status = test_cli(out, sizeof out, "render %s -o %s --spp 1 --size 8x8", path, dest);
-    if (status != 2) return snprintf(why, why_size, "%s: exit %d: %s", c->file, status, out), 0;
+    if (status != 2) return snprintf(why, why_size, "%s: exit %d: %.900s", c->file, status, out), 0;
     if (strncmp(out, expect, strlen(expect)) != 0)
-        return snprintf(why, why_size, "%s: message '%s' does not start with '%s'", c->file, out, expect), 0;
+        return snprintf(why, why_size, "%s: message '%.600s' does not start with '%.600s'", c->file, out, expect), 0;
     if (strchr(out, '\n') != out + strlen(out) - 1)
-        return snprintf(why, why_size, "%s: not exactly one line: %s", c->file, out), 0;
+        return snprintf(why, why_size, "%s: not exactly one line: %.900s", c->file, out), 0;
     if (test_file_exists(dest) || test_file_exists(png))
         return snprintf(why, why_size, "%s: an output file was left behind", c->file), 0;
     return 1;
