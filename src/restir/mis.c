@@ -46,7 +46,8 @@ real mis_constant(const mis_input *in, int i, int j, long *shifts)
     return total > 0 ? in->confidence[i] / total : canonical_share(in, i);
 }
 
-/* GRIS Eq. 36; Stochastic MIS Eq. 9: the balance heuristic over the "p̂ from k" of Eq. 35. */
+/* GRIS Eq. 36; Stochastic MIS Eq. 9: the balance heuristic over the "p̂ from k" of Eq. 35
+ * (GRIS Eq. 5 is the special case of identity shifts and known source pdfs). */
 real mis_talbot(const mis_input *in, int i, int j, long *shifts)
 {
     real numerator = 0, denominator = 0;

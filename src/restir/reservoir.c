@@ -12,8 +12,9 @@ void reservoir_init(reservoir *r)
     r->n_invalid = 0;
 }
 
-/* Chao 1982: after the step, each streamed candidate is the selection with probability
- * w_j / sum w, because a later candidate replaces it with probability w / wsum. */
+/* Chao 1982 (Mutations Alg. 1): after the step, each streamed candidate is the selection
+ * with probability w_j / sum w (Mutations Eq. 6), because a later candidate replaces it
+ * with probability w / wsum. */
 int wrs_update(real *wsum, real w, real u, uint32_t *n_invalid)
 {
     if (w == 0) return 0;
@@ -32,7 +33,8 @@ int reservoir_stream(reservoir *r, const path_sample *y, real w, real u)
     return 1;
 }
 
-/* GRIS Eq. 22: W_Y = (1 / p̂(Y)) sum_j w_j. */
+/* GRIS Eq. 22: W_Y = (1 / p̂(Y)) sum_j w_j (GRIS Eq. 2 for plain RIS; Mutations Eq. 8;
+ * Stochastic MIS Eq. 7). */
 void reservoir_finalize(reservoir *r)
 {
     r->W = 0;
@@ -50,20 +52,24 @@ void reservoir_cap_confidence(reservoir *r, real cap)
     if (r->confidence > cap) r->confidence = cap;
 }
 
-/* GRIS Eq. 19 (with the Iverson bracket of Stochastic MIS Eq. 6 for a failed shift). */
+/* GRIS Eq. 19 (with the Iverson bracket of Stochastic MIS Eq. 6 for a failed shift).
+ * GRIS Eq. 7 is its overview form, Enhanced Eq. 1 and Mutations Eq. 13 restate it, and
+ * GRIS Eq. 6 / Mutations Eq. 12 are the identity-shift case (J = 1). */
 real gris_resampling_weight(real mis, real target, real ucw, real jacobian)
 {
     if (mis == 0 || target == 0 || ucw == 0 || jacobian == 0) return 0;
     return mis * target * ucw * jacobian;
 }
 
-/* GRIS Eq. 1 with M -> N path trees (the constant 1/N is exact: all trees are canonical). */
+/* GRIS Eq. 1 with M -> N path trees (the constant 1/N is exact: all trees are canonical).
+ * Mutations Eq. 7 restates it; Mutations Eqs. 5 and 11 are the resulting estimator of the
+ * normalisation. */
 real ris_candidate_weight(real target, real ucw, real n_trees)
 {
     return gris_resampling_weight((real)1 / n_trees, target, ucw, 1);
 }
 
-/* GRIS Eq. 3: the estimate f(Y) W_Y, here with the RGB contribution F. */
+/* GRIS Eq. 3: the estimate f(Y) W_Y, here with the RGB contribution F (Mutations Eq. 9). */
 rgb reservoir_estimate(const reservoir *r)
 {
     if (!path_sample_is_valid(&r->y) || r->W == 0) return rgb_gray(0);
