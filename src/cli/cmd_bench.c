@@ -19,11 +19,21 @@ typedef struct {
     int has_rays_size;
 } bench_args;
 
-static int bench_rays_on(scene *s, const bench_args *a, int *first)
+/* A benchmark over one prepared scene; `name` labels it in the JSON. */
+typedef int (*scene_bench)(const scene *s, const char *name, const bench_args *a, int *first);
+
+/* Separates the JSON objects of the output array. */
+static void next_object(int *first)
 {
-    rerror e;
     if (!*first) printf(",\n");
     *first = 0;
+}
+
+static int bench_rays_on(const scene *s, const char *name, const bench_args *a, int *first)
+{
+    rerror e;
+    (void)name;
+    next_object(first);
     if (bench_rays(s, &a->rays, stdout, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
@@ -32,7 +42,27 @@ static int bench_rays_on(scene *s, const bench_args *a, int *first)
     return 0;
 }
 
-static int bench_generated(int subdivisions, const bench_args *a, int *first)
+/* Path-tracing samples/s and rays/s, 1 thread and all threads. */
+static int bench_pt_on(const scene *s, const char *name, const bench_args *a, int *first)
+{
+    rerror e;
+    int t, counts[2];
+    counts[0] = 1;
+    counts[1] = a->rays.threads > 0 ? a->rays.threads : threads_default();
+    for (t = 0; t < 2; ++t) {
+        if (t == 1 && counts[1] == 1) break;
+        next_object(first);
+        if (bench_pt(stdout, s, name, 4, counts[t], &e)) {
+            fprintf(stderr, "%s\n", e.msg);
+            return 2;
+        }
+        fflush(stdout);
+    }
+    return 0;
+}
+
+/* Runs fn on the generated displaced sphere with 12 n^2 triangles. */
+static int on_generated(int subdivisions, scene_bench fn, const bench_args *a, int *first)
 {
     scene s;
     rerror e;
@@ -43,12 +73,13 @@ static int bench_generated(int subdivisions, const bench_args *a, int *first)
         scene_free(&s);
         return 2;
     }
-    status = bench_rays_on(&s, a, first);
+    status = fn(&s, "generated:displaced_sphere", a, first);
     scene_free(&s);
     return status;
 }
 
-static int bench_file(const char *path, const bench_args *a, int *first)
+/* Runs fn on a scene file or OBJ. */
+static int on_file(const char *path, scene_bench fn, const bench_args *a, int *first)
 {
     scene s;
     scene_overrides none;
@@ -56,7 +87,7 @@ static int bench_file(const char *path, const bench_args *a, int *first)
     memset(&none, 0, sizeof none);
     status = load_scene_for_command("bench", path, &none, &s, NULL, NULL);
     if (status) return status;
-    status = bench_rays_on(&s, a, first);
+    status = fn(&s, path, a, first);
     scene_free(&s);
     return status;
 }
@@ -68,65 +99,16 @@ static int file_exists(const char *path)
     return f != NULL;
 }
 
-/* Path-tracing samples/s and rays/s on a prepared scene, 1 thread and all threads. */
-static int bench_pt_on(const scene *s, const char *name, const bench_args *a, int *first)
-{
-    rerror e;
-    int t, counts[2];
-    counts[0] = 1;
-    counts[1] = a->rays.threads > 0 ? a->rays.threads : threads_default();
-    for (t = 0; t < 2; ++t) {
-        if (t == 1 && counts[1] == 1) break;
-        if (!*first) printf(",\n");
-        *first = 0;
-        if (bench_pt(stdout, s, name, 4, counts[t], &e)) {
-            fprintf(stderr, "%s\n", e.msg);
-            return 2;
-        }
-        fflush(stdout);
-    }
-    return 0;
-}
-
-static int bench_pt_file(const char *path, const bench_args *a, int *first)
-{
-    scene s;
-    scene_overrides none;
-    int status;
-    memset(&none, 0, sizeof none);
-    status = load_scene_for_command("bench", path, &none, &s, NULL, NULL);
-    if (status) return status;
-    status = bench_pt_on(&s, path, a, first);
-    scene_free(&s);
-    return status;
-}
-
-static int bench_pt_generated(int subdivisions, const bench_args *a, int *first)
-{
-    scene s;
-    rerror e;
-    int status;
-    memset(&s, 0, sizeof s);
-    if (generate_displaced_sphere(&s, subdivisions, &e) || scene_prepare(&s, &e)) {
-        fprintf(stderr, "%s\n", e.msg);
-        scene_free(&s);
-        return 2;
-    }
-    status = bench_pt_on(&s, "generated:displaced_sphere", a, first);
-    scene_free(&s);
-    return status;
-}
-
 /* `bench all`: rays on the shipped Cornell box, the >= 100k-triangle generated sphere and
  * the Stanford bunny when ../shared/data is present (the Embree yardstick's scene); then
  * path-tracing throughput on the Cornell box and the generated sphere. */
 static int bench_all(const bench_args *a, int *first)
 {
-    int status = bench_file("scenes/cornell.scene", a, first);
-    if (!status) status = bench_generated(92, a, first);
-    if (!status && file_exists(SHARED_BUNNY)) status = bench_file(SHARED_BUNNY, a, first);
-    if (!status) status = bench_pt_file("scenes/cornell.scene", a, first);
-    if (!status) status = bench_pt_generated(92, a, first);
+    int status = on_file("scenes/cornell.scene", bench_rays_on, a, first);
+    if (!status) status = on_generated(92, bench_rays_on, a, first);
+    if (!status && file_exists(SHARED_BUNNY)) status = on_file(SHARED_BUNNY, bench_rays_on, a, first);
+    if (!status) status = on_file("scenes/cornell.scene", bench_pt_on, a, first);
+    if (!status) status = on_generated(92, bench_pt_on, a, first);
     return status;
 }
 
@@ -164,8 +146,8 @@ int cmd_bench(int argc, char **argv)
     }
     printf("[\n");
     if (!strcmp(positional[0], "all")) status = bench_all(&a, &first);
-    else if (a.generated) status = bench_generated(a.generated, &a, &first);
-    else status = bench_file(positional[1], &a, &first);
+    else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);
+    else status = on_file(positional[1], bench_rays_on, &a, &first);
     printf("\n]\n");
     return status;
 }
