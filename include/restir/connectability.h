@@ -14,7 +14,8 @@
  * Everything the criterion reads is a function of the vertex positions, materials and
  * lobes, never of the direction a vertex is seen from, so base and offset paths evaluate
  * it identically. The whole decision is behind rc_pair_test (one pair) and rc_select
- * (the index): the Enhanced footprint criterion (Enhanced Eq. 5) replaces rc_pair_test. */
+ * (the index): the Enhanced footprint criterion (equation 5 of that paper, not implemented
+ * yet) replaces rc_pair_test. */
 #ifndef RESTIR_CONNECTABILITY_H
 #define RESTIR_CONNECTABILITY_H
 
