@@ -17,7 +17,9 @@
 int generate_displaced_sphere(scene *s, int subdivisions, rerror *e);
 
 /* Writes the scene's triangles as OBJ at `path` and its materials as MTL next to it
- * (same name with the extension .mtl), both atomically. */
+ * (same name with the extension .mtl), both atomically. The MTL statements are chosen
+ * so that loading the files gives back each material's type, colours, roughness and
+ * ior (the few exceptions are listed at write_mtl_material in generate.c). */
 int generate_write_obj(const scene *s, const char *path, rerror *e);
 
 #endif

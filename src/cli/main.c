@@ -12,6 +12,7 @@ int cmd_plot(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_merge(int argc, char **argv);
 int cmd_inspect(int argc, char **argv);
+int cmd_generate(int argc, char **argv);
 
 const cli_command cli_commands[] = {
     {"render", cmd_render, "render a scene (.scene or .obj) to PFM + PNG"},
@@ -22,6 +23,7 @@ const cli_command cli_commands[] = {
     {"bench", cmd_bench, "benchmarks as JSON: rays SCENE | rays --generated N | all"},
     {"merge", cmd_merge, "combine path-tracer runs: checkpoints, or images with --counts"},
     {"inspect", cmd_inspect, "one pixel's ReSTIR path sample and its shift to a neighbour"},
+    {"generate", cmd_generate, "write a generated scene (ajar, glass, sphere) as OBJ + MTL + scene file"},
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
     {NULL, NULL, NULL},
 };

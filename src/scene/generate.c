@@ -200,17 +200,34 @@ static void mtl_path_for(const char *obj_path, char *out, size_t size)
         snprintf(out, size, "%s.mtl", obj_path);
 }
 
+/* The MTL statements that make mtl_to_material (docs/scene-format.md, "MTL mapping")
+ * give back the material's type and values: Lambert = illum 1 (rule 4); conductor =
+ * Pm 1 with F0 as Kd (rule 1); plastic = Pm 0, Pr (rule 5); dielectrics = illum 7, Ni,
+ * and Pr for the rough one (rule 3). Not representable (and then changed on reading):
+ * a plastic with Ks = 0 (read as Ks 1), a plastic coat ior <= 1 (read as 1.5), a tinted
+ * dielectric (read as untinted). Every type keeps Ke. */
+static void write_mtl_material(FILE *f, const material *m)
+{
+    rgb kd = m->type == MAT_CONDUCTOR ? m->specular : m->diffuse;
+    fprintf(f, "newmtl %s\nKd %.9g %.9g %.9g\n", m->name, (double)kd.r, (double)kd.g, (double)kd.b);
+    if (m->type == MAT_PLASTIC)
+        fprintf(f, "Ks %.9g %.9g %.9g\n", (double)m->specular.r, (double)m->specular.g, (double)m->specular.b);
+    fprintf(f, "Ke %.9g %.9g %.9g\n", (double)m->emission.r, (double)m->emission.g, (double)m->emission.b);
+    switch (m->type) {
+    case MAT_LAMBERT: fprintf(f, "illum 1\n"); break;
+    case MAT_CONDUCTOR: fprintf(f, "Pm 1\nPr %.9g\n", (double)m->roughness); break;
+    case MAT_PLASTIC: fprintf(f, "Pm 0\nPr %.9g\nNi %.9g\n", (double)m->roughness, (double)m->ior); break;
+    case MAT_DIELECTRIC: fprintf(f, "illum 7\nNi %.9g\n", (double)m->ior); break;
+    case MAT_ROUGH_DIELECTRIC: fprintf(f, "illum 7\nNi %.9g\nPr %.9g\n", (double)m->ior, (double)m->roughness); break;
+    }
+    fputc('\n', f);
+}
+
 static void write_mtl(FILE *f, const scene *s)
 {
     size_t i;
     fprintf(f, "# restir generated materials\n");
-    for (i = 0; i < s->material_count; ++i) {
-        const material *m = &s->materials[i];
-        fprintf(f, "newmtl %s\nKd %.9g %.9g %.9g\nKs %.9g %.9g %.9g\nKe %.9g %.9g %.9g\nNi %.9g\n\n", m->name,
-                (double)m->diffuse.r, (double)m->diffuse.g, (double)m->diffuse.b, (double)m->specular.r,
-                (double)m->specular.g, (double)m->specular.b, (double)m->emission.r, (double)m->emission.g,
-                (double)m->emission.b, (double)m->ior);
-    }
+    for (i = 0; i < s->material_count; ++i) write_mtl_material(f, &s->materials[i]);
 }
 
 static void write_vertex_ref(FILE *f, const triangle *t, int k)

@@ -1,0 +1,37 @@
+/* Generated rooms for ReSTIR PT (docs/scenes.md): a Cornell-style room with a glass
+ * sphere and a small light (caustics, replay through delta lobes), and a room lit only
+ * through a door ajar (difficult indirect light, after Veach's "door ajar" scene).
+ * Everything is a pure function of the parameters: the same call writes the same
+ * triangles on every machine. */
+#ifndef RESTIR_GENERATE_ROOMS_H
+#define RESTIR_GENERATE_ROOMS_H
+
+#include "restir/error.h"
+#include "restir/scene.h"
+
+/* The door angle of the shipped scenes/ajar.scene, in degrees. */
+#define AJAR_DEFAULT_DOOR_ANGLE 10.0
+#define AJAR_MAX_DOOR_ANGLE 90.0
+
+/* Fills a zeroed scene (it is overwritten) with the door-ajar building: a dark room
+ * (camera inside) and a lit room behind a dividing wall, joined by a doorway whose door
+ * leaf is opened into the dark room by `door_angle_degrees` in [0, 90]. The only emitter
+ * is a panel in the lit room facing the doorway. All walls, slabs, the door and the
+ * furniture are closed solids (outward faces, shared vertices) that interpenetrate at
+ * every junction, so light can pass only through the gap the open door leaves; at angle
+ * 0 the dark room is sealed. Units: metres. Does not build the BVH (scene_prepare). */
+int generate_ajar(scene *s, double door_angle_degrees, rerror *e);
+
+/* Fills a zeroed scene with a Cornell-style room (Cornell Box dimensions in mm, open
+ * front, the published camera), a smooth glass sphere (ior 1.5, radius 100, 64 x 32
+ * UV tessellation, faceted: no shading normals), a Lambertian block and a small 40 x 40
+ * light carrying the Cornell light's power. */
+int generate_glass_room(scene *s, rerror *e);
+
+/* Writes a scene file for s (atomically): `comment` (may be NULL, may hold several lines)
+ * as # lines, `mesh MESH_NAME`, the camera, the size and one `material` line per
+ * material with every field, so the scene file alone states the materials. */
+int generate_write_scene_file(const scene *s, const char *scene_path, const char *mesh_name, const char *comment,
+                              rerror *e);
+
+#endif

@@ -1,0 +1,480 @@
+/* The generated rooms of generate_rooms.h (docs/scenes.md).
+ *
+ * Building blocks: closed solids (prisms over a polygon, UV spheres) whose faces share
+ * their vertices, so each solid is watertight under the BVH's watertight ray/triangle
+ * test, and whose faces point outward. Solids that meet interpenetrate instead of
+ * touching: a wall reaches into the floor slab and into the walls it joins, so a
+ * junction has no crack for light to pass, and the extents are chosen so that no two
+ * faces of different solids lie in one plane where they overlap (no coplanar faces). */
+#include "restir/generate_rooms.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "restir/atomic_file.h"
+#include "restir/scene_builder.h"
+#include "restir/triangulate.h"
+
+#define PI_D 3.14159265358979323846
+#define MAX_PRISM_CORNERS 16
+
+/* Appends geometry to a scene. The first failure is remembered (m->failed, message in
+ * *m->e) and every later call does nothing, so the scene descriptions below read as
+ * plain lists of solids with one check at the end. */
+typedef struct {
+    scene_builder b;
+    triangulator tri;
+    uint32_t material, object;
+    rerror *e;
+    int failed;
+} mesh_writer;
+
+typedef struct {
+    const char *name;
+    enum material_type type;
+    double kd[3], ks[3], ke[3];
+    double roughness, ior;
+} material_spec;
+
+static uint32_t vertex(mesh_writer *m, double x, double y, double z)
+{
+    uint32_t index = (uint32_t)m->b.s->position_count;
+    if (m->failed) return 0;
+    if (builder_add_position(&m->b, v3f((float)x, (float)y, (float)z), m->e)) m->failed = 1;
+    return index;
+}
+
+/* A point given by its coordinate w along `axis` and (u, v) on the two following axes
+ * (cyclically: u = axis+1, v = axis+2, so that u x v = +axis). */
+static uint32_t axis_vertex(mesh_writer *m, int axis, double w, double u, double v)
+{
+    double c[3];
+    c[axis] = w;
+    c[(axis + 1) % 3] = u;
+    c[(axis + 2) % 3] = v;
+    return vertex(m, c[0], c[1], c[2]);
+}
+
+/* Triangle a, b, c: the front face is the side of (b - a) x (c - a). */
+static void face(mesh_writer *m, uint32_t a, uint32_t b, uint32_t c)
+{
+    triangle t;
+    if (m->failed) return;
+    t.v[0] = a, t.v[1] = b, t.v[2] = c;
+    t.n[0] = t.n[1] = t.n[2] = -1;
+    t.material = m->material;
+    t.object = m->object;
+    if (builder_add_triangle(&m->b, &t, m->e)) m->failed = 1;
+}
+
+static void quad(mesh_writer *m, uint32_t a, uint32_t b, uint32_t c, uint32_t d)
+{
+    face(m, a, b, c);
+    face(m, a, c, d);
+}
+
+static void define_materials(mesh_writer *m, const material_spec *specs, int count)
+{
+    int i;
+    for (i = 0; i < count && !m->failed; ++i) {
+        const material_spec *p = &specs[i];
+        uint32_t index;
+        material *mat;
+        if (builder_material(&m->b, p->name, &index, m->e)) {
+            m->failed = 1;
+            return;
+        }
+        mat = &m->b.s->materials[index];
+        mat->type = p->type;
+        mat->diffuse = rgb_make((real)p->kd[0], (real)p->kd[1], (real)p->kd[2]);
+        mat->specular = rgb_make((real)p->ks[0], (real)p->ks[1], (real)p->ks[2]);
+        mat->emission = rgb_make((real)p->ke[0], (real)p->ke[1], (real)p->ke[2]);
+        mat->roughness = (real)p->roughness;
+        mat->ior = (real)p->ior;
+    }
+}
+
+/* The material and object of the faces that follow (the material must be defined). */
+static void use(mesh_writer *m, const char *material_name, const char *object_name)
+{
+    if (m->failed) return;
+    if (builder_material(&m->b, material_name, &m->material, m->e) ||
+        builder_object(&m->b, object_name, &m->object, m->e))
+        m->failed = 1;
+}
+
+/* A polygon cap: the corners (vertex indices) in counter-clockwise order seen from the
+ * side the cap faces, triangulated by ear clipping (which keeps the winding). */
+static void cap(mesh_writer *m, const uint32_t *ring, int n, int reversed)
+{
+    vec3f corners[MAX_PRISM_CORNERS];
+    uint32_t order[MAX_PRISM_CORNERS], tri[3 * MAX_PRISM_CORNERS];
+    size_t count, k;
+    int i;
+    if (m->failed) return;
+    for (i = 0; i < n; ++i) {
+        order[i] = ring[reversed ? n - 1 - i : i];
+        corners[i] = m->b.s->positions[order[i]];
+    }
+    if (triangulate_polygon(&m->tri, corners, (size_t)n, tri, &count, m->e)) {
+        m->failed = 1;
+        return;
+    }
+    for (k = 0; k < count; ++k) face(m, order[tri[3 * k]], order[tri[3 * k + 1]], order[tri[3 * k + 2]]);
+}
+
+/* A closed prism: the simple polygon of n corners uv[2i], uv[2i+1], given as (u, v)
+ * coordinates on the two axes after `axis` (see axis_vertex), swept along `axis` from lo to hi (lo < hi). Faces
+ * point outward whatever the polygon's winding: a counter-clockwise polygon in (u, v)
+ * has its area normal along +axis, so the top cap keeps the order, the bottom cap
+ * reverses it, and the side quad over edge e (from corner i to i+1) has normal
+ * e x (+axis), which points out of a counter-clockwise polygon. */
+static void prism(mesh_writer *m, const double *uv, int n, int axis, double lo, double hi)
+{
+    uint32_t bottom[MAX_PRISM_CORNERS], top[MAX_PRISM_CORNERS];
+    double twice_area = 0;
+    int i;
+    if (n < 3 || n > MAX_PRISM_CORNERS) {
+        if (!m->failed) rerror_set(m->e, "generate: prism with %d corners", n);
+        m->failed = 1;
+        return;
+    }
+    for (i = 0; i < n; ++i)
+        twice_area += uv[2 * i] * uv[2 * ((i + 1) % n) + 1] - uv[2 * ((i + 1) % n)] * uv[2 * i + 1];
+    for (i = 0; i < n; ++i) {
+        const double *p = uv + 2 * (twice_area < 0 ? n - 1 - i : i);
+        bottom[i] = axis_vertex(m, axis, lo, p[0], p[1]);
+        top[i] = axis_vertex(m, axis, hi, p[0], p[1]);
+    }
+    for (i = 0; i < n; ++i) quad(m, bottom[i], bottom[(i + 1) % n], top[(i + 1) % n], top[i]);
+    cap(m, top, n, 0);
+    cap(m, bottom, n, 1);
+}
+
+/* An axis-aligned box [x0, x1] x [y0, y1] x [z0, z1] with outward faces. */
+static void box(mesh_writer *m, double x0, double y0, double z0, double x1, double y1, double z1)
+{
+    /* Footprint in the (u, v) = (z, x) plane of axis y. */
+    const double footprint[4][2] = {{z0, x0}, {z1, x0}, {z1, x1}, {z0, x1}};
+    prism(m, footprint[0], 4, 1, y0, y1);
+}
+
+/* A box standing on the y axis whose footprint, the rectangle [0, size_x] x [-size_z, 0]
+ * in local coordinates (a, b), is turned about the vertical axis through (pivot_x,
+ * pivot_z) so that the local +a direction becomes (cos t, -sin t) in (x, z) and +b
+ * becomes (sin t, cos t): a proper rotation, which keeps the faces outward. */
+static void turned_box(mesh_writer *m, double pivot_x, double pivot_z, double size_x, double size_z, double turn_degrees,
+                       double y0, double y1)
+{
+    const double local[4][2] = {{0, -size_z}, {size_x, -size_z}, {size_x, 0}, {0, 0}};
+    double footprint[4][2], c = cos(turn_degrees * PI_D / 180), s = sin(turn_degrees * PI_D / 180);
+    int i;
+    for (i = 0; i < 4; ++i) {
+        double a = local[i][0], b = local[i][1];
+        double x = pivot_x + a * c + b * s, z = pivot_z - a * s + b * c;
+        footprint[i][0] = z; /* (u, v) = (z, x) for axis y */
+        footprint[i][1] = x;
+    }
+    prism(m, footprint[0], 4, 1, y0, y1);
+}
+
+/* A UV sphere (outward faces): `rings` bands in the polar angle from +y, `segments`
+ * sectors in azimuth; the poles are single shared vertices. 2 * segments * (rings - 1)
+ * triangles, closed. */
+static void uv_sphere(mesh_writer *m, double cx, double cy, double cz, double r, int segments, int rings)
+{
+    uint32_t north = vertex(m, cx, cy + r, cz), south = vertex(m, cx, cy - r, cz), first = north + 2;
+    int k, j;
+    for (k = 1; k < rings; ++k) {
+        double theta = PI_D * k / rings;
+        for (j = 0; j < segments; ++j) {
+            double phi = 2 * PI_D * j / segments;
+            vertex(m, cx + r * sin(theta) * cos(phi), cy + r * cos(theta), cz + r * sin(theta) * sin(phi));
+        }
+    }
+#define RING_VERTEX(k, j) (first + (uint32_t)(((k) - 1) * segments + ((j) % segments)))
+    for (j = 0; j < segments; ++j) {
+        /* Going around +y with increasing azimuth is clockwise seen from outside at the
+         * north pole, so the caps and bands list j + 1 before j there (and after j at the
+         * south pole). */
+        face(m, north, RING_VERTEX(1, j + 1), RING_VERTEX(1, j));
+        for (k = 1; k + 1 < rings; ++k)
+            quad(m, RING_VERTEX(k, j), RING_VERTEX(k, j + 1), RING_VERTEX(k + 1, j + 1), RING_VERTEX(k + 1, j));
+        face(m, south, RING_VERTEX(rings - 1, j), RING_VERTEX(rings - 1, j + 1));
+    }
+#undef RING_VERTEX
+}
+
+static int writer_begin(mesh_writer *m, scene *s, const char *name, rerror *e)
+{
+    memset(s, 0, sizeof *s);
+    memset(m, 0, sizeof *m);
+    m->e = e;
+    snprintf(s->path, sizeof s->path, "%s", name);
+    return builder_init(&m->b, s, NULL, e);
+}
+
+/* Checks the result (no failure, no triangle dropped as degenerate), frees the
+ * builder's tables and, on failure, the scene. */
+static int writer_end(mesh_writer *m)
+{
+    scene *s = m->b.s;
+    if (!m->failed && m->b.degenerate_triangles)
+        m->failed = rerror_set(m->e, "%s: %zu degenerate triangles", s->path, m->b.degenerate_triangles) != 0;
+    builder_finish(&m->b);
+    triangulator_free(&m->tri);
+    if (m->failed) {
+        scene_free(s);
+        return -1;
+    }
+    return 0;
+}
+
+static void set_camera(scene *s, double ex, double ey, double ez, double tx, double ty, double tz, double fov)
+{
+    s->has_camera = 1;
+    s->camera.eye = v3((real)ex, (real)ey, (real)ez);
+    s->camera.target = v3((real)tx, (real)ty, (real)tz);
+    s->camera.up = v3(0, 1, 0);
+    s->camera.fov_y_degrees = (real)fov;
+    s->width = 512;
+    s->height = 512;
+}
+
+/* ------------------------------------------------------------------------------- */
+/* The door ajar                                                                      */
+
+/* Building (metres): x across, y up, z away from the camera. Dark room x in [0, W],
+ * z in [0, D1]; dividing wall z in [D1, D1 + T]; lit room z in [D1 + T, Z_END]. */
+#define AJ_W 4.0
+#define AJ_H 2.5
+#define AJ_D1 4.0
+#define AJ_T 0.15
+#define AJ_Z_END (AJ_D1 + AJ_T + 2.5)
+/* Doorway through the dividing wall, from the floor up to AJ_OPEN_TOP. */
+#define AJ_OPEN_X0 2.2
+#define AJ_OPEN_X1 3.1
+#define AJ_OPEN_TOP 2.1
+/* Door leaf: laps over the frame by AJ_LAP on the sides and the top, is AJ_DOOR_T thick
+ * and, closed, reaches AJ_EMBED into the dividing wall (and 0.02 into the floor), so
+ * the closed door seals the doorway with overlapping solids, not touching faces. */
+#define AJ_LAP 0.05
+#define AJ_DOOR_T 0.05
+#define AJ_EMBED 0.01
+
+static const material_spec ajar_materials[] = {
+    {"wall", MAT_LAMBERT, {0.75, 0.73, 0.70}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"floor", MAT_PLASTIC, {0.45, 0.33, 0.22}, {1, 1, 1}, {0, 0, 0}, 0.35, 1.5},
+    {"door", MAT_PLASTIC, {0.60, 0.55, 0.45}, {1, 1, 1}, {0, 0, 0}, 0.5, 1.5},
+    {"table", MAT_PLASTIC, {0.30, 0.17, 0.08}, {1, 1, 1}, {0, 0, 0}, 0.2, 1.5},
+    {"dark", MAT_LAMBERT, {0.15, 0.15, 0.15}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"blue", MAT_LAMBERT, {0.20, 0.30, 0.55}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"copper", MAT_CONDUCTOR, {0, 0, 0}, {0.95, 0.64, 0.54}, {0, 0, 0}, 0.25, 1.5},
+    {"light", MAT_LAMBERT, {0, 0, 0}, {0, 0, 0}, {180, 162, 135}, 1, 1.5},
+};
+
+/* Extents per family keep every face plane distinct where faces overlap: slabs reach 2T
+ * beyond the interior, side walls 1.5T along z and 0.5T into the slabs, the walls across
+ * (front, dividing, back) 0.5T into the side walls and 0.7T into the slabs. */
+static void ajar_shell(mesh_writer *m)
+{
+    const double t = AJ_T, side_y0 = -0.5 * t, side_y1 = AJ_H + 0.5 * t;
+    const double across_y0 = -0.7 * t, across_y1 = AJ_H + 0.7 * t, across_x0 = -0.5 * t, across_x1 = AJ_W + 0.5 * t;
+    /* The dividing wall: a U-shaped prism along z (polygon in (u, v) = (x, y)), the
+     * doorway being the notch. */
+    const double divider[8][2] = {{across_x0, across_y0}, {AJ_OPEN_X0, across_y0}, {AJ_OPEN_X0, AJ_OPEN_TOP},
+                                  {AJ_OPEN_X1, AJ_OPEN_TOP}, {AJ_OPEN_X1, across_y0}, {across_x1, across_y0},
+                                  {across_x1, across_y1}, {across_x0, across_y1}};
+    use(m, "floor", "floor");
+    box(m, -2 * t, -t, -2 * t, AJ_W + 2 * t, 0, AJ_Z_END + 2 * t);
+    use(m, "wall", "ceiling");
+    box(m, -2 * t, AJ_H, -2 * t, AJ_W + 2 * t, AJ_H + t, AJ_Z_END + 2 * t);
+    use(m, "wall", "wall_left");
+    box(m, -t, side_y0, -1.5 * t, 0, side_y1, AJ_Z_END + 1.5 * t);
+    use(m, "wall", "wall_right");
+    box(m, AJ_W, side_y0, -1.5 * t, AJ_W + t, side_y1, AJ_Z_END + 1.5 * t);
+    use(m, "wall", "wall_front");
+    box(m, across_x0, across_y0, -t, across_x1, across_y1, 0);
+    use(m, "wall", "wall_back");
+    box(m, across_x0, across_y0, AJ_Z_END, across_x1, across_y1, AJ_Z_END + t);
+    use(m, "wall", "wall_dividing");
+    prism(m, divider[0], 8, 2, AJ_D1, AJ_D1 + t);
+}
+
+/* The door leaf, hinged on the vertical axis through its back edge on the hinge side
+ * (x = opening - lap, inside the dividing wall), opened into the dark room: the latch
+ * side moves towards -z. */
+static void ajar_door(mesh_writer *m, double angle_degrees)
+{
+    const double hinge_x = AJ_OPEN_X0 - AJ_LAP, hinge_z = AJ_D1 + AJ_EMBED;
+    const double width = (AJ_OPEN_X1 + AJ_LAP) - hinge_x;
+    use(m, "door", "door");
+    turned_box(m, hinge_x, hinge_z, width, AJ_DOOR_T, angle_degrees, -0.02, AJ_OPEN_TOP + AJ_LAP);
+}
+
+/* Furniture of the dark room: a glossy table with a copper box on it and a blue box on
+ * the floor near the lit side of the door. Everything reaches 1 cm into what it
+ * stands on. */
+static void ajar_furniture(mesh_writer *m)
+{
+    const double x0 = 0.6, x1 = 1.8, z0 = 1.8, z1 = 2.6, top0 = 0.72, top1 = 0.76, leg = 0.06, inset = 0.04;
+    int i;
+    use(m, "table", "table_top");
+    box(m, x0, top0, z0, x1, top1, z1);
+    use(m, "dark", "table_legs");
+    for (i = 0; i < 4; ++i) {
+        double lx = (i & 1) ? x1 - inset - leg : x0 + inset, lz = (i & 2) ? z1 - inset - leg : z0 + inset;
+        box(m, lx, -0.01, lz, lx + leg, top0 + 0.02, lz + leg);
+    }
+    use(m, "copper", "copper_box");
+    box(m, 1.0, top1 - 0.01, 2.0, 1.25, 1.0, 2.25);
+    use(m, "blue", "blue_box");
+    turned_box(m, 3.05, 2.35, 0.5, 0.5, 25, -0.01, 0.45);
+}
+
+/* The emitter: a panel 1 cm in front of the lit room's back wall, facing the doorway
+ * (front face (v1 - v0) x (v2 - v0) = (y x x) = -z). */
+static void ajar_light(mesh_writer *m)
+{
+    const double z = AJ_Z_END - 0.01, x0 = 0.8, x1 = 3.4, y0 = 0.5, y1 = 2.0;
+    uint32_t a, b, c, d;
+    use(m, "light", "light");
+    a = vertex(m, x0, y0, z);
+    b = vertex(m, x0, y1, z);
+    c = vertex(m, x1, y1, z);
+    d = vertex(m, x1, y0, z);
+    quad(m, a, b, c, d);
+}
+
+int generate_ajar(scene *s, double door_angle_degrees, rerror *e)
+{
+    mesh_writer m;
+    char name[64];
+    if (!(door_angle_degrees >= 0 && door_angle_degrees <= AJAR_MAX_DOOR_ANGLE)) {
+        memset(s, 0, sizeof *s);
+        return rerror_set(e, "generate ajar: door angle %g is not in [0, %g] degrees", door_angle_degrees,
+                          AJAR_MAX_DOOR_ANGLE);
+    }
+    snprintf(name, sizeof name, "generated:ajar(%g)", door_angle_degrees);
+    if (writer_begin(&m, s, name, e)) return -1;
+    define_materials(&m, ajar_materials, (int)(sizeof ajar_materials / sizeof *ajar_materials));
+    ajar_shell(&m);
+    ajar_door(&m, door_angle_degrees);
+    ajar_furniture(&m);
+    ajar_light(&m);
+    set_camera(s, 0.45, 1.55, 0.35, 2.9, 0.85, 3.6, 62);
+    return writer_end(&m);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* The glass room                                                                     */
+
+/* Cornell Box interior (mm): x in [0, 556] (x = 0 green, on the image's right), y in
+ * [0, 548.8], z in [0, 559.2], open at z = 0 towards the camera. */
+#define GR_W 556.0
+#define GR_H 548.8
+#define GR_D 559.2
+
+static const material_spec glass_room_materials[] = {
+    {"white", MAT_LAMBERT, {0.725, 0.71, 0.68}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"red", MAT_LAMBERT, {0.63, 0.065, 0.05}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"green", MAT_LAMBERT, {0.14, 0.45, 0.091}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"glass", MAT_DIELECTRIC, {0, 0, 0}, {1, 1, 1}, {0, 0, 0}, 0, 1.5},
+    /* The Cornell light's radiance (17, 12, 4) times its area 130 x 105 over ours 40 x 40:
+     * the same power from 1/8.5 of the area. */
+    {"light", MAT_LAMBERT, {0, 0, 0}, {0, 0, 0}, {17 * 13650.0 / 1600, 12 * 13650.0 / 1600, 4 * 13650.0 / 1600}, 1, 1.5},
+};
+
+/* The five walls as quads over the eight shared corners of the room, facing inward:
+ * corner(i) has x = W if bit 0, y = H if bit 1, z = D if bit 2. */
+static void glass_room_walls(mesh_writer *m)
+{
+    uint32_t c[8];
+    int i;
+    use(m, "white", "floor");
+    for (i = 0; i < 8; ++i) c[i] = vertex(m, (i & 1) ? GR_W : 0, (i & 2) ? GR_H : 0, (i & 4) ? GR_D : 0);
+    quad(m, c[0], c[4], c[5], c[1]); /* floor y = 0: (z) x (x) = +y */
+    use(m, "white", "ceiling");
+    quad(m, c[2], c[3], c[7], c[6]); /* y = H: (x) x (z) = -y */
+    use(m, "white", "back_wall");
+    quad(m, c[4], c[6], c[7], c[5]); /* z = D: (y) x (x) = -z */
+    use(m, "green", "right_wall");
+    quad(m, c[0], c[2], c[6], c[4]); /* x = 0: (y) x (z) = +x */
+    use(m, "red", "left_wall");
+    quad(m, c[1], c[5], c[7], c[3]); /* x = W: (z) x (y) = -x */
+}
+
+int generate_glass_room(scene *s, rerror *e)
+{
+    mesh_writer m;
+    /* The tall block of the Cornell Box Data: footprint corners in (x, z); the prism
+     * reaches 1 mm below the floor so its base does not lie in the floor's plane. */
+    const double block[4][2] = {{247, 423}, {296, 265}, {456, 314}, {406, 472}}; /* (u, v) = (z, x) */
+    uint32_t a, b, c, d;
+    if (writer_begin(&m, s, "generated:glass_room", e)) return -1;
+    define_materials(&m, glass_room_materials, (int)(sizeof glass_room_materials / sizeof *glass_room_materials));
+    glass_room_walls(&m);
+    /* The small light 0.1 mm below the ceiling, centred like the Cornell light, facing
+     * down: (x) x (z) = -y. */
+    use(&m, "light", "light");
+    a = vertex(&m, 258, GR_H - 0.1, 259.6);
+    b = vertex(&m, 298, GR_H - 0.1, 259.6);
+    c = vertex(&m, 298, GR_H - 0.1, 299.6);
+    d = vertex(&m, 258, GR_H - 0.1, 299.6);
+    quad(&m, a, b, c, d);
+    use(&m, "white", "tall_block");
+    prism(&m, block[0], 4, 1, -1, 330);
+    /* The glass sphere where the Cornell short block stands, 1 mm above the floor. */
+    use(&m, "glass", "glass_sphere");
+    uv_sphere(&m, 185, 101, 169, 100, 64, 32);
+    set_camera(s, 278, 273, -800, 278, 273, 0, 39.3076481);
+    return writer_end(&m);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Scene file output                                                                  */
+
+static const char *const type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric"};
+
+static void write_scene_text(FILE *f, const scene *s, const char *mesh_name, const char *comment)
+{
+    const camera_pose *p = &s->camera;
+    size_t i;
+    if (comment) {
+        const char *line = comment;
+        while (*line) {
+            size_t len = strcspn(line, "\n");
+            fprintf(f, "# %.*s\n", (int)len, line);
+            line += len + (line[len] == '\n');
+        }
+    }
+    if (strpbrk(mesh_name, " \t")) fprintf(f, "mesh \"%s\"\n", mesh_name);
+    else fprintf(f, "mesh %s\n", mesh_name);
+    fprintf(f, "camera eye %.10g %.10g %.10g target %.10g %.10g %.10g up %.10g %.10g %.10g fov %.10g\n",
+            (double)p->eye.x, (double)p->eye.y, (double)p->eye.z, (double)p->target.x, (double)p->target.y,
+            (double)p->target.z, (double)p->up.x, (double)p->up.y, (double)p->up.z, (double)p->fov_y_degrees);
+    fprintf(f, "size %d %d\n\n", s->width, s->height);
+    for (i = 0; i < s->material_count; ++i) {
+        const material *m = &s->materials[i];
+        fprintf(f,
+                "material %s type %s kd %.9g %.9g %.9g ks %.9g %.9g %.9g ke %.9g %.9g %.9g roughness %.9g ior %.9g\n",
+                m->name, type_names[m->type], (double)m->diffuse.r, (double)m->diffuse.g, (double)m->diffuse.b,
+                (double)m->specular.r, (double)m->specular.g, (double)m->specular.b, (double)m->emission.r,
+                (double)m->emission.g, (double)m->emission.b, (double)m->roughness, (double)m->ior);
+    }
+}
+
+int generate_write_scene_file(const scene *s, const char *scene_path, const char *mesh_name, const char *comment,
+                              rerror *e)
+{
+    atomic_file f;
+    size_t i;
+    for (i = 0; i < s->material_count; ++i)
+        if (strpbrk(s->materials[i].name, " \t\"#"))
+            return rerror_set(e, "%s: material name '%s' cannot be written unquoted", scene_path,
+                              s->materials[i].name);
+    if (strpbrk(mesh_name, "\"#\n")) return rerror_set(e, "%s: mesh name '%s' cannot be written", scene_path, mesh_name);
+    if (atomic_file_open(&f, scene_path, e)) return -1;
+    write_scene_text(f.fp, s, mesh_name, comment);
+    return atomic_file_commit(&f, e);
+}
