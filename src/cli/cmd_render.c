@@ -56,7 +56,13 @@ static int write_stats(const char *path, const render_args *a, const scene *s, c
     if (a->method == METHOD_AOV) fprintf(f.fp, "  \"aov\": \"%s\",\n", aov_choices[a->aov]);
     if (a->method == METHOD_PT) render_pt_stats_json(f.fp, &a->pt, &t->pt);
     if (a->method == METHOD_RESTIR) {
-        fprintf(f.fp, "  \"restir\": {\"seconds\": %.6f, \"stats\":\n", t->restir_seconds);
+        restir_options o = a->restir;
+        o.seed = a->seed;
+        o.jitter = a->jitter;
+        o.threads = a->threads;
+        fprintf(f.fp, "  \"restir\": {\"seconds\": %.6f, \"config\": ", t->restir_seconds);
+        restir_options_write_json(f.fp, &o, "    ");
+        fprintf(f.fp, ",\n    \"stats\":\n");
         restir_stats_write_json(f.fp, &t->restir, "    ");
         fprintf(f.fp, "  },\n");
     }
@@ -253,7 +259,7 @@ int cmd_render(int argc, char **argv)
 {
     render_args a;
     render_timings t;
-    cli_option options[64];
+    cli_option options[96];
     const char *positional[1];
     int n = 0, count, status;
     scene s;
@@ -264,6 +270,7 @@ int cmd_render(int argc, char **argv)
     a.threads = threads_default();
     a.seed = 1;
     a.method = METHOD_PT;
+    if (render_restir_apply_preset(argc, argv, &a.restir)) return 2;
     {
         const cli_option rows[] = {
             {"-o", OPT_STRING, &a.output, "output PFM (default out/<scene>.pfm)", NULL, 0, 0, NULL},
