@@ -191,7 +191,9 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
         if (d > 0) primary_vertex(j, q, &w->verts[d]); /* accepted neighbours have a primary hit */
         w->x1[d] = &w->verts[d];
         w->in[d] = &j->src[q];
-        w->u[d] = rng_u(key, RNG_RIS, 0, (uint32_t)j->pass * 65536u + (uint32_t)d);
+        /* vertex 32 + p: initial sampling uses vertices 2..16 of RNG_RIS (the key packs
+         * vertex < 256 and slot < 65536, so the pass must not go into the slot) */
+        w->u[d] = rng_u(key, RNG_RIS, 32u + (uint32_t)j->pass, (uint32_t)d);
     }
     spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws, &w->st.spatial);
 }
