@@ -102,7 +102,7 @@ static void expect(spatial_bench *b, const char *name, const spatial_case *m, in
 }
 
 /* The whole matrix on one scene: shift x {talbot, pairwise, defensive} x {1, 3 passes}. */
-static void matrix(const char *path, int res, int runs, int frames)
+static void matrix(const char *path, int res, int runs, int frames, uint32_t spp)
 {
     spatial_bench b;
     spatial_case m = {0, 0, 0, RESTIR_ABLATE_NONE, 4, 0};
@@ -110,7 +110,7 @@ static void matrix(const char *path, int res, int runs, int frames)
     static const int passes[] = {1, 3};
     int f, p;
     m.frames = frames;
-    if (bench_open(&b, path, res, runs, 64, 4)) return;
+    if (bench_open(&b, path, res, runs, spp, 4)) return;
     for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift)
         for (f = 0; f < 3 && !test_has_failed(); ++f)
             for (p = 0; p < 2 && !test_has_failed(); ++p) {
@@ -166,7 +166,7 @@ TEST(restir_spatial_constant_mis_and_jacobian_ablation_detected)
 
 TEST_LONG(restir_spatial_unbiased_matrix_long)
 {
-    matrix("scenes/cornell.scene", 16, 24, 4);
-    if (!test_has_failed()) matrix("scenes/cornell-glossy.scene", 16, 24, 4);
-    if (!test_has_failed()) matrix("scenes/glass.scene", 16, 24, 4);
+    matrix("scenes/cornell.scene", 16, 24, 4, 64);
+    if (!test_has_failed()) matrix("scenes/cornell-glossy.scene", 16, 24, 4, 64);
+    if (!test_has_failed()) matrix("scenes/glass.scene", 16, 24, 16, 256); /* heavy caustic tails */
 }

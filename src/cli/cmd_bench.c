@@ -7,6 +7,7 @@
 #include "restir/generate.h"
 #include "restir/progress.h"
 #include "restir/pt.h"
+#include "restir/restir_bench.h"
 #include "restir/threads.h"
 #include "scene_args.h"
 
@@ -117,6 +118,33 @@ static int bench_pt_generated(int subdivisions, const bench_args *a, int *first)
     return status;
 }
 
+/* ReSTIR PT on a scene file at size x size: one frame of the GRIS offline preset per
+ * (shift, MIS family), then (equal_seconds > 0) an equal-time comparison with the path
+ * tracer at half that size. */
+static int bench_restir_file(const char *path, const bench_args *a, int size, double equal_seconds, int *first)
+{
+    scene s;
+    scene_overrides none;
+    restir_options o;
+    rerror e;
+    int status;
+    memset(&none, 0, sizeof none);
+    status = load_scene_for_command("bench", path, &none, &s, NULL, NULL);
+    if (status) return status;
+    restir_options_default(&o);
+    restir_options_preset_gris_offline(&o);
+    o.threads = a->rays.threads > 0 ? a->rays.threads : threads_default();
+    s.width = s.height = size;
+    status = bench_restir(stdout, &s, path, &o, first, &e);
+    if (!status && equal_seconds > 0) {
+        s.width = s.height = size / 2;
+        status = bench_restir_equal_time(stdout, &s, path, &o, 4096, equal_seconds, first, &e);
+    }
+    if (status) fprintf(stderr, "%s\n", e.msg);
+    scene_free(&s);
+    return status ? 2 : 0;
+}
+
 /* `bench all`: rays on the shipped Cornell box, the >= 100k-triangle generated sphere and
  * the Stanford bunny when ../shared/data is present (the Embree yardstick's scene); then
  * path-tracing throughput on the Cornell box and the generated sphere. */
@@ -127,6 +155,7 @@ static int bench_all(const bench_args *a, int *first)
     if (!status && file_exists(SHARED_BUNNY)) status = bench_file(SHARED_BUNNY, a, first);
     if (!status) status = bench_pt_file("scenes/cornell.scene", a, first);
     if (!status) status = bench_pt_generated(92, a, first);
+    if (!status) status = bench_restir_file("scenes/cornell.scene", a, 64, 3, first);
     return status;
 }
 
@@ -148,7 +177,7 @@ int cmd_bench(int argc, char **argv)
         };
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);
         if (status == 1) {
-            cli_print_help(stdout, "bench", "rays SCENE | rays --generated N | all [options]", options);
+            cli_print_help(stdout, "bench", "rays SCENE | rays --generated N | restir [SCENE] | all [options]", options);
             return 0;
         }
     }
@@ -157,13 +186,15 @@ int cmd_bench(int argc, char **argv)
         a.rays.width = a.rays_size[0];
         a.rays.height = a.rays_size[1];
     }
-    if (count < 1 || (strcmp(positional[0], "rays") && strcmp(positional[0], "all")) ||
+    if (count < 1 || (strcmp(positional[0], "rays") && strcmp(positional[0], "all") && strcmp(positional[0], "restir")) ||
         (!strcmp(positional[0], "rays") && count != 2 && !a.generated)) {
-        fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N` or `all`\n");
+        fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]` or `all`\n");
         return 2;
     }
     printf("[\n");
     if (!strcmp(positional[0], "all")) status = bench_all(&a, &first);
+    else if (!strcmp(positional[0], "restir"))
+        status = bench_restir_file(count > 1 ? positional[1] : "scenes/cornell.scene", &a, 64, 3, &first);
     else if (a.generated) status = bench_generated(a.generated, &a, &first);
     else status = bench_file(positional[1], &a, &first);
     printf("\n]\n");
