@@ -10,6 +10,7 @@
  * The reconnection shift on cornell-glossy fails often at the tall block's shadow edges. */
 #include <stdlib.h>
 #include <string.h>
+#include "restir/json_text.h"
 #include "restir_util.h"
 #include "test.h"
 
@@ -169,4 +170,41 @@ TEST_LONG(restir_spatial_unbiased_matrix_long)
     matrix("scenes/cornell.scene", 16, 24, 4, 64);
     if (!test_has_failed()) matrix("scenes/cornell-glossy.scene", 16, 24, 4, 64);
     if (!test_has_failed()) matrix("scenes/glass.scene", 16, 24, 16, 256); /* heavy caustic tails */
+}
+
+/* The CLI: --preset gris-offline with an override, the effective configuration and the
+ * per-pass milliseconds in --stats (well-formed JSON); --time-limit renders >= 1 frame. */
+TEST(restir_spatial_cli_preset_stats_time_limit)
+{
+    char out[4096], cmd[1024];
+    const char *img = test_tmp_path("preset.pfm"), *stats = test_tmp_path("preset.json");
+    json_reader jr;
+    rerror e;
+    scene s;
+    restir_options o;
+    restir_result r;
+    snprintf(cmd, sizeof cmd,
+             "render scenes/cornell.scene --method restir --preset gris-offline --candidates 2 --mis pairwise "
+             "--size 12x12 --quiet --no-png -o %s --stats %s",
+             img, stats);
+    CHECKF(test_cli(out, sizeof out, "%s", cmd) == 0, "%s", out);
+    CHECKF(json_reader_open(&jr, stats, &e) == 0, "%s", e.msg);
+    if (test_has_failed()) return;
+    CHECKF(json_skip_value(&jr) == 0 && json_expect_end(&jr) == 0, "%s", e.msg);
+    CHECK(strstr(jr.text, "\"candidates\": 2,") && strstr(jr.text, "\"spatial_passes\": 3,"));
+    CHECK(strstr(jr.text, "\"neighbors\": 6,") && strstr(jr.text, "\"radius\": 10,") &&
+          strstr(jr.text, "\"mis\": \"pairwise\""));
+    CHECK(strstr(jr.text, "\"spatial\": [") && strstr(jr.text, "\"shifts_per_pixel_per_frame\""));
+    json_reader_close(&jr);
+    CHECK(test_cli(out, sizeof out, "render scenes/cornell.scene --method restir --preset nonsense -o %s", img) == 2);
+    if (rt_load_scene("scenes/cornell.scene", 8, &s)) return;
+    restir_options_default(&o);
+    o.spatial_passes = 1;
+    o.time_limit = 0.05;
+    CHECKF(restir_render(&s, &o, &r, &e) == 0, "%s", e.msg);
+    if (!test_has_failed()) {
+        CHECK(r.stats.frames >= 1 && r.seconds >= 0.05);
+        restir_result_free(&r);
+    }
+    scene_free(&s);
 }
