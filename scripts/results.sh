@@ -9,7 +9,7 @@ OUT=${1:-out/results}
 R=${2:-build}/restir
 SIZE=${SIZE:-32}
 THREADS=${THREADS:-2}
-REF_SPP=${REF_SPP:-4096}
+REF_SPP=${REF_SPP:-16384}
 mkdir -p "$OUT"
 TMP="$OUT/tmp"
 mkdir -p "$TMP"
@@ -124,12 +124,12 @@ equal_time() {
         echo "seconds,pt,restir" > "$csv.tmp"
         : > "$TMP/pt.$name"
         : > "$TMP/rs.$name"
-        for spp in 8 16 32 64 128 256; do
+        for spp in 16 32 64 128 256 512 1024; do
             render $S --method pt --spp $spp --seed 77 -o "$TMP/et.pfm" --stats "$TMP/et.json"
             t=$(render_seconds "$TMP/et.json"); e=$(metric mape "$TMP/et.pfm" "$TMP/$name.ref.pfm")
             echo "$t $e" >> "$TMP/pt.$name"; echo "$t,$e," >> "$csv.tmp"
         done
-        for f in 1 2 4 8; do
+        for f in 1 2 4 8 16 32; do
             render $S --method restir --preset gris-offline --radius 3 --frames $f --seed 77 -o "$TMP/et.pfm" \
                 --stats "$TMP/et.json"
             t=$(render_seconds "$TMP/et.json"); e=$(metric mape "$TMP/et.pfm" "$TMP/$name.ref.pfm")
