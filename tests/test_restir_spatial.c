@@ -8,6 +8,7 @@
  * reconnection segment is occluded, the replayed ray misses), that neighbour's share of
  * the weight at that path is lost: the pixel comes out darker by the failed fraction.
  * The reconnection shift on cornell-glossy fails often at the tall block's shadow edges. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/json_text.h"
@@ -206,5 +207,76 @@ TEST(restir_spatial_cli_preset_stats_time_limit)
         CHECK(r.stats.frames >= 1 && r.seconds >= 0.05);
         restir_result_free(&r);
     }
+    scene_free(&s);
+}
+
+/* One GRIS step with M = 5 domains of neighbouring pixels (all with a sample): the shift
+ * evaluations are M - 1 forward shifts plus, for MIS, (M - 1)^2 (Talbot), M - 1 (pairwise,
+ * both) and 0 (constant), i.e. mis_shift_count() -- exactly so when every shift succeeds
+ * (a failed forward shift drops its column), at most so otherwise; the output confidence
+ * is the sum of the inputs; the output W is finite and the sample valid. Several pixel
+ * neighbourhoods are tried; at least one must have every shift succeed. */
+enum { STEP_M = 5 };
+
+static void step_counts_at(const restir_context *c, const scene *s, int cx, int cy, spatial_workspace *w, int *all_exact)
+{
+    static const int dx[STEP_M] = {0, 2, -1, 1, 0}, dy[STEP_M] = {0, 0, 1, -2, 2};
+    initial_options io;
+    initial_stats ist;
+    path_vertex v[STEP_M];
+    const path_vertex *x1[STEP_M];
+    reservoir r[STEP_M], out;
+    const reservoir *in[STEP_M];
+    real u[STEP_M];
+    int d, f, exact = 0;
+    memset(&io, 0, sizeof io);
+    memset(&ist, 0, sizeof ist);
+    io.trees = 4;
+    io.max_depth = 5;
+    io.rr_min_depth = 3;
+    for (d = 0; d < STEP_M; ++d) {
+        int x = cx + dx[d], y = cy + dy[d];
+        if (!rt_primary_vertex(s, x, y, &v[d])) return;
+        initial_sample_pixel(c, &io, &v[d], test_seed(), (uint32_t)(y * s->width + x), 0, &r[d], &ist);
+        if (!path_sample_is_valid(&r[d].y) || !(r[d].W > 0)) return;
+        x1[d] = &v[d];
+        in[d] = &r[d];
+        u[d] = (real)(d + 0.5) / STEP_M;
+    }
+    for (f = 0; f < MIS_FAMILY_COUNT; ++f) {
+        spatial_stats st;
+        long expected = mis_shift_count((mis_family)f, STEP_M, 1);
+        memset(&st, 0, sizeof st);
+        spatial_resample(c, (mis_family)f, STEP_M, x1, in, u, &out, w, &st);
+        if (st.outcome[SHIFT_OK] == st.shifts) {
+            CHECKF((long)st.mis_shifts == expected, "%s: %llu MIS shifts, expected %ld", mis_family_name((mis_family)f),
+                   (unsigned long long)st.mis_shifts, expected);
+            exact++;
+        }
+        CHECK((long)st.mis_shifts <= expected && st.shifts - st.mis_shifts == STEP_M - 1);
+        CHECK(out.confidence == 4 * STEP_M);
+        CHECK(path_sample_is_valid(&out.y) && out.W > 0 && isfinite((double)out.W));
+    }
+    *all_exact += exact == MIS_FAMILY_COUNT;
+}
+
+TEST(restir_spatial_step_shift_counts)
+{
+    static const int centres[][2] = {{12, 14}, {16, 8}, {8, 20}, {20, 20}, {16, 26}, {6, 8}, {26, 10}, {10, 4}};
+    scene s;
+    light_set lights;
+    restir_context c;
+    spatial_workspace w;
+    rerror e;
+    int k, all_exact = 0;
+    if (rt_load_scene("scenes/cornell.scene", 32, &s)) return;
+    CHECKF(lights_build(&lights, &s, &e) == 0, "%s", e.msg);
+    rt_context(&c, &s, &lights, RESTIR_SHIFT_RECONNECTION);
+    CHECK(spatial_workspace_alloc(&w, STEP_M, &e) == 0);
+    for (k = 0; k < (int)(sizeof centres / sizeof centres[0]) && !test_has_failed(); ++k)
+        step_counts_at(&c, &s, centres[k][0], centres[k][1], &w, &all_exact);
+    CHECKF(all_exact > 0, "no neighbourhood had every shift succeed");
+    spatial_workspace_free(&w);
+    lights_free(&lights);
     scene_free(&s);
 }
