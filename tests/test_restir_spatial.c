@@ -198,6 +198,16 @@ TEST(restir_spatial_cli_preset_stats_time_limit)
     CHECK(strstr(jr.text, "\"spatial\": [") && strstr(jr.text, "\"shifts_per_pixel_per_frame\""));
     json_reader_close(&jr);
     CHECK(test_cli(out, sizeof out, "render scenes/cornell.scene --method restir --preset nonsense -o %s", img) == 2);
+    /* --time-limit is shared with the path tracer's row and handed to restir */
+    CHECKF(test_cli(out, sizeof out,
+                    "render scenes/cornell.scene --method restir --time-limit 0.1 --size 8x8 --quiet --no-png -o %s "
+                    "--stats %s",
+                    img, stats) == 0,
+           "%s", out);
+    CHECKF(json_reader_open(&jr, stats, &e) == 0, "%s", e.msg);
+    if (test_has_failed()) return;
+    CHECK(strstr(jr.text, "\"time_limit\": 0.1,") && !strstr(jr.text, "\"frames\": 1,\n"));
+    json_reader_close(&jr);
     if (rt_load_scene("scenes/cornell.scene", 8, &s)) return;
     restir_options_default(&o);
     o.spatial_passes = 1;

@@ -213,6 +213,8 @@ static int add_restir_rows(cli_option *options, int n, render_args *a)
             options[i].seen = &a->max_depth_given;
             options[i].help = "maximum path length d in segments (2 = direct light; pt: 1..255, restir: 2..16; default 10)";
         }
+        if (!strcmp(options[i].name, "--time-limit"))
+            options[i].help = "pt: whole 1-spp passes, restir: whole frames until SECONDS have passed (restir: --frames ignored)";
         if (!strcmp(options[i].name, "--ablate")) {
             options[i].type = OPT_STRING;
             options[i].dest = &a->ablate;
@@ -239,6 +241,7 @@ static int ablation_index(const char *const *names, const char *name)
 /* Hands the shared options to the chosen method. */
 static int apply_shared_options(render_args *a)
 {
+    if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.time_limit; /* --time-limit */
     if (a->method == METHOD_RESTIR && a->max_depth_given) {
         if (a->pt.max_depth < 2 || a->pt.max_depth > PATH_MAX_LENGTH) {
             fprintf(stderr, "restir render: --max-depth: restir needs 2..%d, got %d\n", PATH_MAX_LENGTH, a->pt.max_depth);
