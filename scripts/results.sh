@@ -73,7 +73,7 @@ fig8() {
         w=$(( (2 * r + 1) * (2 * r + 1) ))
         row="$w"
         for mis in constant pairwise pairwise-defensive talbot; do
-            if [ $mis = talbot ] && [ $r -gt 3 ]; then row="$row,"; continue; fi # O(M^2) shifts
+            if [ $mis = talbot ] && [ $r -gt 7 ]; then row="$row,"; continue; fi # O(M^2) shifts
             sum=0
             for seed in 1 2 3; do
                 render $S --method restir --candidates 1 --spatial-passes 1 --pattern box --radius $r --no-reject \
