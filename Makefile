@@ -41,7 +41,7 @@ LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/*.c))
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-.PHONY: all run test test-long test-data bench clean
+.PHONY: all run test test-long test-data bench clean results
 all: $(BUILD)/restir
 
 $(BUILD)/%.o: %.c
@@ -88,3 +88,7 @@ clean:
 	rm -rf build out
 
 -include $(LIB_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(BUILD)/src/cli/main.d
+
+# The GRIS claims of docs/results.md (minutes; never part of `make test`).
+results: $(BUILD)/restir
+	sh scripts/results.sh out/results $(BUILD)

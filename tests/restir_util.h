@@ -33,4 +33,8 @@ int rt_primary_vertex(const scene *s, int x, int y, path_vertex *v);
  * thresholds of restir_options_default otherwise. */
 void rt_context(restir_context *c, const scene *s, const light_set *lights, int shift);
 
+/* The "spot" scene (unprepared): a glossy floor, a white back wall and a small quad light
+ * 8 cm above the floor, res x res pixels; where the Jacobian and light-pdf ablations show. */
+int rt_make_spot(scene *s, int res);
+
 #endif

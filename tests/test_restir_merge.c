@@ -20,27 +20,6 @@
 #define ALPHA 1e-3
 static int runs = 16; /* K runs per side (the TEST_LONG versions use more) */
 
-/* A glossy floor (GGX conductor, roughness 0.3) and a white back wall with a small quad
- * light 8 cm above the floor: the light pdf of direct light changes by an order of
- * magnitude across a few pixels, and the floor's glossy reflection of the lit wall
- * changes sharply between neighbouring pixels (so E[J_{c->n}] is far from 1). */
-static int make_spot(scene *s, int res)
-{
-    uint32_t metal, white, light;
-    const float h = 0.08f, a = 0.15f;
-    if (test_scene_begin(s, 8, 3)) return -1;
-    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.85, (real)0.8);
-    test_scene_last_material(s)->roughness = (real)0.3;
-    white = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.8, (real)0.8, (real)0.8), rgb_gray(0));
-    light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(4, (real)3.5, 3));
-    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), metal);        /* floor, +y */
-    test_scene_quad(s, v3f(-1, 0, 0.6f), v3f(0, 1, 0), v3f(2, 0, 0), white);      /* back wall, -z */
-    test_scene_quad(s, v3f(-a / 2, h, -a / 2), v3f(a, 0, 0), v3f(0, 0, a), light); /* faces -y */
-    test_scene_camera(s, v3(0, (real)1.2, (real)-0.9), v3(0, 0, (real)0.05), v3(0, 1, 0), 40, res);
-    return 0;
-}
-
 static int prepare(scene *s)
 {
     rerror e;
@@ -160,7 +139,7 @@ static void spot_case(int res, int scale)
     merge_case m = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 3, 16, 4, 256, 4};
     m.frames *= scale;
     m.radius = 4.0 * res / 16;
-    if (make_spot(&s, res) || prepare(&s)) return;
+    if (rt_make_spot(&s, res) || prepare(&s)) return;
     if (reference(&s, &m, &pt)) return;
     for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift) expect(&s, "spot", &m, &pt, 0);
     for (m.shift = RESTIR_SHIFT_RECONNECTION; m.shift <= RESTIR_SHIFT_HYBRID && !test_has_failed(); m.shift += 2) {

@@ -1,15 +1,16 @@
-/* ReSTIR PT renderer, part 1 (docs/restir-pt.md): per frame, initial resampling over N
- * path trees per pixel (initial.h), optionally one spatial pass that merges every pixel
- * with one random neighbour (merge.h, GRIS Eq. 36 / Mutations Eqs. 31-32), and shading
+/* Offline ReSTIR PT (GRIS §6.5; docs/restir-pt.md): per frame, initial resampling over N
+ * path trees per pixel (initial.h), K spatial passes (GRIS §6.3 step 3: every pixel
+ * resamples its own reservoir and n accepted neighbours, neighbors.h + spatial.h, with the
+ * MIS family of mis.h; reservoirs ping-pong between passes), and shading
  *     I_frame = Le(x1) + F(Y) W_Y        (emission at x1 is added, never resampled)
  * averaged over independent frames with the explicit mean of GRIS Eq. 47 (GRIS §6.5).
  * With --paths indirect the image holds only paths of length d >= 3 (no Le(x1)).
  *
  * Random numbers (docs/restir-pt.md, "Random numbers"): tree t of frame f uses the path
  * tracer's addresses with sample index f*N + t; the frame's primary rays (jitter) sample
- * f*N; the neighbour of pass p is RNG_NEIGHBOR (sample f, vertex p, slots 0-1); the
- * merge's selection numbers are RNG_RIS (sample f*N, vertex 0, slots 2p and 2p+1). The
- * result is byte-identical for any thread count. */
+ * f*N; the neighbours of pass p are RNG_NEIGHBOR with sample f*K + p (neighbors.h); the
+ * selection number of domain j in pass p is RNG_RIS (sample f*N, vertex 32 + p, slot j;
+ * initial sampling uses vertices 2..16). The result is byte-identical for any thread count. */
 #ifndef RESTIR_RESTIR_H
 #define RESTIR_RESTIR_H
 
@@ -18,18 +19,30 @@
 #include "restir/initial.h"
 #include "restir/merge.h"
 #include "restir/mis.h"
+#include "restir/neighbors.h"
+#include "restir/spatial.h"
+
+#define RESTIR_MAX_SPATIAL_PASSES 16
+#define RESTIR_MAX_DOMAINS 1024 /* 1 + neighbours per pixel and pass (box windows up to r = 15) */
 
 enum restir_paths { RESTIR_PATHS_ALL = 0, RESTIR_PATHS_INDIRECT = 1 };
 extern const char *const restir_paths_names[]; /* "all", "indirect" */
-extern const char *const restir_mis_names[];   /* the families restir_render accepts: "talbot" */
+/* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive" */
+extern const char *const restir_mis_names[];
 
 typedef struct {
     int shift;                  /* enum restir_shift (default hybrid) */
-    int spatial_passes;         /* 0: initial resampling alone; 1: merge with one neighbour */
-    int neighbors;              /* neighbours per pass: 1 */
+    int spatial_passes;         /* K, 0..16 (0: initial resampling alone; default 0) */
+    int neighbors;              /* n candidates per pixel and pass (disk patterns; default 6) */
     double radius;              /* neighbour disk radius in pixels (default 10, GRIS §8.3 offline) */
-    int mis;                    /* index into restir_mis_names: 0 = talbot (GRIS Eq. 36) */
+    int pattern;                /* enum neighbor_pattern (default r2) */
+    int no_reject;              /* 1: no normal/depth rejection of neighbours */
+    double normal_cos;          /* reject if dot(n_i, n_j) < this (default 0.5) */
+    double depth_ratio;         /* reject if |d_i - d_j| > this * min(d_i, d_j) (default 0.1) */
+    int mis;                    /* mis_family (default MIS_TALBOT, GRIS Eq. 36) */
     int frames;                 /* independent frames averaged (GRIS Eq. 47), >= 1 */
+    double time_limit;          /* > 0: render frames until this many seconds have passed
+                                   (at least one; `frames` is then ignored) */
     int first_frame;            /* frame index of the first frame (disjoint ranges are independent) */
     int candidates;             /* N path trees per pixel (default 1) */
     int max_depth;              /* longest path in segments, 2..16 (3..16 with indirect); default 10 */
@@ -49,8 +62,12 @@ typedef struct {
 
 typedef struct {
     initial_stats initial;
-    merge_stats merge;
+    spatial_stats spatial;     /* all passes */
+    neighbor_stats neighbors;  /* verdict of every proposed neighbour */
     uint64_t frames;
+    int passes;                /* K */
+    double ms_gbuffer, ms_initial, ms_shade;     /* summed over frames */
+    double ms_spatial[RESTIR_MAX_SPATIAL_PASSES]; /* pass p, summed over frames */
 } restir_stats;
 
 typedef struct {
@@ -76,6 +93,11 @@ void restir_result_free(restir_result *r);
 /* The statistics as a JSON object (no trailing newline), e.g. for `render --stats`:
  * candidates, selections by length and reconnection index, shifts by outcome. */
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent);
+/* The effective configuration as a JSON object (no trailing newline). */
+void restir_options_write_json(FILE *out, const restir_options *o, const char *indent);
+/* The GRIS offline preset (GRIS §8.3): 32 path trees, 3 spatial passes, 6 neighbours in
+ * radius 10; the other fields are kept. */
+void restir_options_preset_gris_offline(restir_options *o);
 
 /* One pixel, for `restir inspect` (docs/restir-pt.md): prints the selected path of pixel
  * (x, y) in frame o->first_frame (vertices, lobes, k, technique, F, W), then shifts it to

@@ -7,6 +7,7 @@
 #include "restir/generate.h"
 #include "restir/progress.h"
 #include "restir/pt.h"
+#include "restir/restir_bench.h"
 #include "restir/threads.h"
 #include "scene_args.h"
 
@@ -92,6 +93,28 @@ static int on_file(const char *path, scene_bench fn, const bench_args *a, int *f
     return status;
 }
 
+/* ReSTIR PT at 64 x 64: one frame of the GRIS offline preset per (shift, MIS family), then
+ * an equal-time comparison with the path tracer at 32 x 32 (3 seconds each). The image size
+ * is changed on a shallow copy of the scene (the geometry is shared, not copied). */
+static int bench_restir_on(const scene *s, const char *name, const bench_args *a, int *first)
+{
+    scene sized = *s;
+    restir_options o;
+    rerror e;
+    int status;
+    restir_options_default(&o);
+    restir_options_preset_gris_offline(&o);
+    o.threads = a->rays.threads > 0 ? a->rays.threads : threads_default();
+    sized.width = sized.height = 64;
+    status = bench_restir(stdout, &sized, name, &o, first, &e);
+    if (!status) {
+        sized.width = sized.height = 32;
+        status = bench_restir_equal_time(stdout, &sized, name, &o, 4096, 3, first, &e);
+    }
+    if (status) fprintf(stderr, "%s\n", e.msg);
+    return status ? 2 : 0;
+}
+
 static int file_exists(const char *path)
 {
     FILE *f = fopen(path, "rb");
@@ -101,7 +124,7 @@ static int file_exists(const char *path)
 
 /* `bench all`: rays on the shipped Cornell box, the >= 100k-triangle generated sphere and
  * the Stanford bunny when ../shared/data is present (the Embree yardstick's scene); then
- * path-tracing throughput on the Cornell box and the generated sphere. */
+ * path-tracing throughput on the Cornell box and the generated sphere; then ReSTIR PT. */
 static int bench_all(const bench_args *a, int *first)
 {
     int status = on_file("scenes/cornell.scene", bench_rays_on, a, first);
@@ -109,6 +132,7 @@ static int bench_all(const bench_args *a, int *first)
     if (!status && file_exists(SHARED_BUNNY)) status = on_file(SHARED_BUNNY, bench_rays_on, a, first);
     if (!status) status = on_file("scenes/cornell.scene", bench_pt_on, a, first);
     if (!status) status = on_generated(92, bench_pt_on, a, first);
+    if (!status) status = on_file("scenes/cornell.scene", bench_restir_on, a, first);
     return status;
 }
 
@@ -130,7 +154,7 @@ int cmd_bench(int argc, char **argv)
         };
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);
         if (status == 1) {
-            cli_print_help(stdout, "bench", "rays SCENE | rays --generated N | all [options]", options);
+            cli_print_help(stdout, "bench", "rays SCENE | rays --generated N | restir [SCENE] | all [options]", options);
             return 0;
         }
     }
@@ -139,13 +163,15 @@ int cmd_bench(int argc, char **argv)
         a.rays.width = a.rays_size[0];
         a.rays.height = a.rays_size[1];
     }
-    if (count < 1 || (strcmp(positional[0], "rays") && strcmp(positional[0], "all")) ||
+    if (count < 1 || (strcmp(positional[0], "rays") && strcmp(positional[0], "all") && strcmp(positional[0], "restir")) ||
         (!strcmp(positional[0], "rays") && count != 2 && !a.generated)) {
-        fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N` or `all`\n");
+        fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]` or `all`\n");
         return 2;
     }
     printf("[\n");
     if (!strcmp(positional[0], "all")) status = bench_all(&a, &first);
+    else if (!strcmp(positional[0], "restir"))
+        status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_restir_on, &a, &first);
     else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);
     else status = on_file(positional[1], bench_rays_on, &a, &first);
     printf("\n]\n");

@@ -56,7 +56,13 @@ static int write_stats(const char *path, const render_args *a, const scene *s, c
     if (a->method == METHOD_AOV) fprintf(f.fp, "  \"aov\": \"%s\",\n", aov_choices[a->aov]);
     if (a->method == METHOD_PT) render_pt_stats_json(f.fp, &a->pt, &t->pt);
     if (a->method == METHOD_RESTIR) {
-        fprintf(f.fp, "  \"restir\": {\"seconds\": %.6f, \"stats\":\n", t->restir_seconds);
+        restir_options o = a->restir;
+        o.seed = a->seed;
+        o.jitter = a->jitter;
+        o.threads = a->threads;
+        fprintf(f.fp, "  \"restir\": {\"seconds\": %.6f, \"config\": ", t->restir_seconds);
+        restir_options_write_json(f.fp, &o, "    ");
+        fprintf(f.fp, ",\n    \"stats\":\n");
         restir_stats_write_json(f.fp, &t->restir, "    ");
         fprintf(f.fp, "  },\n");
     }
@@ -207,6 +213,8 @@ static int add_restir_rows(cli_option *options, int n, render_args *a)
             options[i].seen = &a->max_depth_given;
             options[i].help = "maximum path length d in segments (2 = direct light; pt: 1..255, restir: 2..16; default 10)";
         }
+        if (!strcmp(options[i].name, "--time-limit"))
+            options[i].help = "pt: whole 1-spp passes, restir: whole frames until SECONDS have passed (restir: --frames ignored)";
         if (!strcmp(options[i].name, "--ablate")) {
             options[i].type = OPT_STRING;
             options[i].dest = &a->ablate;
@@ -233,6 +241,7 @@ static int ablation_index(const char *const *names, const char *name)
 /* Hands the shared options to the chosen method. */
 static int apply_shared_options(render_args *a)
 {
+    if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.time_limit; /* --time-limit */
     if (a->method == METHOD_RESTIR && a->max_depth_given) {
         if (a->pt.max_depth < 2 || a->pt.max_depth > PATH_MAX_LENGTH) {
             fprintf(stderr, "restir render: --max-depth: restir needs 2..%d, got %d\n", PATH_MAX_LENGTH, a->pt.max_depth);
@@ -253,7 +262,7 @@ int cmd_render(int argc, char **argv)
 {
     render_args a;
     render_timings t;
-    cli_option options[64];
+    cli_option options[96];
     const char *positional[1];
     int n = 0, count, status;
     scene s;
@@ -264,6 +273,7 @@ int cmd_render(int argc, char **argv)
     a.threads = threads_default();
     a.seed = 1;
     a.method = METHOD_PT;
+    if (render_restir_apply_preset(argc, argv, &a.restir)) return 2;
     {
         const cli_option rows[] = {
             {"-o", OPT_STRING, &a.output, "output PFM (default out/<scene>.pfm)", NULL, 0, 0, NULL},

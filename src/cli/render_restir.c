@@ -1,7 +1,25 @@
 /* Option rows of `restir render --method restir` (src/cli/render_restir.h). */
 #include "render_restir.h"
 
+#include <stdio.h>
 #include <string.h>
+
+static const char *const preset_names[] = {"none", "gris-offline", NULL};
+static int preset_dummy;
+
+int render_restir_apply_preset(int argc, char **argv, restir_options *o)
+{
+    int i;
+    for (i = 1; i + 1 < argc; ++i) {
+        if (strcmp(argv[i], "--preset")) continue;
+        if (!strcmp(argv[i + 1], "gris-offline")) restir_options_preset_gris_offline(o);
+        else if (strcmp(argv[i + 1], "none")) {
+            fprintf(stderr, "restir render: --preset: unknown preset '%s' (none, gris-offline)\n", argv[i + 1]);
+            return 2;
+        }
+    }
+    return 0;
+}
 
 static cli_option row(const char *name, enum cli_option_type type, void *dest, const char *help,
                       const char *const *choices, double min, double max)
@@ -24,12 +42,33 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--shift", OPT_CHOICE, &o->shift,
                     "shift mapping: reconnection (y2 = x2), replay (random replay), hybrid (default; GRIS 7.4)",
                     restir_shift_names, 0, 0);
+    rows[n++] = row("--preset", OPT_CHOICE, &preset_dummy,
+                    "gris-offline: 32 path trees, 3 spatial passes, 6 neighbours, radius 10 (GRIS 8.3); "
+                    "other options override it",
+                    preset_names, 0, 0);
     rows[n++] = row("--spatial-passes", OPT_INT, &o->spatial_passes,
-                    "0: initial resampling only (default); 1: merge with one random neighbour", NULL, 0, 1);
-    rows[n++] = row("--neighbors", OPT_INT, &o->neighbors, "neighbours per spatial pass (1)", NULL, 1, 1);
-    rows[n++] = row("--radius", OPT_REAL, &o->radius, "neighbour disk radius in pixels (default 10)", NULL, 1, 4096);
-    rows[n++] = row("--mis", OPT_CHOICE, &o->mis, "resampling MIS of the merge: talbot (GRIS Eq. 36)", restir_mis_names,
+                    "K spatial reuse passes, 0..16 (0: initial resampling only; default 0)", NULL, 0,
+                    RESTIR_MAX_SPATIAL_PASSES);
+    rows[n++] = row("--neighbors", OPT_INT, &o->neighbors, "neighbour candidates per pixel and pass (default 6)", NULL,
+                    1, NEIGHBOR_MAX_COUNT);
+    rows[n++] = row("--radius", OPT_REAL, &o->radius,
+                    "neighbour disk radius in pixels (default 10; box: half-size floor(R))", NULL, 1, 4096);
+    rows[n++] = row("--pattern", OPT_CHOICE, &o->pattern,
+                    "neighbour pattern: uniform disk, r2 (low-discrepancy disk, default), box window",
+                    neighbor_pattern_names, 0, 0);
+    rows[n++] = row("--no-reject", OPT_FLAG, &o->no_reject, "keep neighbours whatever their normal and depth", NULL,
                     0, 0);
+    rows[n++] = row("--normal-cos", OPT_REAL, &o->normal_cos,
+                    "reject a neighbour if dot(n_i, n_j) < this (default 0.5)", NULL, -1, 1);
+    rows[n++] = row("--depth-ratio", OPT_REAL, &o->depth_ratio,
+                    "reject a neighbour if |d_i - d_j| > this * min(d_i, d_j) (default 0.1)", NULL, 0, 1e9);
+    rows[n++] = row("--mis", OPT_CHOICE, &o->mis,
+                    "resampling MIS: constant (biased, GRIS 5.6), talbot (default, Eq. 36), pairwise (Eq. 37), "
+                    "pairwise-defensive (Eq. 38)",
+                    restir_mis_names, 0, 0);
+    rows[n++] = row("--time-limit", OPT_REAL, &o->time_limit,
+                    "render frames until this many seconds have passed (at least one; --frames is then ignored)",
+                    NULL, 0, 1e8);
     rows[n++] = row("--frames", OPT_INT, &o->frames, "independent frames averaged (GRIS Eq. 47; default 1)", NULL, 1,
                     1e9);
     rows[n++] = row("--first-frame", OPT_INT, &o->first_frame,

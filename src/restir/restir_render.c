@@ -1,5 +1,5 @@
-/* The ReSTIR PT renderer, part 1: initial resampling, one optional two-domain spatial
- * pass, shading, frames averaged (include/restir/restir.h). */
+/* The offline ReSTIR PT renderer (GRIS §6.5): initial resampling, K spatial passes
+ * (GRIS §6.3 step 3), shading, frames averaged with GRIS Eq. 47 (include/restir/restir.h). */
 #include "restir/restir.h"
 
 #include <math.h>
@@ -12,16 +12,19 @@
 #include "restir/threads.h"
 
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
-const char *const restir_mis_names[] = {"talbot", NULL};
+const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", NULL};
 
 void restir_options_default(restir_options *o)
 {
     memset(o, 0, sizeof *o);
     o->shift = RESTIR_SHIFT_HYBRID;
     o->spatial_passes = 0;
-    o->neighbors = 1;
+    o->neighbors = 6;
     o->radius = 10;
-    o->mis = 0;
+    o->pattern = NEIGHBOR_R2;
+    o->normal_cos = NEIGHBOR_DEFAULT_MIN_NORMAL_COS;
+    o->depth_ratio = NEIGHBOR_DEFAULT_MAX_RELATIVE_DEPTH;
+    o->mis = MIS_TALBOT;
     o->frames = 1;
     o->candidates = 1;
     o->max_depth = 10;
@@ -34,15 +37,40 @@ void restir_options_default(restir_options *o)
     o->quiet = 1;
 }
 
+static void restir_neighbor_options(neighbor_options *no, const restir_options *o)
+{
+    neighbor_options_default(no);
+    no->pattern = (enum neighbor_pattern)o->pattern;
+    no->count = o->neighbors;
+    no->radius = o->radius;
+    no->reject_geometry = !o->no_reject;
+    no->min_normal_cos = (float)o->normal_cos;
+    no->max_relative_depth = (float)o->depth_ratio;
+}
+
+void restir_options_preset_gris_offline(restir_options *o)
+{
+    o->candidates = 32;
+    o->spatial_passes = 3;
+    o->neighbors = 6;
+    o->radius = 10;
+}
+
 int restir_options_validate(const restir_options *o, rerror *e)
 {
     int min_depth = o->paths == RESTIR_PATHS_INDIRECT ? 3 : 2;
     if (o->shift < 0 || o->shift >= RESTIR_SHIFT_COUNT) return rerror_set(e, "restir: unknown shift %d", o->shift);
-    if (o->spatial_passes < 0 || o->spatial_passes > 1)
-        return rerror_set(e, "restir: %d spatial passes (this version supports 0 or 1)", o->spatial_passes);
-    if (o->neighbors != 1) return rerror_set(e, "restir: %d neighbours (this version supports 1)", o->neighbors);
-    if (o->mis != 0) return rerror_set(e, "restir: only --mis talbot is supported by the two-domain merge");
+    neighbor_options no;
+    if (o->spatial_passes < 0 || o->spatial_passes > RESTIR_MAX_SPATIAL_PASSES)
+        return rerror_set(e, "restir: %d spatial passes (0..%d)", o->spatial_passes, RESTIR_MAX_SPATIAL_PASSES);
+    if (o->mis < 0 || o->mis >= MIS_FAMILY_COUNT) return rerror_set(e, "restir: unknown MIS family %d", o->mis);
     if (!(o->radius >= 1) || !(o->radius <= 4096)) return rerror_set(e, "restir: radius %g outside [1, 4096]", o->radius);
+    restir_neighbor_options(&no, o);
+    if (neighbor_options_validate(&no, e)) return -1;
+    if (neighbor_candidate_count(&no) + 1 > RESTIR_MAX_DOMAINS)
+        return rerror_set(e, "restir: %d neighbour candidates per pixel (at most %d)", neighbor_candidate_count(&no),
+                          RESTIR_MAX_DOMAINS - 1);
+    if (!(o->time_limit >= 0) || !(o->time_limit < 1e9)) return rerror_set(e, "restir: time limit %g", o->time_limit);
     if (o->frames < 1) return rerror_set(e, "restir: %d frames", o->frames);
     if (o->first_frame < 0) return rerror_set(e, "restir: first frame %d < 0", o->first_frame);
     if (o->candidates < 1 || o->candidates > 1 << 16)
@@ -87,20 +115,31 @@ void restir_initial_options_for(initial_options *io, const restir_options *o)
 
 typedef struct {
     restir_stats st;
-    char pad[64]; /* keep workers' counters on separate cache lines */
-} worker_stats;
+    spatial_workspace ws;
+    uint32_t *nbr;           /* accepted neighbour pixels of the current pixel */
+    const path_vertex **x1;  /* per domain */
+    path_vertex *verts;      /* storage of the domains' primary vertices */
+    const reservoir **in;    /* per domain */
+    real *u;                 /* per domain */
+    char pad[64];            /* keep workers' counters on separate cache lines */
+} worker_state;
 
 typedef struct {
     const scene *s;
     const restir_options *o;
     restir_context ctx;
     initial_options io;
+    neighbor_options no;
+    int max_domains;
     gbuffer g;
     uint32_t frame;
-    reservoir *initial, *spatial; /* per pixel: initial output, spatial output */
-    const reservoir *final;      /* what the frame shades */
-    double *sum;                 /* 3 per pixel */
-    worker_stats *workers;
+    int pass;
+    reservoir *initial, *pong;       /* ping-pong: pass p reads src, writes dst */
+    const reservoir *src;
+    reservoir *dst;
+    const reservoir *final;          /* what the frame shades */
+    double *sum;                     /* 3 per pixel */
+    worker_state *workers;
 } frame_job;
 
 /* x1 of pixel p as the path sampler builds it from the frame's primary ray. */
@@ -129,43 +168,42 @@ static void initial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         }
 }
 
-/* A neighbour uniformly in the disk of the given radius (RNG_NEIGHBOR), rounded to a
- * pixel; -1 if that is the pixel itself or lies outside the image. The choice does not
- * depend on any sample, so any rule keeps the merge unbiased. */
-static long pick_neighbor(const frame_job *j, int x, int y, int pass)
+/* One pixel of spatial pass j->pass (GRIS §6.3 step 3): its own reservoir (canonical,
+ * domain 0) and the accepted neighbours (domains 1..M-1) of the previous pass's output
+ * resampled into dst[p] with the chosen MIS family (spatial.h). The neighbours depend only
+ * on the G-buffer and RNG_NEIGHBOR, never on the reservoirs (neighbors.h). */
+static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
 {
-    rng_key key = rng_key_make(j->o->seed, (uint32_t)((long)y * j->s->width + x), j->frame);
-    real r = (real)j->o->radius * (real)sqrt(rng_u(key, RNG_NEIGHBOR, (uint32_t)pass, 0));
-    real phi = 2 * PI_R * rng_u(key, RNG_NEIGHBOR, (uint32_t)pass, 1);
-    int nx = x + (int)lround(r * cos(phi)), ny = y + (int)lround(r * sin(phi));
-    if ((nx == x && ny == y) || nx < 0 || ny < 0 || nx >= j->s->width || ny >= j->s->height) return -1;
-    return (long)ny * j->s->width + nx;
+    long p = (long)y * j->s->width + x;
+    rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+    uint32_t nsample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass);
+    int n, d;
+    if (!primary_vertex(j, p, &w->verts[0])) {
+        reservoir_init(&j->dst[p]);
+        return;
+    }
+    /* capacity is checked by restir_options_validate, so this cannot fail */
+    n = neighbor_select(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, j->max_domains - 1, &w->st.neighbors,
+                        NULL);
+    if (n < 0) n = 0;
+    for (d = 0; d <= n; ++d) {
+        long q = d == 0 ? p : (long)w->nbr[d - 1];
+        if (d > 0) primary_vertex(j, q, &w->verts[d]); /* accepted neighbours have a primary hit */
+        w->x1[d] = &w->verts[d];
+        w->in[d] = &j->src[q];
+        /* vertex 32 + p: initial sampling uses vertices 2..16 of RNG_RIS (the key packs
+         * vertex < 256 and slot < 65536, so the pass must not go into the slot) */
+        w->u[d] = rng_u(key, RNG_RIS, 32u + (uint32_t)j->pass, (uint32_t)d);
+    }
+    spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws, &w->st.spatial);
 }
 
 static void spatial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
 {
     frame_job *j = ctx;
-    merge_stats *st = &j->workers[worker].st.merge;
-    int x, y, pass = 0;
+    int x, y;
     for (y = y0; y < y1; ++y)
-        for (x = x0; x < x1; ++x) {
-            long p = (long)y * j->s->width + x, n;
-            path_vertex vc, vn;
-            rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
-            if (!primary_vertex(j, p, &vc)) {
-                reservoir_init(&j->spatial[p]);
-                continue;
-            }
-            n = pick_neighbor(j, x, y, pass);
-            if (n < 0 || !primary_vertex(j, n, &vn)) {
-                st->no_neighbor++;
-                j->spatial[p] = j->initial[p];
-                continue;
-            }
-            merge_two_domains(&j->ctx, &vc, &j->initial[p], &vn, &j->initial[n],
-                              rng_u(key, RNG_RIS, 0, (uint32_t)(2 * pass)),
-                              rng_u(key, RNG_RIS, 0, (uint32_t)(2 * pass + 1)), &j->spatial[p], st);
-        }
+        for (x = x0; x < x1; ++x) spatial_pixel(j, &j->workers[worker], x, y);
 }
 
 static void shade_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
@@ -188,28 +226,47 @@ static void shade_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         }
 }
 
-static int render_frame(frame_job *j, const camera *cam, rerror *e)
+/* Milliseconds since *t, and *t reset to now. */
+static double lap_ms(double *t)
+{
+    double now = now_seconds(), ms = 1000 * (now - *t);
+    *t = now;
+    return ms;
+}
+
+static int render_frame(frame_job *j, const camera *cam, restir_stats *times, rerror *e)
 {
     const restir_options *o = j->o;
+    double t = now_seconds();
     if (gbuffer_build(&j->g, j->s, cam, o->seed, initial_tree_sample(&j->io, j->frame, 0), o->jitter, o->threads, e))
         return -1;
+    times->ms_gbuffer += lap_ms(&t);
     parallel_tiles(j->s->width, j->s->height, 16, o->threads, initial_tile, j, NULL, NULL);
+    times->ms_initial += lap_ms(&t);
     j->final = j->initial;
-    if (o->spatial_passes > 0) {
+    for (j->pass = 0; j->pass < o->spatial_passes; ++j->pass) {
+        /* ping-pong: initial -> pong -> initial -> ... */
+        j->src = j->pass % 2 == 0 ? j->initial : j->pong;
+        j->dst = j->pass % 2 == 0 ? j->pong : j->initial;
         parallel_tiles(j->s->width, j->s->height, 16, o->threads, spatial_tile, j, NULL, NULL);
-        j->final = j->spatial;
+        j->final = j->dst;
+        times->ms_spatial[j->pass] += lap_ms(&t);
     }
     parallel_tiles(j->s->width, j->s->height, 16, o->threads, shade_tile, j, NULL, NULL);
+    times->ms_shade += lap_ms(&t);
     gbuffer_free(&j->g);
     return 0;
 }
 
 static void sum_stats(const frame_job *j, restir_stats *st)
 {
-    int t;
+    int t, i;
     for (t = 0; t < j->o->threads; ++t) {
-        initial_stats_add(&st->initial, &j->workers[t].st.initial);
-        merge_stats_add(&st->merge, &j->workers[t].st.merge);
+        const restir_stats *w = &j->workers[t].st;
+        initial_stats_add(&st->initial, &w->initial);
+        spatial_stats_add(&st->spatial, &w->spatial);
+        st->neighbors.candidates += w->neighbors.candidates;
+        for (i = 0; i < NEIGHBOR_VERDICT_COUNT; ++i) st->neighbors.verdict[i] += w->neighbors.verdict[i];
     }
 }
 
@@ -220,29 +277,79 @@ void restir_result_free(restir_result *r)
     memset(r, 0, sizeof *r);
 }
 
-static int run_frames(frame_job *j, restir_result *out, rerror *e)
+/* Frames f = first_frame, first_frame + 1, ...: `frames` of them, or (time_limit > 0)
+ * until the time is up. Returns the number rendered, -1 on failure. */
+static long render_frames(frame_job *j, restir_stats *times, double t0, rerror *e)
 {
     const restir_options *o = j->o;
     camera cam;
     progress bar;
-    size_t pixels = (size_t)j->s->width * (size_t)j->s->height, i;
-    int f;
+    long f;
+    uint64_t max_frames = (uint64_t)UINT32_MAX / (uint64_t)o->candidates - (uint64_t)o->first_frame;
     camera_init(&cam, scene_camera_at(j->s, 0), j->s->width, j->s->height);
-    progress_begin(&bar, "restir", o->quiet);
-    for (f = 0; f < o->frames; ++f) {
+    progress_begin(&bar, "restir", o->quiet || o->time_limit > 0);
+    for (f = 0;; ++f) {
+        if (o->time_limit > 0 ? (f > 0 && now_seconds() - t0 >= o->time_limit) : f >= o->frames) break;
+        if ((uint64_t)f >= max_frames) break;
         j->frame = (uint32_t)(o->first_frame + f);
-        if (render_frame(j, &cam, e)) return -1;
-        progress_update(&bar, f + 1, o->frames);
+        if (render_frame(j, &cam, times, e)) return -1;
+        if (o->time_limit <= 0) progress_update(&bar, (int)f + 1, o->frames);
     }
     progress_end(&bar);
+    return f;
+}
+
+static int run_frames(frame_job *j, restir_result *out, double t0, rerror *e)
+{
+    const restir_options *o = j->o;
+    size_t pixels = (size_t)j->s->width * (size_t)j->s->height, i;
+    long frames = render_frames(j, &out->stats, t0, e);
+    if (frames < 0) return -1;
+    out->stats.frames = (uint64_t)frames;
     if (image_alloc(&out->mean, j->s->width, j->s->height, e)) return -1;
-    for (i = 0; i < 3 * pixels; ++i) out->mean.px[i] = (float)(j->sum[i] / o->frames); /* GRIS Eq. 47 */
+    for (i = 0; i < 3 * pixels; ++i) out->mean.px[i] = (float)(j->sum[i] / (double)frames); /* GRIS Eq. 47 */
     if (o->keep_reservoirs) {
         out->reservoirs = rmalloc(pixels, sizeof *out->reservoirs, e);
         if (!out->reservoirs) return -1;
         memcpy(out->reservoirs, j->final, pixels * sizeof *out->reservoirs);
     }
     return 0;
+}
+
+static int workers_alloc(frame_job *j, rerror *e)
+{
+    int t;
+    size_t m = (size_t)j->max_domains;
+    j->workers = rcalloc((size_t)j->o->threads, sizeof *j->workers, e);
+    if (!j->workers) return -1;
+    if (j->o->spatial_passes == 0) return 0;
+    for (t = 0; t < j->o->threads; ++t) {
+        worker_state *w = &j->workers[t];
+        if (spatial_workspace_alloc(&w->ws, j->max_domains, e)) return -1;
+        w->nbr = rmalloc(m, sizeof *w->nbr, e);
+        w->x1 = rmalloc(m, sizeof *w->x1, e);
+        w->verts = rmalloc(m, sizeof *w->verts, e);
+        w->in = rmalloc(m, sizeof *w->in, e);
+        w->u = rmalloc(m, sizeof *w->u, e);
+        if (!w->nbr || !w->x1 || !w->verts || !w->in || !w->u) return -1;
+    }
+    return 0;
+}
+
+static void workers_free(frame_job *j)
+{
+    int t;
+    if (!j->workers) return;
+    for (t = 0; t < j->o->threads; ++t) {
+        worker_state *w = &j->workers[t];
+        spatial_workspace_free(&w->ws);
+        free(w->nbr);
+        free(w->x1);
+        free(w->verts);
+        free(w->in);
+        free(w->u);
+    }
+    free(j->workers);
 }
 
 int restir_render(const scene *s, const restir_options *o, restir_result *out, rerror *e)
@@ -261,22 +368,23 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     j.o = o;
     restir_context_for(&j.ctx, s, &lights, o);
     restir_initial_options_for(&j.io, o);
+    restir_neighbor_options(&j.no, o);
+    j.max_domains = neighbor_candidate_count(&j.no) + 1;
     pixels = (size_t)s->width * (size_t)s->height;
     j.initial = rmalloc(pixels, sizeof *j.initial, e);
-    j.spatial = o->spatial_passes > 0 ? rmalloc(pixels, sizeof *j.spatial, e) : NULL;
+    j.pong = o->spatial_passes > 0 ? rmalloc(pixels, sizeof *j.pong, e) : NULL;
     j.sum = rcalloc(3 * pixels, sizeof *j.sum, e);
-    j.workers = rcalloc((size_t)o->threads, sizeof *j.workers, e);
-    if (!j.initial || (o->spatial_passes > 0 && !j.spatial) || !j.sum || !j.workers) status = -1;
-    if (!status) status = run_frames(&j, out, e);
+    if (!j.initial || (o->spatial_passes > 0 && !j.pong) || !j.sum || workers_alloc(&j, e)) status = -1;
+    if (!status) status = run_frames(&j, out, t0, e);
     if (!status) {
         sum_stats(&j, &out->stats);
-        out->stats.frames = (uint64_t)o->frames;
+        out->stats.passes = o->spatial_passes;
         out->seconds = now_seconds() - t0;
     }
     free(j.initial);
-    free(j.spatial);
+    free(j.pong);
     free(j.sum);
-    free(j.workers);
+    workers_free(&j);
     lights_free(&lights);
     if (status) restir_result_free(out);
     return status;
@@ -295,24 +403,52 @@ static void write_histogram(FILE *out, const uint64_t *h, int n)
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent)
 {
     const initial_stats *in = &st->initial;
-    const merge_stats *m = &st->merge;
+    const spatial_stats *sp = &st->spatial;
+    double px = in->pixels > 0 ? (double)in->pixels : 1;
     int i;
     fprintf(out, "{\n%s  \"frames\": %llu,\n", indent, (unsigned long long)st->frames);
+    fprintf(out, "%s  \"milliseconds\": {\"gbuffer\": %.3f, \"initial\": %.3f, \"spatial\": [", indent, st->ms_gbuffer,
+            st->ms_initial);
+    for (i = 0; i < st->passes && i < RESTIR_MAX_SPATIAL_PASSES; ++i)
+        fprintf(out, "%s%.3f", i ? ", " : "", st->ms_spatial[i]);
+    fprintf(out, "], \"shade\": %.3f},\n", st->ms_shade);
     fprintf(out, "%s  \"initial\": {\"pixels\": %llu, \"trees\": %llu, \"candidates\": %llu, \"selected\": %llu, ",
             indent, (unsigned long long)in->pixels, (unsigned long long)in->trees,
             (unsigned long long)in->candidates, (unsigned long long)in->selected);
-    fprintf(out, "\"record_failed\": %llu, \"record_mismatch\": %llu, \"unshiftable\": %llu,\n", 
+    fprintf(out, "\"record_failed\": %llu, \"record_mismatch\": %llu, \"unshiftable\": %llu,\n",
             (unsigned long long)in->record_failed, (unsigned long long)in->record_mismatch,
             (unsigned long long)in->unshiftable);
     fprintf(out, "%s    \"selected_by_length\": ", indent);
     write_histogram(out, in->length, PATH_MAX_LENGTH + 1);
     fprintf(out, ",\n%s    \"selected_by_reconnection_index\": ", indent);
     write_histogram(out, in->rc_index, PATH_MAX_LENGTH + 1);
-    fprintf(out, "},\n%s  \"merge\": {\"merges\": %llu, \"no_neighbor\": %llu, \"shifts\": %llu, "
-                 "\"selected_neighbor\": %llu,\n%s    \"shift_outcomes\": {",
-            indent, (unsigned long long)m->merges, (unsigned long long)m->no_neighbor,
-            (unsigned long long)m->shifts, (unsigned long long)m->selected_neighbor, indent);
+    fprintf(out, "},\n%s  \"spatial\": {\"passes\": %d, \"steps\": %llu, \"domains\": %llu, \"shifts\": %llu, "
+                 "\"mis_shifts\": %llu, \"shifts_per_pixel_per_frame\": %.3f, \"selected_neighbor\": %llu,\n",
+            indent, st->passes, (unsigned long long)sp->pixels, (unsigned long long)sp->domains,
+            (unsigned long long)sp->shifts, (unsigned long long)sp->mis_shifts, (double)sp->shifts / px,
+            (unsigned long long)sp->selected_neighbor);
+    fprintf(out, "%s    \"shift_outcomes\": {", indent);
     for (i = 0; i < SHIFT_FAILURE_COUNT; ++i)
-        fprintf(out, "%s\"%s\": %llu", i ? ", " : "", shift_failure_names[i], (unsigned long long)m->outcome[i]);
+        fprintf(out, "%s\"%s\": %llu", i ? ", " : "", shift_failure_names[i], (unsigned long long)sp->outcome[i]);
+    fprintf(out, "},\n%s    \"neighbor_verdicts\": {", indent);
+    for (i = 0; i < NEIGHBOR_VERDICT_COUNT; ++i)
+        fprintf(out, "%s\"%s\": %llu", i ? ", " : "", neighbor_verdict_names[i],
+                (unsigned long long)st->neighbors.verdict[i]);
     fprintf(out, "}}\n%s}", indent);
+}
+
+void restir_options_write_json(FILE *out, const restir_options *o, const char *indent)
+{
+    fprintf(out, "{\"shift\": \"%s\", \"mis\": \"%s\", \"candidates\": %d, \"spatial_passes\": %d, ",
+            restir_shift_names[o->shift], restir_mis_names[o->mis], o->candidates, o->spatial_passes);
+    fprintf(out, "\"neighbors\": %d, \"radius\": %g, \"pattern\": \"%s\", \"reject\": %s, \"normal_cos\": %g, "
+                 "\"depth_ratio\": %g,\n%s  ",
+            o->neighbors, o->radius, neighbor_pattern_names[o->pattern], o->no_reject ? "false" : "true",
+            o->normal_cos, o->depth_ratio, indent);
+    fprintf(out, "\"frames\": %d, \"first_frame\": %d, \"time_limit\": %g, \"max_depth\": %d, "
+                 "\"roughness_threshold\": %g, \"distance_threshold\": %g, \"paths\": \"%s\", \"ablate\": \"%s\", ",
+            o->frames, o->first_frame, o->time_limit, o->max_depth, o->roughness_threshold, o->distance_threshold,
+            restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
+    fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d}",
+            o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads);
 }

@@ -1,0 +1,53 @@
+/* One spatial GRIS step at one pixel (GRIS §6.3 step 3, Eq. 19, 22, 35-38; Stochastic MIS
+ * §2, Eqs. 9-12; docs/restir-pt.md "Spatial reuse").
+ *
+ * Domains i = 0..M-1: domain 0 is the pixel's own reservoir (CANONICAL, identity shift),
+ * domains 1..M-1 are the accepted neighbours (neighbors.h). Candidate j's sample X_j is
+ * shifted into the pixel, y_j = T_j(X_j) with J_j = |dT_j/dX_j| (shift.h), and
+ *     w_j = m_j(y_j) p̂(y_j) W_j J_j                 (GRIS Eq. 19)
+ *     W_Y = sum_j w_j / p̂(Y),  c = sum_j c_j       (GRIS Eq. 22, §6.2)
+ * with m_j from mis.h. The M x M matrix of "p̂ from i" (GRIS Eq. 35) is filled only where
+ * the chosen family reads it:
+ *     row 0 (canonical):     p̂(y_j), the forward shift's target;
+ *     diagonal j >= 1:       p̂_j(X_j) / J_j;
+ *     i >= 1, i != j:        y_j shifted back OUT into neighbour i: p̂_i(T_i^{-1}(y_j)) |dT_i^{-1}/dy_j|
+ *                            (one shift each: Talbot every column, O(M^2); pairwise only
+ *                            the canonical column j = 0, O(M); constant none).
+ * A failed shift is p̂ = 0 (GRIS Eq. 35). Every domain enters the MIS denominators and the
+ * confidence, also an empty reservoir or one whose forward shift failed. */
+#ifndef RESTIR_SPATIAL_H
+#define RESTIR_SPATIAL_H
+
+#include "restir/mis.h"
+#include "restir/reservoir.h"
+#include "restir/shift.h"
+
+typedef struct {
+    uint64_t pixels;   /* GRIS steps (pixels with a primary hit) */
+    uint64_t domains;  /* sum of M over the steps */
+    uint64_t shifts;   /* shift evaluations: forward (neighbours in) + MIS (out / across) */
+    uint64_t mis_shifts; /* the MIS part of `shifts` */
+    uint64_t outcome[SHIFT_FAILURE_COUNT]; /* every shift by result; outcome[SHIFT_OK] = successes */
+    uint64_t selected_neighbor; /* steps whose output sample came from a neighbour */
+} spatial_stats;
+
+/* Scratch space for steps with up to max_domains domains (one per worker). */
+typedef struct {
+    int max_domains;
+    real *ptarget, *confidence, *jacobian;
+    path_sample *shifted;
+    unsigned char *valid;
+} spatial_workspace;
+
+int spatial_workspace_alloc(spatial_workspace *w, int max_domains, rerror *e);
+void spatial_workspace_free(spatial_workspace *w);
+
+/* The GRIS step: x1[i] is domain i's primary vertex, in[i] its reservoir (i = 0 is the
+ * pixel's own), u[i] the selection number of candidate i (RNG_RIS). 1 <= m <= w->max_domains. */
+void spatial_resample(const restir_context *c, mis_family mis, int m, const path_vertex *const *x1,
+                      const reservoir *const *in, const real *u, reservoir *out, spatial_workspace *w,
+                      spatial_stats *st);
+
+void spatial_stats_add(spatial_stats *acc, const spatial_stats *add);
+
+#endif

@@ -1,0 +1,149 @@
+/* Offline ReSTIR PT in the benchmark and the equal-time harness (restir_bench.h). */
+#include "restir/restir_bench.h"
+
+#include <math.h>
+#include <string.h>
+
+static int restir_units(void *ctx, uint32_t first, uint32_t count, int width, int height, double *sum, rerror *e)
+{
+    equal_time_restir_ctx *c = ctx;
+    restir_options o = c->options;
+    restir_result r;
+    size_t i, n = (size_t)width * (size_t)height * 3;
+    if (c->s->width != width || c->s->height != height)
+        return rerror_set(e, "restir: renders %dx%d, not %dx%d", c->s->width, c->s->height, width, height);
+    o.first_frame = c->options.first_frame + (int)first;
+    o.frames = (int)count;
+    o.time_limit = 0;
+    if (restir_render(c->s, &o, &r, e)) return -1;
+    for (i = 0; i < n; ++i) sum[i] += (double)r.mean.px[i] * (double)count; /* frame sum = mean x frames */
+    restir_result_free(&r);
+    return 0;
+}
+
+void equal_time_restir_method(equal_time_restir_ctx *ctx, const scene *s, const restir_options *o, const char *name,
+                              equal_time_method *m)
+{
+    ctx->s = s;
+    ctx->options = *o;
+    m->name = name;
+    m->render = restir_units;
+    m->ctx = ctx;
+}
+
+static void write_pass_array(FILE *out, const double *v, int n, double scale)
+{
+    int i;
+    fputc('[', out);
+    for (i = 0; i < n; ++i) fprintf(out, "%s%.3f", i ? ", " : "", v[i] * scale);
+    fputc(']', out);
+}
+
+static void write_one(FILE *out, const char *name, const restir_options *o, const restir_result *r)
+{
+    const restir_stats *st = &r->stats;
+    double pixels = st->initial.pixels > 0 ? (double)st->initial.pixels : 1;
+    double frames = st->frames > 0 ? (double)st->frames : 1;
+    double passes = st->passes > 0 ? st->passes : 1;
+    int i;
+    fprintf(out, "  {\"bench\": \"restir\", \"scene\": \"%s\", \"width\": %d, \"height\": %d,\n   \"config\": ", name,
+            r->mean.width, r->mean.height);
+    restir_options_write_json(out, o, "   ");
+    fprintf(out, ",\n   \"ms_per_frame\": {\"gbuffer\": %.3f, \"initial\": %.3f, \"spatial\": ", st->ms_gbuffer / frames,
+            st->ms_initial / frames);
+    write_pass_array(out, st->ms_spatial, st->passes, 1 / frames);
+    fprintf(out, ", \"shade\": %.3f},\n", st->ms_shade / frames);
+    fprintf(out, "   \"shifts_per_pixel_per_pass\": %.3f, \"mis_shifts_per_pixel_per_pass\": %.3f, "
+                 "\"domains_per_pixel\": %.3f,\n",
+            (double)st->spatial.shifts / pixels / passes, (double)st->spatial.mis_shifts / pixels / passes,
+            st->spatial.pixels ? (double)st->spatial.domains / (double)st->spatial.pixels : 0.0);
+    fprintf(out, "   \"shift_outcomes\": {");
+    for (i = 0; i < SHIFT_FAILURE_COUNT; ++i)
+        fprintf(out, "%s\"%s\": %llu", i ? ", " : "", shift_failure_names[i],
+                (unsigned long long)st->spatial.outcome[i]);
+    fprintf(out, "}}");
+}
+
+int bench_restir(FILE *out, const scene *s, const char *name, const restir_options *o, int *first, rerror *e)
+{
+    static const int families[] = {MIS_TALBOT, MIS_PAIRWISE_DEFENSIVE};
+    int shift, f;
+    for (shift = 0; shift < RESTIR_SHIFT_COUNT; ++shift)
+        for (f = 0; f < 2; ++f) {
+            restir_options b = *o;
+            restir_result r;
+            b.shift = shift;
+            b.mis = families[f];
+            if (restir_render(s, &b, &r, e)) return -1;
+            if (!*first) fprintf(out, ",\n");
+            *first = 0;
+            write_one(out, name, &b, &r);
+            fflush(out);
+            restir_result_free(&r);
+        }
+    return 0;
+}
+
+static int reference_image(const scene *s, uint32_t spp, int threads, int max_depth, image *ref, rerror *e)
+{
+    pt_options po;
+    pt_result pr;
+    pt_options_default(&po);
+    po.spp = spp;
+    po.seed = 0x5eed;
+    po.threads = threads;
+    po.max_depth = max_depth;
+    if (pt_render(s, &po, &pr, e)) return -1;
+    *ref = pr.mean;
+    pr.mean.px = NULL;
+    pt_result_free(&pr);
+    return 0;
+}
+
+int bench_restir_equal_time(FILE *out, const scene *s, const char *name, const restir_options *o, uint32_t ref_spp,
+                            double seconds, int *first, rerror *e)
+{
+    image ref;
+    equal_time_options eo;
+    equal_time_pt_ctx ptc;
+    equal_time_restir_ctx rc;
+    equal_time_method m[2];
+    equal_time_curve c[2];
+    pt_options po;
+    double target, t[2];
+    int k, status = 0;
+    memset(c, 0, sizeof c);
+    if (reference_image(s, ref_spp, o->threads, o->max_depth, &ref, e)) return -1;
+    pt_options_default(&po);
+    po.seed = o->seed + 1;
+    po.threads = o->threads;
+    po.max_depth = o->max_depth;
+    equal_time_pt_method(&ptc, s, &po, "pt", &m[0]);
+    equal_time_restir_method(&rc, s, o, "restir", &m[1]);
+    equal_time_options_default(&eo);
+    eo.time_budget = seconds;
+    for (k = 0; k < 2 && !status; ++k) status = equal_time_run(&m[k], &ref, &eo, &c[k], e);
+    if (!status) {
+        double last0 = c[0].points[c[0].count - 1].mape, last1 = c[1].points[c[1].count - 1].mape;
+        target = last0 > last1 ? last0 : last1;
+        equal_time_time_to_reach(&c[0], EQUAL_TIME_MAPE, target, &t[0]);
+        equal_time_time_to_reach(&c[1], EQUAL_TIME_MAPE, target, &t[1]);
+        if (!*first) fprintf(out, ",\n");
+        *first = 0;
+        fprintf(out, "  {\"bench\": \"restir_equal_time\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, "
+                     "\"reference_spp\": %u, \"budget_seconds\": %g,\n   \"config\": ",
+                name, s->width, s->height, ref_spp, seconds);
+        restir_options_write_json(out, o, "   ");
+        fprintf(out, ",\n   \"pt\": {\"seconds\": %.3f, \"units\": %u, \"mape\": %.5f}, ",
+                c[0].points[c[0].count - 1].seconds, c[0].points[c[0].count - 1].units, last0);
+        fprintf(out, "\"restir\": {\"seconds\": %.3f, \"frames\": %u, \"mape\": %.5f},\n",
+                c[1].points[c[1].count - 1].seconds, c[1].points[c[1].count - 1].units, last1);
+        fprintf(out, "   \"target_mape\": %.5f, \"pt_seconds_to_target\": %.4g, \"restir_seconds_to_target\": %.4g, "
+                     "\"speedup\": %.3g}",
+                target, t[0], t[1], t[0] / t[1]);
+        fflush(out);
+    }
+    for (k = 0; k < 2; ++k) equal_time_curve_free(&c[k]);
+    image_free(&ref);
+    return status;
+}

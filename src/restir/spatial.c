@@ -1,0 +1,140 @@
+/* One spatial GRIS step (include/restir/spatial.h). */
+#include "restir/spatial.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int spatial_workspace_alloc(spatial_workspace *w, int max_domains, rerror *e)
+{
+    size_t m = (size_t)max_domains;
+    memset(w, 0, sizeof *w);
+    if (max_domains < 1) return rerror_set(e, "spatial: %d domains", max_domains);
+    w->max_domains = max_domains;
+    w->ptarget = rcalloc(m * m, sizeof *w->ptarget, e);
+    w->confidence = rcalloc(m, sizeof *w->confidence, e);
+    w->jacobian = rcalloc(m, sizeof *w->jacobian, e);
+    w->shifted = rcalloc(m, sizeof *w->shifted, e);
+    w->valid = rcalloc(m, 1, e);
+    if (!w->ptarget || !w->confidence || !w->jacobian || !w->shifted || !w->valid) {
+        spatial_workspace_free(w);
+        return -1;
+    }
+    return 0;
+}
+
+void spatial_workspace_free(spatial_workspace *w)
+{
+    free(w->ptarget);
+    free(w->confidence);
+    free(w->jacobian);
+    free(w->shifted);
+    free(w->valid);
+    memset(w, 0, sizeof *w);
+}
+
+/* One counted shift of x to the pixel of `to`; the jacobian ablation drops |dT/dx|
+ * wherever it enters (weights and MIS), as in merge.c. Returns the shifted target times
+ * the Jacobian factor the caller asks for (0 on failure). */
+static enum shift_failure counted_shift(const restir_context *c, const path_vertex *to, const path_sample *x,
+                                        path_sample *y, real *jacobian, spatial_stats *st)
+{
+    enum shift_failure why = shift_path(c, to, x, y, jacobian, NULL);
+    st->shifts++;
+    st->outcome[why]++;
+    if (c->ablation == RESTIR_ABLATE_JACOBIAN && *jacobian > 0) *jacobian = 1;
+    return why;
+}
+
+/* p̂_{<-i}(y) = p̂_i(T_i^{-1}(y)) |dT_i^{-1}/dy| (GRIS Eq. 35): y shifted out into domain i. */
+static real ptarget_from(const restir_context *c, const path_vertex *xi, const path_sample *y, spatial_stats *st)
+{
+    path_sample back;
+    real jacobian;
+    st->mis_shifts++;
+    if (counted_shift(c, xi, y, &back, &jacobian, st) != SHIFT_OK) return 0;
+    return back.target * jacobian;
+}
+
+/* Whether family f reads p̂_{<-i}(y_j) for i >= 1, i != j (mis.h: Talbot reads every
+ * entry; pairwise reads only the canonical column; constant none). */
+static int needs_entry(mis_family f, int i, int j)
+{
+    (void)i;
+    if (f == MIS_TALBOT) return 1;
+    if (f == MIS_PAIRWISE_UNIFORM || f == MIS_PAIRWISE_DEFENSIVE) return j == 0;
+    return 0;
+}
+
+/* Candidates shifted in: y_j = T_j(X_j), J_j, and the matrix's row 0 and diagonal. */
+static void shift_in(const restir_context *c, int m, const path_vertex *const *x1, const reservoir *const *in,
+                     spatial_workspace *w, spatial_stats *st)
+{
+    int j;
+    for (j = 0; j < m; ++j) {
+        const reservoir *r = in[j];
+        real *P = w->ptarget;
+        w->confidence[j] = r->confidence;
+        w->valid[j] = path_sample_is_valid(&r->y) && r->W > 0;
+        w->jacobian[j] = 0;
+        P[j] = 0;
+        if (j > 0) P[j * m + j] = 0;
+        if (!w->valid[j]) continue;
+        if (j == 0) {
+            w->shifted[0] = r->y; /* canonical: identity shift */
+            w->jacobian[0] = 1;
+        } else if (counted_shift(c, x1[0], &r->y, &w->shifted[j], &w->jacobian[j], st) != SHIFT_OK) {
+            w->valid[j] = 0;
+            continue;
+        } else {
+            P[j * m + j] = r->y.target / w->jacobian[j]; /* p̂_j(X_j) / |dT_j/dX_j| */
+        }
+        P[j] = w->shifted[j].target; /* p̂(y_j) */
+    }
+}
+
+void spatial_resample(const restir_context *c, mis_family mis, int m, const path_vertex *const *x1,
+                      const reservoir *const *in, const real *u, reservoir *out, spatial_workspace *w,
+                      spatial_stats *st)
+{
+    mis_input mi;
+    int i, j;
+    long unused = 0;
+    int chosen = -1;
+    reservoir_init(out);
+    st->pixels++;
+    st->domains += (uint64_t)m;
+    shift_in(c, m, x1, in, w, st);
+    for (j = 0; j < m; ++j) {
+        if (!w->valid[j]) continue;
+        for (i = 1; i < m; ++i)
+            if (i != j)
+                w->ptarget[i * m + j] = needs_entry(mis, i, j) ? ptarget_from(c, x1[i], &w->shifted[j], st) : 0;
+    }
+    mi.m = m;
+    mi.n_canonical = 1;
+    mi.confidence = w->confidence;
+    mi.ptarget = w->ptarget;
+    for (j = 0; j < m; ++j) {
+        real mj, wj;
+        if (w->valid[j]) {
+            /* m_j(y_j): GRIS Eqs. 36-38 / Stochastic MIS Eqs. 9-12 (mis.c) */
+            mj = mis_weight(mis, &mi, j, j, &unused);
+            wj = gris_resampling_weight(mj, w->ptarget[j], in[j]->W, w->jacobian[j]); /* GRIS Eq. 19 */
+            if (reservoir_stream(out, &w->shifted[j], wj, u[j])) chosen = j;
+        }
+        reservoir_add_confidence(out, w->confidence[j]); /* GRIS §6.2: c = sum of the inputs */
+    }
+    if (chosen > 0) st->selected_neighbor++;
+    reservoir_finalize(out); /* GRIS Eq. 22 */
+}
+
+void spatial_stats_add(spatial_stats *acc, const spatial_stats *add)
+{
+    int i;
+    acc->pixels += add->pixels;
+    acc->domains += add->domains;
+    acc->shifts += add->shifts;
+    acc->mis_shifts += add->mis_shifts;
+    acc->selected_neighbor += add->selected_neighbor;
+    for (i = 0; i < SHIFT_FAILURE_COUNT; ++i) acc->outcome[i] += add->outcome[i];
+}
