@@ -21,7 +21,8 @@ uint32_t initial_tree_sample(const initial_options *o, uint32_t frame, int tree)
     return frame * (uint32_t)o->trees + (uint32_t)tree;
 }
 
-/* GRIS Eq. 1 with M -> N trees and W_x = 1 / roulette survival probability. */
+/* GRIS Eq. 1 with M -> N trees and W_x = 1 / roulette survival probability (the RIS
+ * weight p̂/p of Stochastic MIS Eq. 2, with the 1/N of the N canonical trees). */
 static void offer(candidate_stream *cs, const initial_options *o, rng_key key, uint32_t sample, int d, int technique,
                   rgb F, real rr_survival, initial_stats *st)
 {

@@ -158,6 +158,8 @@ enum shift_failure shift_hybrid(const restir_context *c, const path_vertex *y1, 
     return replay_then_reconnect(c, y1, x, y, jacobian, info, 1);
 }
 
+/* The shifted input Y_i = T_i(X_i) (Stochastic MIS Eq. 5; GRIS Eq. 48 per vertex) with
+ * its PSS Jacobian, for the configured shift mapping. */
 enum shift_failure shift_path(const restir_context *c, const path_vertex *y1, const path_sample *x, path_sample *y,
                               real *jacobian, shift_info *info)
 {
