@@ -38,6 +38,20 @@ grey_cornell() {
     echo "$d/cornell-grey.scene"
 }
 
+# relMSE against the grey reference of one spatial-only frame (1 pass, box window, no
+# rejection), averaged over seeds 1-3. Arguments: SCENE, then the remaining render options.
+mean_relmse() {
+    scene=$1; shift
+    sum=0
+    for seed in 1 2 3; do
+        render "$scene" --method restir --spatial-passes 1 --pattern box --no-reject "$@" --seed $seed \
+            -o "$TMP/window.pfm"
+        e=$(metric relmse "$TMP/window.pfm" "$TMP/cornell-grey.ref.pfm")
+        sum=$(awk -v a="$sum" -v b="$e" 'BEGIN { print a + b }')
+    done
+    awk -v a="$sum" 'BEGIN { printf "%.6g", a / 3 }'
+}
+
 # ---- (a) GRIS Fig. 7: single-frame error vs input samples per pixel, fixed 7x7 window --------
 fig7() {
     S=$(grey_cornell)
@@ -47,14 +61,7 @@ fig7() {
     for n in 1 2 4 8 16; do
         row="$n"
         for mis in constant talbot pairwise; do
-            sum=0
-            for seed in 1 2 3; do
-                render $S --method restir --candidates $n --spatial-passes 1 --pattern box --radius 3 --no-reject \
-                    --mis $mis --seed $seed -o "$TMP/f7.pfm"
-                e=$(metric relmse "$TMP/f7.pfm" "$TMP/cornell-grey.ref.pfm")
-                sum=$(awk -v a="$sum" -v b="$e" 'BEGIN { print a + b }')
-            done
-            row="$row,$(awk -v a="$sum" 'BEGIN { printf "%.6g", a / 3 }')"
+            row="$row,$(mean_relmse "$S" --candidates $n --radius 3 --mis $mis)"
         done
         echo "$row" >> "$csv.tmp"
     done
@@ -74,14 +81,7 @@ fig8() {
         row="$w"
         for mis in constant pairwise pairwise-defensive talbot; do
             if [ $mis = talbot ] && [ $r -gt 7 ]; then row="$row,"; continue; fi # O(M^2) shifts
-            sum=0
-            for seed in 1 2 3; do
-                render $S --method restir --candidates 1 --spatial-passes 1 --pattern box --radius $r --no-reject \
-                    --mis $mis --seed $seed -o "$TMP/f8.pfm"
-                e=$(metric relmse "$TMP/f8.pfm" "$TMP/cornell-grey.ref.pfm")
-                sum=$(awk -v a="$sum" -v b="$e" 'BEGIN { print a + b }')
-            done
-            row="$row,$(awk -v a="$sum" 'BEGIN { printf "%.6g", a / 3 }')"
+            row="$row,$(mean_relmse "$S" --candidates 1 --radius $r --mis $mis)"
         done
         echo "$row" >> "$csv.tmp"
     done

@@ -1,5 +1,6 @@
 /* Test helpers (tests/pt_util.h). */
 #include "pt_util.h"
+#include "test.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -173,3 +174,13 @@ void test_scene_outward_box(scene *s, vec3f lo, vec3f hi, uint32_t m)
 
 material *test_scene_last_material(scene *s) { return &s->materials[s->material_count - 1]; }
 
+
+int test_scene_prepare(scene *s)
+{
+    rerror e;
+    if (scene_prepare(s, &e)) {
+        test_fail(__FILE__, __LINE__, "scene_prepare: %s", e.msg);
+        return -1;
+    }
+    return 0;
+}

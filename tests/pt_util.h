@@ -34,5 +34,7 @@ material *test_scene_last_material(scene *s);
 void test_scene_camera(scene *s, vec3 eye, vec3 target, vec3 up, real fov_y, int res);
 /* Multiplies every position and the camera eye/target by k (a change of units). */
 void test_scene_scale(scene *s, float k);
+/* scene_prepare, recording a test failure with its message; returns nonzero on failure. */
+int test_scene_prepare(scene *s);
 
 #endif

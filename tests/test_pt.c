@@ -107,15 +107,6 @@ static int make_glossy_box_at(scene *s, int res, real dx, real dy)
 
 static int make_glossy_box(scene *s, int res) { return make_glossy_box_at(s, res, (real)0.003, (real)0.0017); }
 
-static int prepare(scene *s)
-{
-    rerror e;
-    if (scene_prepare(s, &e)) {
-        test_fail(__FILE__, __LINE__, "scene_prepare: %s", e.msg);
-        return -1;
-    }
-    return 0;
-}
 
 static int render(const scene *s, const pt_options *o, pt_result *r)
 {
@@ -144,7 +135,7 @@ static void furnace_case(enum pt_strategy strategy, int rr, int depth, uint32_t 
     pt_result r;
     int k;
     CHECK(make_furnace(&s, le, rho, 12) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     pt_options_default(&o);
     o.strategy = strategy;
     o.russian_roulette = rr;
@@ -305,7 +296,7 @@ TEST(pt_strategies_agree_glossy_box)
 {
     scene s;
     CHECK(make_glossy_box(&s, 24) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 256, 5);
     if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_BSDF, 256, 5);
     if (!test_has_failed()) check_equal(&s, PT_STRATEGY_NEE, PT_STRATEGY_BSDF, 256, 5);
@@ -322,7 +313,7 @@ TEST(pt_strategies_reject_ablations_glossy_box)
 {
     scene s;
     CHECK(make_glossy_box(&s, 24) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_NEE, 256, 2);
     if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_NEE, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_MIS, 256, 2);
     if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_MIS_SUM, PT_STRATEGY_NEE, 256, 2);
@@ -343,7 +334,7 @@ TEST_LONG(pt_strategies_agree_on_exact_edges)
     double worst = 0;
     int k, c, worst_k = 0;
     CHECK(make_glossy_box_at(&s, 24, 0, 0) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     pt_options_default(&o);
     o.spp = 8192;
     o.max_depth = 5;
@@ -396,7 +387,7 @@ TEST(pt_multi_lobe_mis_uses_all_lobe_pdf)
 {
     scene s;
     CHECK(make_plastic_under_light(&s, 24) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 128, 2);
     if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_BSDF, 128, 2);
     if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 128, 4);
@@ -451,7 +442,7 @@ static void check_scaled(const check_side *ref, float k, vec3f shift, uint32_t s
     CHECK(make_glossy_box(&s, 24) == 0);
     translate_scene(&s, shift);
     test_scene_scale(&s, k);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     if (render_side(&s, PT_STRATEGY_MIS, 0, seed, RUNS, spp_per_run, 4, 4, &side)) return;
     check_options_default(&opt);
     opt.alpha = ALPHA;
@@ -469,7 +460,7 @@ static int scale_reference(check_side *ref, uint32_t spp_per_run)
 {
     scene base;
     int status;
-    if (make_glossy_box(&base, 24) || prepare(&base)) return -1;
+    if (make_glossy_box(&base, 24) || test_scene_prepare(&base)) return -1;
     status = render_side(&base, PT_STRATEGY_MIS, 0, test_seed() * 13u, RUNS, spp_per_run, 4, 4, ref);
     scene_free(&base);
     return status;
@@ -548,7 +539,7 @@ TEST(pt_threads_deterministic)
     pt_result r1, r2, r7;
     CHECK(make_glossy_box(&s, 40) == 0); /* 3 x 3 tiles of 16 */
     s.width = 44;
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     pt_options_default(&o);
     o.spp = 6;
     o.jitter = 1;
@@ -594,7 +585,7 @@ TEST(pt_checkpoint_resume_bit_exact)
     char ck_path[1024];
     snprintf(ck_path, sizeof ck_path, "%s", ck);
     CHECK(make_glossy_box(&s, 20) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     pt_options_default(&o);
     o.spp = 9;
     o.seed = test_seed() + 5;
@@ -643,7 +634,7 @@ TEST(pt_checkpoint_rejects_mismatch_and_corruption)
     FILE *f;
     snprintf(path, sizeof path, "%s", p);
     CHECK(make_glossy_box(&s, 8) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     pt_options_default(&o);
     o.spp = 2;
     o.checkpoint_path = path;
@@ -695,7 +686,7 @@ TEST(pt_merge_sample_ranges)
     double counts[2] = {5, 7};
     rerror e;
     CHECK(make_glossy_box(&s, 16) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     pt_options_default(&o);
     o.seed = test_seed() + 11;
     o.spp = 12;
@@ -732,7 +723,7 @@ TEST(pt_time_limit_whole_passes)
     pt_options o;
     pt_result r;
     CHECK(make_glossy_box(&s, 16) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     pt_options_default(&o);
     o.spp = 0;
     o.time_limit = 0.2;
@@ -750,7 +741,7 @@ TEST(pt_options_validated)
     pt_result r;
     rerror e;
     CHECK(make_glossy_box(&s, 8) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     pt_options_default(&o);
     o.max_depth = 0;
     CHECK(pt_render(&s, &o, &r, &e) != 0 && strstr(e.msg, "max depth") != NULL);
@@ -784,7 +775,7 @@ TEST(pt_nonfinite_samples_counted)
     m_floor = test_scene_material(&s, MAT_LAMBERT, rgb_gray(REAL_MAX * (real)0.83), rgb_gray(1));
     s.triangles[4].material = s.triangles[5].material = m_floor; /* the y = lo quad */
     test_scene_camera(&s, v3(0, 0, 0), v3(0, -1, (real)0.3), v3(0, 0, 1), 120, 16);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     pt_options_default(&o);
     o.spp = 1;
     o.max_depth = 2;
@@ -808,7 +799,7 @@ TEST(pt_bench_json)
     size_t n;
     CHECK(f != NULL);
     CHECK(make_glossy_box(&s, 8) == 0);
-    if (prepare(&s)) return;
+    if (test_scene_prepare(&s)) return;
     CHECKF(bench_pt(f, &s, "glossy \"box\"", 2, 1, &e) == 0, "%s", e.msg);
     rewind(f);
     n = fread(buf, 1, sizeof buf - 1, f);

@@ -20,15 +20,6 @@
 #define ALPHA 1e-3
 static int runs = 16; /* K runs per side (the TEST_LONG versions use more) */
 
-static int prepare(scene *s)
-{
-    rerror e;
-    if (scene_prepare(s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    return 0;
-}
 
 typedef struct {
     int shift, ablation, paths, max_depth, frames, block;
@@ -143,7 +134,7 @@ static void spot_case(int res, int scale)
     merge_case m = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 3, 16, 4, 256, 4};
     m.frames *= scale;
     m.radius = 4.0 * res / 16;
-    if (rt_make_spot(&s, res) || prepare(&s)) return;
+    if (rt_make_spot(&s, res) || test_scene_prepare(&s)) return;
     if (reference(&s, &m, &pt)) return;
     for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift) expect(&s, "spot", &m, &pt, 0);
     for (m.shift = RESTIR_SHIFT_RECONNECTION; m.shift <= RESTIR_SHIFT_HYBRID && !test_has_failed(); m.shift += 2) {
