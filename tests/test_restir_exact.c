@@ -470,3 +470,77 @@ TEST_LONG(restir_exact_furnace_long)
     furnace_size z = {32, 48, 4};
     furnace_matrix(&z, 10);
 }
+
+/* ---- the debug build's invariants, driven directly ------------------------------------ */
+
+/* spatial_check_step (the check `make DEBUG=1` runs after every GRIS step) accepts a real
+ * step and rejects each planted violation with a message naming it: a non-finite W, an
+ * output confidence that is not the sum of the inputs, a negative input confidence, an
+ * m_j the step used that differs from the MIS weights over the input confidences, and a
+ * successful reconnection whose segment is blocked. */
+TEST(restir_debug_invariants_fire)
+{
+    step_bench b;
+    const path_vertex *x1[STEP_MAX_M];
+    const reservoir *in[STEP_MAX_M];
+    reservoir r[STEP_MAX_M], out, saved;
+    real u[STEP_MAX_M];
+    spatial_stats st;
+    char why[512];
+    int x, y, k, found = 0, m = 0, j = -1;
+    if (step_bench_open(&b, "scenes/cornell-glossy.scene", 16, 4)) return;
+    {
+        restir_options o;
+        initial_options io;
+        initial_stats ist;
+        restir_options_default(&o);
+        o.shift = RESTIR_SHIFT_RECONNECTION;
+        restir_context_for(&b.c, &b.s, &b.lights, &o);
+        memset(&io, 0, sizeof io);
+        memset(&ist, 0, sizeof ist);
+        io.trees = 2;
+        io.max_depth = 4;
+        io.rr_min_depth = 3;
+        /* a pixel whose 4 neighbours all shift in with a reconnection */
+        for (y = 2; y < 14 && !found; ++y)
+            for (x = 2; x < 14 && !found; ++x) {
+                static const int ox[STEP_MAX_M] = {0, 1, -1, 0, 0}, oy[STEP_MAX_M] = {0, 0, 0, 1, -1};
+                for (k = 0, m = 0; k < STEP_MAX_M; ++k) {
+                    long q = (long)(y + oy[k]) * b.s.width + x + ox[k];
+                    if (!b.hit[q]) break;
+                    initial_sample_pixel(&b.c, &io, &b.x1[q], test_seed(), (uint32_t)q, 0, &r[k], &ist);
+                    x1[k] = &b.x1[q];
+                    in[k] = &r[k];
+                    u[k] = (real)0.5;
+                    m++;
+                }
+                if (m < STEP_MAX_M) continue;
+                memset(&st, 0, sizeof st);
+                spatial_resample(&b.c, MIS_TALBOT, m, x1, in, u, &out, &b.w, &st);
+                for (k = 1; k < m && j < 0; ++k)
+                    if (b.w.valid[k] && b.w.shifted[k].rc_k != PATH_RC_NONE) j = k;
+                found = j > 0;
+            }
+    }
+    CHECKF(found, "no pixel with a reconnected neighbour");
+    CHECKF(spatial_check_step(&b.c, MIS_TALBOT, m, x1, in, &out, &b.w, why, sizeof why) == 0, "a correct step: %s", why);
+    saved = out;
+    out.W = (real)NAN;
+    CHECK(spatial_check_step(&b.c, MIS_TALBOT, m, x1, in, &out, &b.w, why, sizeof why) != 0 && strstr(why, "W = nan"));
+    out = saved;
+    out.confidence += 1;
+    CHECK(spatial_check_step(&b.c, MIS_TALBOT, m, x1, in, &out, &b.w, why, sizeof why) != 0 && strstr(why, "confidence"));
+    out = saved;
+    r[2].confidence = -r[2].confidence;
+    CHECK(spatial_check_step(&b.c, MIS_TALBOT, m, x1, in, &out, &b.w, why, sizeof why) != 0 && strstr(why, "< 0"));
+    r[2].confidence = -r[2].confidence;
+    b.w.mis[j] *= (real)1.1;
+    CHECK(spatial_check_step(&b.c, MIS_TALBOT, m, x1, in, &out, &b.w, why, sizeof why) != 0 && strstr(why, "used"));
+    b.w.mis[j] /= (real)1.1;
+    /* x_k moved far below the floor (the scene is ~550 units tall): the segment from
+     * y_{k-1} now crosses it */
+    b.w.shifted[j].rc_position.y -= 5000;
+    CHECK(spatial_check_step(&b.c, MIS_TALBOT, m, x1, in, &out, &b.w, why, sizeof why) != 0 && strstr(why, "occluded"));
+    if (verbose()) fprintf(stderr, "  invariant messages, e.g.: %s\n", why);
+    step_bench_close(&b);
+}
