@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/check.h"
+#include "restir/image.h"
 #include "restir/rng.h"
 #include "test.h"
 
@@ -114,4 +115,56 @@ TEST(check_paired_rejects_unpaired_sides)
     CHECK(check_compare_paired(&a, &b, &o, &r, &e) != 0 && strstr(e.msg, "runs"));
     check_side_free(&a);
     check_side_free(&b);
+}
+
+/* Writes `runs` synthetic runs of one side as PFM files; list receives their names. */
+static int write_side(char *list, size_t n, uint32_t seed, int runs, int side, double scale, const char *stem)
+{
+    image img;
+    rerror e;
+    int k;
+    size_t used = 0;
+    if (image_alloc(&img, PW, PH, &e)) return -1;
+    list[0] = '\0';
+    for (k = 0; k < runs; ++k) {
+        char name[64];
+        const char *path;
+        snprintf(name, sizeof name, "%s%d.pfm", stem, k);
+        path = test_tmp_path(name);
+        synth_run(&img, seed, k, side, 0.03, scale);
+        if (pfm_write(path, &img, &e) || used + strlen(path) + 2 > n) break;
+        used += (size_t)snprintf(list + used, n - used, "%s ", path);
+    }
+    image_free(&img);
+    return k < runs ? -1 : 0;
+}
+
+/* restir check --paired: the 1 % bias that the unpaired check calls consistent is called
+ * different, the JSON says "paired": true, and unequal run counts are a usage error. */
+TEST(check_paired_cli)
+{
+    static char a_list[4096], b_list[4096], c_list[4096], out[16384];
+    char json[1100];
+    int status;
+    snprintf(json, sizeof json, "%s", test_tmp_path("paired.json"));
+    CHECK(write_side(a_list, sizeof a_list, 77, 8, 0, 1.01, "pa") == 0);
+    CHECK(write_side(b_list, sizeof b_list, 77, 8, 1, 1.0, "pb") == 0);
+    CHECK(write_side(c_list, sizeof c_list, 77, 7, 1, 1.0, "pc") == 0);
+    status = test_cli(out, sizeof out, "check --a %s --b %s --block 4 --alpha 0.001", a_list, b_list);
+    CHECKF(status == 0, "unpaired: status %d: %s", status, out);
+    status = test_cli(out, sizeof out, "check --a %s --b %s --block 4 --alpha 0.001 --paired --json %s", a_list, b_list,
+                      json);
+    CHECKF(status == 1 && strstr(out, "verdict: different") && strstr(out, "paired: run k of A with run k of B"),
+           "paired: status %d: %s", status, out);
+    {
+        FILE *f = fopen(json, "rb");
+        size_t n;
+        CHECK(f != NULL);
+        n = fread(out, 1, sizeof out - 1, f);
+        fclose(f);
+        out[n] = '\0';
+        CHECK(strstr(out, "\"paired\": true"));
+    }
+    status = test_cli(out, sizeof out, "check --a %s --b %s --paired", a_list, c_list);
+    CHECKF(status == 2 && strstr(out, "--paired"), "unequal runs: status %d: %s", status, out);
 }
