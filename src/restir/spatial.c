@@ -183,16 +183,6 @@ static int check_mis_column(mis_family mis, int m, const reservoir *const *in, c
     return 0;
 }
 
-/* The segment y_{k-1} -> x_k of the successfully shifted candidate y, re-traced. */
-static int reconnection_visible(const restir_context *c, const path_vertex *y1, const path_sample *y)
-{
-    path_trunk t;
-    int k = y->rc_k;
-    if (k == PATH_RC_NONE) return 1;
-    if (trunk_replay(&t, c, y1, y, k - 1) != SHIFT_OK) return 0;
-    return scene_visible(c->path.scene, t.v[k - 1].hit.position, t.v[k - 1].hit.ng, y->rc_position, &y->rc_normal);
-}
-
 int spatial_check_step(const restir_context *c, mis_family mis, int m, const path_vertex *const *x1,
                        const reservoir *const *in, const reservoir *out, spatial_workspace *w, char *why,
                        size_t why_size)
@@ -218,7 +208,7 @@ int spatial_check_step(const restir_context *c, mis_family mis, int m, const pat
     for (j = 0; j < m; ++j) {
         if (!w->valid[j]) continue;
         if (check_mis_column(mis, m, in, w, j, w->check_confidence, why, why_size)) return 1;
-        if (j > 0 && !reconnection_visible(c, x1[0], &w->shifted[j])) {
+        if (j > 0 && !rc_segment_visible(c, x1[0], &w->shifted[j])) {
             snprintf(why, why_size, "candidate %d: successful reconnection to x_%d, but the segment is occluded", j,
                      w->shifted[j].rc_k);
             return 1;
