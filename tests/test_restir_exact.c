@@ -156,7 +156,8 @@ static void step_at(step_bench *b, mis_family f, int pass, int x, int y, const r
            x, y, mis_family_name(f), m, (double)out->W, (double)(wsum / fresh));
 }
 
-static int step_bench_open(step_bench *b, const char *path, int res, int max_depth)
+/* path NULL: the spot scene of restir_util.h. Primary vertices of every pixel (centres). */
+static int step_bench_open(step_bench *b, const char *path, int res)
 {
     rerror e;
     int W, H, x, y;
@@ -183,7 +184,6 @@ static int step_bench_open(step_bench *b, const char *path, int res, int max_dep
         test_fail(__FILE__, __LINE__, "out of memory");
         return -1;
     }
-    (void)max_depth;
     for (y = 0; y < H; ++y)
         for (x = 0; x < W; ++x) b->hit[(long)y * W + x] = (unsigned char)rt_primary_vertex(&b->s, x, y, &b->x1[(long)y * W + x]);
     return 0;
@@ -255,13 +255,13 @@ TEST(restir_exact_gris_step_recomputed)
     static const mis_family families[] = {MIS_TALBOT, MIS_PAIRWISE_UNIFORM, MIS_PAIRWISE_DEFENSIVE, MIS_CONSTANT};
     step_bench b;
     int shift, f;
-    if (step_bench_open(&b, "scenes/cornell-glossy.scene", 16, 5)) return;
+    if (step_bench_open(&b, "scenes/cornell-glossy.scene", 16)) return;
     for (shift = 0; shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++shift)
         for (f = 0; f < 4 && !test_has_failed(); ++f) step_run(&b, shift, families[f], 3, 5, "cornell-glossy");
     step_bench_close(&b);
     if (test_has_failed()) return;
     /* the spot scene: direct light whose light pdf changes fast (reconnection at k = d) */
-    if (step_bench_open(&b, NULL, 16, 3)) return;
+    if (step_bench_open(&b, NULL, 16)) return;
     for (shift = 0; shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++shift)
         step_run(&b, shift, MIS_PAIRWISE_DEFENSIVE, 2, 3, "spot");
     step_bench_close(&b);
@@ -488,7 +488,7 @@ TEST(restir_debug_invariants_fire)
     spatial_stats st;
     char why[512];
     int x, y, k, found = 0, m = 0, j = -1;
-    if (step_bench_open(&b, "scenes/cornell-glossy.scene", 16, 4)) return;
+    if (step_bench_open(&b, "scenes/cornell-glossy.scene", 16)) return;
     {
         restir_options o;
         initial_options io;
