@@ -7,11 +7,14 @@
 #   make test-long       the longer statistical suites too
 #   make test-data       load every file of ../shared/data (real-world OBJ/MTL/PFM)
 #   make bench           benchmarks, machine-readable JSON on stdout
-# Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  SEED=n  T=filter  BUILD=dir
+# Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir
+#   DEBUG=1 checks the estimator's invariants after every GRIS step and aborts with
+#   file:line on a failure (include/restir/invariant.h; docs/statistics.md).
 
 PRECISION ?= double
 SANITIZE ?= 0
 WERROR ?= 0
+DEBUG ?= 0
 
 ifeq ($(SANITIZE),1)
 BUILD_SAN := /san
@@ -19,7 +22,10 @@ endif
 ifeq ($(PRECISION),float)
 BUILD_PREC := /float
 endif
-BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)
+ifeq ($(DEBUG),1)
+BUILD_DEBUG := /debug
+endif
+BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)$(BUILD_DEBUG)
 
 CFLAGS ?= -O2
 CFLAGS += -std=c99 -Wall -Wextra -Wpedantic -ffp-contract=off -D_POSIX_C_SOURCE=200809L
@@ -34,6 +40,10 @@ LDFLAGS += -fsanitize=address,undefined
 endif
 ifeq ($(WERROR),1)
 CFLAGS += -Werror
+endif
+ifeq ($(DEBUG),1)
+CPPFLAGS += -DRESTIR_DEBUG
+CFLAGS += -g
 endif
 
 LIB_SRC := $(sort $(filter-out src/cli/main.c,$(wildcard src/*/*.c)))
