@@ -48,6 +48,15 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
                       const reservoir *const *in, const real *u, reservoir *out, spatial_workspace *w,
                       spatial_stats *st);
 
+/* The same step where the domains i >= 1 live in another frame (temporal reuse,
+ * temporal.h): forward shifts T_j(X_j) into the pixel use c (the current frame's scene),
+ * the MIS shifts back out into domain i >= 1 use `away` (that domain's own scene, GRIS
+ * App. B); x1[i] must be domain i's primary vertex in its own frame. spatial_resample is
+ * gris_resample(c, c, ...). */
+void gris_resample(const restir_context *c, const restir_context *away, mis_family mis, int m,
+                   const path_vertex *const *x1, const reservoir *const *in, const real *u, reservoir *out,
+                   spatial_workspace *w, spatial_stats *st);
+
 void spatial_stats_add(spatial_stats *acc, const spatial_stats *add);
 
 #endif

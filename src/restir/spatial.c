@@ -96,6 +96,13 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
                       const reservoir *const *in, const real *u, reservoir *out, spatial_workspace *w,
                       spatial_stats *st)
 {
+    gris_resample(c, c, mis, m, x1, in, u, out, w, st);
+}
+
+void gris_resample(const restir_context *c, const restir_context *away, mis_family mis, int m,
+                   const path_vertex *const *x1, const reservoir *const *in, const real *u, reservoir *out,
+                   spatial_workspace *w, spatial_stats *st)
+{
     mis_input mi;
     int i, j;
     long unused = 0;
@@ -108,7 +115,7 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
         if (!w->valid[j]) continue;
         for (i = 1; i < m; ++i)
             if (i != j)
-                w->ptarget[i * m + j] = needs_entry(mis, i, j) ? ptarget_from(c, x1[i], &w->shifted[j], st) : 0;
+                w->ptarget[i * m + j] = needs_entry(mis, i, j) ? ptarget_from(away, x1[i], &w->shifted[j], st) : 0;
     }
     mi.m = m;
     mi.n_canonical = 1;

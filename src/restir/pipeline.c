@@ -1,0 +1,264 @@
+/* The real-time ReSTIR PT pipeline (GRIS §6.3 steps 1-4; Mutations §2.4 Algorithm 2;
+ * include/restir/restir.h, restir_render_sequence; docs/restir-pt.md "Temporal reuse").
+ *
+ *   per frame t:  pose the scene + camera at t
+ *                 G-buffer (primary hits)                         GRIS §6.3 step 1
+ *                 initial resampling -> A                          step 1
+ *                 temporal reuse (A, previous final P) -> B        step 2 (temporal.h)
+ *                 K spatial passes B -> A -> B ...                 step 3 (spatial.h)
+ *                 shading of the last output                       step 4
+ *                 the last output becomes P, the G-buffer, camera and scene of t are kept
+ *
+ * The previous frame's state (reservoirs P, G-buffer, camera, restir_context of its posed
+ * scene) lives exactly one frame: it is replaced at the end of the next frame. */
+#include "restir/restir.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir/progress.h"
+#include "restir/threads.h"
+#include "frame_job.h"
+
+typedef struct {
+    frame_job j;            /* the current frame's stages (frame_job.h) */
+    light_set lights;
+    reservoir *prev;        /* P: frame t-1's final reservoirs */
+    gbuffer prev_g;         /* frame t-1's G-buffer */
+    camera cam, prev_cam;
+    restir_context prev_ctx; /* frame t-1's scene (its posed copy once objects move) */
+    int has_prev;
+    const reservoir *cur;   /* temporal stage input: the initial reservoirs */
+    reservoir *out;         /* temporal stage output */
+} pipeline;
+
+/* ---- reprojection ---------------------------------------------------------------------- */
+
+/* The pixel whose frame-(t-1) primary hit is pixel p's x1, or -1 (off screen, or the
+ * previous G-buffer there sees another surface: disocclusion). Camera motion only: x1 is
+ * projected into the previous camera and the previous texel must agree in view depth
+ * (relative difference <= 0.1) and geometric normal (cos >= 0.5), the neighbour
+ * rejection thresholds (neighbors.h). Which pixel is chosen depends on G-buffers only,
+ * never on reservoirs, so any choice keeps the GRIS step unbiased (it only changes how
+ * much the history helps). */
+static long reproject(const pipeline *pl, long p)
+{
+    const gbuffer_texel *t = &pl->j.g.texels[p], *q;
+    const camera *c = &pl->prev_cam;
+    vec3 pos = v3_from_f(t->hit.position), d;
+    real px, py, depth;
+    long x, y;
+    if (!camera_project(c, pos, &px, &py)) return -1;
+    if (!(px >= 0 && px < c->width && py >= 0 && py < c->height)) return -1;
+    x = (long)floor((double)px);
+    y = (long)floor((double)py);
+    if (x >= c->width) x = c->width - 1;
+    if (y >= c->height) y = c->height - 1;
+    q = &pl->prev_g.texels[y * c->width + x];
+    if (!q->valid) return -1;
+    d = v3_sub(pos, c->eye);
+    depth = v3_dot(d, c->forward);
+    if (fabs((double)(q->depth - depth)) > NEIGHBOR_DEFAULT_MAX_RELATIVE_DEPTH * fmin((double)q->depth, (double)depth))
+        return -1;
+    if (v3_dot(v3_from_f(q->hit.ng), v3_from_f(t->hit.ng)) < NEIGHBOR_DEFAULT_MIN_NORMAL_COS) return -1;
+    return y * c->width + x;
+}
+
+/* ---- temporal stage -------------------------------------------------------------------- */
+
+static void temporal_pixel(pipeline *pl, worker_state *w, long p)
+{
+    frame_job *j = &pl->j;
+    const restir_options *o = j->o;
+    const restir_context *back = &pl->prev_ctx;
+    rng_key key = rng_key_make(o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+    path_vertex *v = w->verts;
+    long q = -1;
+    real u[2];
+    if (!frame_primary_vertex(j->s, &j->g, p, &v[0])) {
+        reservoir_init(&pl->out[p]);
+        return;
+    }
+    if (pl->has_prev) q = reproject(pl, p);
+    if (q >= 0 && o->ablation == RESTIR_ABLATE_TEMPORAL_TARGET) {
+        /* ablation: the previous pixel's x1 seen with the CURRENT camera in the current scene */
+        back = &j->ctx;
+        if (!frame_primary_vertex(j->s, &j->g, q, &v[1])) q = -1;
+    } else if (q >= 0)
+        frame_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, q, &v[1]); /* valid: reproject checked */
+    /* RNG_RIS vertex 48: spatial passes use 32..47, initial sampling 2..16 (docs/rng.md) */
+    u[0] = rng_u(key, RNG_RIS, 48u, 0u);
+    u[1] = rng_u(key, RNG_RIS, 48u, 1u);
+    temporal_resample(&j->ctx, back, (mis_family)o->temporal_mis, &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
+                      q >= 0 ? &pl->prev[q] : NULL, (real)o->mcap, u, &pl->out[p], &w->ws, &w->st.temporal);
+}
+
+static void temporal_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
+{
+    pipeline *pl = ctx;
+    int x, y;
+    for (y = y0; y < y1; ++y)
+        for (x = x0; x < x1; ++x) temporal_pixel(pl, &pl->j.workers[worker], (long)y * pl->j.s->width + x);
+}
+
+/* GRIS §6.3 step 2: cur (this frame's initial reservoirs) and P -> out. */
+static void stage_temporal(pipeline *pl, const reservoir *cur, reservoir *out, restir_stats *times, double *t)
+{
+    pl->cur = cur;
+    pl->out = out;
+    parallel_tiles(pl->j.s->width, pl->j.s->height, 16, pl->j.o->threads, temporal_tile, pl, NULL, NULL);
+    times->ms_temporal += frame_lap_ms(t);
+}
+
+/* ---- the frame ------------------------------------------------------------------------- */
+
+static void swap_reservoirs(reservoir **a, reservoir **b)
+{
+    reservoir *t = *a;
+    *a = *b;
+    *b = t;
+}
+
+/* The previous-frame state becomes this frame's: final reservoirs, G-buffer, camera, scene. */
+static void keep_as_previous(pipeline *pl, const reservoir *final)
+{
+    frame_job *j = &pl->j;
+    if (final == j->initial) swap_reservoirs(&j->initial, &pl->prev);
+    else swap_reservoirs(&j->pong, &pl->prev);
+    gbuffer_free(&pl->prev_g);
+    pl->prev_g = j->g;
+    memset(&j->g, 0, sizeof j->g);
+    pl->prev_cam = pl->cam;
+    pl->prev_ctx = j->ctx;
+    pl->has_prev = 1;
+}
+
+/* One frame of the real-time pipeline (GRIS §6.3; Mutations Algorithm 2). */
+static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *e)
+{
+    frame_job *j = &pl->j;
+    reservoir *final;
+    double t = now_seconds();
+    j->frame = (uint32_t)frame;
+    camera_init(&pl->cam, scene_camera_at(j->s, frame), j->s->width, j->s->height);
+    if (frame_stage_gbuffer(j, &pl->cam, times, &t, e)) return -1;
+    frame_stage_initial(j, times, &t);
+    if (j->o->temporal) {
+        stage_temporal(pl, j->initial, j->pong, times, &t);
+        final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
+    } else
+        final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
+    frame_stage_shade(j, final, times, &t);
+    keep_as_previous(pl, final);
+    return 0;
+}
+
+/* ---- the sequence ---------------------------------------------------------------------- */
+
+/* Frames the scene's animation defines: the camera keyframes (none: any frame). */
+static int animation_range(const scene *s, int *first, int *last)
+{
+    size_t i;
+    if (s->keyframe_count == 0) return 0;
+    *first = *last = s->keyframes[0].frame;
+    for (i = 1; i < s->keyframe_count; ++i) {
+        if (s->keyframes[i].frame < *first) *first = s->keyframes[i].frame;
+        if (s->keyframes[i].frame > *last) *last = s->keyframes[i].frame;
+    }
+    return 1;
+}
+
+static int validate_sequence(const scene *s, const restir_options *o, const restir_sequence *q, rerror *e)
+{
+    int a, b;
+    if (q->first < 0 || q->last < q->first)
+        return rerror_set(e, "restir: --sequence %d..%d (need 0 <= A <= B)", q->first, q->last);
+    if (animation_range(s, &a, &b) && (q->first < a || q->last > b))
+        return rerror_set(e, "restir: --sequence %d..%d outside the keyframes %d..%d of %s", q->first, q->last, a, b,
+                          s->path);
+    if ((uint64_t)((uint64_t)q->last + 1) * (uint64_t)o->candidates > UINT32_MAX)
+        return rerror_set(e, "restir: --sequence %d..%d x path trees exceeds 2^32 sample indices", q->first, q->last);
+    return 0;
+}
+
+static void stats_reset_workers(frame_job *j)
+{
+    int t;
+    for (t = 0; t < j->o->threads; ++t) memset(&j->workers[t].st, 0, sizeof j->workers[t].st);
+}
+
+/* The frame's image: sum / n (n = 1, or the frames accumulated so far). */
+static int frame_image(const frame_job *j, double n, image *img, rerror *e)
+{
+    size_t i, count = 3 * (size_t)j->s->width * (size_t)j->s->height;
+    if (image_alloc(img, j->s->width, j->s->height, e)) return -1;
+    for (i = 0; i < count; ++i) img->px[i] = (float)(j->sum[i] / n);
+    return 0;
+}
+
+static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sink sink, void *user,
+                        restir_stats *total, rerror *e)
+{
+    frame_job *j = &pl->j;
+    size_t pixels = (size_t)j->s->width * (size_t)j->s->height;
+    progress bar;
+    int f, status = 0;
+    progress_begin(&bar, "restir", j->o->quiet);
+    for (f = q->first; f <= q->last && !status; ++f) {
+        restir_stats st;
+        image img;
+        memset(&st, 0, sizeof st);
+        if (!q->accumulate) memset(j->sum, 0, 3 * pixels * sizeof *j->sum);
+        if (pipeline_frame(pl, f, &st, e)) return -1;
+        frame_sum_stats(j, &st);
+        stats_reset_workers(j);
+        st.frames = 1;
+        st.passes = j->o->spatial_passes;
+        restir_stats_add(total, &st);
+        if (frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e)) return -1;
+        if (sink) status = sink(user, f, &img, &st, e);
+        image_free(&img);
+        progress_update(&bar, f - q->first + 1, q->last - q->first + 1);
+    }
+    progress_end(&bar);
+    return status ? -1 : 0;
+}
+
+int restir_render_sequence(const scene *s, const restir_options *o, const restir_sequence *q,
+                           restir_frame_sink sink, void *user, restir_stats *total, rerror *e)
+{
+    pipeline pl;
+    frame_job *j = &pl.j;
+    size_t pixels;
+    int status = 0;
+    memset(total, 0, sizeof *total);
+    if (restir_options_validate(o, e) || validate_sequence(s, o, q, e)) return -1;
+    if (s->width < 1 || s->height < 1) return rerror_set(e, "%s: image size %dx%d", s->path, s->width, s->height);
+    memset(&pl, 0, sizeof pl);
+    if (lights_build(&pl.lights, s, e)) return -1;
+    j->s = s;
+    j->o = o;
+    j->temporal = o->temporal;
+    restir_context_for(&j->ctx, s, &pl.lights, o);
+    pl.prev_ctx = j->ctx;
+    restir_initial_options_for(&j->io, o);
+    restir_neighbor_options_for(&j->no, o);
+    j->max_domains = neighbor_candidate_count(&j->no) + 1;
+    pixels = (size_t)s->width * (size_t)s->height;
+    j->initial = rmalloc(pixels, sizeof *j->initial, e);
+    j->pong = rmalloc(pixels, sizeof *j->pong, e);
+    pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
+    j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
+    if (!j->initial || !j->pong || !pl.prev || !j->sum || frame_workers_alloc(j, e)) status = -1;
+    if (!status) status = run_sequence(&pl, q, sink, user, total, e);
+    if (!status) total->passes = o->spatial_passes;
+    free(j->initial);
+    free(j->pong);
+    free(pl.prev);
+    free(j->sum);
+    gbuffer_free(&j->g);
+    gbuffer_free(&pl.prev_g);
+    frame_workers_free(j);
+    lights_free(&pl.lights);
+    return status;
+}
