@@ -1,0 +1,261 @@
+/* Temporal reuse and the real-time pipeline (temporal.h, restir_render_sequence):
+ * every frame t of the chain agrees with the reference path tracer of frame t under the
+ * K-run statistics of `restir check` (K independent sequences, seeds differ), on a still
+ * and a panning camera, for every shift x unbiased temporal MIS x {with, without a spatial
+ * pass}; constant temporal MIS and --ablate temporal-target are detected; the result is
+ * byte-identical for 1, 2 and 7 threads.
+ *
+ * Why constant temporal MIS is biased: m = c_i / (c_0 + c_1) assumes the previous pixel
+ * can produce every path the current one can. Where the shift from the previous frame
+ * fails (reconnection segment occluded, different surface after the camera moved), the
+ * history's share (up to C / (C + 1) of the weight) is lost there.
+ * Why --ablate temporal-target is biased: the Talbot weights then mix the previous
+ * frame's target on the diagonal (the stored p̂_{t-1}(X)) with a different function in
+ * the reverse shift (the current camera's view of the previous pixel), so the weights of
+ * a path no longer sum to 1 (GRIS App. B). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir_util.h"
+#include "test.h"
+
+#define ALPHA 1e-3
+#define MAX_TIMES 3
+
+typedef struct {
+    int shift, mis, temporal_mis, passes, ablation;
+    double mcap;
+} temporal_case;
+
+/* K sequences 0..last; frame times[i] of run k is run k of side[i]. */
+typedef struct {
+    int times[MAX_TIMES], nt;
+    check_side side[MAX_TIMES];
+} sequence_sides;
+
+static int collect_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
+{
+    sequence_sides *q = user;
+    int i;
+    (void)st;
+    for (i = 0; i < q->nt; ++i)
+        if (q->times[i] == frame && check_side_add_run(&q->side[i], img, "run", e)) return -1;
+    return 0;
+}
+
+static void sides_free(sequence_sides *q)
+{
+    int i;
+    for (i = 0; i < q->nt; ++i) check_side_free(&q->side[i]);
+}
+
+static int sequence_sides_run(const scene *s, const restir_options *o, int runs, int block, sequence_sides *q)
+{
+    restir_sequence seq;
+    rerror e;
+    int i, k;
+    memset(&seq, 0, sizeof seq);
+    seq.first = 0;
+    seq.last = q->times[q->nt - 1];
+    for (i = 0; i < q->nt; ++i)
+        if (check_side_begin_runs(&q->side[i], s->width, s->height, block, &e)) {
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            return -1;
+        }
+    for (k = 0; k < runs; ++k) {
+        restir_options ok = *o;
+        restir_stats total;
+        ok.seed = o->seed + 7919u * (uint32_t)k;
+        if (restir_render_sequence(s, &ok, &seq, collect_frame, q, &total, &e)) {
+            test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
+            sides_free(q);
+            return -1;
+        }
+    }
+    for (i = 0; i < q->nt; ++i)
+        if (check_side_end_runs(&q->side[i], &e)) {
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            sides_free(q);
+            return -1;
+        }
+    return 0;
+}
+
+/* A scene with a panning camera: cornell-glossy seen from eye x = 278 - pan/2 at frame
+ * 0 to 278 + pan/2 at frame 16 (target moves with it); pan 0: the still camera. */
+static int load_pan(scene *s, int res, double pan)
+{
+    camera_pose p;
+    if (rt_load_scene("scenes/cornell-glossy.scene", res, s)) return -1;
+    if (pan == 0) return 0;
+    p = s->camera;
+    s->keyframes = calloc(2, sizeof *s->keyframes);
+    if (!s->keyframes) {
+        test_fail(__FILE__, __LINE__, "out of memory");
+        scene_free(s);
+        return -1;
+    }
+    s->keyframe_count = 2;
+    s->keyframes[0].frame = 0;
+    s->keyframes[0].pose = p;
+    s->keyframes[0].pose.eye.x -= (real)(pan / 2);
+    s->keyframes[0].pose.target.x -= (real)(pan / 2);
+    s->keyframes[1].frame = 16;
+    s->keyframes[1].pose = p;
+    s->keyframes[1].pose.eye.x += (real)(pan / 2);
+    s->keyframes[1].pose.target.x += (real)(pan / 2);
+    return 0;
+}
+
+typedef struct {
+    scene s;
+    check_side pt[MAX_TIMES];
+    int times[MAX_TIMES], nt;
+    int res, block, runs;
+    const char *name;
+} temporal_bench;
+
+static int bench_open(temporal_bench *b, const char *name, double pan, int res, int runs, uint32_t spp,
+                      const int *times, int nt)
+{
+    int i;
+    memset(b, 0, sizeof *b);
+    b->name = name;
+    b->res = res;
+    b->block = 4;
+    b->runs = runs;
+    b->nt = nt;
+    if (load_pan(&b->s, res, pan)) return -1;
+    for (i = 0; i < nt; ++i) {
+        b->times[i] = times[i];
+        if (rt_pt_side_at(&b->s, test_seed() * 7919u + 5 + 131u * (uint32_t)i, runs, spp, 4, 0, times[i], b->block,
+                          &b->pt[i])) {
+            while (i-- > 0) check_side_free(&b->pt[i]);
+            scene_free(&b->s);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static void bench_close(temporal_bench *b)
+{
+    int i;
+    for (i = 0; i < b->nt; ++i) check_side_free(&b->pt[i]);
+    scene_free(&b->s);
+}
+
+static void case_options(const temporal_bench *b, const temporal_case *m, restir_options *o)
+{
+    restir_options_default(o);
+    o->seed = test_seed() * 1181u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->temporal_mis +
+              (uint32_t)m->passes + 1000u * (uint32_t)m->ablation;
+    o->shift = m->shift;
+    o->mis = m->mis;
+    o->temporal_mis = m->temporal_mis;
+    o->spatial_passes = m->passes;
+    o->neighbors = 3;
+    o->radius = 4.0 * b->res / 16;
+    o->ablation = m->ablation;
+    o->mcap = m->mcap;
+    o->candidates = 1;
+    o->max_depth = 4;
+    o->threads = 2;
+}
+
+/* Frames b->times of K sequences against the reference of each frame. biased: the
+ * estimator must be detected at some frame; else no frame may differ. */
+static void expect(temporal_bench *b, const temporal_case *m, int biased)
+{
+    restir_options o;
+    sequence_sides q;
+    int i, detected = 0;
+    char what[256];
+    case_options(b, m, &o);
+    memset(&q, 0, sizeof q);
+    q.nt = b->nt;
+    for (i = 0; i < b->nt; ++i) q.times[i] = b->times[i];
+    if (sequence_sides_run(&b->s, &o, b->runs, b->block, &q)) return;
+    for (i = 0; i < b->nt; ++i) {
+        check_options opt;
+        check_result c;
+        rerror e;
+        int status;
+        check_options_default(&opt);
+        opt.alpha = ALPHA;
+        opt.block_size = b->block;
+        status = check_compare(&q.side[i], &b->pt[i], &opt, &c, &e);
+        CHECKF(status == 0, "check_compare: %s", e.msg);
+        if (status) continue;
+        snprintf(what, sizeof what, "%s frame %d shift %s temporal %s spatial %d ablate %s mcap %g", b->name,
+                 b->times[i], restir_shift_names[m->shift], restir_mis_names[m->temporal_mis], m->passes,
+                 restir_ablation_names[m->ablation], m->mcap);
+        if (getenv("RESTIR_TEST_VERBOSE"))
+            fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
+                    rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+        if (!biased)
+            CHECKF(!c.different, "%s: differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks rejected, worst z %.2f",
+                   what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
+        detected |= c.different;
+        check_result_free(&c);
+    }
+    sides_free(&q);
+    if (biased)
+        CHECKF(detected, "%s %s: the biased estimator was not detected at any frame", b->name,
+               restir_mis_names[m->temporal_mis]);
+}
+
+static const int times_short[] = {1, 4};
+static const int times_full[] = {1, 4, 16};
+
+TEST(restir_temporal_unbiased_subset)
+{
+    temporal_bench b;
+    temporal_case pan[] = {
+        {RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, MIS_TALBOT, 1, RESTIR_ABLATE_NONE, 20},
+        {RESTIR_SHIFT_RECONNECTION, MIS_TALBOT, MIS_PAIRWISE_DEFENSIVE, 0, RESTIR_ABLATE_NONE, 20},
+        {RESTIR_SHIFT_REPLAY, MIS_TALBOT, MIS_PAIRWISE_UNIFORM, 0, RESTIR_ABLATE_NONE, 20},
+    };
+    size_t i;
+    if (bench_open(&b, "pan", 80, 16, 16, 64, times_short, 2)) return;
+    for (i = 0; i < sizeof pan / sizeof pan[0] && !test_has_failed(); ++i) expect(&b, &pan[i], 0);
+    bench_close(&b);
+}
+
+TEST(restir_temporal_constant_mis_and_target_ablation_detected)
+{
+    temporal_bench b;
+    temporal_case constant = {RESTIR_SHIFT_RECONNECTION, MIS_TALBOT, MIS_CONSTANT, 0, RESTIR_ABLATE_NONE, 20};
+    temporal_case target = {RESTIR_SHIFT_HYBRID, MIS_TALBOT, MIS_TALBOT, 0, RESTIR_ABLATE_TEMPORAL_TARGET, 20};
+    static const int times[] = {16};
+    temporal_case fine = {RESTIR_SHIFT_HYBRID, MIS_TALBOT, MIS_TALBOT, 0, RESTIR_ABLATE_NONE, 20};
+    if (bench_open(&b, "pan", 80, 16, 16, 64, times, 1)) return;
+    expect(&b, &target, 1);
+    expect(&b, &constant, 1);
+    expect(&b, &fine, 0); /* the control on the same reference */
+    bench_close(&b);
+}
+
+/* The whole matrix: shift x {talbot, pairwise, defensive} x {0, 1 spatial pass}, frames
+ * 1, 4, 16, on the still and the panning camera. */
+TEST_LONG(restir_temporal_unbiased_matrix_long)
+{
+    static const double pans[] = {0, 80};
+    static const char *const names[] = {"still", "pan"};
+    static const int families[] = {MIS_TALBOT, MIS_PAIRWISE_UNIFORM, MIS_PAIRWISE_DEFENSIVE};
+    int c;
+    for (c = 0; c < 2 && !test_has_failed(); ++c) {
+        temporal_bench b;
+        temporal_case m = {0, MIS_PAIRWISE_DEFENSIVE, 0, 0, RESTIR_ABLATE_NONE, 20};
+        int f, p;
+        if (bench_open(&b, names[c], pans[c], 16, 24, 64, times_full, 3)) return;
+        for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift)
+            for (f = 0; f < 3 && !test_has_failed(); ++f)
+                for (p = 0; p < 2 && !test_has_failed(); ++p) {
+                    m.temporal_mis = families[f];
+                    m.passes = p;
+                    expect(&b, &m, 0);
+                }
+        bench_close(&b);
+    }
+}
