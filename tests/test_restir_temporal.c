@@ -16,6 +16,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/json_text.h"
 #include "restir_util.h"
 #include "test.h"
 
@@ -258,4 +259,115 @@ TEST_LONG(restir_temporal_unbiased_matrix_long)
                 }
         bench_close(&b);
     }
+}
+
+/* ---- the CLI -------------------------------------------------------------------------- */
+
+static char out[65536];
+
+/* A floor, a wedge and a light; the camera pans over frames 0..3. */
+static const char *write_seq_scene(void)
+{
+    test_write_file("seq.obj", "mtllib seq.mtl\n"
+                               "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n"
+                               "v -0.2 1.5 -0.2\nv 0.2 1.5 -0.2\nv 0.2 1.5 0.2\nv -0.2 1.5 0.2\n"
+                               "v -0.5 0 0\nv 0.5 0 0\nv 0 0.8 0\n"
+                               "o floor\nusemtl white\nf 1 4 3 2\n"
+                               "o light\nusemtl light\nf 5 6 7 8\n"
+                               "o wedge\nusemtl white\nf 9 10 11\n");
+    test_write_file("seq.mtl", "newmtl white\nKd 0.7 0.7 0.7\nnewmtl light\nKd 0 0 0\nKe 5 5 5\n");
+    return test_write_file("seq.scene", "mesh seq.obj\n"
+                                        "keyframe 0 eye -0.3 1 4 target -0.3 0.5 0 up 0 1 0 fov 45\n"
+                                        "keyframe 3 eye 0.3 1 4 target 0.3 0.5 0 up 0 1 0 fov 45\n"
+                                        "size 24 16\n");
+}
+
+static int same_file(const char *a, const char *b)
+{
+    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+    int ca, cb, same = fa && fb;
+    while (same) {
+        ca = fgetc(fa);
+        cb = fgetc(fb);
+        if (ca != cb) same = 0;
+        if (ca == EOF) break;
+    }
+    if (fa) fclose(fa);
+    if (fb) fclose(fb);
+    return same;
+}
+
+/* --sequence writes one PFM + PNG per frame with a 4-digit number, the per-frame stats
+ * and the effective preset (with an override) in --stats; frames are byte-identical for
+ * 1, 2 and 7 threads. */
+TEST(restir_temporal_cli_sequence_files_stats_threads)
+{
+    char scene_path[1024], prefix[1024], a[1100], b[1100], stats[1024];
+    json_reader jr;
+    rerror e;
+    int threads[] = {1, 2, 7}, i, f;
+    snprintf(scene_path, sizeof scene_path, "%s", write_seq_scene());
+    snprintf(stats, sizeof stats, "%s", test_tmp_path("seq-stats.json"));
+    for (i = 0; i < 3; ++i) {
+        snprintf(prefix, sizeof prefix, "%s", test_tmp_path(i == 0 ? "seq1" : i == 1 ? "seq2" : "seq7"));
+        CHECKF(test_cli(out, sizeof out,
+                        "render %s --method restir --preset gris-realtime --mcap 5 --sequence 1..3 -o %s.pfm "
+                        "--stats %s --threads %d --quiet --jitter",
+                        scene_path, prefix, stats, threads[i]) == 0,
+               "%s", out);
+    }
+    for (f = 1; f <= 3; ++f) {
+        snprintf(a, sizeof a, "%s/seq1.%04d.pfm", test_tmpdir(), f);
+        CHECKF(test_file_exists(a), "%s missing", a);
+        snprintf(b, sizeof b, "%s/seq1.%04d.png", test_tmpdir(), f);
+        CHECKF(test_file_exists(b), "%s missing", b);
+        for (i = 1; i < 3; ++i) {
+            snprintf(b, sizeof b, "%s/seq%d.%04d.pfm", test_tmpdir(), threads[i], f);
+            CHECKF(same_file(a, b), "frame %d differs between 1 and %d threads", f, threads[i]);
+        }
+    }
+    snprintf(a, sizeof a, "%s/seq1.0000.pfm", test_tmpdir());
+    CHECK(!test_file_exists(a));
+    CHECKF(json_reader_open(&jr, stats, &e) == 0, "%s", e.msg);
+    CHECKF(json_skip_value(&jr) == 0 && json_expect_end(&jr) == 0, "%s", e.msg);
+    CHECK(strstr(jr.text, "\"mcap\": 5") && strstr(jr.text, "\"temporal_mis\": \"talbot\"") &&
+          strstr(jr.text, "\"mis\": \"pairwise-defensive\"") && strstr(jr.text, "\"radius\": 20"));
+    CHECK(strstr(jr.text, "{\"frame\": 3, \"stats\"") && strstr(jr.text, "\"no_history\""));
+    json_reader_close(&jr);
+}
+
+/* Bad sequence options: one line, exit 2, no frame written. */
+TEST(restir_temporal_cli_bad_input_exit_2)
+{
+    static const struct {
+        const char *args, *expect;
+    } cases[] = {
+        {"--sequence 2..9", "outside the keyframes"},
+        {"--sequence 3..1", "--sequence"},
+        {"--sequence x", "--sequence"},
+        {"--sequence 1..2 --mcap 0", "--mcap"},
+        {"--sequence 1..2 --mcap -3", "--mcap"},
+        {"--sequence 1..2 --mcap much", "--mcap"},
+        {"--accumulate", "--accumulate"},
+        {"--sequence 1..2 --temporal-mis balance", "--temporal-mis"},
+        {"--sequence 1..2 --runs 2", "--runs"},
+    };
+    char scene_path[1024], prefix[1024], f0[1100];
+    size_t i;
+    snprintf(scene_path, sizeof scene_path, "%s", write_seq_scene());
+    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        int status, fr;
+        snprintf(prefix, sizeof prefix, "%s", test_tmp_path("bad-seq"));
+        status = test_cli(out, sizeof out, "render %s --method restir %s -o %s.pfm --quiet", scene_path, cases[i].args,
+                          prefix);
+        CHECKF(status == 2, "%s: exit %d: %s", cases[i].args, status, out);
+        CHECKF(strstr(out, cases[i].expect) != NULL, "%s: message '%s'", cases[i].args, out);
+        CHECKF(strchr(out, '\n') == out + strlen(out) - 1, "%s: not one line: %s", cases[i].args, out);
+        for (fr = 0; fr < 10; ++fr) {
+            snprintf(f0, sizeof f0, "%s.%04d.pfm", prefix, fr);
+            CHECKF(!test_file_exists(f0), "%s: %s written", cases[i].args, f0);
+        }
+        CHECK(!test_file_exists(prefix));
+    }
+    CHECK(test_cli(out, sizeof out, "render %s --method pt --sequence 0..1 --quiet -o %s.pfm", scene_path, prefix) == 2);
 }
