@@ -371,3 +371,33 @@ TEST(restir_temporal_cli_bad_input_exit_2)
     }
     CHECK(test_cli(out, sizeof out, "render %s --method pt --sequence 0..1 --quiet -o %s.pfm", scene_path, prefix) == 2);
 }
+
+/* A sequence interrupted after frame k = 1 and resumed from its checkpoint (the previous
+ * frame's reservoirs; G-buffer, camera and scene are rebuilt) equals the uninterrupted
+ * one byte for byte; a checkpoint outside the range is refused. */
+TEST(restir_temporal_resume_equals_uninterrupted)
+{
+    char scene_path[1024], ck[1024], a[1100], b[1100];
+    const char *common = "--method restir --preset gris-realtime --shift reconnection --quiet --no-png --threads 2";
+    int f;
+    snprintf(scene_path, sizeof scene_path, "%s", write_seq_scene());
+    snprintf(ck, sizeof ck, "%s", test_tmp_path("seq.checkpoint"));
+    remove(ck);
+    CHECKF(test_cli(out, sizeof out, "render %s %s --sequence 0..3 -o %s/full.pfm", scene_path, common, test_tmpdir()) == 0,
+           "%s", out);
+    CHECKF(test_cli(out, sizeof out, "render %s %s --sequence 0..1 -o %s/part.pfm --checkpoint %s", scene_path, common,
+                    test_tmpdir(), ck) == 0,
+           "%s", out);
+    CHECKF(test_cli(out, sizeof out, "render %s %s --sequence 0..3 -o %s/part.pfm --checkpoint %s --resume", scene_path,
+                    common, test_tmpdir(), ck) == 0,
+           "%s", out);
+    for (f = 0; f <= 3; ++f) {
+        snprintf(a, sizeof a, "%s/full.%04d.pfm", test_tmpdir(), f);
+        snprintf(b, sizeof b, "%s/part.%04d.pfm", test_tmpdir(), f);
+        CHECKF(same_file(a, b), "frame %d differs after resuming at frame 2", f);
+    }
+    /* the checkpoint now holds frame 3: nothing is left to render in 0..3 */
+    CHECK(test_cli(out, sizeof out, "render %s %s --sequence 0..3 -o %s/part.pfm --checkpoint %s --resume", scene_path,
+                   common, test_tmpdir(), ck) == 2);
+    CHECKF(strstr(out, "not a checkpoint of this sequence") != NULL, "%s", out);
+}

@@ -122,8 +122,12 @@ typedef int (*restir_frame_sink)(void *user, int frame, const image *img, const 
 typedef struct {
     int first, last;        /* frames first..last inclusive (camera keyframe indices) */
     int accumulate;         /* hand the sink the running average (a still camera, GRIS §6.4 footnote) */
-    const char *checkpoint; /* non-NULL: the previous-frame state is written here after each frame */
-    int resume;             /* start after the frame stored in `checkpoint` (which must exist) */
+    const char *checkpoint; /* non-NULL: the previous-frame state (the final reservoirs of
+                               the frame just rendered: a reservoir dump, tag "sequence") is
+                               written here atomically after each frame */
+    int resume;             /* continue after the frame k stored in `checkpoint` (first-1 <= k
+                               < last): frames k+1..last come out byte-identical to an
+                               uninterrupted run (not with accumulate) */
 } restir_sequence;
 
 /* Renders frames seq->first..last of s with the real-time pipeline: per frame the scene's

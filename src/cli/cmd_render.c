@@ -46,6 +46,7 @@ typedef struct {
     restir_stats restir; /* counters of a --method restir render (shift failures by reason, ...) */
     double restir_seconds;
     restir_stats *frame_stats; /* --sequence: per frame */
+    int *frame_numbers;
     int frame_count;
 } render_timings;
 
@@ -78,7 +79,7 @@ static int write_stats(const char *path, const render_args *a, const scene *s, c
                     a->seq.first, a->seq.last, a->seq.accumulate ? "true" : "false");
             fprintf(f.fp, "    \"frames\": [");
             for (i = 0; i < t->frame_count; ++i) {
-                fprintf(f.fp, "%s\n      {\"frame\": %d, \"stats\":\n", i ? "," : "", a->seq.first + i);
+                fprintf(f.fp, "%s\n      {\"frame\": %d, \"stats\":\n", i ? "," : "", t->frame_numbers[i]);
                 restir_stats_write_json(f.fp, &t->frame_stats[i], "      ");
                 fprintf(f.fp, "}");
             }
@@ -197,8 +198,11 @@ static int write_frame(void *user, int frame, const image *img, const restir_sta
     sequence_sink *k = user;
     char pfm[4200], png[4200];
     restir_stats *grown = realloc(k->t->frame_stats, (size_t)(k->t->frame_count + 1) * sizeof *grown);
-    if (!grown) return rerror_set(e, "out of memory");
-    k->t->frame_stats = grown;
+    int *numbers = grown ? realloc(k->t->frame_numbers, (size_t)(k->t->frame_count + 1) * sizeof *numbers) : NULL;
+    if (grown) k->t->frame_stats = grown;
+    if (!grown || !numbers) return rerror_set(e, "out of memory");
+    k->t->frame_numbers = numbers;
+    numbers[k->t->frame_count] = frame;
     grown[k->t->frame_count++] = *st;
     snprintf(pfm, sizeof pfm, "%s.%04d.pfm", k->prefix, frame);
     snprintf(png, sizeof png, "%s.%04d.png", k->prefix, frame);
@@ -319,12 +323,12 @@ static int apply_sequence_options(render_args *a)
         a->restir.mcap = c;
     }
     if (a->no_temporal) a->restir.temporal = 0;
-    if ((a->sequence || a->accumulate) && a->method != METHOD_RESTIR) {
+    if ((a->sequence || a->accumulate || a->seq.checkpoint || a->seq.resume) && a->method != METHOD_RESTIR) {
         fprintf(stderr, "restir render: --sequence and --accumulate need --method restir\n");
         return 2;
     }
-    if (a->accumulate && !a->sequence) {
-        fprintf(stderr, "restir render: --accumulate needs --sequence A..B\n");
+    if ((a->accumulate || a->seq.checkpoint || a->seq.resume) && !a->sequence) {
+        fprintf(stderr, "restir render: --accumulate, --checkpoint and --resume need --sequence A..B\n");
         return 2;
     }
     if (!a->sequence) return 0;
@@ -406,6 +410,8 @@ int cmd_render(int argc, char **argv)
             {"--accumulate", OPT_FLAG, &a.accumulate, "with --sequence: frame f's file holds the average of frames A..f (a still camera, GRIS 6.4)", NULL, 0, 0, NULL},
             {"--mcap", OPT_STRING, &a.mcap, "with --sequence: cap the previous frame's confidence at C x the current one's (C > 0 or inf; default 20, GRIS 6.2)", NULL, 0, 0, NULL},
             {"--no-temporal", OPT_FLAG, &a.no_temporal, "with --sequence: no temporal reuse (independent frames through the same pipeline)", NULL, 0, 0, NULL},
+            {"--checkpoint", OPT_STRING, &a.seq.checkpoint, "with --sequence: write the previous-frame state (final reservoirs) to FILE after each frame", NULL, 0, 0, NULL},
+            {"--resume", OPT_FLAG, &a.seq.resume, "with --sequence and --checkpoint: continue after the frame the checkpoint holds", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
         };
@@ -440,6 +446,7 @@ int cmd_render(int argc, char **argv)
     status = render_and_write(&a, &s, &t);
     if (!status && a.stats) status = write_stats(a.stats, &a, &s, &t);
     free(t.frame_stats);
+    free(t.frame_numbers);
     scene_free(&s);
     return status;
 }

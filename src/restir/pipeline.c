@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/progress.h"
+#include "restir/reservoir_dump.h"
 #include "restir/threads.h"
 #include "frame_job.h"
 
@@ -176,6 +177,8 @@ static int validate_sequence(const scene *s, const restir_options *o, const rest
     if (animation_range(s, &a, &b) && (q->first < a || q->last > b))
         return rerror_set(e, "restir: --sequence %d..%d outside the keyframes %d..%d of %s", q->first, q->last, a, b,
                           s->path);
+    if (q->resume && (!q->checkpoint || q->accumulate))
+        return rerror_set(e, "restir: resuming a sequence needs a checkpoint and no --accumulate");
     if ((uint64_t)((uint64_t)q->last + 1) * (uint64_t)o->candidates > UINT32_MAX)
         return rerror_set(e, "restir: --sequence %d..%d x path trees exceeds 2^32 sample indices", q->first, q->last);
     return 0;
@@ -196,15 +199,61 @@ static int frame_image(const frame_job *j, double n, image *img, rerror *e)
     return 0;
 }
 
+/* ---- checkpoints: the previous-frame state ---------------------------------------------- */
+
+/* The state frame t+1 needs from frame t is its final reservoirs (written as a reservoir
+ * dump, docs/formats.md, tag "sequence", frame = t) plus its G-buffer, camera and posed
+ * scene, which are pure functions of (scene, t, options) and are rebuilt on resume. */
+static int checkpoint_write(const pipeline *pl, const char *path, int frame, rerror *e)
+{
+    reservoir_dump_info info;
+    memset(&info, 0, sizeof info);
+    info.width = (uint32_t)pl->j.s->width;
+    info.height = (uint32_t)pl->j.s->height;
+    info.frame = (uint32_t)frame;
+    strcpy(info.tag, "sequence");
+    return reservoir_dump_write(path, pl->prev, &info, e);
+}
+
+/* Loads frame k's state from q->checkpoint; returns k (first frame to render is k + 1). */
+static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
+{
+    frame_job *j = &pl->j;
+    reservoir_dump_info info;
+    reservoir *rs;
+    size_t pixels = (size_t)j->s->width * (size_t)j->s->height;
+    int k;
+    if (reservoir_dump_read(q->checkpoint, &rs, &info, e)) return -1;
+    k = (int)info.frame;
+    if (strcmp(info.tag, "sequence") || info.width != (uint32_t)j->s->width || info.height != (uint32_t)j->s->height ||
+        k < q->first - 1 || k >= q->last) {
+        free(rs);
+        return rerror_set(e, "%s: not a checkpoint of this sequence (tag '%s', %ux%u, frame %d; want %dx%d, frame in %d..%d)",
+                          q->checkpoint, info.tag, info.width, info.height, k, j->s->width, j->s->height,
+                          q->first - 1, q->last - 1);
+    }
+    memcpy(pl->prev, rs, pixels * sizeof *rs);
+    free(rs);
+    j->frame = (uint32_t)k;
+    camera_init(&pl->prev_cam, scene_camera_at(j->s, k), j->s->width, j->s->height);
+    if (gbuffer_build(&pl->prev_g, j->s, &pl->prev_cam, j->o->seed, initial_tree_sample(&j->io, (uint32_t)k, 0),
+                      j->o->jitter, j->o->threads, e))
+        return -1;
+    pl->prev_ctx = j->ctx;
+    pl->has_prev = 1;
+    return k;
+}
+
 static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sink sink, void *user,
                         restir_stats *total, rerror *e)
 {
     frame_job *j = &pl->j;
     size_t pixels = (size_t)j->s->width * (size_t)j->s->height;
     progress bar;
-    int f, status = 0;
+    int f, status = 0, start = q->first;
+    if (q->resume && (start = checkpoint_resume(pl, q, e) + 1) < 1) return -1;
     progress_begin(&bar, "restir", j->o->quiet);
-    for (f = q->first; f <= q->last && !status; ++f) {
+    for (f = start; f <= q->last && !status; ++f) {
         restir_stats st;
         image img;
         memset(&st, 0, sizeof st);
@@ -218,6 +267,7 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
         if (frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e)) return -1;
         if (sink) status = sink(user, f, &img, &st, e);
         image_free(&img);
+        if (!status && q->checkpoint && checkpoint_write(pl, q->checkpoint, f, e)) status = -1;
         progress_update(&bar, f - q->first + 1, q->last - q->first + 1);
     }
     progress_end(&bar);
