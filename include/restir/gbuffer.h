@@ -15,6 +15,11 @@ typedef struct {
     float distance;      /* ||x1 - x0||: primary-ray footprint input */
     float cos_theta;     /* |cos| between the primary ray and the geometric normal at x1 */
     float depth;         /* view-space depth: distance along the camera's forward axis */
+    float pixel[2];      /* the primary ray's sample position in continuous pixel coordinates (origin
+                            top-left; pixel (x, y) covers [x, x+1) x [y, y+1)): centre or jittered */
+    /* Filled by gbuffer_motion (0 and 0 until then): */
+    float motion[2];     /* where x1 was in the previous frame's image minus pixel[] (pixels) */
+    int prev_valid;      /* 1: x1 was on screen in the previous frame and not occluded there */
 } gbuffer_texel;
 
 typedef struct {
@@ -26,9 +31,36 @@ typedef struct {
  * jittered point (RNG_CAMERA stream, vertex 0, slots 0-1) when jitter != 0. */
 ray primary_ray(const camera *c, int x, int y, uint32_t seed, uint32_t sample, int jitter);
 
+/* The sample position of pixel (x, y) that primary_ray uses (continuous pixel coordinates). */
+void primary_sample_position(const camera *c, int x, int y, uint32_t seed, uint32_t sample, int jitter, real *px,
+                             real *py);
+
 int gbuffer_build(gbuffer *g, const scene *s, const camera *c, uint32_t seed, uint32_t sample, int jitter,
                   int threads, rerror *e);
 void gbuffer_free(gbuffer *g);
+
+/* Disocclusion thresholds of gbuffer_motion (src/render/motion.c gives the defaults
+ * and why): a reprojected point is accepted in the previous G-buffer's texel if that
+ * texel's hit lies within max_relative_depth * (view depth) of the point's tangent plane
+ * (previous pose) and the two geometric normals have cosine >= min_normal_cos. */
+typedef struct {
+    float max_relative_depth;
+    float min_normal_cos;
+} motion_thresholds;
+void motion_thresholds_default(motion_thresholds *t);
+
+/* Fills motion/prev_valid of cur (frame `frame`, scene s posed at `frame`) from the
+ * previous frame's camera, the object transforms of frame `prev_frame` (evaluated from
+ * s's keyframes) and the previous G-buffer: x1 is carried to its previous pose, projected
+ * with prev_cam, and accepted when it lands on screen on a previous texel that is valid,
+ * shows the same object and passes the depth (tangent-plane) and normal tests.
+ * Pixels whose primary ray missed, and points behind the previous camera, get motion 0
+ * and prev_valid 0. th = NULL: the defaults. */
+int gbuffer_motion(gbuffer *cur, const scene *s, int frame, const camera *prev_cam, int prev_frame,
+                   const gbuffer *prev, const motion_thresholds *th, rerror *e);
+/* The previous-frame position of a current-frame point on object `object` (rigid motion
+ * between the two frames' object transforms), in double. */
+vec3 motion_previous_position(const scene *s, uint32_t object, int frame, int prev_frame, vec3 p);
 
 static inline const gbuffer_texel *gbuffer_at(const gbuffer *g, int x, int y)
 {

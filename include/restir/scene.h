@@ -68,6 +68,9 @@ typedef struct {
     size_t keyframe_count;
     int width, height;
 
+    /* Rigid per-object animation and the rest pose (restir/animation.h); NULL: static. */
+    struct scene_animation *animation;
+
     /* Load-time warnings, each one line "file:line: what" (undefined materials, ignored
      * transparency, dropped degenerate triangles, ...). The library never prints them. */
     char **warnings;

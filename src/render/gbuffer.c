@@ -5,7 +5,8 @@
 #include "restir/rng.h"
 #include "restir/threads.h"
 
-ray primary_ray(const camera *c, int x, int y, uint32_t seed, uint32_t sample, int jitter)
+void primary_sample_position(const camera *c, int x, int y, uint32_t seed, uint32_t sample, int jitter, real *px,
+                             real *py)
 {
     real dx = (real)0.5, dy = (real)0.5;
     if (jitter) {
@@ -13,7 +14,15 @@ ray primary_ray(const camera *c, int x, int y, uint32_t seed, uint32_t sample, i
         dx = rng_u(k, RNG_CAMERA, 0, 0);
         dy = rng_u(k, RNG_CAMERA, 0, 1);
     }
-    return camera_ray(c, (real)x + dx, (real)y + dy);
+    *px = (real)x + dx;
+    *py = (real)y + dy;
+}
+
+ray primary_ray(const camera *c, int x, int y, uint32_t seed, uint32_t sample, int jitter)
+{
+    real px, py;
+    primary_sample_position(c, x, y, seed, sample, jitter, &px, &py);
+    return camera_ray(c, px, py);
 }
 
 typedef struct {
@@ -27,7 +36,14 @@ typedef struct {
 static void fill_texel(const gbuffer_job *job, int x, int y)
 {
     gbuffer_texel *t = &job->g->texels[(long)y * job->g->width + x];
-    ray r = primary_ray(job->c, x, y, job->seed, job->sample, job->jitter);
+    real px, py;
+    ray r;
+    primary_sample_position(job->c, x, y, job->seed, job->sample, job->jitter, &px, &py);
+    r = camera_ray(job->c, px, py);
+    t->pixel[0] = (float)px;
+    t->pixel[1] = (float)py;
+    t->motion[0] = t->motion[1] = 0;
+    t->prev_valid = 0;
     t->valid = scene_intersect(job->s, &r, &t->hit);
     t->view_dir = r.dir;
     if (!t->valid) {

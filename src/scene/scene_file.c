@@ -5,6 +5,7 @@
  *   keyframe FRAME eye ... target ... up ... fov ...
  *   size WIDTH HEIGHT
  *   material NAME [type T] [kd R G B] [ks R G B] [ke R G B] [roughness R] [ior N]
+ *   animate OBJECT FRAME [translate X Y Z] [rotate AX AY AZ DEGREES] [pivot X Y Z]
  *
  * Names and paths containing spaces are written in double quotes. The file is read
  * completely first; then the meshes are loaded in order, then the material lines are
@@ -14,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/animation.h"
 #include "restir/scene_builder.h"
 #include "restir/text.h"
 
@@ -26,6 +28,15 @@ typedef struct {
     real roughness, ior;
 } material_line;
 
+/* One `animate` line, resolved against the object names once the meshes are loaded. */
+typedef struct {
+    char name[MATERIAL_NAME_MAX];
+    long line;
+    object_keyframe key;
+    vec3 pivot;
+    int has_pivot;
+} animate_line;
+
 typedef struct {
     scene_builder *b;
     text_reader text;
@@ -37,6 +48,8 @@ typedef struct {
     material_line *materials;
     size_t material_count, material_capacity;
     size_t keyframe_capacity;
+    animate_line *animates;
+    size_t animate_count, animate_capacity;
     long camera_line, size_line, keyframe_line;
 } scene_parser;
 
@@ -277,6 +290,100 @@ static int directive_material(scene_parser *p, char *rest, rerror *e)
     return 0;
 }
 
+/* animate NAME FRAME [translate X Y Z] [rotate AX AY AZ DEG] [pivot X Y Z]; a name's lines
+ * must have increasing frames and one pivot (given on any of them; default the origin). */
+static int directive_animate(scene_parser *p, char *rest, rerror *e)
+{
+    animate_line a;
+    char *name, *key;
+    long frame;
+    int have_t = 0, have_r = 0;
+    size_t i;
+    double v[4];
+    memset(&a, 0, sizeof a);
+    if (next_word(p, &rest, &name, e)) return -1;
+    if (!name || !*name) return rerror_at(e, p->path, p->text.line, "animate: missing object name");
+    if (strlen(name) >= sizeof a.name)
+        return rerror_at(e, p->path, p->text.line, "animate: name longer than %d bytes", (int)sizeof a.name - 1);
+    snprintf(a.name, sizeof a.name, "%s", name);
+    a.line = p->text.line;
+    if (read_int(p, &rest, "animate", -1000000000L, 1000000000L, &frame, e)) return -1;
+    a.key.frame = (int)frame;
+    a.key.axis = v3(0, 1, 0);
+    while ((key = text_next_token(&rest)) != NULL) {
+        int *have = !strcmp(key, "translate") ? &have_t : !strcmp(key, "rotate") ? &have_r
+                    : !strcmp(key, "pivot") ? &a.has_pivot : NULL;
+        if (!have)
+            return rerror_at(e, p->path, p->text.line, "animate: unknown key '%.60s' (translate, rotate, pivot)", key);
+        if (*have) return rerror_at(e, p->path, p->text.line, "animate: '%s' given twice", key);
+        *have = 1;
+        if (read_reals(p, &rest, key, have == &have_r ? 4 : 3, v, e)) return -1;
+        if (have == &have_t) a.key.translate = vec3_of(v);
+        else if (have == &a.has_pivot) a.pivot = vec3_of(v);
+        else {
+            a.key.axis = vec3_of(v);
+            a.key.angle_degrees = (real)v[3];
+            if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0))
+                return rerror_at(e, p->path, p->text.line, "animate: rotate: the axis is zero");
+        }
+    }
+    for (i = p->animate_count; i-- > 0;) {
+        const animate_line *o = &p->animates[i];
+        if (strcmp(o->name, a.name)) continue;
+        if (a.key.frame <= o->key.frame)
+            return rerror_at(e, p->path, p->text.line,
+                             "animate '%s': frame %d after frame %d (line %ld): frames must increase", a.name,
+                             a.key.frame, o->key.frame, o->line);
+        break;
+    }
+    for (i = 0; i < p->animate_count; ++i) {
+        const animate_line *o = &p->animates[i];
+        if (strcmp(o->name, a.name) || !o->has_pivot || !a.has_pivot) continue;
+        if (o->pivot.x != a.pivot.x || o->pivot.y != a.pivot.y || o->pivot.z != a.pivot.z)
+            return rerror_at(e, p->path, p->text.line, "animate '%s': pivot differs from line %ld (one pivot per object)",
+                             a.name, o->line);
+    }
+    if (builder_reserve((void **)&p->animates, &p->animate_capacity, p->animate_count + 1, sizeof a, e)) return -1;
+    p->animates[p->animate_count++] = a;
+    return 0;
+}
+
+/* After the meshes and materials: one animation per named object, in order of first line. */
+static int apply_animations(scene_parser *p, rerror *e)
+{
+    scene *s = p->b->s;
+    size_t i, j, n;
+    for (i = 0; i < p->animate_count; ++i) {
+        const animate_line *a = &p->animates[i];
+        object_keyframe *keys;
+        vec3 pivot = v3(0, 0, 0);
+        uint32_t object;
+        int done = 0, status;
+        for (j = 0; j < i; ++j) done |= !strcmp(p->animates[j].name, a->name);
+        if (done) continue;
+        for (object = 0; object < s->object_count; ++object)
+            if (!strcmp(s->object_names[object], a->name)) break;
+        if (object == s->object_count)
+            return rerror_at(e, p->path, a->line, "animate: no object named '%s' in the meshes (OBJ o/g names)",
+                             a->name);
+        keys = rmalloc(p->animate_count, sizeof *keys, e);
+        if (!keys) return -1;
+        for (j = i, n = 0; j < p->animate_count; ++j) {
+            if (strcmp(p->animates[j].name, a->name)) continue;
+            keys[n++] = p->animates[j].key;
+            if (p->animates[j].has_pivot) pivot = p->animates[j].pivot;
+        }
+        status = scene_add_object_animation(s, object, pivot, keys, n, e);
+        free(keys);
+        if (status) {
+            char msg[sizeof e->msg];
+            snprintf(msg, sizeof msg, "%s", e->msg);
+            return rerror_at(e, p->path, a->line, "animate: %s", msg);
+        }
+    }
+    return 0;
+}
+
 static int read_directive(scene_parser *p, char *line, rerror *e)
 {
     char *rest = line, *word = text_next_token(&rest);
@@ -286,7 +393,9 @@ static int read_directive(scene_parser *p, char *line, rerror *e)
     if (!strcmp(word, "keyframe")) return directive_keyframe(p, rest, e);
     if (!strcmp(word, "size")) return directive_size(p, rest, e);
     if (!strcmp(word, "material")) return directive_material(p, rest, e);
-    return rerror_at(e, p->path, p->text.line, "unknown directive '%.60s' (mesh, camera, keyframe, size, material)", word);
+    if (!strcmp(word, "animate")) return directive_animate(p, rest, e);
+    return rerror_at(e, p->path, p->text.line, "unknown directive '%.60s' (mesh, camera, keyframe, size, material, animate)",
+                     word);
 }
 
 /* A material line changes the fields it names; a name no mesh defined becomes a new
@@ -324,6 +433,7 @@ static void parser_free(scene_parser *p)
     free(p->meshes);
     free(p->mesh_lines);
     free(p->materials);
+    free(p->animates);
     text_close(&p->text);
 }
 
@@ -342,6 +452,7 @@ int scene_file_load(scene_builder *b, const char *path, rerror *e)
     if (!status && !p.mesh_count) status = rerror_at(e, path, 0, "no mesh directive (the scene has no geometry)");
     for (i = 0; !status && i < p.mesh_count; ++i) status = load_mesh(&p, i, e);
     for (i = 0; !status && i < p.material_count; ++i) status = apply_material_line(&p, &p.materials[i], e);
+    if (!status) status = apply_animations(&p, e);
     parser_free(&p);
     return status;
 }

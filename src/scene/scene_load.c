@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/animation.h"
 #include "restir/scene_builder.h"
 
 #define DEFAULT_IMAGE_SIZE 512
@@ -90,6 +91,7 @@ void scene_free(scene *s)
     for (i = 0; i < s->object_count; ++i) free(s->object_names[i]);
     free(s->object_names);
     free(s->keyframes);
+    scene_animation_free(s);
     for (i = 0; i < s->warning_count; ++i) free(s->warnings[i]);
     free(s->warnings);
     bvh_free(&s->accel);

@@ -1,0 +1,113 @@
+/* Motion vectors and disocclusion (issue 10): for every pixel, where its primary hit x1
+ * was in the previous frame's image, and whether it was visible there.
+ *
+ * x1 lies on object o. Its rest-pose point is T_o(frame)^-1 x1 and its previous position
+ * T_o(prev_frame) T_o(frame)^-1 x1 (rigid transforms, restir/animation.h); projecting
+ * that with the previous camera gives the previous image position, and the motion vector
+ * is that minus the pixel's sample position. Visibility in the previous frame is judged
+ * against the previous G-buffer, as real-time renderers do (no extra rays): the texel the
+ * point lands in must show the same object, at the same depth and orientation. */
+#include "restir/animation.h"
+#include "restir/gbuffer.h"
+
+#include <math.h>
+
+/* Defaults, measured against ray-traced ground truth on the animated test scenes
+ * (tests/test_motion.c, docs/scenes.md): a relative tangent-plane distance of 5% of the view
+ * depth accepts the sub-pixel offset between the point and the previous texel's own
+ * (possibly jittered) sample on surfaces up to grazing angles, while an occluder in front
+ * (a different object, or the same object much nearer) fails; a normal cosine of 0.9
+ * (about 25 degrees) tolerates the rotation of a moving object between frames but not a
+ * different face. */
+void motion_thresholds_default(motion_thresholds *t)
+{
+    t->max_relative_depth = 0.05f;
+    t->min_normal_cos = 0.9f;
+}
+
+/* A = T_prev T_cur^-1 = (M_p M_c^T, t_p - M_p M_c^T t_c) for rigid M. */
+static void relative_transform(const scene *s, uint32_t object, int frame, int prev_frame, double a[3][3],
+                               double t[3])
+{
+    double mc[3][3], tc[3], mp[3][3], tp[3];
+    int i, j, k;
+    scene_object_transform_at_d(s, object, frame, mc, tc);
+    scene_object_transform_at_d(s, object, prev_frame, mp, tp);
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) {
+            a[i][j] = 0;
+            for (k = 0; k < 3; ++k) a[i][j] += mp[i][k] * mc[j][k];
+        }
+    for (i = 0; i < 3; ++i) t[i] = tp[i] - (a[i][0] * tc[0] + a[i][1] * tc[1] + a[i][2] * tc[2]);
+}
+
+static vec3 apply(double a[3][3], const double t[3], vec3 p)
+{
+    return v3((real)(a[0][0] * p.x + a[0][1] * p.y + a[0][2] * p.z + t[0]),
+              (real)(a[1][0] * p.x + a[1][1] * p.y + a[1][2] * p.z + t[1]),
+              (real)(a[2][0] * p.x + a[2][1] * p.y + a[2][2] * p.z + t[2]));
+}
+
+vec3 motion_previous_position(const scene *s, uint32_t object, int frame, int prev_frame, vec3 p)
+{
+    double a[3][3], t[3];
+    relative_transform(s, object, frame, prev_frame, a, t);
+    return apply(a, t, p);
+}
+
+/* The previous-frame tests of one reprojected point (previous position xp, geometric normal
+ * np, previous view depth depth) against the previous texel it lands in. */
+static int previous_texel_agrees(const gbuffer_texel *pt, uint32_t object, vec3 xp, vec3 np, real depth,
+                                 const motion_thresholds *th)
+{
+    vec3 d;
+    if (!pt->valid || pt->hit.object != object) return 0;
+    if (v3_dot(v3_from_f(pt->hit.ng), np) < th->min_normal_cos) return 0;
+    d = v3_sub(v3_from_f(pt->hit.position), xp);
+    return fabs((double)v3_dot(d, np)) <= (double)th->max_relative_depth * depth;
+}
+
+static void texel_motion(gbuffer_texel *t, const scene *s, int frame, const camera *prev_cam, int prev_frame,
+                         const gbuffer *prev, const motion_thresholds *th, double a[3][3], double tr[3],
+                         uint32_t *cached)
+{
+    double zero[3] = {0, 0, 0};
+    vec3 xp, np;
+    real px, py, depth;
+    int ix, iy;
+    t->motion[0] = t->motion[1] = 0;
+    t->prev_valid = 0;
+    if (!t->valid) return;
+    if (*cached != t->hit.object) {
+        relative_transform(s, t->hit.object, frame, prev_frame, a, tr);
+        *cached = t->hit.object;
+    }
+    xp = apply(a, tr, v3_from_f(t->hit.position));
+    np = v3_normalize(apply(a, zero, v3_from_f(t->hit.ng)));
+    if (!camera_project(prev_cam, xp, &px, &py)) return;
+    t->motion[0] = (float)(px - (real)t->pixel[0]);
+    t->motion[1] = (float)(py - (real)t->pixel[1]);
+    if (!(px >= 0 && py >= 0 && px < prev_cam->width && py < prev_cam->height)) return;
+    ix = (int)px;
+    iy = (int)py;
+    if (ix >= prev->width || iy >= prev->height) return;
+    depth = v3_dot(v3_sub(xp, prev_cam->eye), prev_cam->forward);
+    t->prev_valid = previous_texel_agrees(gbuffer_at(prev, ix, iy), t->hit.object, xp, np, depth, th);
+}
+
+int gbuffer_motion(gbuffer *cur, const scene *s, int frame, const camera *prev_cam, int prev_frame,
+                   const gbuffer *prev, const motion_thresholds *th, rerror *e)
+{
+    motion_thresholds defaults;
+    double a[3][3], tr[3];
+    uint32_t cached = UINT32_MAX;
+    long i, n = (long)cur->width * cur->height;
+    if (!th) {
+        motion_thresholds_default(&defaults);
+        th = &defaults;
+    }
+    if (!prev || !prev->texels || prev->width != prev_cam->width || prev->height != prev_cam->height)
+        return rerror_set(e, "gbuffer_motion: the previous G-buffer does not match the previous camera");
+    for (i = 0; i < n; ++i) texel_motion(&cur->texels[i], s, frame, prev_cam, prev_frame, prev, th, a, tr, &cached);
+    return 0;
+}
