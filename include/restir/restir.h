@@ -73,7 +73,8 @@ typedef struct {
     uint64_t frames;
     int passes;                /* K */
     double ms_gbuffer, ms_initial, ms_shade;     /* summed over frames */
-    double ms_temporal;                          /* reprojection + temporal step (sequences) */
+    double ms_temporal;                          /* temporal step incl. reprojection (sequences) */
+    double ms_pose, ms_motion;                   /* posing + BVH rebuild; motion vectors (sequences) */
     double ms_spatial[RESTIR_MAX_SPATIAL_PASSES]; /* pass p, summed over frames */
 } restir_stats;
 

@@ -16,6 +16,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/animation.h"
 #include "restir/progress.h"
 #include "restir/reservoir_dump.h"
 #include "restir/threads.h"
@@ -27,42 +28,32 @@ typedef struct {
     reservoir *prev;        /* P: frame t-1's final reservoirs */
     gbuffer prev_g;         /* frame t-1's G-buffer */
     camera cam, prev_cam;
-    restir_context prev_ctx; /* frame t-1's scene (its posed copy once objects move) */
-    int has_prev;
+    restir_context prev_ctx; /* frame t-1's scene (posed at t-1) */
+    int has_prev, prev_frame;
+    scene posed[2];          /* animated scenes: two posed copies, frames t and t-1 alternate */
+    int animated, cur_copy;  /* cur_copy: the copy posed at frame t (the other one holds t-1) */
     const reservoir *cur;   /* temporal stage input: the initial reservoirs */
     reservoir *out;         /* temporal stage output */
 } pipeline;
 
 /* ---- reprojection ---------------------------------------------------------------------- */
 
-/* The pixel whose frame-(t-1) primary hit is pixel p's x1, or -1 (off screen, or the
- * previous G-buffer there sees another surface: disocclusion). Camera motion only: x1 is
- * projected into the previous camera and the previous texel must agree in view depth
- * (relative difference <= 0.1) and geometric normal (cos >= 0.5), the neighbour
- * rejection thresholds (neighbors.h). Which pixel is chosen depends on G-buffers only,
- * never on reservoirs, so any choice keeps the GRIS step unbiased (it only changes how
- * much the history helps). */
+/* The pixel of frame t-1 where pixel p's x1 was (gbuffer_motion: camera and object motion,
+ * disocclusion by the previous G-buffer's object, depth and normal), or -1. Which pixel
+ * is chosen depends on G-buffers only, never on reservoirs, so any choice keeps the GRIS
+ * step unbiased (it only changes how much the history helps). */
 static long reproject(const pipeline *pl, long p)
 {
-    const gbuffer_texel *t = &pl->j.g.texels[p], *q;
-    const camera *c = &pl->prev_cam;
-    vec3 pos = v3_from_f(t->hit.position), d;
-    real px, py, depth;
+    const gbuffer_texel *t = &pl->j.g.texels[p];
+    int w = pl->j.g.width, h = pl->j.g.height;
+    double px = (double)t->pixel[0] + (double)t->motion[0], py = (double)t->pixel[1] + (double)t->motion[1];
     long x, y;
-    if (!camera_project(c, pos, &px, &py)) return -1;
-    if (!(px >= 0 && px < c->width && py >= 0 && py < c->height)) return -1;
-    x = (long)floor((double)px);
-    y = (long)floor((double)py);
-    if (x >= c->width) x = c->width - 1;
-    if (y >= c->height) y = c->height - 1;
-    q = &pl->prev_g.texels[y * c->width + x];
-    if (!q->valid) return -1;
-    d = v3_sub(pos, c->eye);
-    depth = v3_dot(d, c->forward);
-    if (fabs((double)(q->depth - depth)) > NEIGHBOR_DEFAULT_MAX_RELATIVE_DEPTH * fmin((double)q->depth, (double)depth))
-        return -1;
-    if (v3_dot(v3_from_f(q->hit.ng), v3_from_f(t->hit.ng)) < NEIGHBOR_DEFAULT_MIN_NORMAL_COS) return -1;
-    return y * c->width + x;
+    if (!t->prev_valid || !(px >= 0 && px < w && py >= 0 && py < h)) return -1;
+    x = (long)floor(px);
+    y = (long)floor(py);
+    if (x >= w) x = w - 1;
+    if (y >= h) y = h - 1;
+    return pl->prev_g.texels[y * w + x].valid ? y * w + x : -1;
 }
 
 /* ---- temporal stage -------------------------------------------------------------------- */
@@ -131,7 +122,24 @@ static void keep_as_previous(pipeline *pl, const reservoir *final)
     memset(&j->g, 0, sizeof j->g);
     pl->prev_cam = pl->cam;
     pl->prev_ctx = j->ctx;
+    pl->prev_frame = (int)j->frame;
     pl->has_prev = 1;
+}
+
+/* The scene posed at `frame` (animated scenes: the copy that does not hold frame t-1, so
+ * the previous frame's scene stays intact for the reverse shifts) and its context. The
+ * BVH rebuild is timed as ms_pose. */
+static int pose_frame(pipeline *pl, int frame, rerror *e)
+{
+    frame_job *j = &pl->j;
+    scene *s;
+    if (!pl->animated) return 0;
+    if (pl->has_prev) pl->cur_copy = 1 - pl->cur_copy; /* the copy of frame t-2 is free */
+    s = &pl->posed[pl->cur_copy];
+    if (scene_pose_at(s, frame, e)) return -1;
+    j->s = s;
+    j->ctx.path.scene = s; /* rc.min_distance stays the rest pose's: one criterion for all frames */
+    return 0;
 }
 
 /* One frame of the real-time pipeline (GRIS §6.3; Mutations Algorithm 2). */
@@ -141,8 +149,14 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     reservoir *final;
     double t = now_seconds();
     j->frame = (uint32_t)frame;
+    if (pose_frame(pl, frame, e)) return -1;
+    times->ms_pose += frame_lap_ms(&t);
     camera_init(&pl->cam, scene_camera_at(j->s, frame), j->s->width, j->s->height);
     if (frame_stage_gbuffer(j, &pl->cam, times, &t, e)) return -1;
+    if (pl->has_prev &&
+        gbuffer_motion(&j->g, j->s, frame, &pl->prev_cam, pl->prev_frame, &pl->prev_g, NULL, e))
+        return -1;
+    times->ms_motion += frame_lap_ms(&t);
     frame_stage_initial(j, times, &t);
     if (j->o->temporal) {
         stage_temporal(pl, j->initial, j->pong, times, &t);
@@ -156,25 +170,12 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
 
 /* ---- the sequence ---------------------------------------------------------------------- */
 
-/* Frames the scene's animation defines: the camera keyframes (none: any frame). */
-static int animation_range(const scene *s, int *first, int *last)
-{
-    size_t i;
-    if (s->keyframe_count == 0) return 0;
-    *first = *last = s->keyframes[0].frame;
-    for (i = 1; i < s->keyframe_count; ++i) {
-        if (s->keyframes[i].frame < *first) *first = s->keyframes[i].frame;
-        if (s->keyframes[i].frame > *last) *last = s->keyframes[i].frame;
-    }
-    return 1;
-}
-
 static int validate_sequence(const scene *s, const restir_options *o, const restir_sequence *q, rerror *e)
 {
     int a, b;
     if (q->first < 0 || q->last < q->first)
         return rerror_set(e, "restir: --sequence %d..%d (need 0 <= A <= B)", q->first, q->last);
-    if (animation_range(s, &a, &b) && (q->first < a || q->last > b))
+    if (scene_frame_range(s, &a, &b) == 0 && (q->first < a || q->last > b))
         return rerror_set(e, "restir: --sequence %d..%d outside the keyframes %d..%d of %s", q->first, q->last, a, b,
                           s->path);
     if (q->resume && (!q->checkpoint || q->accumulate))
@@ -235,11 +236,13 @@ static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
     memcpy(pl->prev, rs, pixels * sizeof *rs);
     free(rs);
     j->frame = (uint32_t)k;
+    if (pose_frame(pl, k, e)) return -1;
     camera_init(&pl->prev_cam, scene_camera_at(j->s, k), j->s->width, j->s->height);
     if (gbuffer_build(&pl->prev_g, j->s, &pl->prev_cam, j->o->seed, initial_tree_sample(&j->io, (uint32_t)k, 0),
                       j->o->jitter, j->o->threads, e))
         return -1;
     pl->prev_ctx = j->ctx;
+    pl->prev_frame = k;
     pl->has_prev = 1;
     return k;
 }
@@ -285,7 +288,13 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     if (restir_options_validate(o, e) || validate_sequence(s, o, q, e)) return -1;
     if (s->width < 1 || s->height < 1) return rerror_set(e, "%s: image size %dx%d", s->path, s->width, s->height);
     memset(&pl, 0, sizeof pl);
-    if (lights_build(&pl.lights, s, e)) return -1;
+    pl.animated = scene_is_animated(s);
+    if (pl.animated && (scene_clone(&pl.posed[0], s, e) || scene_clone(&pl.posed[1], s, e))) {
+        scene_free(&pl.posed[0]);
+        return -1;
+    }
+    /* lights are static (animation.h): one light set from the rest pose serves every frame */
+    if (lights_build(&pl.lights, s, e)) status = -1;
     j->s = s;
     j->o = o;
     j->temporal = o->temporal;
@@ -299,7 +308,7 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     j->pong = rmalloc(pixels, sizeof *j->pong, e);
     pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
     j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
-    if (!j->initial || !j->pong || !pl.prev || !j->sum || frame_workers_alloc(j, e)) status = -1;
+    if (status || !j->initial || !j->pong || !pl.prev || !j->sum || frame_workers_alloc(j, e)) status = -1;
     if (!status) status = run_sequence(&pl, q, sink, user, total, e);
     if (!status) total->passes = o->spatial_passes;
     free(j->initial);
@@ -310,5 +319,9 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     gbuffer_free(&pl.prev_g);
     frame_workers_free(j);
     lights_free(&pl.lights);
+    if (pl.animated) {
+        scene_free(&pl.posed[0]);
+        scene_free(&pl.posed[1]);
+    }
     return status;
 }

@@ -285,6 +285,8 @@ void restir_stats_add(restir_stats *st, const restir_stats *w)
     st->ms_gbuffer += w->ms_gbuffer;
     st->ms_initial += w->ms_initial;
     st->ms_temporal += w->ms_temporal;
+    st->ms_pose += w->ms_pose;
+    st->ms_motion += w->ms_motion;
     st->ms_shade += w->ms_shade;
     for (i = 0; i < RESTIR_MAX_SPATIAL_PASSES; ++i) st->ms_spatial[i] += w->ms_spatial[i];
 }
@@ -456,7 +458,8 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
             st->ms_initial);
     for (i = 0; i < st->passes && i < RESTIR_MAX_SPATIAL_PASSES; ++i)
         fprintf(out, "%s%.3f", i ? ", " : "", st->ms_spatial[i]);
-    fprintf(out, "], \"temporal\": %.3f, \"shade\": %.3f},\n", st->ms_temporal, st->ms_shade);
+    fprintf(out, "], \"temporal\": %.3f, \"shade\": %.3f, \"pose\": %.3f, \"motion\": %.3f},\n", st->ms_temporal,
+            st->ms_shade, st->ms_pose, st->ms_motion);
     fprintf(out, "%s  \"initial\": {\"pixels\": %llu, \"trees\": %llu, \"candidates\": %llu, \"selected\": %llu, ",
             indent, (unsigned long long)in->pixels, (unsigned long long)in->trees,
             (unsigned long long)in->candidates, (unsigned long long)in->selected);
