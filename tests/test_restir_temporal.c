@@ -18,6 +18,7 @@
 #include <string.h>
 #include "restir/animation.h"
 #include "restir/json_text.h"
+#include "restir/metrics.h"
 #include "restir_util.h"
 #include "test.h"
 
@@ -473,4 +474,103 @@ TEST(restir_temporal_resume_equals_uninterrupted)
     CHECK(test_cli(out, sizeof out, "render %s %s --sequence 0..3 -o %s/part.pfm --checkpoint %s --resume", scene_path,
                    common, test_tmpdir(), ck) == 2);
     CHECKF(strstr(out, "not a checkpoint of this sequence") != NULL, "%s", out);
+}
+
+/* ---- the still camera: the running average and the confidence cap (GRIS §6.4, Fig. 2/10) --- */
+
+typedef struct {
+    int at[2];       /* frames averaged at which the error is taken */
+    image avg[2];
+} still_capture;
+
+static int capture_average(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
+{
+    still_capture *c = user;
+    int i;
+    (void)st;
+    for (i = 0; i < 2; ++i)
+        if (frame + 1 == c->at[i]) {
+            if (image_alloc(&c->avg[i], img->width, img->height, e)) return -1;
+            memcpy(c->avg[i].px, img->px, 3 * sizeof(float) * (size_t)img->width * (size_t)img->height);
+        }
+    return 0;
+}
+
+/* relMSE of the running average after at[0] and at[1] frames, mean over `seeds` runs. */
+static int still_errors(const scene *s, const image *ref, double mcap, int seeds, const int at[2], double err[2])
+{
+    restir_options o;
+    restir_sequence q;
+    int k, i;
+    restir_options_default(&o);
+    restir_options_preset_gris_realtime(&o);
+    o.radius = 4;
+    o.mcap = mcap;
+    o.max_depth = 4;
+    o.threads = 2;
+    memset(&q, 0, sizeof q);
+    q.first = 0;
+    q.last = at[1] - 1;
+    q.accumulate = 1;
+    err[0] = err[1] = 0;
+    for (k = 0; k < seeds; ++k) {
+        still_capture c;
+        restir_stats total;
+        rerror e;
+        memset(&c, 0, sizeof c);
+        c.at[0] = at[0];
+        c.at[1] = at[1];
+        o.seed = test_seed() * 613u + 17u * (uint32_t)k;
+        if (restir_render_sequence(s, &o, &q, capture_average, &c, &total, &e)) {
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            return -1;
+        }
+        for (i = 0; i < 2; ++i) {
+            image_metrics m;
+            if (metrics_compute(&c.avg[i], ref, NULL, &m, &e)) {
+                test_fail(__FILE__, __LINE__, "%s", e.msg);
+                return -1;
+            }
+            err[i] += m.value[METRIC_RELMSE] / seeds;
+            image_free(&c.avg[i]);
+        }
+    }
+    return 0;
+}
+
+/* A still camera (cornell, 16 x 16, gris-realtime): the running average of a capped chain
+ * converges (cap 20: the error after 64 frames is well below that after 8), while without
+ * a cap the chain stops mixing and its average stays wrong (cap inf: after 64 frames at
+ * least 1.5x the cap-20 error). docs/results.md "Temporal reuse" has the curves
+ * (scripts/results_temporal.sh). */
+TEST(restir_temporal_still_camera_cap_converges_inf_does_not)
+{
+    scene s;
+    pt_options po;
+    pt_result ref;
+    rerror e;
+    static const int at[2] = {8, 48};
+    double e20[2], einf[2];
+    if (rt_load_scene("scenes/cornell.scene", 16, &s)) return;
+    pt_options_default(&po);
+    po.spp = 1024;
+    po.max_depth = 4;
+    po.threads = 2;
+    po.seed = 4242;
+    if (pt_render(&s, &po, &ref, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        scene_free(&s);
+        return;
+    }
+    if (!still_errors(&s, &ref.mean, 20, 3, at, e20) && !still_errors(&s, &ref.mean, INFINITY, 3, at, einf)) {
+        if (getenv("RESTIR_TEST_VERBOSE"))
+            fprintf(stderr, "  relMSE after 8 / 48 frames: cap 20 %.4f / %.4f, cap inf %.4f / %.4f\n", e20[0], e20[1],
+                    einf[0], einf[1]);
+        CHECKF(e20[1] < 0.45 * e20[0], "cap 20 does not converge: relMSE %.4f after 8, %.4f after 48 frames", e20[0],
+               e20[1]);
+        CHECKF(einf[1] > 1.5 * e20[1], "cap inf is not worse than cap 20 after 48 frames: %.4f vs %.4f", einf[1],
+               e20[1]);
+    }
+    pt_result_free(&ref);
+    scene_free(&s);
 }
