@@ -3,6 +3,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/animation.h"
+#include "restir/gbuffer.h"
+#include "restir/image.h"
 #include "test.h"
 
 static char out[65536];
@@ -116,6 +119,43 @@ TEST(cli_aov_writes_pfm_and_png)
     }
 }
 
+/* --aov motion at --frame F writes what gbuffer_build_with_motion computes (R, G = motion in
+ * pixels, B = prev_valid): here the moving box of scenes/shadow.scene. */
+TEST(cli_aov_motion_matches_library)
+{
+    char pfm[1024];
+    image img;
+    scene s;
+    gbuffer g;
+    rerror e;
+    int channels, x, y, moving = 0;
+    snprintf(pfm, sizeof pfm, "%s", test_tmp_path("motion.pfm"));
+    CHECKF(test_cli(out, sizeof out, "render scenes/shadow.scene --method aov --aov motion --frame 8 --size 24x24 -o %s --no-png --quiet",
+                    pfm) == 0, "%s", out);
+    CHECKF(!pfm_read(pfm, &img, &channels, &e), "%s", e.msg);
+    CHECKF(!scene_load(&s, "scenes/shadow.scene", &e), "%s", e.msg);
+    s.width = s.height = 24;
+    CHECKF(!scene_pose_at(&s, 8, &e) && !gbuffer_build_with_motion(&g, &s, 8, 1, 0, 1, &e), "%s", e.msg);
+    for (y = 0; y < 24; ++y)
+        for (x = 0; x < 24; ++x) {
+            const float *p = image_pixel(&img, x, y);
+            const gbuffer_texel *t = gbuffer_at(&g, x, y);
+            CHECK(p[0] == t->motion[0] && p[1] == t->motion[1] && p[2] == (float)t->prev_valid);
+            moving += t->valid && fabsf(t->motion[0]) > 0.1f;
+        }
+    CHECK(moving > 4); /* the box moves about 0.125 m per frame */
+    gbuffer_free(&g);
+    image_free(&img);
+    scene_free(&s);
+}
+
+/* `bench animation SCENE`: JSON with the per-frame posing and BVH rebuild times. */
+TEST(cli_bench_animation_smoke)
+{
+    CHECKF(test_cli(out, sizeof out, "bench animation scenes/shadow.scene") == 0, "%s", out);
+    CHECK(strstr(out, "\"pose_ms_median\"") != NULL && strstr(out, "\"animated_objects\": 1") != NULL);
+}
+
 /* Output bytes do not depend on the thread count (DESIGN §3). */
 TEST(cli_threads_bit_identical)
 {
@@ -203,9 +243,23 @@ TEST(cli_bad_inputs_one_line_exit_2_no_output)
         {"bi-directive.scene", "size 8 8\nteleport 1 2 3\n", "bi-directive.scene:2:"},
         {"bi-empty.obj", "# nothing here\nv 0 0 0\n", "bi-empty.obj"},
         {"bi-no-emitters.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bi-no-emitters.obj"},
+        /* Object animation (docs/scene-format.md, animate); tiny.obj is written below. */
+        {"bi-animate-order.scene", "mesh tiny.obj\nanimate wedge 4\nanimate wedge 2 translate 1 0 0\n",
+         "bi-animate-order.scene:3: animate 'wedge': frame 2 after frame 4"},
+        {"bi-animate-name.scene", "mesh tiny.obj\nsize 8 8\nanimate door 0\n",
+         "bi-animate-name.scene:3: animate: no object named 'door'"},
+        {"bi-animate-malformed.scene", "mesh tiny.obj\nanimate wedge 0 rotate 0 1 0\n",
+         "bi-animate-malformed.scene:2: rotate: expected 4 numbers"},
+        {"bi-animate-axis.scene", "mesh tiny.obj\nanimate wedge 0 rotate 0 0 0 45\n",
+         "bi-animate-axis.scene:2: animate: rotate: the axis is zero"},
+        {"bi-animate-number.scene", "mesh tiny.obj\nanimate wedge 0 translate 1 2 3x\n",
+         "bi-animate-number.scene:2: translate:"},
+        {"bi-animate-light.scene", "mesh tiny.obj\nanimate light 0 translate 0 1 0\n",
+         "bi-animate-light.scene:2: animate: object 'light' contains an emitter"},
     };
     char why[2048];
     size_t i;
+    write_tiny_scene();
     for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) CHECKF(check_bad_input(&cases[i], why, sizeof why), "%s", why);
 }
 

@@ -58,6 +58,10 @@ void motion_thresholds_default(motion_thresholds *t);
  * and prev_valid 0. th = NULL: the defaults. */
 int gbuffer_motion(gbuffer *cur, const scene *s, int frame, const camera *prev_cam, int prev_frame,
                    const gbuffer *prev, const motion_thresholds *th, rerror *e);
+/* The G-buffer of frame `frame` with its motion vectors against frame - 1 (s posed at
+ * `frame`; a copy of s is posed at frame - 1 for the previous G-buffer, built with the same
+ * seed, jitter and sample = frame index as `render --method aov` uses). */
+int gbuffer_build_with_motion(gbuffer *g, const scene *s, int frame, uint32_t seed, int jitter, int threads, rerror *e);
 /* The previous-frame position of a current-frame point on object `object` (rigid motion
  * between the two frames' object transforms), in double. */
 vec3 motion_previous_position(const scene *s, uint32_t object, int frame, int prev_frame, vec3 p);

@@ -28,8 +28,25 @@ int generate_ajar(scene *s, double door_angle_degrees, rerror *e);
  * light carrying the Cornell light's power. */
 int generate_glass_room(scene *s, rerror *e);
 
+/* Animated scenes (issue 10; docs/scenes.md "Animated scenes"). All are small, lit by
+ * static lights, and fill a zeroed scene with geometry, keyframes and object animation. */
+#define PILLARS_BARS 5
+#define PILLARS_LAST_FRAME 16
+#define SHADOW_LAST_FRAME 16
+#define AJAR_SWING_LAST_FRAME 16
+#define AJAR_SWING_DEGREES 30.0
+/* Disocclusion: five dark bars 3 m in front of a lit backdrop; the camera pans 2 m
+ * sideways over frames 0..16, so the backdrop behind each bar is uncovered. */
+int generate_pillars(scene *s, rerror *e);
+/* A moving shadow: a 0.6 m box crosses under a 0.8 m light over frames 0..16 (x from -1 to 1,
+ * a quarter turn about y); the camera is still. */
+int generate_shadow(scene *s, rerror *e);
+/* The door-ajar building (door at 10 degrees) whose door swings open by a further 30
+ * degrees over frames 0..16; the camera slides 0.6 m sideways, or is still. */
+int generate_ajar_swing(scene *s, int still_camera, rerror *e);
+
 /* Writes a scene file for s (atomically): `comment` (may be NULL, may hold several lines)
- * as # lines, `mesh MESH_NAME`, the camera, the size and one `material` line per
+ * as # lines, `mesh MESH_NAME`, the camera (or its keyframes), the object animation, the size and one `material` line per
  * material with every field, so the scene file alone states the materials. */
 int generate_write_scene_file(const scene *s, const char *scene_path, const char *mesh_name, const char *comment,
                               rerror *e);

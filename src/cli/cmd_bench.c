@@ -8,6 +8,7 @@
 #include "restir/animation.h"
 #include "restir/bench.h"
 #include "restir/generate.h"
+#include "restir/generate_rooms.h"
 #include "restir/progress.h"
 #include "restir/pt.h"
 #include "restir/restir_bench.h"
@@ -118,6 +119,92 @@ static int bench_restir_on(const scene *s, const char *name, const bench_args *a
     return status ? 2 : 0;
 }
 
+/* Object animation cost (issue 10): scene_pose_at per frame over the scene's keyframe range
+ * (vertices posed from the rest pose, bounds, BVH rebuilt from scratch), the median and the
+ * mean ms per frame, and how much of it is the BVH build alone (scene_prepare). */
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static int bench_animation_on(const scene *src, const char *name, const bench_args *a, int *first)
+{
+    scene s;
+    rerror e;
+    double ms[64], build[64], sum = 0;
+    /* 17 frames, or 3 for the 1M-triangle case (2 s per frame). */
+    int f0 = 0, f1 = 0, n = 0, f, step, frames = src->triangle_count > 200000 ? 3 : 17;
+    (void)a;
+    if (scene_clone(&s, src, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    if (scene_frame_range(&s, &f0, &f1)) f0 = f1 = 0;
+    step = (f1 - f0) / (frames - 1) > 0 ? (f1 - f0) / (frames - 1) : 1;
+    for (f = f0; f <= f1 && n < frames; f += step) {
+        double t0 = now_seconds(), t1;
+        if (scene_pose_at(&s, f, &e)) break;
+        t1 = now_seconds();
+        if (scene_prepare(&s, &e)) break;
+        ms[n] = 1e3 * (t1 - t0);
+        build[n] = 1e3 * (now_seconds() - t1);
+        sum += ms[n++];
+    }
+    if (f <= f1 && n < frames) {
+        fprintf(stderr, "%s\n", e.msg);
+        scene_free(&s);
+        return 2;
+    }
+    next_object(first);
+    printf("{\"bench\": \"animation\", \"scene\": \"%s\", \"triangles\": %zu, \"animated_objects\": %zu, "
+           "\"frames\": %d, \"pose_ms_mean\": %.3f, ",
+           name, s.triangle_count, scene_animated_object_count(&s), n, n ? sum / n : 0.0);
+    qsort(ms, (size_t)n, sizeof *ms, cmp_double);
+    qsort(build, (size_t)n, sizeof *build, cmp_double);
+    printf("\"pose_ms_median\": %.3f, \"bvh_build_ms_median\": %.3f}", n ? ms[n / 2] : 0.0, n ? build[n / 2] : 0.0);
+    fflush(stdout);
+    scene_free(&s);
+    return 0;
+}
+
+/* The displaced sphere with 12 n^2 triangles (n = 289: 1M) turning once about y over
+ * frames 0..16 while the light stays. */
+static int bench_animation_generated(int subdivisions, const bench_args *a, int *first)
+{
+    scene s;
+    rerror e;
+    object_keyframe k[2];
+    int status;
+    memset(&s, 0, sizeof s);
+    memset(k, 0, sizeof k);
+    k[0].axis = k[1].axis = v3(0, 1, 0);
+    k[1].frame = 16;
+    k[1].angle_degrees = 180;
+    k[1].translate = v3((real)0.2, 0, 0);
+    if (generate_displaced_sphere(&s, subdivisions, &e) || scene_add_object_animation(&s, 0, v3(0, 0, 0), k, 2, &e) ||
+        scene_prepare(&s, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        scene_free(&s);
+        return 2;
+    }
+    status = bench_animation_on(&s, "generated:displaced_sphere(animated)", a, first);
+    scene_free(&s);
+    return status;
+}
+
+/* `bench animation`: the shipped animated scenes, then the 1M-triangle case. */
+static int bench_animation_all(const bench_args *a, int *first)
+{
+    static const char *const files[] = {"scenes/pillars.scene", "scenes/shadow.scene", "scenes/ajar-swing.scene",
+                                        "scenes/ajar-swing-still.scene"};
+    size_t i;
+    int status = 0;
+    for (i = 0; !status && i < sizeof files / sizeof *files; ++i) status = on_file(files[i], bench_animation_on, a, first);
+    if (!status) status = bench_animation_generated(a->generated ? a->generated : 289, a, first);
+    return status;
+}
+
 static int file_exists(const char *path)
 {
     FILE *f = fopen(path, "rb");
@@ -198,6 +285,7 @@ static int bench_all(const bench_args *a, int *first)
     if (!status) status = on_file("scenes/cornell.scene", bench_pt_on, a, first);
     if (!status) status = on_generated(92, bench_pt_on, a, first);
     if (!status) status = on_file("scenes/cornell.scene", bench_restir_on, a, first);
+    if (!status) status = bench_animation_all(a, first);
     if (!status) status = bench_realtime_animated(a, first);
     return status;
 }
@@ -220,7 +308,9 @@ int cmd_bench(int argc, char **argv)
         };
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);
         if (status == 1) {
-            cli_print_help(stdout, "bench", "rays SCENE | rays --generated N | restir [SCENE] | realtime [SCENE] | all [options]", options);
+            cli_print_help(stdout, "bench",
+                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | all [options]",
+                           options);
             return 0;
         }
     }
@@ -229,16 +319,20 @@ int cmd_bench(int argc, char **argv)
         a.rays.width = a.rays_size[0];
         a.rays.height = a.rays_size[1];
     }
-    if (count < 1 || (strcmp(positional[0], "rays") && strcmp(positional[0], "all") && strcmp(positional[0], "restir") &&
-                       strcmp(positional[0], "realtime")) ||
+    if (count < 1 ||
+        (strcmp(positional[0], "rays") && strcmp(positional[0], "all") && strcmp(positional[0], "restir") &&
+         strcmp(positional[0], "animation") && strcmp(positional[0], "realtime")) ||
         (!strcmp(positional[0], "rays") && count != 2 && !a.generated)) {
-        fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]`, `realtime [SCENE]` or `all`\n");
+        fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]`, `animation [SCENE]`, "
+                        "`realtime [SCENE]` or `all`\n");
         return 2;
     }
     printf("[\n");
     if (!strcmp(positional[0], "all")) status = bench_all(&a, &first);
     else if (!strcmp(positional[0], "restir"))
         status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_restir_on, &a, &first);
+    else if (!strcmp(positional[0], "animation"))
+        status = count > 1 ? on_file(positional[1], bench_animation_on, &a, &first) : bench_animation_all(&a, &first);
     else if (!strcmp(positional[0], "realtime"))
         status = count > 1 ? on_file(positional[1], bench_realtime_on, &a, &first) : bench_realtime_animated(&a, &first);
     else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);

@@ -1,4 +1,4 @@
-/* restir generate ajar|glass|sphere -o OUT.obj: writes a generated scene as OUT.obj,
+/* restir generate ajar|glass|sphere|pillars|shadow|ajar-swing|ajar-swing-still -o OUT.obj: writes a generated scene as OUT.obj,
  * OUT.mtl and OUT.scene (docs/scenes.md). */
 #include <stdio.h>
 #include <string.h>
@@ -14,6 +14,17 @@ typedef struct {
     int no_scene;
     int angle_seen, subdivisions_seen;
 } generate_args;
+
+#define GENERATE_KINDS_TEXT "ajar, glass, sphere, pillars, shadow, ajar-swing, ajar-swing-still"
+
+static int known_kind(const char *kind)
+{
+    static const char *const kinds[] = {"ajar", "glass", "sphere", "pillars", "shadow", "ajar-swing", "ajar-swing-still"};
+    size_t i;
+    for (i = 0; i < sizeof kinds / sizeof *kinds; ++i)
+        if (!strcmp(kind, kinds[i])) return 1;
+    return 0;
+}
 
 /* OUT.obj -> OUT.scene (any other name: NAME.scene). */
 static void scene_path_for(const char *obj_path, char *out, size_t size)
@@ -46,6 +57,22 @@ static void describe(const char *kind, const generate_args *a, char *out, size_t
                  "Lambertian block and a small 40 x 40 mm light (docs/scenes.md). Millimetres.\n"
                  "Written by: restir generate glass -o %s",
                  base_name(a->output));
+    else if (!strcmp(kind, "pillars"))
+        snprintf(out, size,
+                 "Disocclusion: five dark bars in front of a lit backdrop; the camera pans 2 m sideways over\n"
+                 "frames 0..16 (docs/scenes.md). Metres.\nWritten by: restir generate pillars -o %s",
+                 base_name(a->output));
+    else if (!strcmp(kind, "shadow"))
+        snprintf(out, size,
+                 "Moving shadow: a box crosses under a small light over frames 0..16; still camera\n"
+                 "(docs/scenes.md). Metres.\nWritten by: restir generate shadow -o %s",
+                 base_name(a->output));
+    else if (!strncmp(kind, "ajar-swing", 10))
+        snprintf(out, size,
+                 "Door ajar with the door swinging from 10 to 40 degrees over frames 0..16; %s\n"
+                 "(docs/scenes.md). Metres.\nWritten by: restir generate %s -o %s",
+                 strcmp(kind, "ajar-swing") ? "still camera" : "the camera slides 0.6 m sideways", kind,
+                 base_name(a->output));
     else
         snprintf(out, size, "Displaced sphere benchmark scene (generate.h).\nWritten by: restir generate sphere --subdivisions %d -o %s",
                  a->subdivisions, base_name(a->output));
@@ -55,6 +82,10 @@ static int generate_kind(const char *kind, const generate_args *a, scene *s, rer
 {
     if (!strcmp(kind, "ajar")) return generate_ajar(s, a->door_angle, e);
     if (!strcmp(kind, "glass")) return generate_glass_room(s, e);
+    if (!strcmp(kind, "pillars")) return generate_pillars(s, e);
+    if (!strcmp(kind, "shadow")) return generate_shadow(s, e);
+    if (!strcmp(kind, "ajar-swing")) return generate_ajar_swing(s, 0, e);
+    if (!strcmp(kind, "ajar-swing-still")) return generate_ajar_swing(s, 1, e);
     return generate_displaced_sphere(s, a->subdivisions, e);
 }
 
@@ -79,13 +110,13 @@ int cmd_generate(int argc, char **argv)
         };
         status = cli_parse("generate", argc, argv, options, positional, 2, &count);
         if (status == 1) {
-            cli_print_help(stdout, "generate", "ajar|glass|sphere -o OUT.obj [options]", options);
+            cli_print_help(stdout, "generate", "KIND -o OUT.obj [options]  (KIND: " GENERATE_KINDS_TEXT ")", options);
             return 0;
         }
     }
     if (status) return status;
-    if (count != 1 || (strcmp(positional[0], "ajar") && strcmp(positional[0], "glass") && strcmp(positional[0], "sphere"))) {
-        fprintf(stderr, "restir generate: expected one of ajar, glass, sphere (restir generate --help)\n");
+    if (count != 1 || !known_kind(positional[0])) {
+        fprintf(stderr, "restir generate: expected one of " GENERATE_KINDS_TEXT " (restir generate --help)\n");
         return 2;
     }
     if (!a.output) {

@@ -6,6 +6,7 @@
 #include <string.h>
 #include "args.h"
 #include "output.h"
+#include "restir/animation.h"
 #include "restir/aov.h"
 #include "restir/atomic_file.h"
 #include "restir/camera.h"
@@ -19,7 +20,7 @@
 
 enum render_method { METHOD_AOV, METHOD_PT, METHOD_RESTIR };
 static const char *const method_names[] = {"aov", "pt", "restir", NULL};
-static const char *const aov_choices[] = {"normal", "albedo", "depth", "object", NULL};
+static const char *const aov_choices[] = {"normal", "albedo", "depth", "object", "motion", NULL};
 
 typedef struct {
     int method, aov;
@@ -103,7 +104,8 @@ static int render_aov_image(const render_args *a, const scene *s, image *img)
     camera cam;
     gbuffer g;
     camera_init(&cam, scene_camera_at(s, a->frame), s->width, s->height);
-    if (gbuffer_build(&g, s, &cam, a->seed, (uint32_t)a->frame, a->jitter, a->threads, &e)) {
+    if (a->aov == AOV_MOTION ? gbuffer_build_with_motion(&g, s, a->frame, a->seed, a->jitter, a->threads, &e)
+                             : gbuffer_build(&g, s, &cam, a->seed, (uint32_t)a->frame, a->jitter, a->threads, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
@@ -383,6 +385,7 @@ int cmd_render(int argc, char **argv)
     const char *positional[1];
     int n = 0, count, status;
     scene s;
+    rerror e;
     memset(&a, 0, sizeof a);
     memset(&t, 0, sizeof t);
     render_pt_args_default(&a.pt);
@@ -436,6 +439,11 @@ int cmd_render(int argc, char **argv)
     if (status) return status;
     status = load_scene_for_command("render", positional[0], &a.overrides, &s, &t.load, &t.prepare);
     if (status) return status;
+    if (scene_is_animated(&s) && scene_pose_at(&s, a.frame, &e)) { /* objects at --frame (animation.h) */
+        fprintf(stderr, "%s\n", e.msg);
+        scene_free(&s);
+        return 2;
+    }
     if (a.method != METHOD_AOV && scene_emitter_count(&s) == 0) {
         /* Every lighting method would return a black image: say so instead. */
         fprintf(stderr, "%s: scene has no emitters (no material with Ke > 0); --method aov renders it unlit\n",

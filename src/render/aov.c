@@ -4,12 +4,12 @@
 #include <string.h>
 #include "restir/rng.h"
 
-static const char *const aov_names[] = {"normal", "albedo", "depth", "object"};
+static const char *const aov_names[] = {"normal", "albedo", "depth", "object", "motion"};
 
 int aov_parse(const char *name)
 {
     int i;
-    for (i = 0; i < 4; ++i)
+    for (i = 0; i < 5; ++i)
         if (!strcmp(name, aov_names[i])) return i;
     return -1;
 }
@@ -49,6 +49,8 @@ static rgb texel_value(const gbuffer_texel *t, const scene *s, enum aov_kind kin
         return rgb_gray(t->depth);
     case AOV_OBJECT:
         return object_colour(t->hit.object);
+    case AOV_MOTION:
+        return rgb_make((real)t->motion[0], (real)t->motion[1], (real)t->prev_valid);
     }
     return rgb_gray(0);
 }

@@ -111,3 +111,23 @@ int gbuffer_motion(gbuffer *cur, const scene *s, int frame, const camera *prev_c
     for (i = 0; i < n; ++i) texel_motion(&cur->texels[i], s, frame, prev_cam, prev_frame, prev, th, a, tr, &cached);
     return 0;
 }
+
+int gbuffer_build_with_motion(gbuffer *g, const scene *s, int frame, uint32_t seed, int jitter, int threads, rerror *e)
+{
+    scene prev_s;
+    gbuffer prev;
+    camera pc, cc;
+    int status;
+    camera_init(&pc, scene_camera_at(s, frame - 1), s->width, s->height);
+    camera_init(&cc, scene_camera_at(s, frame), s->width, s->height);
+    if (scene_clone(&prev_s, s, e)) return -1;
+    status = scene_pose_at(&prev_s, frame - 1, e);
+    if (!status) status = gbuffer_build(&prev, &prev_s, &pc, seed, (uint32_t)(frame - 1), jitter, threads, e);
+    scene_free(&prev_s);
+    if (status) return -1;
+    status = gbuffer_build(g, s, &cc, seed, (uint32_t)frame, jitter, threads, e);
+    if (!status) status = gbuffer_motion(g, s, frame, &pc, frame - 1, &prev, NULL, e);
+    gbuffer_free(&prev);
+    if (status) gbuffer_free(g);
+    return status;
+}

@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "restir/animation.h"
 #include "restir/atomic_file.h"
 #include "restir/scene_builder.h"
 #include "restir/triangulate.h"
@@ -432,9 +433,187 @@ int generate_glass_room(scene *s, rerror *e)
 }
 
 /* ------------------------------------------------------------------------------- */
+/* Animated scenes (issue 10)                                                         */
+
+static camera_pose pose_of(double ex, double ey, double ez, double tx, double ty, double tz, double fov)
+{
+    camera_pose p;
+    p.eye = v3((real)ex, (real)ey, (real)ez);
+    p.target = v3((real)tx, (real)ty, (real)tz);
+    p.up = v3(0, 1, 0);
+    p.fov_y_degrees = (real)fov;
+    return p;
+}
+
+/* Camera keyframes (s->camera becomes the first pose). */
+static int set_keyframes(scene *s, const camera_keyframe *k, size_t n, rerror *e)
+{
+    s->keyframes = rmalloc(n, sizeof *k, e);
+    if (!s->keyframes) return -1;
+    memcpy(s->keyframes, k, n * sizeof *k);
+    s->keyframe_count = n;
+    s->camera = k[0].pose;
+    s->has_camera = 1;
+    return 0;
+}
+
+static object_keyframe object_key(int frame, double tx, double ty, double tz, double axis_y, double degrees)
+{
+    object_keyframe k;
+    k.frame = frame;
+    k.translate = v3((real)tx, (real)ty, (real)tz);
+    k.axis = v3(0, (real)(axis_y != 0 ? axis_y : 1), 0);
+    k.angle_degrees = (real)degrees;
+    return k;
+}
+
+static int animate_named(scene *s, const char *name, vec3 pivot, const object_keyframe *k, size_t n, rerror *e)
+{
+    uint32_t o;
+    for (o = 0; o < s->object_count; ++o)
+        if (!strcmp(s->object_names[o], name)) return scene_add_object_animation(s, o, pivot, k, n, e);
+    return rerror_set(e, "generate: no object '%s'", name);
+}
+
+static const material_spec pillar_materials[] = {
+    {"backdrop", MAT_LAMBERT, {0.80, 0.74, 0.55}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"floor", MAT_LAMBERT, {0.45, 0.45, 0.45}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"bars", MAT_PLASTIC, {0.08, 0.08, 0.10}, {1, 1, 1}, {0, 0, 0}, 0.3, 1.5},
+    {"light", MAT_LAMBERT, {0, 0, 0}, {0, 0, 0}, {12, 12, 12}, 1, 1.5},
+};
+
+int generate_pillars(scene *s, rerror *e)
+{
+    mesh_writer m;
+    camera_keyframe k[2];
+    int i;
+    if (writer_begin(&m, s, "generated:pillars", e)) return -1;
+    define_materials(&m, pillar_materials, (int)(sizeof pillar_materials / sizeof *pillar_materials));
+    use(&m, "floor", "floor");
+    box(&m, -3, -0.1, -5.2, 3, 0, 2);
+    use(&m, "backdrop", "backdrop");
+    box(&m, -3, -0.05, -5.1, 3, 3, -5);
+    use(&m, "bars", "bars");
+    for (i = 0; i < PILLARS_BARS; ++i) {
+        double x = -1 + 0.5 * i;
+        box(&m, x - 0.06, -0.01, -2.05, x + 0.06, 2.5, -1.95);
+    }
+    /* A 3 x 1 m panel above the space between bars and backdrop, facing down:
+     * (b - a) x (c - a) = (3, 0, 0) x (3, 0, 1) = -3 y. */
+    use(&m, "light", "light");
+    {
+        uint32_t a = vertex(&m, -1.5, 2.9, -4.5), b = vertex(&m, 1.5, 2.9, -4.5), c = vertex(&m, 1.5, 2.9, -3.5),
+                 d = vertex(&m, -1.5, 2.9, -3.5);
+        quad(&m, a, b, c, d);
+    }
+    set_camera(s, -1, 1.2, 2.5, -1, 1.0, -5, 45);
+    s->width = s->height = 128;
+    if (writer_end(&m)) return -1;
+    k[0].frame = 0;
+    k[0].pose = pose_of(-1, 1.2, 2.5, -1, 1.0, -5, 45);
+    k[1].frame = PILLARS_LAST_FRAME;
+    k[1].pose = pose_of(1, 1.2, 2.5, 1, 1.0, -5, 45);
+    if (set_keyframes(s, k, 2, e)) {
+        scene_free(s);
+        return -1;
+    }
+    return 0;
+}
+
+static const material_spec shadow_materials[] = {
+    {"floor", MAT_LAMBERT, {0.70, 0.70, 0.68}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"wall", MAT_LAMBERT, {0.55, 0.62, 0.75}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"mover", MAT_PLASTIC, {0.70, 0.12, 0.08}, {1, 1, 1}, {0, 0, 0}, 0.4, 1.5},
+    {"light", MAT_LAMBERT, {0, 0, 0}, {0, 0, 0}, {25, 24, 21}, 1, 1.5},
+};
+
+int generate_shadow(scene *s, rerror *e)
+{
+    mesh_writer m;
+    object_keyframe k[2];
+    if (writer_begin(&m, s, "generated:shadow", e)) return -1;
+    define_materials(&m, shadow_materials, (int)(sizeof shadow_materials / sizeof *shadow_materials));
+    use(&m, "floor", "floor");
+    box(&m, -2, -0.1, -2.2, 2, 0, 2);
+    use(&m, "wall", "wall");
+    box(&m, -2, -0.05, -2.1, 2, 2.5, -2);
+    use(&m, "mover", "mover");
+    box(&m, -0.3, 0.5, -0.3, 0.3, 1.1, 0.3);
+    use(&m, "light", "light");
+    {
+        uint32_t a = vertex(&m, -0.4, 2.4, -0.4), b = vertex(&m, 0.4, 2.4, -0.4), c = vertex(&m, 0.4, 2.4, 0.4),
+                 d = vertex(&m, -0.4, 2.4, 0.4);
+        quad(&m, a, b, c, d);
+    }
+    set_camera(s, 0, 2.2, 3.5, 0, 0.4, -0.3, 50);
+    s->width = s->height = 128;
+    if (writer_end(&m)) return -1;
+    /* The box crosses under the light from x = -1 to x = 1, turning a quarter turn. */
+    k[0] = object_key(0, -1, 0, 0, 1, 0);
+    k[1] = object_key(SHADOW_LAST_FRAME, 1, 0, 0, 1, 90);
+    if (animate_named(s, "mover", v3(0, (real)0.8, 0), k, 2, e)) {
+        scene_free(s);
+        return -1;
+    }
+    return 0;
+}
+
+int generate_ajar_swing(scene *s, int still_camera, rerror *e)
+{
+    object_keyframe k[2];
+    camera_keyframe c[2];
+    /* The door of generate_ajar at 10 degrees swings open to 40 about its hinge axis
+     * (x = 2.15, z = 4.01; +y turns the latch side towards -z, the camera). */
+    if (generate_ajar(s, AJAR_DEFAULT_DOOR_ANGLE, e)) return -1;
+    k[0] = object_key(0, 0, 0, 0, 1, 0);
+    k[1] = object_key(AJAR_SWING_LAST_FRAME, 0, 0, 0, 1, AJAR_SWING_DEGREES);
+    if (animate_named(s, "door", v3((real)(AJ_OPEN_X0 - AJ_LAP), 0, (real)(AJ_D1 + AJ_EMBED)), k, 2, e)) {
+        scene_free(s);
+        return -1;
+    }
+    if (still_camera) return 0;
+    /* The camera slides 0.6 m to the right while keeping its target. */
+    c[0].frame = 0;
+    c[0].pose = s->camera;
+    c[1].frame = AJAR_SWING_LAST_FRAME;
+    c[1].pose = s->camera;
+    c[1].pose.eye.x += (real)0.6;
+    if (set_keyframes(s, c, 2, e)) {
+        scene_free(s);
+        return -1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------- */
 /* Scene file output                                                                  */
 
 static const char *const type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric"};
+
+static void write_pose(FILE *f, const char *head, const camera_pose *p)
+{
+    fprintf(f, "%s eye %.10g %.10g %.10g target %.10g %.10g %.10g up %.10g %.10g %.10g fov %.10g\n", head,
+            (double)p->eye.x, (double)p->eye.y, (double)p->eye.z, (double)p->target.x, (double)p->target.y,
+            (double)p->target.z, (double)p->up.x, (double)p->up.y, (double)p->up.z, (double)p->fov_y_degrees);
+}
+
+/* One `animate` line per object keyframe; the pivot on each object's first line. */
+static void write_animation(FILE *f, const scene *s)
+{
+    size_t i, j, n;
+    for (i = 0; i < scene_animated_object_count(s); ++i) {
+        uint32_t object;
+        vec3 c;
+        const object_keyframe *k = scene_animated_object(s, i, &object, &c, &n);
+        for (j = 0; j < n; ++j) {
+            fprintf(f, "animate %s %d translate %.10g %.10g %.10g rotate %.10g %.10g %.10g %.10g", s->object_names[object],
+                    k[j].frame, (double)k[j].translate.x, (double)k[j].translate.y, (double)k[j].translate.z,
+                    (double)k[j].axis.x, (double)k[j].axis.y, (double)k[j].axis.z, (double)k[j].angle_degrees);
+            if (!j) fprintf(f, " pivot %.10g %.10g %.10g", (double)c.x, (double)c.y, (double)c.z);
+            fprintf(f, "\n");
+        }
+    }
+}
 
 static void write_scene_text(FILE *f, const scene *s, const char *mesh_name, const char *comment)
 {
@@ -450,9 +629,13 @@ static void write_scene_text(FILE *f, const scene *s, const char *mesh_name, con
     }
     if (strpbrk(mesh_name, " \t")) fprintf(f, "mesh \"%s\"\n", mesh_name);
     else fprintf(f, "mesh %s\n", mesh_name);
-    fprintf(f, "camera eye %.10g %.10g %.10g target %.10g %.10g %.10g up %.10g %.10g %.10g fov %.10g\n",
-            (double)p->eye.x, (double)p->eye.y, (double)p->eye.z, (double)p->target.x, (double)p->target.y,
-            (double)p->target.z, (double)p->up.x, (double)p->up.y, (double)p->up.z, (double)p->fov_y_degrees);
+    if (!s->keyframe_count) write_pose(f, "camera", p);
+    for (i = 0; i < s->keyframe_count; ++i) {
+        char head[32];
+        snprintf(head, sizeof head, "keyframe %d", s->keyframes[i].frame);
+        write_pose(f, head, &s->keyframes[i].pose);
+    }
+    write_animation(f, s);
     fprintf(f, "size %d %d\n\n", s->width, s->height);
     for (i = 0; i < s->material_count; ++i) {
         const material *m = &s->materials[i];
