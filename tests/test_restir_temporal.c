@@ -462,8 +462,8 @@ TEST(restir_temporal_resume_equals_uninterrupted)
     CHECKF(test_cli(out, sizeof out, "render %s %s --sequence 0..1 -o %s/part.pfm --checkpoint %s", scene_path, common,
                     test_tmpdir(), ck) == 0,
            "%s", out);
-    CHECKF(test_cli(out, sizeof out, "render %s %s --sequence 0..3 -o %s/part.pfm --checkpoint %s --resume", scene_path,
-                    common, test_tmpdir(), ck) == 0,
+    CHECKF(test_cli(out, sizeof out, "render %s %s --sequence 0..3 -o %s/part.pfm --checkpoint %s --resume %s", scene_path,
+                    common, test_tmpdir(), ck, ck) == 0,
            "%s", out);
     for (f = 0; f <= 3; ++f) {
         snprintf(a, sizeof a, "%s/full.%04d.pfm", test_tmpdir(), f);
@@ -471,8 +471,8 @@ TEST(restir_temporal_resume_equals_uninterrupted)
         CHECKF(same_file(a, b), "frame %d differs after resuming at frame 2", f);
     }
     /* the checkpoint now holds frame 3: nothing is left to render in 0..3 */
-    CHECK(test_cli(out, sizeof out, "render %s %s --sequence 0..3 -o %s/part.pfm --checkpoint %s --resume", scene_path,
-                   common, test_tmpdir(), ck) == 2);
+    CHECK(test_cli(out, sizeof out, "render %s %s --sequence 0..3 -o %s/part.pfm --resume %s", scene_path, common,
+                   test_tmpdir(), ck) == 2);
     CHECKF(strstr(out, "not a checkpoint of this sequence") != NULL, "%s", out);
 }
 

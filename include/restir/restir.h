@@ -126,9 +126,9 @@ typedef struct {
     const char *checkpoint; /* non-NULL: the previous-frame state (the final reservoirs of
                                the frame just rendered: a reservoir dump, tag "sequence") is
                                written here atomically after each frame */
-    int resume;             /* continue after the frame k stored in `checkpoint` (first-1 <= k
-                               < last): frames k+1..last come out byte-identical to an
-                               uninterrupted run (not with accumulate) */
+    const char *resume;     /* non-NULL: continue after the frame k stored in this checkpoint
+                               (first-1 <= k < last): frames k+1..last come out
+                               byte-identical to an uninterrupted run (not with accumulate) */
 } restir_sequence;
 
 /* Renders frames seq->first..last of s with the real-time pipeline: per frame the scene's

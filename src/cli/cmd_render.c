@@ -286,6 +286,11 @@ static int add_restir_rows(cli_option *options, int n, render_args *a)
             options[i].seen = &a->max_depth_given;
             options[i].help = "maximum path length d in segments (2 = direct light; pt: 1..255, restir: 2..16; default 10)";
         }
+        if (!strcmp(options[i].name, "--checkpoint"))
+            options[i].help = "pt: write the accumulation state here at the end and on SIGINT/SIGTERM; restir "
+                              "--sequence: the previous-frame state after every frame";
+        if (!strcmp(options[i].name, "--resume"))
+            options[i].help = "pt: continue this checkpoint up to --spp; restir --sequence: continue after its frame";
         if (!strcmp(options[i].name, "--time-limit"))
             options[i].help = "pt: whole 1-spp passes, restir: whole frames until SECONDS have passed (restir: --frames ignored)";
         if (!strcmp(options[i].name, "--ablate")) {
@@ -325,12 +330,12 @@ static int apply_sequence_options(render_args *a)
         a->restir.mcap = c;
     }
     if (a->no_temporal) a->restir.temporal = 0;
-    if ((a->sequence || a->accumulate || a->seq.checkpoint || a->seq.resume) && a->method != METHOD_RESTIR) {
+    if ((a->sequence || a->accumulate) && a->method != METHOD_RESTIR) {
         fprintf(stderr, "restir render: --sequence and --accumulate need --method restir\n");
         return 2;
     }
-    if ((a->accumulate || a->seq.checkpoint || a->seq.resume) && !a->sequence) {
-        fprintf(stderr, "restir render: --accumulate, --checkpoint and --resume need --sequence A..B\n");
+    if (a->accumulate && !a->sequence) {
+        fprintf(stderr, "restir render: --accumulate needs --sequence A..B\n");
         return 2;
     }
     if (!a->sequence) return 0;
@@ -354,6 +359,9 @@ static int apply_sequence_options(render_args *a)
         a->seq.last = (int)last;
     }
     a->seq.accumulate = a->accumulate;
+    /* the path tracer's --checkpoint FILE / --resume FILE rows serve sequences too */
+    a->seq.checkpoint = a->pt.checkpoint;
+    a->seq.resume = a->pt.resume;
     return 0;
 }
 
@@ -413,8 +421,6 @@ int cmd_render(int argc, char **argv)
             {"--accumulate", OPT_FLAG, &a.accumulate, "with --sequence: frame f's file holds the average of frames A..f (a still camera, GRIS 6.4)", NULL, 0, 0, NULL},
             {"--mcap", OPT_STRING, &a.mcap, "with --sequence: cap the previous frame's confidence at C x the current one's (C > 0 or inf; default 20, GRIS 6.2)", NULL, 0, 0, NULL},
             {"--no-temporal", OPT_FLAG, &a.no_temporal, "with --sequence: no temporal reuse (independent frames through the same pipeline)", NULL, 0, 0, NULL},
-            {"--checkpoint", OPT_STRING, &a.seq.checkpoint, "with --sequence: write the previous-frame state (final reservoirs) to FILE after each frame", NULL, 0, 0, NULL},
-            {"--resume", OPT_FLAG, &a.seq.resume, "with --sequence and --checkpoint: continue after the frame the checkpoint holds", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
         };

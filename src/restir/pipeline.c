@@ -178,8 +178,7 @@ static int validate_sequence(const scene *s, const restir_options *o, const rest
     if (scene_frame_range(s, &a, &b) == 0 && (q->first < a || q->last > b))
         return rerror_set(e, "restir: --sequence %d..%d outside the keyframes %d..%d of %s", q->first, q->last, a, b,
                           s->path);
-    if (q->resume && (!q->checkpoint || q->accumulate))
-        return rerror_set(e, "restir: resuming a sequence needs a checkpoint and no --accumulate");
+    if (q->resume && q->accumulate) return rerror_set(e, "restir: a sequence with --accumulate cannot be resumed");
     if ((uint64_t)((uint64_t)q->last + 1) * (uint64_t)o->candidates > UINT32_MAX)
         return rerror_set(e, "restir: --sequence %d..%d x path trees exceeds 2^32 sample indices", q->first, q->last);
     return 0;
@@ -216,7 +215,7 @@ static int checkpoint_write(const pipeline *pl, const char *path, int frame, rer
     return reservoir_dump_write(path, pl->prev, &info, e);
 }
 
-/* Loads frame k's state from q->checkpoint; returns k (first frame to render is k + 1). */
+/* Loads frame k's state from the checkpoint q->resume; returns k (first frame to render is k + 1). */
 static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
 {
     frame_job *j = &pl->j;
@@ -224,13 +223,13 @@ static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
     reservoir *rs;
     size_t pixels = (size_t)j->s->width * (size_t)j->s->height;
     int k;
-    if (reservoir_dump_read(q->checkpoint, &rs, &info, e)) return -1;
+    if (reservoir_dump_read(q->resume, &rs, &info, e)) return -1;
     k = (int)info.frame;
     if (strcmp(info.tag, "sequence") || info.width != (uint32_t)j->s->width || info.height != (uint32_t)j->s->height ||
         k < q->first - 1 || k >= q->last) {
         free(rs);
         return rerror_set(e, "%s: not a checkpoint of this sequence (tag '%s', %ux%u, frame %d; want %dx%d, frame in %d..%d)",
-                          q->checkpoint, info.tag, info.width, info.height, k, j->s->width, j->s->height,
+                          q->resume, info.tag, info.width, info.height, k, j->s->width, j->s->height,
                           q->first - 1, q->last - 1);
     }
     memcpy(pl->prev, rs, pixels * sizeof *rs);
