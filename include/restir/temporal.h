@@ -35,11 +35,22 @@ typedef struct {
                                    step.selected_neighbor = outputs taken from frame t-1 */
 } temporal_stats;
 
+/* Animated scenes: the two frames' scenes and indices. Before a sample crosses from one
+ * frame to the other its reconnection vertex is posed in the destination frame and its
+ * suffix is traced again there (rc_retrace_suffix), so a reused path is a path of the
+ * destination scene (the cached x_k and L_k of frame t-1 are not, where objects moved). */
+typedef struct {
+    const restir_context *ctx[2]; /* [0] frame t, [1] frame t-1 (scenes posed at those frames) */
+    int frame[2];
+} temporal_frames;
+
 /* The temporal GRIS step. x1_cur: the pixel's primary vertex in frame t; x1_prev: the
  * primary vertex of the reprojected pixel in frame t-1 (x1_prev, prev_r NULL: no history,
  * the output is the current reservoir). u[0], u[1]: selection numbers (RNG_RIS, vertex 48,
- * docs/rng.md). mcap > 0 (may be infinite). The workspace holds >= 2 domains. */
-void temporal_resample(const restir_context *cur, const restir_context *prev, mis_family mis,
+ * docs/rng.md). mcap > 0 (may be infinite). The workspace holds >= 2 domains. frames:
+ * NULL when nothing but the camera moves (a static scene needs no re-tracing). */
+void temporal_resample(const restir_context *cur, const restir_context *prev, const temporal_frames *frames,
+                       mis_family mis,
                        const path_vertex *x1_cur, const path_vertex *x1_prev, const reservoir *cur_r,
                        const reservoir *prev_r, real mcap, const real *u, reservoir *out, spatial_workspace *w,
                        temporal_stats *st);

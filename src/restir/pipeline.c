@@ -63,6 +63,7 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     frame_job *j = &pl->j;
     const restir_options *o = j->o;
     const restir_context *back = &pl->prev_ctx;
+    temporal_frames tf;
     rng_key key = rng_key_make(o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
     path_vertex *v = w->verts;
     long q = -1;
@@ -81,7 +82,12 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     /* RNG_RIS vertex 48: spatial passes use 32..47, initial sampling 2..16 (docs/rng.md) */
     u[0] = rng_u(key, RNG_RIS, 48u, 0u);
     u[1] = rng_u(key, RNG_RIS, 48u, 1u);
-    temporal_resample(&j->ctx, back, (mis_family)o->temporal_mis, &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
+    tf.ctx[0] = &j->ctx;
+    tf.ctx[1] = back;
+    tf.frame[0] = (int)j->frame;
+    tf.frame[1] = back == &j->ctx ? (int)j->frame : pl->prev_frame;
+    temporal_resample(&j->ctx, back, pl->animated && o->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX ? &tf : NULL,
+                      (mis_family)o->temporal_mis, &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
                       q >= 0 ? &pl->prev[q] : NULL, (real)o->mcap, u, &pl->out[p], &w->ws, &w->st.temporal);
 }
 
