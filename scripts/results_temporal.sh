@@ -15,7 +15,7 @@ R=${2:-build}/restir
 SIZE=${SIZE:-32}
 THREADS=${THREADS:-2}
 REF_SPP=${REF_SPP:-16384}
-FRAMES=${FRAMES:-64}
+FRAMES=${FRAMES:-256}
 SEEDS=${SEEDS:-1 2 3 4 5}
 SCENE=${SCENE:-scenes/cornell.scene}
 mkdir -p "$OUT"
