@@ -1,10 +1,13 @@
 /* The real-time ReSTIR PT pipeline (GRIS §6.3 steps 1-4; Mutations §2.4 Algorithm 2;
  * include/restir/restir.h, restir_render_sequence; docs/restir-pt.md "Temporal reuse").
  *
- *   per frame t:  pose the scene + camera at t
+ *   per frame t:  pose the scene (animated: one of two copies, BVH rebuilt) + camera at t
  *                 G-buffer (primary hits)                         GRIS §6.3 step 1
+ *                 motion vectors + disocclusion against t-1 (gbuffer_motion)
  *                 initial resampling -> A                          step 1
- *                 temporal reuse (A, previous final P) -> B        step 2 (temporal.h)
+ *                 temporal reuse (A, previous final P) -> B        step 2 (temporal.h; in
+ *                                                                  animated scenes samples
+ *                                                                  crossing frames are re-traced)
  *                 K spatial passes B -> A -> B ...                 step 3 (spatial.h)
  *                 shading of the last output                       step 4
  *                 the last output becomes P, the G-buffer, camera and scene of t are kept
