@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "restir/animation.h"
+#include "restir/generate_rooms.h"
 #include "restir/scene.h"
 #include "test.h"
 
@@ -187,5 +188,57 @@ TEST(animation_load_errors_name_the_line)
         msg = strstr(e.msg, "pair.scene:");
         CHECKF(msg && !strncmp(msg, cases[i].expect, strlen(cases[i].expect)), "case %zu: '%s' does not start with '%s'",
                i, e.msg, cases[i].expect);
+    }
+}
+
+/* scenes/{pillars,shadow,ajar-swing,ajar-swing-still}.* are what `restir generate` writes:
+ * same triangles, camera keyframes and object animation as the generators' scenes. */
+static int same_animation(const scene *a, const scene *b, char *why, size_t n)
+{
+    size_t i, j, ca, cb;
+    if (a->triangle_count != b->triangle_count || a->keyframe_count != b->keyframe_count ||
+        scene_animated_object_count(a) != scene_animated_object_count(b))
+        return snprintf(why, n, "counts differ"), 0;
+    for (i = 0; i < a->triangle_count; ++i)
+        for (j = 0; j < 3; ++j) {
+            vec3f p = a->positions[a->triangles[i].v[j]], q = b->positions[b->triangles[i].v[j]];
+            if (fabsf(p.x - q.x) + fabsf(p.y - q.y) + fabsf(p.z - q.z) > 1e-5f)
+                return snprintf(why, n, "triangle %zu differs", i), 0;
+        }
+    for (i = 0; i < a->keyframe_count; ++i)
+        if (a->keyframes[i].frame != b->keyframes[i].frame ||
+            fabs(a->keyframes[i].pose.eye.x - b->keyframes[i].pose.eye.x) > 1e-9)
+            return snprintf(why, n, "camera keyframe %zu differs", i), 0;
+    for (i = 0; i < scene_animated_object_count(a); ++i) {
+        uint32_t oa, ob;
+        vec3 pa, pb;
+        const object_keyframe *ka = scene_animated_object(a, i, &oa, &pa, &ca);
+        const object_keyframe *kb = scene_animated_object(b, i, &ob, &pb, &cb);
+        if (strcmp(a->object_names[oa], b->object_names[ob]) || ca != cb || fabs(pa.x - pb.x) + fabs(pa.z - pb.z) > 1e-9)
+            return snprintf(why, n, "animated object %zu differs", i), 0;
+        for (j = 0; j < ca; ++j)
+            if (ka[j].frame != kb[j].frame || fabs(ka[j].angle_degrees - kb[j].angle_degrees) > 1e-9 ||
+                fabs(ka[j].translate.x - kb[j].translate.x) > 1e-9)
+                return snprintf(why, n, "object keyframe %zu differs", j), 0;
+    }
+    return 1;
+}
+
+TEST(animation_shipped_scenes_are_the_generated_ones)
+{
+    static const char *const files[] = {"scenes/pillars.scene", "scenes/shadow.scene", "scenes/ajar-swing.scene",
+                                        "scenes/ajar-swing-still.scene"};
+    int i;
+    for (i = 0; i < 4; ++i) {
+        scene g, f;
+        rerror e;
+        char why[256];
+        int status = i == 0 ? generate_pillars(&g, &e) : i == 1 ? generate_shadow(&g, &e) : generate_ajar_swing(&g, i == 3, &e);
+        CHECKF(!status, "%s", e.msg);
+        CHECKF(!scene_load(&f, files[i], &e), "%s", e.msg);
+        CHECKF(same_animation(&g, &f, why, sizeof why), "%s: %s", files[i], why);
+        CHECK(g.width == f.width && g.has_camera && f.has_camera);
+        scene_free(&g);
+        scene_free(&f);
     }
 }

@@ -220,3 +220,86 @@ TEST(motion_disocclusion_rates_on_animated_scenes)
         scene_free(&s);
     }
 }
+
+/* Each of the three previous-texel tests rejects on its own: the landing texel of a card
+ * pixel is edited to show another object, a surface off the point's tangent plane, or a
+ * normal turned by 40 degrees (the other two tests still passing). */
+TEST(motion_each_previous_texel_test_rejects)
+{
+    scene s;
+    rerror e;
+    gbuffer prev, cur;
+    camera pc, cc;
+    const int frame = 5;
+    int x = -1, y, cx = 0, cy = 0, variant;
+    uint32_t wall;
+    CHECKF(!load_motion_scene(&s, &e), "%s", e.msg);
+    wall = !strcmp(s.object_names[0], "wall") ? 0 : 1;
+    CHECKF(!frame_gbuffer(&s, frame - 1, 0, &prev, &pc, &e), "%s", e.msg);
+    CHECKF(!frame_gbuffer(&s, frame, 0, &cur, &cc, &e), "%s", e.msg);
+    CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, &e), "%s", e.msg);
+    /* A card pixel whose landing texel is well inside the card. */
+    for (y = 0; y < s.height && x < 0; ++y)
+        for (cx = 0; cx < s.width; ++cx) {
+            const gbuffer_texel *t = gbuffer_at(&cur, cx, y);
+            int px = (int)(t->pixel[0] + t->motion[0]), py = (int)(t->pixel[1] + t->motion[1]), dx, dy, inside = 1;
+            if (!t->valid || t->hit.object == wall || !t->prev_valid) continue;
+            for (dy = -1; dy <= 1; ++dy)
+                for (dx = -1; dx <= 1; ++dx) inside &= gbuffer_at(&prev, px + dx, py + dy)->hit.object != wall;
+            if (inside) {
+                x = cx;
+                cy = y;
+                break;
+            }
+        }
+    CHECK(x >= 0);
+    for (variant = 0; variant < 3; ++variant) {
+        const gbuffer_texel *t = gbuffer_at(&cur, x, cy);
+        gbuffer_texel *q = &prev.texels[(long)(int)(t->pixel[1] + t->motion[1]) * prev.width +
+                                        (int)(t->pixel[0] + t->motion[0])];
+        gbuffer_texel saved = *q;
+        if (variant == 0) q->hit.object = wall;
+        if (variant == 1) q->hit.position = v3f_add(q->hit.position, v3f_scale(q->hit.ng, 0.24f)); /* 0.12 of the depth 2 */
+        if (variant == 2) q->hit.ng = v3f((float)sin(40 * PI_R / 180), 0, (float)cos(40 * PI_R / 180));
+        CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, &e), "%s", e.msg);
+        CHECKF(!gbuffer_at(&cur, x, cy)->prev_valid, "variant %d accepted", variant);
+        *q = saved;
+        CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, &e), "%s", e.msg);
+        CHECK(gbuffer_at(&cur, x, cy)->prev_valid);
+    }
+    gbuffer_free(&prev);
+    gbuffer_free(&cur);
+    scene_free(&s);
+}
+
+/* A card turning 40 degrees about y in one frame stays valid where it was visible: the
+ * normal test compares the normal carried to the previous pose, not the current one. */
+TEST(motion_turning_object_keeps_its_history)
+{
+    static const char *turn_scene = "mesh motion.obj\nsize 32 24\n"
+                                    "camera eye 0 0 0 target 0 0 -1 up 0 1 0 fov 60\n"
+                                    "animate card 0 pivot 0 0 -2\nanimate card 1 rotate 0 1 0 40\n";
+    scene s;
+    rerror e;
+    gbuffer prev, cur;
+    camera pc, cc;
+    long card = 0, valid = 0;
+    int i;
+    char path[1024];
+    test_write_file("motion.obj", motion_obj);
+    test_write_file("motion.mtl", motion_mtl);
+    snprintf(path, sizeof path, "%s", test_write_file("turn.scene", turn_scene));
+    CHECKF(!scene_load(&s, path, &e), "%s", e.msg);
+    CHECKF(!frame_gbuffer(&s, 0, 0, &prev, &pc, &e), "%s", e.msg);
+    CHECKF(!frame_gbuffer(&s, 1, 0, &cur, &cc, &e), "%s", e.msg);
+    CHECKF(!gbuffer_motion(&cur, &s, 1, &pc, 0, &prev, NULL, &e), "%s", e.msg);
+    for (i = 0; i < cur.width * cur.height; ++i)
+        if (cur.texels[i].valid && strcmp(s.object_names[cur.texels[i].hit.object], "wall")) {
+            card++;
+            valid += cur.texels[i].prev_valid;
+        }
+    CHECKF(card > 20 && valid >= card * 3 / 4, "%ld of %ld card pixels valid", valid, card);
+    gbuffer_free(&prev);
+    gbuffer_free(&cur);
+    scene_free(&s);
+}

@@ -58,6 +58,15 @@ void motion_thresholds_default(motion_thresholds *t);
  * and prev_valid 0. th = NULL: the defaults. */
 int gbuffer_motion(gbuffer *cur, const scene *s, int frame, const camera *prev_cam, int prev_frame,
                    const gbuffer *prev, const motion_thresholds *th, rerror *e);
+/* The previous frame's pixel of a texel with motion: (floor(pixel + motion)). Returns
+ * prev_valid (the pixel is then inside the previous image). */
+static inline int gbuffer_previous_pixel(const gbuffer_texel *t, int *x, int *y)
+{
+    *x = (int)floorf(t->pixel[0] + t->motion[0]);
+    *y = (int)floorf(t->pixel[1] + t->motion[1]);
+    return t->prev_valid;
+}
+
 /* The G-buffer of frame `frame` with its motion vectors against frame - 1 (s posed at
  * `frame`; a copy of s is posed at frame - 1 for the previous G-buffer, built with the same
  * seed, jitter and sample = frame index as `render --method aov` uses). */

@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "args.h"
+#include "restir/animation.h"
 #include "scene_args.h"
 
 static const char *const material_type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric"};
@@ -16,6 +17,21 @@ static void print_materials(const scene *s)
                (double)m->specular.r, (double)m->specular.g, (double)m->specular.b, (double)m->emission.r,
                (double)m->emission.g, (double)m->emission.b, (double)m->roughness, (double)m->ior);
     }
+}
+
+/* Animated objects (their keyframe counts) and the frame range of all keyframes. */
+static void print_animation(const scene *s)
+{
+    size_t i, keys;
+    int first, last;
+    if (scene_frame_range(s, &first, &last)) return;
+    printf("frames       %d..%d", first, last);
+    for (i = 0; i < scene_animated_object_count(s); ++i) {
+        uint32_t object;
+        scene_animated_object(s, i, &object, NULL, &keys);
+        printf("%s'%s' (%zu keyframes)", i ? ", " : "; animated: ", s->object_names[object], keys);
+    }
+    printf("\n");
 }
 
 static void print_info(const scene *s, double load_seconds, double bvh_seconds)
@@ -35,6 +51,7 @@ static void print_info(const scene *s, double load_seconds, double bvh_seconds)
            (double)c->up.x, (double)c->up.y, (double)c->up.z, (double)c->fov_y_degrees,
            s->has_camera ? "" : " (framed on the bounds)");
     printf("image        %dx%d, %zu camera keyframes\n", s->width, s->height, s->keyframe_count);
+    print_animation(s);
     printf("seconds      load %.3f, bvh %.3f\n", load_seconds, bvh_seconds);
     print_materials(s);
 }

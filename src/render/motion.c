@@ -88,9 +88,9 @@ static void texel_motion(gbuffer_texel *t, const scene *s, int frame, const came
     t->motion[0] = (float)(px - (real)t->pixel[0]);
     t->motion[1] = (float)(py - (real)t->pixel[1]);
     if (!(px >= 0 && py >= 0 && px < prev_cam->width && py < prev_cam->height)) return;
-    ix = (int)px;
-    iy = (int)py;
-    if (ix >= prev->width || iy >= prev->height) return;
+    /* The previous pixel exactly as gbuffer_previous_pixel finds it from the stored floats. */
+    gbuffer_previous_pixel(t, &ix, &iy);
+    if (ix < 0 || iy < 0 || ix >= prev->width || iy >= prev->height) return;
     depth = v3_dot(v3_sub(xp, prev_cam->eye), prev_cam->forward);
     t->prev_valid = previous_texel_agrees(gbuffer_at(prev, ix, iy), t->hit.object, xp, np, depth, th);
 }

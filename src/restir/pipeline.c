@@ -47,16 +47,9 @@ typedef struct {
  * step unbiased (it only changes how much the history helps). */
 static long reproject(const pipeline *pl, long p)
 {
-    const gbuffer_texel *t = &pl->j.g.texels[p];
-    int w = pl->j.g.width, h = pl->j.g.height;
-    double px = (double)t->pixel[0] + (double)t->motion[0], py = (double)t->pixel[1] + (double)t->motion[1];
-    long x, y;
-    if (!t->prev_valid || !(px >= 0 && px < w && py >= 0 && py < h)) return -1;
-    x = (long)floor(px);
-    y = (long)floor(py);
-    if (x >= w) x = w - 1;
-    if (y >= h) y = h - 1;
-    return pl->prev_g.texels[y * w + x].valid ? y * w + x : -1;
+    int x, y, w = pl->j.g.width, h = pl->j.g.height;
+    if (!gbuffer_previous_pixel(&pl->j.g.texels[p], &x, &y) || x < 0 || y < 0 || x >= w || y >= h) return -1;
+    return pl->prev_g.texels[(long)y * w + x].valid ? (long)y * w + x : -1;
 }
 
 /* ---- temporal stage -------------------------------------------------------------------- */

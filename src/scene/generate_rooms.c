@@ -606,7 +606,8 @@ static void write_animation(FILE *f, const scene *s)
         vec3 c;
         const object_keyframe *k = scene_animated_object(s, i, &object, &c, &n);
         for (j = 0; j < n; ++j) {
-            fprintf(f, "animate %s %d translate %.10g %.10g %.10g rotate %.10g %.10g %.10g %.10g", s->object_names[object],
+            const char *q = strpbrk(s->object_names[object], " \t") ? "\"" : "";
+            fprintf(f, "animate %s%s%s %d translate %.10g %.10g %.10g rotate %.10g %.10g %.10g %.10g", q, s->object_names[object], q,
                     k[j].frame, (double)k[j].translate.x, (double)k[j].translate.y, (double)k[j].translate.z,
                     (double)k[j].axis.x, (double)k[j].axis.y, (double)k[j].axis.z, (double)k[j].angle_degrees);
             if (!j) fprintf(f, " pivot %.10g %.10g %.10g", (double)c.x, (double)c.y, (double)c.z);
