@@ -165,6 +165,7 @@ typedef struct {
 static void bench_close(temporal_bench *b);
 
 /* pan = -1: the moving block (load_moving); pan = -3: the same 4x faster (frames 0..4);
+ * pan = -4: scenes/pillars.scene (camera pan behind bars: disocclusion);
  * pan = -2: scenes/shadow.scene (a box crossing
  * under a small light, still camera); else load_pan(pan). */
 static int bench_open(temporal_bench *b, const char *name, double pan, int res, int runs, uint32_t spp,
@@ -180,7 +181,8 @@ static int bench_open(temporal_bench *b, const char *name, double pan, int res, 
     b->nt = nt;
     b->candidates = 2;
     b->alpha = ALPHA;
-    if (pan == -2 ? rt_load_scene("scenes/shadow.scene", res, &b->s)
+    if (pan == -4 ? rt_load_scene("scenes/pillars.scene", res, &b->s)
+        : pan == -2 ? rt_load_scene("scenes/shadow.scene", res, &b->s)
                   : pan == -3 ? load_moving_over(&b->s, res, 4)
                   : pan < 0 ? load_moving(&b->s, res) : load_pan(&b->s, res, pan))
         return -1;
@@ -313,20 +315,21 @@ TEST(restir_temporal_constant_mis_and_target_ablation_detected)
 }
 
 /* The whole matrix: shift x {talbot, pairwise, defensive} x {0, 1 spatial pass}, frames
- * 1, 4, 16, on the still and the panning camera and the moving block. */
+ * 1, 4, 16, on the still and the panning camera, the pillars (disocclusion) and the moving
+ * block. */
 TEST_LONG(restir_temporal_unbiased_matrix_long)
 {
-    static const double pans[] = {0, 80};
-    static const char *const names[] = {"still", "pan"};
+    static const double pans[] = {0, 80, -4};
+    static const char *const names[] = {"still", "pan", "pillars"};
     static const int families[] = {MIS_TALBOT, MIS_PAIRWISE_UNIFORM, MIS_PAIRWISE_DEFENSIVE};
     int c;
-    for (c = 0; c < 2 && !test_has_failed(); ++c) {
+    for (c = 0; c < 3 && !test_has_failed(); ++c) {
         temporal_bench b;
         temporal_case m = {0, MIS_PAIRWISE_DEFENSIVE, 0, 0, RESTIR_ABLATE_NONE, 20};
         int f, p;
         if (bench_open(&b, names[c], pans[c], 16, 24, 64, times_full, 3)) return;
         b.candidates = 4;
-        b.alpha = 1e-4; /* 162 comparisons: one false block rejection (z -4.6) in 87 at 1e-3 */
+        b.alpha = 1e-4; /* 216 comparisons: one false block rejection (z -4.6) in 87 at 1e-3 */
         for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift)
             for (f = 0; f < 3 && !test_has_failed(); ++f)
                 for (p = 0; p < 2 && !test_has_failed(); ++p) {
@@ -342,7 +345,7 @@ TEST_LONG(restir_temporal_unbiased_matrix_long)
         int f, p;
         if (bench_open(&b, "moving-block", -1, 16, 24, 64, times_full, 3)) return;
         b.candidates = 4;
-        b.alpha = 1e-4; /* 162 comparisons: one false block rejection (z -4.6) in 87 at 1e-3 */
+        b.alpha = 1e-4; /* 216 comparisons: one false block rejection (z -4.6) in 87 at 1e-3 */
         for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift)
             for (f = 0; f < 3 && !test_has_failed(); ++f)
                 for (p = 0; p < 2 && !test_has_failed(); ++p) {
