@@ -51,7 +51,7 @@ LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/*.c))
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-.PHONY: all run test test-long test-data bench clean results
+.PHONY: all run test test-long test-data bench clean results results-temporal
 all: $(BUILD)/restir
 
 $(BUILD)/%.o: %.c
@@ -102,3 +102,7 @@ clean:
 # The GRIS claims of docs/results.md (minutes; never part of `make test`).
 results: $(BUILD)/restir
 	sh scripts/results.sh out/results $(BUILD)
+
+# Temporal reuse, GRIS Fig. 9 (docs/results.md; minutes, never part of `make test`).
+results-temporal: $(BUILD)/restir
+	sh scripts/results_temporal.sh out/results-temporal $(BUILD)

@@ -77,11 +77,12 @@ int rt_restir_side(const scene *s, const restir_options *o, int runs, int block,
     return 0;
 }
 
-static int pt_run(const scene *s, uint32_t seed, uint32_t offset, uint32_t spp, int depth, pt_result *r)
+static int pt_run(const scene *s, uint32_t seed, uint32_t offset, uint32_t spp, int depth, int frame, pt_result *r)
 {
     pt_options o;
     rerror e;
     pt_options_default(&o);
+    o.frame = frame;
     o.seed = seed;
     o.sample_offset = offset;
     o.spp = spp;
@@ -97,18 +98,24 @@ static int pt_run(const scene *s, uint32_t seed, uint32_t offset, uint32_t spp, 
 int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int block,
                check_side *side)
 {
+    return rt_pt_side_at(s, seed, runs, spp, max_depth, indirect_only, 0, block, side);
+}
+
+int rt_pt_side_at(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int frame,
+                  int block, check_side *side)
+{
     int k;
     if (side_begin(s, block, side)) return -1;
     for (k = 0; k < runs; ++k) {
         pt_result r, direct;
         int status;
-        if (pt_run(s, seed, (uint32_t)k * spp, spp, max_depth, &r)) {
+        if (pt_run(s, seed, (uint32_t)k * spp, spp, max_depth, frame, &r)) {
             check_side_free(side);
             return -1;
         }
         if (indirect_only) {
             size_t i, n = 3 * (size_t)s->width * s->height;
-            if (pt_run(s, seed, (uint32_t)k * spp, spp, 2, &direct)) {
+            if (pt_run(s, seed, (uint32_t)k * spp, spp, 2, frame, &direct)) {
                 pt_result_free(&r);
                 check_side_free(side);
                 return -1;

@@ -20,6 +20,9 @@ int rt_restir_side(const scene *s, const restir_options *o, int runs, int block,
  * paths of length >= 3. */
 int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int block,
                check_side *side);
+/* rt_pt_side with the camera at keyframe time `frame`. */
+int rt_pt_side_at(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int frame,
+                  int block, check_side *side);
 /* check_compare at level alpha with block x block pixel blocks (the sides' block size);
  * frees both sides. Returns 0 on success. */
 int rt_compare(check_side *a, check_side *b, double alpha, int block, check_result *r);

@@ -67,4 +67,13 @@ enum shift_failure path_record(const restir_context *c, const path_vertex *x1, p
  * pass it. */
 int rc_segment_visible(const restir_context *c, const path_vertex *y1, const path_sample *y);
 
+/* Temporal reuse in animated scenes (temporal.h): x with its reconnection vertex posed in
+ * c's scene (rot = the 3x3 rotation its object underwent since x was sampled, NULL if it
+ * did not move), w_k rotated alike, and the suffix x_{k+1}..x_d traced again in c's scene
+ * with x's own numbers (L_k, light pdf, suffix lobes recomputed). Identity for k = d and
+ * for samples without k. A failure (suffix ray misses, no light, NEE occluded) means the
+ * sample has no counterpart in that scene: the shift that would follow fails. */
+enum shift_failure rc_retrace_suffix(const restir_context *c, const path_sample *x, const double (*rot)[3],
+                                     path_sample *out);
+
 #endif

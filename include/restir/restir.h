@@ -21,6 +21,7 @@
 #include "restir/mis.h"
 #include "restir/neighbors.h"
 #include "restir/spatial.h"
+#include "restir/temporal.h"
 
 #define RESTIR_MAX_SPATIAL_PASSES 16
 #define RESTIR_MAX_DOMAINS 1024 /* 1 + neighbours per pixel and pass (box windows up to r = 15) */
@@ -58,15 +59,22 @@ typedef struct {
     int threads;                /* >= 1 */
     int quiet;                  /* no progress bar */
     int keep_reservoirs;        /* return the last frame's final reservoirs */
+    /* real-time pipeline only (restir_render_sequence; restir_render ignores them): */
+    int temporal;               /* temporal reuse (GRIS §6.3 step 2; default 1 in sequences) */
+    int temporal_mis;           /* mis_family of the temporal step (default MIS_TALBOT, GRIS §8.3) */
+    double mcap;                /* C > 0: c_prev <= C c_cur (GRIS §6.2, §6.4; default 20; may be inf) */
 } restir_options;
 
 typedef struct {
     initial_stats initial;
     spatial_stats spatial;     /* all passes */
     neighbor_stats neighbors;  /* verdict of every proposed neighbour */
+    temporal_stats temporal;   /* temporal steps (sequences only) */
     uint64_t frames;
     int passes;                /* K */
     double ms_gbuffer, ms_initial, ms_shade;     /* summed over frames */
+    double ms_temporal;                          /* temporal step incl. reprojection (sequences) */
+    double ms_pose, ms_motion;                   /* posing + BVH rebuild; motion vectors (sequences) */
     double ms_spatial[RESTIR_MAX_SPATIAL_PASSES]; /* pass p, summed over frames */
 } restir_stats;
 
@@ -89,6 +97,8 @@ void restir_initial_options_for(initial_options *io, const restir_options *o);
  * *out (free with restir_result_free); frees everything on failure. */
 int restir_render(const scene *s, const restir_options *o, restir_result *out, rerror *e);
 void restir_result_free(restir_result *r);
+/* *acc += *add: every counter and timing (frames too; `passes` is kept). */
+void restir_stats_add(restir_stats *acc, const restir_stats *add);
 
 /* The statistics as a JSON object (no trailing newline), e.g. for `render --stats`:
  * candidates, selections by length and reconnection index, shifts by outcome. */
@@ -98,6 +108,37 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
 /* The GRIS offline preset (GRIS §8.3): 32 path trees, 3 spatial passes, 6 neighbours in
  * radius 10; the other fields are kept. */
 void restir_options_preset_gris_offline(restir_options *o);
+
+/* The GRIS real-time preset (GRIS §8.3): 1 path tree, temporal reuse (Talbot, cap 20),
+ * one spatial pass with 3 neighbours in a 20-pixel radius, pairwise-defensive spatial MIS. */
+void restir_options_preset_gris_realtime(restir_options *o);
+
+/* ---- the real-time pipeline (pipeline.c; GRIS §6.3 steps 1-4, Mutations Algorithm 2) ---- */
+
+/* Called once per rendered frame, in order: img is frame `frame`'s image (with
+ * accumulate: the running average of frames first..frame), st its own counters and
+ * timings. Returns 0 to go on, nonzero (with *e set) to stop the sequence. */
+typedef int (*restir_frame_sink)(void *user, int frame, const image *img, const restir_stats *st, rerror *e);
+
+typedef struct {
+    int first, last;        /* frames first..last inclusive (camera keyframe indices) */
+    int accumulate;         /* hand the sink the running average (a still camera, GRIS §6.4 footnote) */
+    const char *checkpoint; /* non-NULL: the previous-frame state (the final reservoirs of
+                               the frame just rendered: a reservoir dump, tag "sequence") is
+                               written here atomically after each frame */
+    const char *resume;     /* non-NULL: continue after the frame k stored in this checkpoint
+                               (first-1 <= k < last): frames k+1..last come out
+                               byte-identical to an uninterrupted run (not with accumulate) */
+} restir_sequence;
+
+/* Renders frames seq->first..last of s with the real-time pipeline: per frame the scene's
+ * camera at that frame, G-buffer, initial resampling, temporal reuse against the previous
+ * frame's final reservoirs (if o->temporal), o->spatial_passes spatial passes, shading;
+ * the spatial output is the next frame's temporal input. Frame f draws the addresses of
+ * an offline frame f (docs/restir-pt.md "Random numbers"), plus RNG_RIS vertex 48 for
+ * the temporal selection. Byte-identical for any thread count. *total sums the frames. */
+int restir_render_sequence(const scene *s, const restir_options *o, const restir_sequence *seq,
+                           restir_frame_sink sink, void *user, restir_stats *total, rerror *e);
 
 /* One pixel, for `restir inspect` (docs/restir-pt.md): prints the selected path of pixel
  * (x, y) in frame o->first_frame (vertices, lobes, k, technique, F, W), then shifts it to

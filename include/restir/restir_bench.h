@@ -29,4 +29,12 @@ int bench_restir(FILE *out, const scene *s, const char *name, const restir_optio
 int bench_restir_equal_time(FILE *out, const scene *s, const char *name, const restir_options *o, uint32_t ref_spp,
                             double seconds, int *first, rerror *e);
 
+/* The real-time pipeline (restir_render_sequence) over frames first_frame..last_frame of s
+ * with o: one JSON element with the per-frame milliseconds of every stage (pose + BVH
+ * rebuild, G-buffer, motion vectors, initial, temporal, each spatial pass, shading),
+ * temporal and spatial shifts per pixel, the temporal history / cap / selection rates and
+ * shift outcomes, and the bytes of reservoir state per pixel. */
+int bench_realtime(FILE *out, const scene *s, const char *name, const restir_options *o, int first_frame,
+                   int last_frame, int *first, rerror *e);
+
 #endif

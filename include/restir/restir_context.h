@@ -51,12 +51,20 @@ enum shift_failure {
 enum restir_ablation {
     RESTIR_ABLATE_NONE = 0,
     RESTIR_ABLATE_JACOBIAN = 1, /* "jacobian": |dT/dx| taken as 1 in resampling weights and MIS */
-    RESTIR_ABLATE_LIGHT_PDF = 2 /* "light-pdf": after a shift that moves x_{d-1} (reconnection
+    RESTIR_ABLATE_LIGHT_PDF = 2, /* "light-pdf": after a shift that moves x_{d-1} (reconnection
                                    at k = d), the light pdf of the last vertex is not recomputed:
                                    the base path's stale value enters the NEE estimate and the
                                    NEE/BSDF MIS weight (notes pitfall 6) */
+    RESTIR_ABLATE_TEMPORAL_TARGET = 3, /* "temporal-target": temporal reuse evaluates the reverse
+                                   shift (current -> previous pixel) with the CURRENT frame's
+                                   camera and scene instead of the previous frame's (notes
+                                   pitfall 8; GRIS App. B requires the previous frame's) */
+    RESTIR_ABLATE_TEMPORAL_SUFFIX = 4 /* "temporal-suffix": in animated scenes a sample crosses
+                                   frames with its cached x_k position and suffix radiance L_k
+                                   (no rc_retrace_suffix): where objects moved, a reused path
+                                   is not a path of the current scene */
 };
-#define RESTIR_ABLATION_COUNT 3
+#define RESTIR_ABLATION_COUNT 5
 
 /* Reconnection criterion (GRIS §7.4-7.5, §8.3; Enhanced §2.3): x_{k-1} and x_k must be
  * rough for their lobes and ||x_k - x_{k-1}|| >= min_distance. */

@@ -51,6 +51,24 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
                       const reservoir *const *in, const real *u, reservoir *out, spatial_workspace *w,
                       spatial_stats *st);
 
+/* Optional step before a shift between domains of different frames (temporal reuse in
+ * animated scenes, temporal.h): re-expresses sample x of domain `from` in the scene of
+ * domain `to` (rc_retrace_suffix); a failure makes that shift fail. */
+typedef struct {
+    enum shift_failure (*fn)(const void *user, int from, int to, const path_sample *x, path_sample *out);
+    const void *user;
+} domain_refresh;
+
+/* The same step where the domains i >= 1 live in another frame (temporal reuse,
+ * temporal.h): forward shifts T_j(X_j) into the pixel use c (the current frame's scene),
+ * the MIS shifts back out into domain i >= 1 use `away` (that domain's own scene, GRIS
+ * App. B); x1[i] must be domain i's primary vertex in its own frame; rf (may be NULL)
+ * runs before every shift from one domain into another. spatial_resample is
+ * gris_resample(c, c, NULL, ...). */
+void gris_resample(const restir_context *c, const restir_context *away, const domain_refresh *rf, mis_family mis,
+                   int m, const path_vertex *const *x1, const reservoir *const *in, const real *u, reservoir *out,
+                   spatial_workspace *w, spatial_stats *st);
+
 void spatial_stats_add(spatial_stats *acc, const spatial_stats *add);
 
 /* The invariants of the GRIS step spatial_resample just computed into out, with its

@@ -1,5 +1,6 @@
 /* restir bench rays SCENE | rays --generated N | all: machine-readable benchmarks (JSON on
  * stdout). Timings are never asserted in tests; compare ratios measured in one run. */
+#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -211,6 +212,68 @@ static int file_exists(const char *path)
     return f != NULL;
 }
 
+/* The real-time pipeline at 256 x 256 with the gris-realtime preset over the scene's frame
+ * range (at most 16 frames; frames 0..7 of a scene without keyframes). */
+static int bench_realtime_on(const scene *s, const char *name, const bench_args *a, int *first)
+{
+    scene sized = *s;
+    restir_options o;
+    rerror e;
+    int f0 = 0, f1 = 7, status;
+    restir_options_default(&o);
+    restir_options_preset_gris_realtime(&o);
+    o.threads = a->rays.threads > 0 ? a->rays.threads : threads_default();
+    sized.width = sized.height = 256;
+    if (scene_frame_range(s, &f0, &f1) == 0 && f1 > f0 + 15) f1 = f0 + 15;
+    status = bench_realtime(stdout, &sized, name, &o, f0, f1, first, &e);
+    if (status) fprintf(stderr, "%s\n", e.msg);
+    return status ? 2 : 0;
+}
+
+static int compare_names(const void *a, const void *b)
+{
+    return strcmp(*(const char *const *)a, *(const char *const *)b);
+}
+
+/* 1 if the scene file has animated objects or camera keyframes. */
+static int is_animated_file(const char *path)
+{
+    scene s;
+    rerror e;
+    int f0, f1, animated;
+    if (scene_load(&s, path, &e)) return 0;
+    animated = scene_frame_range(&s, &f0, &f1) == 0;
+    scene_free(&s);
+    return animated;
+}
+
+/* Every animated scenes/NAME.scene (object or camera keyframes), in name order; the
+ * still Cornell box if there is none. */
+static int bench_realtime_animated(const bench_args *a, int *first)
+{
+    char *names[256], path[1024];
+    int n = 0, i, status = 0, any = 0;
+    DIR *d = opendir("scenes");
+    struct dirent *ent;
+    while (d && (ent = readdir(d)) != NULL && n < 256) {
+        size_t len = strlen(ent->d_name);
+        if (len > 6 && !strcmp(ent->d_name + len - 6, ".scene") && (names[n] = malloc(len + 1)) != NULL)
+            memcpy(names[n++], ent->d_name, len + 1);
+    }
+    if (d) closedir(d);
+    qsort(names, (size_t)n, sizeof names[0], compare_names);
+    for (i = 0; i < n; ++i) {
+        snprintf(path, sizeof path, "scenes/%s", names[i]);
+        if (!status && is_animated_file(path)) {
+            any = 1;
+            status = on_file(path, bench_realtime_on, a, first);
+        }
+        free(names[i]);
+    }
+    if (!any && !status) status = on_file("scenes/cornell.scene", bench_realtime_on, a, first);
+    return status;
+}
+
 /* `bench all`: rays on the shipped Cornell box, the >= 100k-triangle generated sphere and
  * the Stanford bunny when ../shared/data is present (the Embree yardstick's scene); then
  * path-tracing throughput on the Cornell box and the generated sphere; then ReSTIR PT. */
@@ -223,6 +286,7 @@ static int bench_all(const bench_args *a, int *first)
     if (!status) status = on_generated(92, bench_pt_on, a, first);
     if (!status) status = on_file("scenes/cornell.scene", bench_restir_on, a, first);
     if (!status) status = bench_animation_all(a, first);
+    if (!status) status = bench_realtime_animated(a, first);
     return status;
 }
 
@@ -244,7 +308,8 @@ int cmd_bench(int argc, char **argv)
         };
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);
         if (status == 1) {
-            cli_print_help(stdout, "bench", "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | all [options]",
+            cli_print_help(stdout, "bench",
+                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | all [options]",
                            options);
             return 0;
         }
@@ -256,10 +321,10 @@ int cmd_bench(int argc, char **argv)
     }
     if (count < 1 ||
         (strcmp(positional[0], "rays") && strcmp(positional[0], "all") && strcmp(positional[0], "restir") &&
-         strcmp(positional[0], "animation")) ||
+         strcmp(positional[0], "animation") && strcmp(positional[0], "realtime")) ||
         (!strcmp(positional[0], "rays") && count != 2 && !a.generated)) {
-        fprintf(stderr,
-                "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]`, `animation [SCENE]` or `all`\n");
+        fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]`, `animation [SCENE]`, "
+                        "`realtime [SCENE]` or `all`\n");
         return 2;
     }
     printf("[\n");
@@ -268,6 +333,8 @@ int cmd_bench(int argc, char **argv)
         status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_restir_on, &a, &first);
     else if (!strcmp(positional[0], "animation"))
         status = count > 1 ? on_file(positional[1], bench_animation_on, &a, &first) : bench_animation_all(&a, &first);
+    else if (!strcmp(positional[0], "realtime"))
+        status = count > 1 ? on_file(positional[1], bench_realtime_on, &a, &first) : bench_realtime_animated(&a, &first);
     else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);
     else status = on_file(positional[1], bench_rays_on, &a, &first);
     printf("\n]\n");

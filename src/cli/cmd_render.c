@@ -1,6 +1,8 @@
 /* restir render SCENE [options]: render a scene with one of the methods and write
  * PFM + PNG preview (+ optional --stats JSON). */
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "args.h"
 #include "output.h"
@@ -33,6 +35,10 @@ typedef struct {
     double exposure;
     scene_overrides overrides;
     render_pt_args pt; /* --method pt (render_pt.h) */
+    /* the real-time pipeline (--method restir --sequence A..B) */
+    const char *sequence, *mcap;
+    int accumulate, no_temporal;
+    restir_sequence seq;
 } render_args;
 
 typedef struct {
@@ -40,6 +46,9 @@ typedef struct {
     pt_result pt;        /* counters of a --method pt render */
     restir_stats restir; /* counters of a --method restir render (shift failures by reason, ...) */
     double restir_seconds;
+    restir_stats *frame_stats; /* --sequence: per frame */
+    int *frame_numbers;
+    int frame_count;
 } render_timings;
 
 static int write_stats(const char *path, const render_args *a, const scene *s, const render_timings *t)
@@ -65,7 +74,19 @@ static int write_stats(const char *path, const render_args *a, const scene *s, c
         restir_options_write_json(f.fp, &o, "    ");
         fprintf(f.fp, ",\n    \"stats\":\n");
         restir_stats_write_json(f.fp, &t->restir, "    ");
-        fprintf(f.fp, "  },\n");
+        if (a->sequence) {
+            int i;
+            fprintf(f.fp, ",\n    \"sequence\": {\"first\": %d, \"last\": %d, \"accumulate\": %s},\n",
+                    a->seq.first, a->seq.last, a->seq.accumulate ? "true" : "false");
+            fprintf(f.fp, "    \"frames\": [");
+            for (i = 0; i < t->frame_count; ++i) {
+                fprintf(f.fp, "%s\n      {\"frame\": %d, \"stats\":\n", i ? "," : "", t->frame_numbers[i]);
+                restir_stats_write_json(f.fp, &t->frame_stats[i], "      ");
+                fprintf(f.fp, "}");
+            }
+            fprintf(f.fp, "]");
+        }
+        fprintf(f.fp, "\n  },\n");
     }
     fprintf(f.fp, "  \"triangles\": %zu,\n", s->triangle_count);
     fprintf(f.fp, "  \"seconds\": {\"load\": %.6f, \"bvh\": %.6f, \"render\": %.6f, \"write\": %.6f}\n}\n", t->load,
@@ -167,6 +188,55 @@ static int render_runs(const render_args *a, const scene *s, const char *out, im
     return status;
 }
 
+/* --sequence: one PFM (+ PNG) per frame, PREFIX.0000.pfm ..., each written atomically. */
+typedef struct {
+    const render_args *a;
+    render_timings *t;
+    char prefix[4096];
+} sequence_sink;
+
+static int write_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
+{
+    sequence_sink *k = user;
+    char pfm[4200], png[4200];
+    restir_stats *grown = realloc(k->t->frame_stats, (size_t)(k->t->frame_count + 1) * sizeof *grown);
+    int *numbers = grown ? realloc(k->t->frame_numbers, (size_t)(k->t->frame_count + 1) * sizeof *numbers) : NULL;
+    if (grown) k->t->frame_stats = grown;
+    if (!grown || !numbers) return rerror_set(e, "out of memory");
+    k->t->frame_numbers = numbers;
+    numbers[k->t->frame_count] = frame;
+    grown[k->t->frame_count++] = *st;
+    snprintf(pfm, sizeof pfm, "%s.%04d.pfm", k->prefix, frame);
+    snprintf(png, sizeof png, "%s.%04d.png", k->prefix, frame);
+    if (write_outputs(img, pfm, k->a->no_png ? NULL : png, k->a->exposure))
+        return rerror_set(e, "%s: not written", pfm);
+    return 0;
+}
+
+static int render_sequence(const render_args *a, const scene *s, const char *out, render_timings *t)
+{
+    restir_options o = a->restir;
+    sequence_sink k;
+    rerror e;
+    size_t n = strlen(out);
+    double t0 = now_seconds();
+    o.seed = a->seed;
+    o.jitter = a->jitter;
+    o.threads = a->threads;
+    o.quiet = a->quiet;
+    k.a = a;
+    k.t = t;
+    snprintf(k.prefix, sizeof k.prefix, "%.*s", (int)(n > 4 && !strcmp(out + n - 4, ".pfm") ? n - 4 : n), out);
+    if (restir_render_sequence(s, &o, &a->seq, write_frame, &k, &t->restir, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    t->restir_seconds = t->render = now_seconds() - t0;
+    if (!a->quiet)
+        fprintf(stderr, "wrote frames %s.%04d.pfm .. %s.%04d.pfm\n", k.prefix, a->seq.first, k.prefix, a->seq.last);
+    return 0;
+}
+
 static int render_and_write(const render_args *a, scene *s, render_timings *t)
 {
     image img;
@@ -175,6 +245,7 @@ static int render_and_write(const render_args *a, scene *s, render_timings *t)
     double t0;
     if (a->output) snprintf(out, sizeof out, "%s", a->output);
     else default_output_path(out, sizeof out, s->path, "");
+    if (a->sequence) return render_sequence(a, s, out, t);
     t0 = now_seconds();
     if (a->runs > 0) {
         status = render_runs(a, s, out, &img, t);
@@ -215,6 +286,11 @@ static int add_restir_rows(cli_option *options, int n, render_args *a)
             options[i].seen = &a->max_depth_given;
             options[i].help = "maximum path length d in segments (2 = direct light; pt: 1..255, restir: 2..16; default 10)";
         }
+        if (!strcmp(options[i].name, "--checkpoint"))
+            options[i].help = "pt: write the accumulation state here at the end and on SIGINT/SIGTERM; restir "
+                              "--sequence: the previous-frame state after every frame";
+        if (!strcmp(options[i].name, "--resume"))
+            options[i].help = "pt: continue this checkpoint up to --spp; restir --sequence: continue after its frame";
         if (!strcmp(options[i].name, "--time-limit"))
             options[i].help = "pt: whole 1-spp passes, restir: whole frames until SECONDS have passed (restir: --frames ignored)";
         if (!strcmp(options[i].name, "--ablate")) {
@@ -241,8 +317,57 @@ static int ablation_index(const char *const *names, const char *name)
 }
 
 /* Hands the shared options to the chosen method. */
+/* --sequence A..B, --mcap C|inf, --accumulate, --no-temporal (restir only). */
+static int apply_sequence_options(render_args *a)
+{
+    char *end;
+    if (a->mcap) {
+        double c = strcmp(a->mcap, "inf") ? strtod(a->mcap, &end) : INFINITY;
+        if (strcmp(a->mcap, "inf") && (end == a->mcap || *end || !(c > 0) || isinf(c))) {
+            fprintf(stderr, "restir render: --mcap: expected a number > 0 or inf, got '%s'\n", a->mcap);
+            return 2;
+        }
+        a->restir.mcap = c;
+    }
+    if (a->no_temporal) a->restir.temporal = 0;
+    if ((a->sequence || a->accumulate) && a->method != METHOD_RESTIR) {
+        fprintf(stderr, "restir render: --sequence and --accumulate need --method restir\n");
+        return 2;
+    }
+    if (a->accumulate && !a->sequence) {
+        fprintf(stderr, "restir render: --accumulate needs --sequence A..B\n");
+        return 2;
+    }
+    if (!a->sequence) return 0;
+    if (a->runs > 0 || a->pt.time_limit > 0) {
+        fprintf(stderr, "restir render: --sequence cannot be combined with --runs or --time-limit\n");
+        return 2;
+    }
+    {
+        long first = strtol(a->sequence, &end, 10), last;
+        const char *rest = end;
+        int ok = end != a->sequence && rest[0] == '.' && rest[1] == '.';
+        if (ok) {
+            last = strtol(rest + 2, &end, 10);
+            ok = end != rest + 2 && !*end && first >= 0 && last >= first && last < 100000000;
+        }
+        if (!ok) {
+            fprintf(stderr, "restir render: --sequence: expected A..B with 0 <= A <= B, got '%s'\n", a->sequence);
+            return 2;
+        }
+        a->seq.first = (int)first;
+        a->seq.last = (int)last;
+    }
+    a->seq.accumulate = a->accumulate;
+    /* the path tracer's --checkpoint FILE / --resume FILE rows serve sequences too */
+    a->seq.checkpoint = a->pt.checkpoint;
+    a->seq.resume = a->pt.resume;
+    return 0;
+}
+
 static int apply_shared_options(render_args *a)
 {
+    if (apply_sequence_options(a)) return 2;
     if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.time_limit; /* --time-limit */
     if (a->method == METHOD_RESTIR && a->max_depth_given) {
         if (a->pt.max_depth < 2 || a->pt.max_depth > PATH_MAX_LENGTH) {
@@ -264,7 +389,7 @@ int cmd_render(int argc, char **argv)
 {
     render_args a;
     render_timings t;
-    cli_option options[96];
+    cli_option options[112];
     const char *positional[1];
     int n = 0, count, status;
     scene s;
@@ -292,6 +417,10 @@ int cmd_render(int argc, char **argv)
             {"--jitter", OPT_FLAG, &a.jitter, "jittered sub-pixel primary rays (default: pixel centres)", NULL, 0, 0,
              NULL},
             {"--runs", OPT_INT, &a.runs, "K independent runs (seeds seed..seed+K-1): writes PREFIX.mean.pfm, PREFIX.var.pfm, PREFIX.moments.json for restir check", NULL, 1, 1e6, NULL},
+            {"--sequence", OPT_STRING, &a.sequence, "A..B: the real-time pipeline (restir) over frames A..B inclusive, one -o NAME.pfm -> NAME.0000.pfm ... per frame", NULL, 0, 0, NULL},
+            {"--accumulate", OPT_FLAG, &a.accumulate, "with --sequence: frame f's file holds the average of frames A..f (a still camera, GRIS 6.4)", NULL, 0, 0, NULL},
+            {"--mcap", OPT_STRING, &a.mcap, "with --sequence: cap the previous frame's confidence at C x the current one's (C > 0 or inf; default 20, GRIS 6.2)", NULL, 0, 0, NULL},
+            {"--no-temporal", OPT_FLAG, &a.no_temporal, "with --sequence: no temporal reuse (independent frames through the same pipeline)", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
         };
@@ -330,6 +459,8 @@ int cmd_render(int argc, char **argv)
     }
     status = render_and_write(&a, &s, &t);
     if (!status && a.stats) status = write_stats(a.stats, &a, &s, &t);
+    free(t.frame_stats);
+    free(t.frame_numbers);
     scene_free(&s);
     return status;
 }

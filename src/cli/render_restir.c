@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const preset_names[] = {"none", "gris-offline", NULL};
+static const char *const preset_names[] = {"none", "gris-offline", "gris-realtime", NULL};
 static int preset_dummy;
 
 int render_restir_apply_preset(int argc, char **argv, restir_options *o)
@@ -13,8 +13,10 @@ int render_restir_apply_preset(int argc, char **argv, restir_options *o)
     for (i = 1; i + 1 < argc; ++i) {
         if (strcmp(argv[i], "--preset")) continue;
         if (!strcmp(argv[i + 1], "gris-offline")) restir_options_preset_gris_offline(o);
+        else if (!strcmp(argv[i + 1], "gris-realtime")) restir_options_preset_gris_realtime(o);
         else if (strcmp(argv[i + 1], "none")) {
-            fprintf(stderr, "restir render: --preset: unknown preset '%s' (none, gris-offline)\n", argv[i + 1]);
+            fprintf(stderr, "restir render: --preset: unknown preset '%s' (none, gris-offline, gris-realtime)\n",
+                    argv[i + 1]);
             return 2;
         }
     }
@@ -44,7 +46,8 @@ int render_restir_options(cli_option *rows, restir_options *o)
                     restir_shift_names, 0, 0);
     rows[n++] = row("--preset", OPT_CHOICE, &preset_dummy,
                     "gris-offline: 32 path trees, 3 spatial passes, 6 neighbours, radius 10 (GRIS 8.3); "
-                    "other options override it",
+                    "gris-realtime: 1 path tree, temporal talbot cap 20, 1 spatial pass, 3 neighbours, radius 20, "
+                    "pairwise-defensive (GRIS 8.3, use with --sequence); other options override it",
                     preset_names, 0, 0);
     rows[n++] = row("--spatial-passes", OPT_INT, &o->spatial_passes,
                     "K spatial reuse passes, 0..16 (0: initial resampling only; default 0)", NULL, 0,
@@ -87,6 +90,9 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--ablate", OPT_CHOICE, &o->ablation,
                     "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf)",
                     restir_ablation_names, 0, 0);
+    rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
+                    "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",
+                    restir_mis_names, 0, 0);
     rows[n++] = row("--russian-roulette", OPT_FLAG, &o->russian_roulette,
                     "Russian roulette in initial sampling (in the source pdf only)", NULL, 0, 0);
     return n;

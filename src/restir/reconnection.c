@@ -291,3 +291,86 @@ int rc_segment_visible(const restir_context *c, const path_vertex *y1, const pat
     if (trunk_replay(&t, c, y1, y, k - 1) != SHIFT_OK) return 0;
     return scene_visible(c->path.scene, t.v[k - 1].hit.position, t.v[k - 1].hit.ng, y->rc_position, &y->rc_normal);
 }
+
+/* ---- the reconnection data in another frame (temporal reuse in animated scenes) ---------- */
+
+/* x_k, w_k and the suffix of x re-expressed in the scene of c: x_k where its triangle is
+ * posed in that scene (rot: the rotation that object underwent, NULL if it did not move;
+ * then the stored point is kept bit for bit), w_k turned with it, and the suffix
+ * x_{k+1}..x_d traced again from x_k along w_k in that scene with the sample's own
+ * numbers (vertices k+1..d-1, the numbers that produced the suffix): L_k, the light pdf
+ * and the suffix lobes are recomputed. In primary sample space this is the identity on
+ * the suffix numbers and a rigid (measure-preserving) motion of x_k and w_k, so the shift
+ * that follows keeps its Jacobian (Enhanced Eq. 2) and the source terms stay the base's. */
+enum shift_failure rc_retrace_suffix(const restir_context *c, const path_sample *x, const double (*rot)[3],
+                                     path_sample *out)
+{
+    const path_context *pc = &c->path;
+    const scene *s = pc->scene;
+    int k = x->rc_k, d = x->length;
+    surface_hit h;
+    vec3 pos;
+    *out = *x;
+    if (!path_sample_is_valid(x) || k == PATH_RC_NONE || k >= d) return SHIFT_OK; /* k = d: a static light */
+    if (!scene_surface_point(s, x->rc_triangle, x->rc_bary[0], x->rc_bary[1], &h)) return SHIFT_FAIL_ZERO;
+    if (rot) {
+        vec3 w = x->rc_wo;
+        out->rc_position = h.position;
+        out->rc_normal = h.ng;
+        out->rc_wo = v3((real)(rot[0][0] * w.x + rot[0][1] * w.y + rot[0][2] * w.z),
+                        (real)(rot[1][0] * w.x + rot[1][1] * w.y + rot[1][2] * w.z),
+                        (real)(rot[2][0] * w.x + rot[2][1] * w.y + rot[2][2] * w.z));
+    }
+    pos = v3_from_f(out->rc_position);
+    if (x->lobe[k] == PATH_LOBE_NEE) { /* k = d-1: the light point of the sample's NEE numbers */
+        light_sample ls;
+        real u[4];
+        vec3 y, dv;
+        real dist;
+        int i;
+        rng_key key = path_sample_key(x);
+        for (i = 0; i < 4; ++i) u[i] = rng_u(key, RNG_NEE, (uint32_t)k, (uint32_t)i);
+        if (!light_sample_point(pc->lights, u, &ls)) return SHIFT_FAIL_NEE;
+        y = v3_from_f(ls.position);
+        dv = v3_sub(y, pos);
+        dist = v3_length(dv);
+        if (!(dist > 0)) return SHIFT_FAIL_NEE;
+        out->rc_wo = v3_scale(dv, 1 / dist);
+        out->rc_radiance = light_emitted(ls.emission, v3_from_f(ls.normal), v3_neg(out->rc_wo));
+        out->light_pdf = path_light_pdf(pc, ls.triangle, pos, y, v3_from_f(ls.normal));
+        if (rgb_is_black(out->rc_radiance) || !(out->light_pdf > 0)) return SHIFT_FAIL_NEE;
+        if (!scene_visible(s, out->rc_position, out->rc_normal, ls.position, &ls.normal)) return SHIFT_FAIL_NEE;
+        return SHIFT_OK;
+    }
+    {
+        ray r = scene_spawn_ray(out->rc_position, out->rc_normal, v3f_from(out->rc_wo), v3f(0, 0, 0));
+        surface_hit hit;
+        path_trunk t;
+        path_end end;
+        enum shift_failure why;
+        int j;
+        if (!scene_intersect(s, &r, &hit)) return SHIFT_FAIL_REPLAY_MISS;
+        memset(&t, 0, sizeof t);
+        t.n = k + 1;
+        path_vertex_make(&t.v[k + 1], s, &hit, v3_from_f(r.dir));
+        if (k == d - 1) { /* x_{k+1} = x_d: the emitter hit along w_k */
+            out->rc_radiance = path_vertex_emitted(pc, &t.v[d]);
+            if (rgb_is_black(out->rc_radiance)) return SHIFT_FAIL_REPLAY_NO_LIGHT;
+            out->light_pdf = path_light_pdf(pc, hit.triangle, pos, t.v[d].position, t.v[d].ng);
+            return SHIFT_OK;
+        }
+        t.beta[k + 1] = rgb_gray(1);
+        while (t.n < d - 1) {
+            real u[3];
+            path_bsdf_numbers(x, t.n, u);
+            if ((why = trunk_sample(&t, u)) != SHIFT_OK) return why;
+            if ((why = trunk_trace(&t, s)) != SHIFT_OK) return why;
+        }
+        if ((why = trunk_finish(&t, c, x, &end)) != SHIFT_OK) return why;
+        out->rc_radiance = suffix_radiance(c, &t, x, &end, k);
+        out->light_pdf = end.light_pdf;
+        for (j = k + 1; j < d; ++j) out->lobe[j] = (uint8_t)t.b[j].lobe;
+        if (x->technique == PATH_TECH_NEE) out->lobe[d - 1] = PATH_LOBE_NEE;
+        return SHIFT_OK;
+    }
+}

@@ -3,6 +3,8 @@
 
 #include <math.h>
 #include <string.h>
+#include "restir/gbuffer.h"
+#include "restir/reservoir_dump.h"
 
 static int restir_units(void *ctx, uint32_t first, uint32_t count, int width, int height, double *sum, rerror *e)
 {
@@ -146,4 +148,81 @@ int bench_restir_equal_time(FILE *out, const scene *s, const char *name, const r
     for (k = 0; k < 2; ++k) equal_time_curve_free(&c[k]);
     image_free(&ref);
     return status;
+}
+
+/* ---- the real-time pipeline ---------------------------------------------------------------- */
+
+/* Per-frame statistics of a bench_realtime sequence, summed by the sink. */
+typedef struct {
+    restir_stats sum;
+    int frames;
+} realtime_acc;
+
+static int realtime_sink(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
+{
+    realtime_acc *a = user;
+    (void)frame;
+    (void)img;
+    (void)e;
+    restir_stats_add(&a->sum, st);
+    a->frames++;
+    return 0;
+}
+
+static void write_outcomes(FILE *out, const uint64_t *outcome)
+{
+    int i;
+    fputc('{', out);
+    for (i = 0; i < SHIFT_FAILURE_COUNT; ++i)
+        fprintf(out, "%s\"%s\": %llu", i ? ", " : "", shift_failure_names[i], (unsigned long long)outcome[i]);
+    fputc('}', out);
+}
+
+int bench_realtime(FILE *out, const scene *s, const char *name, const restir_options *o, int first_frame,
+                   int last_frame, int *first, rerror *e)
+{
+    restir_sequence q;
+    realtime_acc acc;
+    restir_stats total;
+    const restir_stats *st = &acc.sum;
+    const temporal_stats *t = &st->temporal;
+    double frames, pixels, steps, tshifts;
+    memset(&q, 0, sizeof q);
+    memset(&acc, 0, sizeof acc);
+    q.first = first_frame;
+    q.last = last_frame;
+    if (restir_render_sequence(s, o, &q, realtime_sink, &acc, &total, e)) return -1;
+    frames = acc.frames > 0 ? acc.frames : 1;
+    pixels = st->initial.pixels > 0 ? (double)st->initial.pixels : 1;
+    steps = t->pixels > 0 ? (double)t->pixels : 1;
+    tshifts = t->step.shifts > 0 ? (double)t->step.shifts : 1;
+    if (!*first) fprintf(out, ",\n");
+    *first = 0;
+    fprintf(out, "  {\"bench\": \"restir-realtime\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": [%d, %d],\n"
+                 "   \"config\": ",
+            name, s->width, s->height, first_frame, last_frame);
+    restir_options_write_json(out, o, "   ");
+    fprintf(out, ",\n   \"ms_per_frame\": {\"pose_bvh\": %.3f, \"gbuffer\": %.3f, \"motion\": %.3f, \"initial\": %.3f, "
+                 "\"temporal\": %.3f, \"spatial\": ",
+            st->ms_pose / frames, st->ms_gbuffer / frames, st->ms_motion / frames, st->ms_initial / frames,
+            st->ms_temporal / frames);
+    write_pass_array(out, st->ms_spatial, o->spatial_passes, 1 / frames);
+    fprintf(out, ", \"shade\": %.3f},\n", st->ms_shade / frames);
+    fprintf(out, "   \"shifts_per_pixel\": {\"temporal\": %.3f, \"spatial\": %.3f},\n", (double)t->step.shifts / pixels,
+            (double)st->spatial.shifts / pixels);
+    fprintf(out, "   \"temporal\": {\"history_rate\": %.4f, \"capped_rate\": %.4f, \"selected_previous_rate\": %.4f, "
+                 "\"shift_success_rate\": %.4f, \"shift_failure_rate\": %.4f, \"shift_outcomes\": ",
+            (double)(t->pixels - t->no_history) / steps, (double)t->capped / steps,
+            (double)t->step.selected_neighbor / steps, (double)t->step.outcome[SHIFT_OK] / tshifts,
+            1 - (double)t->step.outcome[SHIFT_OK] / tshifts);
+    write_outcomes(out, t->step.outcome);
+    /* State kept per pixel between frames: the previous frame's reservoir (the G-buffer
+     * texel is rebuilt each frame anyway); in memory the reservoir struct, on the wire the
+     * dump record (docs/formats.md) that a GPU layout would resemble. */
+    fprintf(out, "},\n   \"bytes_per_pixel\": {\"temporal_state_in_memory\": %u, \"temporal_state_record\": %u, "
+                 "\"reservoir_buffers_in_memory\": %u, \"gbuffer_texels_in_memory\": %u}}",
+            (unsigned)sizeof(reservoir), (unsigned)reservoir_record_size(0), (unsigned)(3 * sizeof(reservoir)),
+            (unsigned)(2 * sizeof(gbuffer_texel)));
+    fflush(out);
+    return 0;
 }

@@ -10,6 +10,7 @@
 #include "restir/gbuffer.h"
 #include "restir/progress.h"
 #include "restir/threads.h"
+#include "frame_job.h"
 
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
 const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", NULL};
@@ -35,9 +36,12 @@ void restir_options_default(restir_options *o)
     o->seed = 1;
     o->threads = 1;
     o->quiet = 1;
+    o->temporal = 1;
+    o->temporal_mis = MIS_TALBOT;
+    o->mcap = 20;
 }
 
-static void restir_neighbor_options(neighbor_options *no, const restir_options *o)
+void restir_neighbor_options_for(neighbor_options *no, const restir_options *o)
 {
     neighbor_options_default(no);
     no->pattern = (enum neighbor_pattern)o->pattern;
@@ -56,6 +60,18 @@ void restir_options_preset_gris_offline(restir_options *o)
     o->radius = 10;
 }
 
+void restir_options_preset_gris_realtime(restir_options *o)
+{
+    o->candidates = 1;
+    o->temporal = 1;
+    o->temporal_mis = MIS_TALBOT;
+    o->mcap = 20;
+    o->spatial_passes = 1;
+    o->neighbors = 3;
+    o->radius = 20;
+    o->mis = MIS_PAIRWISE_DEFENSIVE;
+}
+
 int restir_options_validate(const restir_options *o, rerror *e)
 {
     int min_depth = o->paths == RESTIR_PATHS_INDIRECT ? 3 : 2;
@@ -65,7 +81,7 @@ int restir_options_validate(const restir_options *o, rerror *e)
         return rerror_set(e, "restir: %d spatial passes (0..%d)", o->spatial_passes, RESTIR_MAX_SPATIAL_PASSES);
     if (o->mis < 0 || o->mis >= MIS_FAMILY_COUNT) return rerror_set(e, "restir: unknown MIS family %d", o->mis);
     if (!(o->radius >= 1) || !(o->radius <= 4096)) return rerror_set(e, "restir: radius %g outside [1, 4096]", o->radius);
-    restir_neighbor_options(&no, o);
+    restir_neighbor_options_for(&no, o);
     if (neighbor_options_validate(&no, e)) return -1;
     if (neighbor_candidate_count(&no) + 1 > RESTIR_MAX_DOMAINS)
         return rerror_set(e, "restir: %d neighbour candidates per pixel (at most %d)", neighbor_candidate_count(&no),
@@ -86,6 +102,9 @@ int restir_options_validate(const restir_options *o, rerror *e)
     if (o->ablation < 0 || o->ablation >= RESTIR_ABLATION_COUNT)
         return rerror_set(e, "restir: unknown ablation %d", o->ablation);
     if (o->threads < 1) return rerror_set(e, "restir: %d threads", o->threads);
+    if (o->temporal_mis < 0 || o->temporal_mis >= MIS_FAMILY_COUNT)
+        return rerror_set(e, "restir: unknown temporal MIS family %d", o->temporal_mis);
+    if (!(o->mcap > 0)) return rerror_set(e, "restir: M-cap %g (must be > 0, or inf)", o->mcap);
     return 0;
 }
 
@@ -111,45 +130,18 @@ void restir_initial_options_for(initial_options *io, const restir_options *o)
     io->rr_min_depth = o->rr_min_depth;
 }
 
-/* ---- passes ------------------------------------------------------------------------ */
+/* ---- passes (the stages: frame_job.h) ------------------------------------------------ */
 
-typedef struct {
-    restir_stats st;
-    spatial_workspace ws;
-    uint32_t *nbr;           /* accepted neighbour pixels of the current pixel */
-    const path_vertex **x1;  /* per domain */
-    path_vertex *verts;      /* storage of the domains' primary vertices */
-    const reservoir **in;    /* per domain */
-    real *u;                 /* per domain */
-    char pad[64];            /* keep workers' counters on separate cache lines */
-} worker_state;
-
-typedef struct {
-    const scene *s;
-    const restir_options *o;
-    restir_context ctx;
-    initial_options io;
-    neighbor_options no;
-    int max_domains;
-    gbuffer g;
-    uint32_t frame;
-    int pass;
-    reservoir *initial, *pong;       /* ping-pong: pass p reads src, writes dst */
-    const reservoir *src;
-    reservoir *dst;
-    const reservoir *final;          /* what the frame shades */
-    double *sum;                     /* 3 per pixel */
-    worker_state *workers;
-} frame_job;
-
-/* x1 of pixel p as the path sampler builds it from the frame's primary ray. */
-static int primary_vertex(const frame_job *j, long p, path_vertex *v)
+int frame_primary_vertex(const scene *s, const gbuffer *g, long p, path_vertex *v)
 {
-    const gbuffer_texel *t = &j->g.texels[p];
+    const gbuffer_texel *t = &g->texels[p];
     if (!t->valid) return 0;
-    path_vertex_make(v, j->s, &t->hit, v3_from_f(t->view_dir));
+    path_vertex_make(v, s, &t->hit, v3_from_f(t->view_dir));
     return 1;
 }
+
+/* x1 of pixel p as the path sampler builds it from the frame's primary ray. */
+static int primary_vertex(const frame_job *j, long p, path_vertex *v) { return frame_primary_vertex(j->s, &j->g, p, v); }
 
 static void initial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
 {
@@ -226,48 +218,83 @@ static void shade_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         }
 }
 
-/* Milliseconds since *t, and *t reset to now. */
-static double lap_ms(double *t)
+double frame_lap_ms(double *t)
 {
     double now = now_seconds(), ms = 1000 * (now - *t);
     *t = now;
     return ms;
 }
 
-static int render_frame(frame_job *j, const camera *cam, restir_stats *times, rerror *e)
+int frame_stage_gbuffer(frame_job *j, const camera *cam, restir_stats *times, double *t, rerror *e)
 {
     const restir_options *o = j->o;
-    double t = now_seconds();
     if (gbuffer_build(&j->g, j->s, cam, o->seed, initial_tree_sample(&j->io, j->frame, 0), o->jitter, o->threads, e))
         return -1;
-    times->ms_gbuffer += lap_ms(&t);
-    parallel_tiles(j->s->width, j->s->height, 16, o->threads, initial_tile, j, NULL, NULL);
-    times->ms_initial += lap_ms(&t);
-    j->final = j->initial;
-    for (j->pass = 0; j->pass < o->spatial_passes; ++j->pass) {
-        /* ping-pong: initial -> pong -> initial -> ... */
-        j->src = j->pass % 2 == 0 ? j->initial : j->pong;
-        j->dst = j->pass % 2 == 0 ? j->pong : j->initial;
-        parallel_tiles(j->s->width, j->s->height, 16, o->threads, spatial_tile, j, NULL, NULL);
-        j->final = j->dst;
-        times->ms_spatial[j->pass] += lap_ms(&t);
+    times->ms_gbuffer += frame_lap_ms(t);
+    return 0;
+}
+
+void frame_stage_initial(frame_job *j, restir_stats *times, double *t)
+{
+    parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, initial_tile, j, NULL, NULL);
+    times->ms_initial += frame_lap_ms(t);
+}
+
+reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_stats *times, double *t)
+{
+    reservoir *final = a;
+    for (j->pass = 0; j->pass < j->o->spatial_passes; ++j->pass) {
+        /* ping-pong: a -> b -> a -> ... */
+        j->src = j->pass % 2 == 0 ? a : b;
+        j->dst = j->pass % 2 == 0 ? b : a;
+        parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
+        final = j->dst;
+        times->ms_spatial[j->pass] += frame_lap_ms(t);
     }
-    parallel_tiles(j->s->width, j->s->height, 16, o->threads, shade_tile, j, NULL, NULL);
-    times->ms_shade += lap_ms(&t);
+    return final;
+}
+
+void frame_stage_shade(frame_job *j, const reservoir *final, restir_stats *times, double *t)
+{
+    j->final = final;
+    parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, shade_tile, j, NULL, NULL);
+    times->ms_shade += frame_lap_ms(t);
+}
+
+/* One independent offline frame: G-buffer, initial resampling, K spatial passes, shading
+ * (GRIS §6.3 steps 1, 3, 4; no temporal reuse: GRIS §6.5). */
+static int render_frame(frame_job *j, const camera *cam, restir_stats *times, rerror *e)
+{
+    double t = now_seconds();
+    if (frame_stage_gbuffer(j, cam, times, &t, e)) return -1;
+    frame_stage_initial(j, times, &t);
+    frame_stage_shade(j, frame_stage_spatial(j, j->initial, j->pong, times, &t), times, &t);
     gbuffer_free(&j->g);
     return 0;
 }
 
-static void sum_stats(const frame_job *j, restir_stats *st)
+void restir_stats_add(restir_stats *st, const restir_stats *w)
 {
-    int t, i;
-    for (t = 0; t < j->o->threads; ++t) {
-        const restir_stats *w = &j->workers[t].st;
-        initial_stats_add(&st->initial, &w->initial);
-        spatial_stats_add(&st->spatial, &w->spatial);
-        st->neighbors.candidates += w->neighbors.candidates;
-        for (i = 0; i < NEIGHBOR_VERDICT_COUNT; ++i) st->neighbors.verdict[i] += w->neighbors.verdict[i];
-    }
+    int i;
+    initial_stats_add(&st->initial, &w->initial);
+    spatial_stats_add(&st->spatial, &w->spatial);
+    temporal_stats_add(&st->temporal, &w->temporal);
+    st->neighbors.candidates += w->neighbors.candidates;
+    for (i = 0; i < NEIGHBOR_VERDICT_COUNT; ++i) st->neighbors.verdict[i] += w->neighbors.verdict[i];
+    st->frames += w->frames;
+    st->ms_gbuffer += w->ms_gbuffer;
+    st->ms_initial += w->ms_initial;
+    st->ms_temporal += w->ms_temporal;
+    st->ms_pose += w->ms_pose;
+    st->ms_motion += w->ms_motion;
+    st->ms_shade += w->ms_shade;
+    for (i = 0; i < RESTIR_MAX_SPATIAL_PASSES; ++i) st->ms_spatial[i] += w->ms_spatial[i];
+}
+
+void frame_sum_stats(const frame_job *j, restir_stats *st)
+{
+    int t;
+    for (t = 0; t < j->o->threads; ++t) restir_stats_add(st, &j->workers[t].st);
 }
 
 void restir_result_free(restir_result *r)
@@ -316,16 +343,17 @@ static int run_frames(frame_job *j, restir_result *out, double t0, rerror *e)
     return 0;
 }
 
-static int workers_alloc(frame_job *j, rerror *e)
+int frame_workers_alloc(frame_job *j, rerror *e)
 {
     int t;
     size_t m = (size_t)j->max_domains;
     j->workers = rcalloc((size_t)j->o->threads, sizeof *j->workers, e);
     if (!j->workers) return -1;
-    if (j->o->spatial_passes == 0) return 0;
+    if (j->o->spatial_passes == 0 && !j->temporal) return 0;
     for (t = 0; t < j->o->threads; ++t) {
         worker_state *w = &j->workers[t];
-        if (spatial_workspace_alloc(&w->ws, j->max_domains, e)) return -1;
+        /* temporal reuse needs 2 domains */
+        if (spatial_workspace_alloc(&w->ws, j->max_domains > 2 ? j->max_domains : 2, e)) return -1;
         w->nbr = rmalloc(m, sizeof *w->nbr, e);
         w->x1 = rmalloc(m, sizeof *w->x1, e);
         w->verts = rmalloc(m, sizeof *w->verts, e);
@@ -336,7 +364,7 @@ static int workers_alloc(frame_job *j, rerror *e)
     return 0;
 }
 
-static void workers_free(frame_job *j)
+void frame_workers_free(frame_job *j)
 {
     int t;
     if (!j->workers) return;
@@ -368,23 +396,23 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     j.o = o;
     restir_context_for(&j.ctx, s, &lights, o);
     restir_initial_options_for(&j.io, o);
-    restir_neighbor_options(&j.no, o);
+    restir_neighbor_options_for(&j.no, o);
     j.max_domains = neighbor_candidate_count(&j.no) + 1;
     pixels = (size_t)s->width * (size_t)s->height;
     j.initial = rmalloc(pixels, sizeof *j.initial, e);
     j.pong = o->spatial_passes > 0 ? rmalloc(pixels, sizeof *j.pong, e) : NULL;
     j.sum = rcalloc(3 * pixels, sizeof *j.sum, e);
-    if (!j.initial || (o->spatial_passes > 0 && !j.pong) || !j.sum || workers_alloc(&j, e)) status = -1;
+    if (!j.initial || (o->spatial_passes > 0 && !j.pong) || !j.sum || frame_workers_alloc(&j, e)) status = -1;
     if (!status) status = run_frames(&j, out, t0, e);
     if (!status) {
-        sum_stats(&j, &out->stats);
+        frame_sum_stats(&j, &out->stats);
         out->stats.passes = o->spatial_passes;
         out->seconds = now_seconds() - t0;
     }
     free(j.initial);
     free(j.pong);
     free(j.sum);
-    workers_free(&j);
+    frame_workers_free(&j);
     lights_free(&lights);
     if (status) restir_result_free(out);
     return status;
@@ -400,6 +428,25 @@ static void write_histogram(FILE *out, const uint64_t *h, int n)
     fputc(']', out);
 }
 
+/* "temporal": steps, reprojection failures, capped histories, outputs from frame t-1,
+ * shifts (forward and reverse) by outcome; rates per step. */
+static void temporal_stats_write_json(FILE *out, const temporal_stats *t, const char *indent)
+{
+    double steps = t->pixels > 0 ? (double)t->pixels : 1;
+    int i;
+    fprintf(out, "%s  \"temporal\": {\"pixels\": %llu, \"no_history\": %llu, \"capped\": %llu, "
+                 "\"selected_previous\": %llu, \"shifts\": %llu, \"mis_shifts\": %llu, ",
+            indent, (unsigned long long)t->pixels, (unsigned long long)t->no_history, (unsigned long long)t->capped,
+            (unsigned long long)t->step.selected_neighbor, (unsigned long long)t->step.shifts,
+            (unsigned long long)t->step.mis_shifts);
+    fprintf(out, "\"history_rate\": %.6f, \"shifts_per_pixel\": %.3f, \"shift_success_rate\": %.6f,\n%s    \"shift_outcomes\": {",
+            (double)(t->pixels - t->no_history) / steps, (double)t->step.shifts / steps,
+            t->step.shifts > 0 ? (double)t->step.outcome[SHIFT_OK] / (double)t->step.shifts : 0.0, indent);
+    for (i = 0; i < SHIFT_FAILURE_COUNT; ++i)
+        fprintf(out, "%s\"%s\": %llu", i ? ", " : "", shift_failure_names[i], (unsigned long long)t->step.outcome[i]);
+    fprintf(out, "}}");
+}
+
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent)
 {
     const initial_stats *in = &st->initial;
@@ -411,7 +458,8 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
             st->ms_initial);
     for (i = 0; i < st->passes && i < RESTIR_MAX_SPATIAL_PASSES; ++i)
         fprintf(out, "%s%.3f", i ? ", " : "", st->ms_spatial[i]);
-    fprintf(out, "], \"shade\": %.3f},\n", st->ms_shade);
+    fprintf(out, "], \"temporal\": %.3f, \"shade\": %.3f, \"pose\": %.3f, \"motion\": %.3f},\n", st->ms_temporal,
+            st->ms_shade, st->ms_pose, st->ms_motion);
     fprintf(out, "%s  \"initial\": {\"pixels\": %llu, \"trees\": %llu, \"candidates\": %llu, \"selected\": %llu, ",
             indent, (unsigned long long)in->pixels, (unsigned long long)in->trees,
             (unsigned long long)in->candidates, (unsigned long long)in->selected);
@@ -434,7 +482,9 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
     for (i = 0; i < NEIGHBOR_VERDICT_COUNT; ++i)
         fprintf(out, "%s\"%s\": %llu", i ? ", " : "", neighbor_verdict_names[i],
                 (unsigned long long)st->neighbors.verdict[i]);
-    fprintf(out, "}}\n%s}", indent);
+    fprintf(out, "}},\n");
+    temporal_stats_write_json(out, &st->temporal, indent);
+    fprintf(out, "\n%s}", indent);
 }
 
 void restir_options_write_json(FILE *out, const restir_options *o, const char *indent)
@@ -449,6 +499,12 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
                  "\"roughness_threshold\": %g, \"distance_threshold\": %g, \"paths\": \"%s\", \"ablate\": \"%s\", ",
             o->frames, o->first_frame, o->time_limit, o->max_depth, o->roughness_threshold, o->distance_threshold,
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
-    fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d}",
-            o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads);
+    fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
+            o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads, indent);
+    if (isinf(o->mcap))
+        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"}", o->temporal ? "true" : "false",
+                restir_mis_names[o->temporal_mis]);
+    else
+        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g}", o->temporal ? "true" : "false",
+                restir_mis_names[o->temporal_mis], o->mcap);
 }

@@ -52,13 +52,34 @@ static enum shift_failure counted_shift(const restir_context *c, const path_vert
     return why;
 }
 
-/* p̂_{<-i}(y) = p̂_i(T_i^{-1}(y)) |dT_i^{-1}/dy| (GRIS Eq. 35): y shifted out into domain i. */
-static real ptarget_from(const restir_context *c, const path_vertex *xi, const path_sample *y, spatial_stats *st)
+/* rf's step before a shift from domain `from` to `to`, counted like a failed shift when it
+ * fails; *x is then the sample to shift. */
+static int refreshed(const domain_refresh *rf, int from, int to, const path_sample *y, path_sample *tmp,
+                     const path_sample **x, spatial_stats *st)
 {
-    path_sample back;
+    enum shift_failure why;
+    *x = y;
+    if (!rf) return 1;
+    why = rf->fn(rf->user, from, to, y, tmp);
+    if (why == SHIFT_OK) {
+        *x = tmp;
+        return 1;
+    }
+    st->shifts++;
+    st->outcome[why]++;
+    return 0;
+}
+
+/* p̂_{<-i}(y) = p̂_i(T_i^{-1}(y)) |dT_i^{-1}/dy| (GRIS Eq. 35): y shifted out into domain i. */
+static real ptarget_from(const restir_context *c, const domain_refresh *rf, int i, const path_vertex *xi,
+                         const path_sample *y, spatial_stats *st)
+{
+    path_sample back, tmp;
+    const path_sample *x;
     real jacobian;
     st->mis_shifts++;
-    if (counted_shift(c, xi, y, &back, &jacobian, st) != SHIFT_OK) return 0;
+    if (!refreshed(rf, 0, i, y, &tmp, &x, st)) return 0;
+    if (counted_shift(c, xi, x, &back, &jacobian, st) != SHIFT_OK) return 0;
     return back.target * jacobian;
 }
 
@@ -73,13 +94,15 @@ static int needs_entry(mis_family f, int i, int j)
 }
 
 /* Candidates shifted in: y_j = T_j(X_j), J_j, and the matrix's row 0 and diagonal. */
-static void shift_in(const restir_context *c, int m, const path_vertex *const *x1, const reservoir *const *in,
-                     spatial_workspace *w, spatial_stats *st)
+static void shift_in(const restir_context *c, const domain_refresh *rf, int m, const path_vertex *const *x1,
+                     const reservoir *const *in, spatial_workspace *w, spatial_stats *st)
 {
     int j;
     for (j = 0; j < m; ++j) {
         const reservoir *r = in[j];
         real *P = w->ptarget;
+        path_sample tmp;
+        const path_sample *x = &r->y;
         w->confidence[j] = r->confidence;
         w->valid[j] = path_sample_is_valid(&r->y) && r->W > 0;
         w->jacobian[j] = 0;
@@ -89,7 +112,8 @@ static void shift_in(const restir_context *c, int m, const path_vertex *const *x
         if (j == 0) {
             w->shifted[0] = r->y; /* canonical: identity shift */
             w->jacobian[0] = 1;
-        } else if (counted_shift(c, x1[0], &r->y, &w->shifted[j], &w->jacobian[j], st) != SHIFT_OK) {
+        } else if (!refreshed(rf, j, 0, &r->y, &tmp, &x, st) ||
+                   counted_shift(c, x1[0], x, &w->shifted[j], &w->jacobian[j], st) != SHIFT_OK) {
             w->valid[j] = 0;
             continue;
         } else {
@@ -103,6 +127,13 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
                       const reservoir *const *in, const real *u, reservoir *out, spatial_workspace *w,
                       spatial_stats *st)
 {
+    gris_resample(c, c, NULL, mis, m, x1, in, u, out, w, st);
+}
+
+void gris_resample(const restir_context *c, const restir_context *away, const domain_refresh *rf, mis_family mis,
+                   int m, const path_vertex *const *x1, const reservoir *const *in, const real *u, reservoir *out,
+                   spatial_workspace *w, spatial_stats *st)
+{
     mis_input mi;
     int i, j;
     long unused = 0;
@@ -110,12 +141,12 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
     reservoir_init(out);
     st->pixels++;
     st->domains += (uint64_t)m;
-    shift_in(c, m, x1, in, w, st);
+    shift_in(c, rf, m, x1, in, w, st);
     for (j = 0; j < m; ++j) {
         if (!w->valid[j]) continue;
         for (i = 1; i < m; ++i)
             if (i != j)
-                w->ptarget[i * m + j] = needs_entry(mis, i, j) ? ptarget_from(c, x1[i], &w->shifted[j], st) : 0;
+                w->ptarget[i * m + j] = needs_entry(mis, i, j) ? ptarget_from(away, rf, i, x1[i], &w->shifted[j], st) : 0;
     }
     mi.m = m;
     mi.n_canonical = 1;

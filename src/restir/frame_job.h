@@ -1,0 +1,65 @@
+/* The stages of one ReSTIR PT frame, shared by the offline renderer (restir_render.c,
+ * independent frames, GRIS §6.5) and the real-time pipeline (pipeline.c, GRIS §6.3
+ * steps 1-4). Internal to src/restir. Every stage is a pass over the image in 16 x 16
+ * tiles (deterministic for any thread count); `t` is the stage clock (frame_lap_ms). */
+#ifndef RESTIR_SRC_FRAME_JOB_H
+#define RESTIR_SRC_FRAME_JOB_H
+
+#include "restir/camera.h"
+#include "restir/gbuffer.h"
+#include "restir/restir.h"
+
+typedef struct {
+    restir_stats st;
+    spatial_workspace ws;
+    uint32_t *nbr;           /* accepted neighbour pixels of the current pixel */
+    const path_vertex **x1;  /* per domain */
+    path_vertex *verts;      /* storage of the domains' primary vertices */
+    const reservoir **in;    /* per domain */
+    real *u;                 /* per domain */
+    char pad[64];            /* keep workers' counters on separate cache lines */
+} worker_state;
+
+typedef struct {
+    const scene *s;                  /* the frame's (posed) scene */
+    const restir_options *o;
+    restir_context ctx;
+    initial_options io;
+    neighbor_options no;
+    int max_domains;
+    gbuffer g;
+    uint32_t frame;
+    int pass;
+    reservoir *initial, *pong;       /* ping-pong: pass p reads src, writes dst */
+    const reservoir *src;
+    reservoir *dst;
+    const reservoir *final;          /* what the frame shades */
+    double *sum;                     /* 3 per pixel */
+    worker_state *workers;
+    int temporal;                    /* real-time pipeline with temporal reuse (workspaces >= 2) */
+} frame_job;
+
+/* The neighbour selection options of o (neighbors.h). */
+void restir_neighbor_options_for(neighbor_options *no, const restir_options *o);
+
+/* x1 of pixel p of G-buffer g (scene s): 0 if the primary ray missed. */
+int frame_primary_vertex(const scene *s, const gbuffer *g, long p, path_vertex *v);
+/* Milliseconds since *t, and *t reset to now. */
+double frame_lap_ms(double *t);
+
+/* GRIS §6.3 step 1: the frame's primary hits into j->g (camera cam, frame j->frame). */
+int frame_stage_gbuffer(frame_job *j, const camera *cam, restir_stats *times, double *t, rerror *e);
+/* GRIS §6.3 step 1: initial resampling of N path trees per pixel into j->initial. */
+void frame_stage_initial(frame_job *j, restir_stats *times, double *t);
+/* GRIS §6.3 step 3: K spatial passes starting from a, ping-ponging a -> b -> a ...;
+ * returns the buffer that holds the last pass's output (a if K = 0). */
+reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_stats *times, double *t);
+/* GRIS §6.3 step 4: Le(x1) + F(Y) W_Y of `final` added into j->sum. */
+void frame_stage_shade(frame_job *j, const reservoir *final, restir_stats *times, double *t);
+
+int frame_workers_alloc(frame_job *j, rerror *e);
+void frame_workers_free(frame_job *j);
+/* The workers' counters summed into *st. */
+void frame_sum_stats(const frame_job *j, restir_stats *st);
+
+#endif

@@ -1,0 +1,328 @@
+/* The real-time ReSTIR PT pipeline (GRIS §6.3 steps 1-4; Mutations §2.4 Algorithm 2;
+ * include/restir/restir.h, restir_render_sequence; docs/restir-pt.md "Temporal reuse").
+ *
+ *   per frame t:  pose the scene (animated: one of two copies, BVH rebuilt) + camera at t
+ *                 G-buffer (primary hits)                         GRIS §6.3 step 1
+ *                 motion vectors + disocclusion against t-1 (gbuffer_motion)
+ *                 initial resampling -> A                          step 1
+ *                 temporal reuse (A, previous final P) -> B        step 2 (temporal.h; in
+ *                                                                  animated scenes samples
+ *                                                                  crossing frames are re-traced)
+ *                 K spatial passes B -> A -> B ...                 step 3 (spatial.h)
+ *                 shading of the last output                       step 4
+ *                 the last output becomes P, the G-buffer, camera and scene of t are kept
+ *
+ * The previous frame's state (reservoirs P, G-buffer, camera, restir_context of its posed
+ * scene) lives exactly one frame: it is replaced at the end of the next frame. */
+#include "restir/restir.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir/animation.h"
+#include "restir/progress.h"
+#include "restir/reservoir_dump.h"
+#include "restir/threads.h"
+#include "frame_job.h"
+
+typedef struct {
+    frame_job j;            /* the current frame's stages (frame_job.h) */
+    light_set lights;
+    reservoir *prev;        /* P: frame t-1's final reservoirs */
+    gbuffer prev_g;         /* frame t-1's G-buffer */
+    camera cam, prev_cam;
+    restir_context prev_ctx; /* frame t-1's scene (posed at t-1) */
+    int has_prev, prev_frame;
+    scene posed[2];          /* animated scenes: two posed copies, frames t and t-1 alternate */
+    int animated, cur_copy;  /* cur_copy: the copy posed at frame t (the other one holds t-1) */
+    const reservoir *cur;   /* temporal stage input: the initial reservoirs */
+    reservoir *out;         /* temporal stage output */
+} pipeline;
+
+/* ---- reprojection ---------------------------------------------------------------------- */
+
+/* The pixel of frame t-1 where pixel p's x1 was (gbuffer_motion: camera and object motion,
+ * disocclusion by the previous G-buffer's object, depth and normal), or -1. Which pixel
+ * is chosen depends on G-buffers only, never on reservoirs, so any choice keeps the GRIS
+ * step unbiased (it only changes how much the history helps). */
+static long reproject(const pipeline *pl, long p)
+{
+    int x, y, w = pl->j.g.width, h = pl->j.g.height;
+    if (!gbuffer_previous_pixel(&pl->j.g.texels[p], &x, &y) || x < 0 || y < 0 || x >= w || y >= h) return -1;
+    return pl->prev_g.texels[(long)y * w + x].valid ? (long)y * w + x : -1;
+}
+
+/* ---- temporal stage -------------------------------------------------------------------- */
+
+static void temporal_pixel(pipeline *pl, worker_state *w, long p)
+{
+    frame_job *j = &pl->j;
+    const restir_options *o = j->o;
+    const restir_context *back = &pl->prev_ctx;
+    temporal_frames tf;
+    rng_key key = rng_key_make(o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+    path_vertex *v = w->verts;
+    long q = -1;
+    real u[2];
+    if (!frame_primary_vertex(j->s, &j->g, p, &v[0])) {
+        reservoir_init(&pl->out[p]);
+        return;
+    }
+    if (pl->has_prev) q = reproject(pl, p);
+    if (q >= 0 && o->ablation == RESTIR_ABLATE_TEMPORAL_TARGET) {
+        /* ablation: the previous pixel's x1 seen with the CURRENT camera in the current scene */
+        back = &j->ctx;
+        if (!frame_primary_vertex(j->s, &j->g, q, &v[1])) q = -1;
+    } else if (q >= 0)
+        frame_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, q, &v[1]); /* valid: reproject checked */
+    /* RNG_RIS vertex 48: spatial passes use 32..47, initial sampling 2..16 (docs/rng.md) */
+    u[0] = rng_u(key, RNG_RIS, 48u, 0u);
+    u[1] = rng_u(key, RNG_RIS, 48u, 1u);
+    tf.ctx[0] = &j->ctx;
+    tf.ctx[1] = back;
+    tf.frame[0] = (int)j->frame;
+    tf.frame[1] = back == &j->ctx ? (int)j->frame : pl->prev_frame;
+    temporal_resample(&j->ctx, back, pl->animated && o->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX ? &tf : NULL,
+                      (mis_family)o->temporal_mis, &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
+                      q >= 0 ? &pl->prev[q] : NULL, (real)o->mcap, u, &pl->out[p], &w->ws, &w->st.temporal);
+}
+
+static void temporal_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
+{
+    pipeline *pl = ctx;
+    int x, y;
+    for (y = y0; y < y1; ++y)
+        for (x = x0; x < x1; ++x) temporal_pixel(pl, &pl->j.workers[worker], (long)y * pl->j.s->width + x);
+}
+
+/* GRIS §6.3 step 2: cur (this frame's initial reservoirs) and P -> out. */
+static void stage_temporal(pipeline *pl, const reservoir *cur, reservoir *out, restir_stats *times, double *t)
+{
+    pl->cur = cur;
+    pl->out = out;
+    parallel_tiles(pl->j.s->width, pl->j.s->height, 16, pl->j.o->threads, temporal_tile, pl, NULL, NULL);
+    times->ms_temporal += frame_lap_ms(t);
+}
+
+/* ---- the frame ------------------------------------------------------------------------- */
+
+static void swap_reservoirs(reservoir **a, reservoir **b)
+{
+    reservoir *t = *a;
+    *a = *b;
+    *b = t;
+}
+
+/* The previous-frame state becomes this frame's: final reservoirs, G-buffer, camera, scene. */
+static void keep_as_previous(pipeline *pl, const reservoir *final)
+{
+    frame_job *j = &pl->j;
+    if (final == j->initial) swap_reservoirs(&j->initial, &pl->prev);
+    else swap_reservoirs(&j->pong, &pl->prev);
+    gbuffer_free(&pl->prev_g);
+    pl->prev_g = j->g;
+    memset(&j->g, 0, sizeof j->g);
+    pl->prev_cam = pl->cam;
+    pl->prev_ctx = j->ctx;
+    pl->prev_frame = (int)j->frame;
+    pl->has_prev = 1;
+}
+
+/* The scene posed at `frame` (animated scenes: the copy that does not hold frame t-1, so
+ * the previous frame's scene stays intact for the reverse shifts) and its context. The
+ * BVH rebuild is timed as ms_pose. */
+static int pose_frame(pipeline *pl, int frame, rerror *e)
+{
+    frame_job *j = &pl->j;
+    scene *s;
+    if (!pl->animated) return 0;
+    if (pl->has_prev) pl->cur_copy = 1 - pl->cur_copy; /* the copy of frame t-2 is free */
+    s = &pl->posed[pl->cur_copy];
+    if (scene_pose_at(s, frame, e)) return -1;
+    j->s = s;
+    j->ctx.path.scene = s; /* rc.min_distance stays the rest pose's: one criterion for all frames */
+    return 0;
+}
+
+/* One frame of the real-time pipeline (GRIS §6.3; Mutations Algorithm 2). */
+static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *e)
+{
+    frame_job *j = &pl->j;
+    reservoir *final;
+    double t = now_seconds();
+    j->frame = (uint32_t)frame;
+    if (pose_frame(pl, frame, e)) return -1;
+    times->ms_pose += frame_lap_ms(&t);
+    camera_init(&pl->cam, scene_camera_at(j->s, frame), j->s->width, j->s->height);
+    if (frame_stage_gbuffer(j, &pl->cam, times, &t, e)) return -1;
+    if (pl->has_prev &&
+        gbuffer_motion(&j->g, j->s, frame, &pl->prev_cam, pl->prev_frame, &pl->prev_g, NULL, e))
+        return -1;
+    times->ms_motion += frame_lap_ms(&t);
+    frame_stage_initial(j, times, &t);
+    if (j->o->temporal) {
+        stage_temporal(pl, j->initial, j->pong, times, &t);
+        final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
+    } else
+        final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
+    frame_stage_shade(j, final, times, &t);
+    keep_as_previous(pl, final);
+    return 0;
+}
+
+/* ---- the sequence ---------------------------------------------------------------------- */
+
+static int validate_sequence(const scene *s, const restir_options *o, const restir_sequence *q, rerror *e)
+{
+    int a, b;
+    if (q->first < 0 || q->last < q->first)
+        return rerror_set(e, "restir: --sequence %d..%d (need 0 <= A <= B)", q->first, q->last);
+    if (scene_frame_range(s, &a, &b) == 0 && (q->first < a || q->last > b))
+        return rerror_set(e, "restir: --sequence %d..%d outside the keyframes %d..%d of %s", q->first, q->last, a, b,
+                          s->path);
+    if (q->resume && q->accumulate) return rerror_set(e, "restir: a sequence with --accumulate cannot be resumed");
+    if ((uint64_t)((uint64_t)q->last + 1) * (uint64_t)o->candidates > UINT32_MAX)
+        return rerror_set(e, "restir: --sequence %d..%d x path trees exceeds 2^32 sample indices", q->first, q->last);
+    return 0;
+}
+
+static void stats_reset_workers(frame_job *j)
+{
+    int t;
+    for (t = 0; t < j->o->threads; ++t) memset(&j->workers[t].st, 0, sizeof j->workers[t].st);
+}
+
+/* The frame's image: sum / n (n = 1, or the frames accumulated so far). */
+static int frame_image(const frame_job *j, double n, image *img, rerror *e)
+{
+    size_t i, count = 3 * (size_t)j->s->width * (size_t)j->s->height;
+    if (image_alloc(img, j->s->width, j->s->height, e)) return -1;
+    for (i = 0; i < count; ++i) img->px[i] = (float)(j->sum[i] / n);
+    return 0;
+}
+
+/* ---- checkpoints: the previous-frame state ---------------------------------------------- */
+
+/* The state frame t+1 needs from frame t is its final reservoirs (written as a reservoir
+ * dump, docs/formats.md, tag "sequence", frame = t) plus its G-buffer, camera and posed
+ * scene, which are pure functions of (scene, t, options) and are rebuilt on resume. */
+static int checkpoint_write(const pipeline *pl, const char *path, int frame, rerror *e)
+{
+    reservoir_dump_info info;
+    memset(&info, 0, sizeof info);
+    info.width = (uint32_t)pl->j.s->width;
+    info.height = (uint32_t)pl->j.s->height;
+    info.frame = (uint32_t)frame;
+    strcpy(info.tag, "sequence");
+    return reservoir_dump_write(path, pl->prev, &info, e);
+}
+
+/* Loads frame k's state from the checkpoint q->resume; returns k (first frame to render is k + 1). */
+static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
+{
+    frame_job *j = &pl->j;
+    reservoir_dump_info info;
+    reservoir *rs;
+    size_t pixels = (size_t)j->s->width * (size_t)j->s->height;
+    int k;
+    if (reservoir_dump_read(q->resume, &rs, &info, e)) return -1;
+    k = (int)info.frame;
+    if (strcmp(info.tag, "sequence") || info.width != (uint32_t)j->s->width || info.height != (uint32_t)j->s->height ||
+        k < q->first - 1 || k >= q->last) {
+        free(rs);
+        return rerror_set(e, "%s: not a checkpoint of this sequence (tag '%s', %ux%u, frame %d; want %dx%d, frame in %d..%d)",
+                          q->resume, info.tag, info.width, info.height, k, j->s->width, j->s->height,
+                          q->first - 1, q->last - 1);
+    }
+    memcpy(pl->prev, rs, pixels * sizeof *rs);
+    free(rs);
+    j->frame = (uint32_t)k;
+    if (pose_frame(pl, k, e)) return -1;
+    camera_init(&pl->prev_cam, scene_camera_at(j->s, k), j->s->width, j->s->height);
+    if (gbuffer_build(&pl->prev_g, j->s, &pl->prev_cam, j->o->seed, initial_tree_sample(&j->io, (uint32_t)k, 0),
+                      j->o->jitter, j->o->threads, e))
+        return -1;
+    pl->prev_ctx = j->ctx;
+    pl->prev_frame = k;
+    pl->has_prev = 1;
+    return k;
+}
+
+static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sink sink, void *user,
+                        restir_stats *total, rerror *e)
+{
+    frame_job *j = &pl->j;
+    size_t pixels = (size_t)j->s->width * (size_t)j->s->height;
+    progress bar;
+    int f, status = 0, start = q->first;
+    if (q->resume && (start = checkpoint_resume(pl, q, e) + 1) < 1) return -1;
+    progress_begin(&bar, "restir", j->o->quiet);
+    for (f = start; f <= q->last && !status; ++f) {
+        restir_stats st;
+        image img;
+        memset(&st, 0, sizeof st);
+        if (!q->accumulate) memset(j->sum, 0, 3 * pixels * sizeof *j->sum);
+        if (pipeline_frame(pl, f, &st, e)) return -1;
+        frame_sum_stats(j, &st);
+        stats_reset_workers(j);
+        st.frames = 1;
+        st.passes = j->o->spatial_passes;
+        restir_stats_add(total, &st);
+        if (frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e)) return -1;
+        if (sink) status = sink(user, f, &img, &st, e);
+        image_free(&img);
+        if (!status && q->checkpoint && checkpoint_write(pl, q->checkpoint, f, e)) status = -1;
+        progress_update(&bar, f - q->first + 1, q->last - q->first + 1);
+    }
+    progress_end(&bar);
+    return status ? -1 : 0;
+}
+
+int restir_render_sequence(const scene *s, const restir_options *o, const restir_sequence *q,
+                           restir_frame_sink sink, void *user, restir_stats *total, rerror *e)
+{
+    pipeline pl;
+    frame_job *j = &pl.j;
+    size_t pixels;
+    int status = 0;
+    memset(total, 0, sizeof *total);
+    if (restir_options_validate(o, e) || validate_sequence(s, o, q, e)) return -1;
+    if (s->width < 1 || s->height < 1) return rerror_set(e, "%s: image size %dx%d", s->path, s->width, s->height);
+    memset(&pl, 0, sizeof pl);
+    pl.animated = scene_is_animated(s);
+    if (pl.animated && (scene_clone(&pl.posed[0], s, e) || scene_clone(&pl.posed[1], s, e))) {
+        scene_free(&pl.posed[0]);
+        return -1;
+    }
+    /* lights are static (animation.h): one light set from the rest pose serves every frame */
+    if (lights_build(&pl.lights, s, e)) status = -1;
+    j->s = s;
+    j->o = o;
+    j->temporal = o->temporal;
+    restir_context_for(&j->ctx, s, &pl.lights, o);
+    pl.prev_ctx = j->ctx;
+    restir_initial_options_for(&j->io, o);
+    restir_neighbor_options_for(&j->no, o);
+    j->max_domains = neighbor_candidate_count(&j->no) + 1;
+    pixels = (size_t)s->width * (size_t)s->height;
+    j->initial = rmalloc(pixels, sizeof *j->initial, e);
+    j->pong = rmalloc(pixels, sizeof *j->pong, e);
+    pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
+    j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
+    if (status || !j->initial || !j->pong || !pl.prev || !j->sum || frame_workers_alloc(j, e)) status = -1;
+    if (!status) status = run_sequence(&pl, q, sink, user, total, e);
+    if (!status) total->passes = o->spatial_passes;
+    free(j->initial);
+    free(j->pong);
+    free(pl.prev);
+    free(j->sum);
+    gbuffer_free(&j->g);
+    gbuffer_free(&pl.prev_g);
+    frame_workers_free(j);
+    lights_free(&pl.lights);
+    if (pl.animated) {
+        scene_free(&pl.posed[0]);
+        scene_free(&pl.posed[1]);
+    }
+    return status;
+}

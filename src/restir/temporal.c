@@ -1,0 +1,73 @@
+/* Temporal reuse at one pixel (include/restir/temporal.h). */
+#include "restir/temporal.h"
+
+#include <math.h>
+#include "restir/animation.h"
+
+/* domain_refresh for two frames: x (of frame `from`) re-expressed in frame `to`'s scene, its
+ * reconnection vertex moved by its object's motion between the two frames. */
+static enum shift_failure refresh_between_frames(const void *user, int from, int to, const path_sample *x,
+                                                 path_sample *out)
+{
+    const temporal_frames *tf = user;
+    const restir_context *dest = tf->ctx[to];
+    const scene *s = dest->path.scene;
+    double mf[3][3], mt[3][3], tv[3], rot[3][3];
+    int i, j, l, moved = 0;
+    if (path_sample_is_valid(x) && x->rc_k != PATH_RC_NONE && x->rc_triangle < s->triangle_count) {
+        uint32_t object = s->triangles[x->rc_triangle].object;
+        scene_object_transform_at_d(s, object, tf->frame[from], mf, tv);
+        scene_object_transform_at_d(s, object, tf->frame[to], mt, tv);
+        for (i = 0; i < 3; ++i)
+            for (j = 0; j < 3; ++j) {
+                rot[i][j] = 0; /* R = M_to M_from^T */
+                for (l = 0; l < 3; ++l) rot[i][j] += mt[i][l] * mf[j][l];
+                moved |= mf[i][j] != mt[i][j];
+            }
+    }
+    return rc_retrace_suffix(dest, x, moved ? (const double(*)[3])rot : NULL, out);
+}
+
+void temporal_resample(const restir_context *cur, const restir_context *prev, const temporal_frames *frames,
+                       mis_family mis,
+                       const path_vertex *x1_cur, const path_vertex *x1_prev, const reservoir *cur_r,
+                       const reservoir *prev_r, real mcap, const real *u, reservoir *out, spatial_workspace *w,
+                       temporal_stats *st)
+{
+    const path_vertex *x1[2];
+    const reservoir *in[2];
+    reservoir capped;
+    st->pixels++;
+    if (!x1_prev || !prev_r) {
+        st->no_history++;
+        *out = *cur_r;
+        return;
+    }
+    /* GRIS §6.2 M_c, §6.4: the history counts at most C times the new samples */
+    capped = *prev_r;
+    if (isfinite((double)mcap)) {
+        real cap = mcap * cur_r->confidence;
+        if (capped.confidence > cap) st->capped++;
+        reservoir_cap_confidence(&capped, cap);
+    }
+    x1[0] = x1_cur;
+    x1[1] = x1_prev;
+    in[0] = cur_r;
+    in[1] = &capped;
+    /* domain 1's MIS shifts run in the previous frame (GRIS App. B) */
+    if (frames) {
+        domain_refresh rf;
+        rf.fn = refresh_between_frames;
+        rf.user = frames;
+        gris_resample(cur, prev, &rf, mis, 2, x1, in, u, out, w, &st->step);
+    } else
+        gris_resample(cur, prev, NULL, mis, 2, x1, in, u, out, w, &st->step);
+}
+
+void temporal_stats_add(temporal_stats *acc, const temporal_stats *add)
+{
+    acc->pixels += add->pixels;
+    acc->no_history += add->no_history;
+    acc->capped += add->capped;
+    spatial_stats_add(&acc->step, &add->step);
+}
