@@ -185,6 +185,9 @@ TEST(scenes_shipped_files_are_the_generated_scenes)
     check_matches_generated("scenes/glass.scene", &g);
     CHECK(g.triangle_count == 10 + 2 + 12 + 2 * 64 * 31);
     scene_free(&g);
+    CHECKF(generate_corridor(&g, &e) == 0, "%s", e.msg);
+    check_matches_generated("scenes/corridor.scene", &g);
+    scene_free(&g);
 }
 
 /* Every object of the door-ajar building (at several angles) and the glass room's
