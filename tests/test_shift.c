@@ -9,7 +9,9 @@
  *   - shifts of shifted samples (what spatial pass 2+ does): y is the identity at b,
  *     T_{b->c}(y) = w shifts back to y (J(b->c) J(c->b) = 1) and on to a: T_{c->a}(w) = x
  *     with J(a->b) J(b->c) J(c->a) = 1; under random replay y equals the sample that
- *     path_record builds afresh at b from x's numbers (every stored field);
+ *     path_record builds afresh at b from x's numbers (every stored field), and under
+ *     the other shifts y's prefix lobes and stored source terms equal the ones
+ *     evaluated afresh at b;
  *   - zero logic failures (a successful shift whose inverse fails or differs).
  * 10^4 paths per scene and shift here; 10^5 in the TEST_LONG version. */
 #include <stdlib.h>
@@ -142,6 +144,23 @@ static int same_fields(const path_sample *a, const path_sample *b)
 
 static uint32_t draw(rng_key key, uint32_t slot, uint32_t n) { return (uint32_t)(rng_u(key, RNG_TEST, 1, slot) * n); }
 
+/* The prefix lobes and the source terms of Enhanced Eq. 2 that a shifted sample y
+ * stores must be the ones of y's own domain b: the lobes of y_1..y_{k-2} as replayed at
+ * b, and p_{k-1}, G, p_k and the light pdf evaluated from y_{k-1} (bit for bit: the
+ * same code computes both). */
+static int stored_terms_fresh(const restir_context *c, const path_vertex *xb, const path_sample *y)
+{
+    path_trunk t;
+    rc_terms terms;
+    int k = y->rc_k, j;
+    if (trunk_replay(&t, c, xb, y, k - 1) != SHIFT_OK) return 0;
+    for (j = 1; j < k - 1; ++j)
+        if (y->lobe[j] != t.b[j].lobe) return 0;
+    if (rc_evaluate(c, &t.v[k - 1], y, &terms) != SHIFT_OK) return 0;
+    return terms.pdf_prev == y->rc_pdf_prev && terms.geom == y->rc_geom && terms.pdf_k == y->rc_pdf &&
+           terms.light_pdf == y->light_pdf;
+}
+
 /* Shifts of the shifted sample y = T_{a->b}(x) (spatial pass 2+): the identity at b,
  * y -> c -> b and y -> c -> a, with the Jacobians multiplying to 1 along the chains;
  * under random replay y must equal the sample recorded afresh at b from x's numbers. */
@@ -171,6 +190,11 @@ static void shift_chain(const restir_context *c, const scene *s, const path_vert
                           rel_err(fresh.F, y->F));
             return;
         }
+    }
+    if (y->rc_k != PATH_RC_NONE && !stored_terms_fresh(c, xb, y)) {
+        logic_failure(t, "path %ld: a shifted sample's stored prefix lobes or source terms differ from the ones "
+                         "evaluated afresh at b (%s, %g)", i, SHIFT_OK, 0);
+        return;
     }
     if (cx < 0 || cy < 0 || cx >= s->width || cy >= s->height || (cx == bx && cy == by)) return;
     if (!rt_primary_vertex(s, cx, cy, &xc)) return;
