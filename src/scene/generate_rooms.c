@@ -499,8 +499,10 @@ static void corridor_room(mesh_writer *m)
     box(m, -ax, ay0, z1, ax, ay1, z1 + t);
     use(m, "white", "room_front");
     prism(m, front[0], 8, 2, z0 - t, z0);
+    /* The glass block stands 1 mm above the floor: no other surface may lie inside a
+     * dielectric (a floor face inside the glass would be lit from within the medium). */
     use(m, "rough_glass", "rough_glass_block");
-    box(m, -0.35, RO_Y0 - 0.02, z0 + 1.2, 0.45, 0.7, z0 + 1.6);
+    box(m, -0.35, RO_Y0 + 0.001, z0 + 1.2, 0.45, 0.7, z0 + 1.6);
     /* The light: 1 x 1 m, 5 mm below the ceiling, facing down ((x) x (z) = -y). */
     use(m, "light", "light");
     a = vertex(m, -0.5, RO_H - 0.005, z0 + RO_D / 2 - 0.5);
