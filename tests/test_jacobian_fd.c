@@ -22,7 +22,9 @@
  * map is 3 x 3. It was excluded because the 6-variable map sampled a BSDF lobe at x_k,
  * which an NEE vertex does not have: no path was ever accepted); a delta lobe in the
  * replayed prefix (glass room); rough transmission at x_{k-1} or x_k and k >= 5 (the
- * mirror corridor). */
+ * mirror corridor). A delta lobe can only sit in the replayed prefix (PSS Jacobian 1
+ * there) or after x_k (inside the stored suffix radiance): x_{k-1} and x_k themselves
+ * are never delta (a Dirac cannot reach a fixed x_k: SHIFT_FAIL_DELTA_LOBE). */
 #include <stdlib.h>
 #include <string.h>
 #include "restir_util.h"
