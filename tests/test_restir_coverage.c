@@ -278,7 +278,7 @@ static void expect_paired(const scene *s, const char *what, const restir_options
 }
 
 /* Power (planted bugs, docs/restir-pt.md): W scaled by 1.01 per pass is rejected at paired
- * z 7.0 (unpaired against the path tracer: 4.5). Dropping the Jacobian (--ablate jacobian),
+ * z 7.0 (unpaired against the path tracer: 4.4). Dropping the Jacobian (--ablate jacobian),
  * replaying one bounce short, the lobe pdf for the all-lobe pdf and the Fresnel choice
  * left out of the pdf all stay below |z| 3 here: in the corridor E[J] is close to 1 and
  * few shifted samples win; the exact tests (test_shift.c, test_jacobian_fd.c) catch
