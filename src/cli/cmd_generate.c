@@ -1,4 +1,4 @@
-/* restir generate ajar|glass|sphere|pillars|shadow|ajar-swing|ajar-swing-still -o OUT.obj: writes a generated scene as OUT.obj,
+/* restir generate ajar|glass|corridor|sphere|pillars|shadow|ajar-swing|ajar-swing-still -o OUT.obj: writes a generated scene as OUT.obj,
  * OUT.mtl and OUT.scene (docs/scenes.md). */
 #include <stdio.h>
 #include <string.h>
@@ -15,11 +15,11 @@ typedef struct {
     int angle_seen, subdivisions_seen;
 } generate_args;
 
-#define GENERATE_KINDS_TEXT "ajar, glass, sphere, pillars, shadow, ajar-swing, ajar-swing-still"
+#define GENERATE_KINDS_TEXT "ajar, glass, corridor, sphere, pillars, shadow, ajar-swing, ajar-swing-still"
 
 static int known_kind(const char *kind)
 {
-    static const char *const kinds[] = {"ajar", "glass", "sphere", "pillars", "shadow", "ajar-swing", "ajar-swing-still"};
+    static const char *const kinds[] = {"ajar", "glass", "corridor", "sphere", "pillars", "shadow", "ajar-swing", "ajar-swing-still"};
     size_t i;
     for (i = 0; i < sizeof kinds / sizeof *kinds; ++i)
         if (!strcmp(kind, kinds[i])) return 1;
@@ -73,6 +73,12 @@ static void describe(const char *kind, const generate_args *a, char *out, size_t
                  "(docs/scenes.md). Metres.\nWritten by: restir generate %s -o %s",
                  strcmp(kind, "ajar-swing") ? "still camera" : "the camera slides 0.6 m sideways", kind,
                  base_name(a->output));
+    else if (!strcmp(kind, "corridor"))
+        snprintf(out, size,
+                 "Mirror corridor: a 5 m corridor of glossy conductors (roughness 0.05 / 0.1) opening into a lit room\n"
+                 "with a rough glass block; long replayed prefixes and late reconnections (docs/scenes.md). Metres.\n"
+                 "Written by: restir generate corridor -o %s",
+                 base_name(a->output));
     else
         snprintf(out, size, "Displaced sphere benchmark scene (generate.h).\nWritten by: restir generate sphere --subdivisions %d -o %s",
                  a->subdivisions, base_name(a->output));
@@ -86,6 +92,7 @@ static int generate_kind(const char *kind, const generate_args *a, scene *s, rer
     if (!strcmp(kind, "shadow")) return generate_shadow(s, e);
     if (!strcmp(kind, "ajar-swing")) return generate_ajar_swing(s, 0, e);
     if (!strcmp(kind, "ajar-swing-still")) return generate_ajar_swing(s, 1, e);
+    if (!strcmp(kind, "corridor")) return generate_corridor(s, e);
     return generate_displaced_sphere(s, a->subdivisions, e);
 }
 
