@@ -41,13 +41,20 @@ typedef struct {
     double *run_means;        /* 3 per run (r, g, b image means), or NULL */
     double *block_run_means;  /* runs only: [run][block][channel] block means */
     moments acc;              /* runs only, while accumulating */
+    /* moments only: per-run block means read from the file set (PREFIX.blocks.bin), used
+     * for the block tests when one of these sizes is the check's block size */
+    int run_block_count;
+    int run_block_sizes[MOMENTS_MAX_BLOCK_SIZES];
+    double *run_block_means[MOMENTS_MAX_BLOCK_SIZES];
+    enum moments_correlation correlation; /* moments only: what the file set says */
 } check_side;
 
 /* Runs: block_size must equal the check_options block size used later. */
 int check_side_begin_runs(check_side *s, int width, int height, int block_size, rerror *e);
 int check_side_add_run(check_side *s, const image *run, const char *name, rerror *e);
 int check_side_end_runs(check_side *s, rerror *e); /* needs >= 2 runs */
-/* Takes ownership of f's images and run means (f is emptied). Needs f->runs >= 2. */
+/* Takes ownership of f's images, run means and per-run block means (f is emptied).
+ * Needs f->runs >= 2. */
 int check_side_from_moments(check_side *s, moments_file *f, const char *name, rerror *e);
 /* A reference taken as exact (zero variance). Takes ownership of ref (emptied). */
 int check_side_exact(check_side *s, image *ref, rerror *e);
@@ -63,6 +70,13 @@ typedef struct {
     /* image-mean luminance test (level alpha / 2) */
     stats_estimate lum_a, lum_b;
     int lum_a_exact_runs, lum_b_exact_runs; /* 1: from per-run means; 0: independent-pixel bound */
+    int blocks_a_from_runs, blocks_b_from_runs; /* 1: block variances from per-run block means (any
+                                                   pixel correlation); 0: independent-pixel formula
+                                                   (or an exact side) */
+    /* 1: the side is a moments file set whose renderer correlates pixels
+     * ("correlated_pixels": true) but which lacks the per-run statistics for a part
+     * (image mean or blocks at this block size): that part is anti-conservative. */
+    int correlated_warning_a, correlated_warning_b;
     stats_welch global;
     int global_reject;
     /* block family (level alpha / 2) */

@@ -282,6 +282,18 @@ static const char *side_kind_name(const check_side *s)
 
 static const char channel_names[3] = {'r', 'g', 'b'};
 
+/* Where a side's block variances come from. */
+static const char *block_source(const check_side *s, int from_runs)
+{
+    return s->kind == CHECK_SIDE_EXACT ? "exact" : from_runs ? "per-run block means" : "independent-pixel formula";
+}
+
+/* The file that names a side in messages. */
+static const char *side_file(const side_args *s)
+{
+    return s->run_count > 0 ? s->runs[0] : s->moments ? s->moments : s->ref;
+}
+
 static void put_key_number(FILE *fp, const char *indent, const char *key, double v, int last)
 {
     fprintf(fp, "%s\"%s\": ", indent, key);
@@ -301,11 +313,38 @@ static void put_estimate(FILE *fp, const char *key, stats_estimate est, const ch
             s->kind == CHECK_SIDE_EXACT ? "exact" : from_runs ? "per-run image means" : "independent-pixel bound");
 }
 
+/* The warning for a moments side from a renderer that correlates pixels but without the
+ * per-run statistics a part of the verdict needs (docs/statistics.md, "Correlated
+ * renderers"); returns 0 (no warning) or 1 with the text in msg. */
+static int correlated_warning(char *msg, size_t size, int side_b, const char *prefix, const check_result *r,
+                              int block_size)
+{
+    int warn = side_b ? r->correlated_warning_b : r->correlated_warning_a;
+    int blocks = side_b ? r->blocks_b_from_runs : r->blocks_a_from_runs;
+    int lum = side_b ? r->lum_b_exact_runs : r->lum_a_exact_runs;
+    char missing[96];
+    if (!warn) return 0;
+    if (!blocks && !lum)
+        snprintf(missing, sizeof missing, "image means nor block means at block size %d", block_size);
+    else if (!blocks)
+        snprintf(missing, sizeof missing, "block means at block size %d", block_size);
+    else
+        snprintf(missing, sizeof missing, "image means");
+    snprintf(msg, size,
+             "side %c (%s) comes from a renderer that correlates pixels (\"correlated_pixels\": true) but has no "
+             "per-run %s: %s independent pixels and can call a correct renderer different; re-render with "
+             "`restir render --runs K` (keeps per-run block means at block sizes 4, 8, 16, 32) or give the raw runs",
+             side_b ? 'B' : 'A', prefix, missing,
+             blocks ? "the image-mean test assumes" : lum ? "its block tests assume" : "both of its tests assume");
+    return 1;
+}
+
 static int write_json(const char *path, const check_args *args, const check_side *a, const check_side *b,
                       const check_result *r, int status, rerror *e)
 {
     atomic_file f;
     FILE *fp;
+    int side, count;
     if (atomic_file_open(&f, path, e)) return -1;
     fp = f.fp;
     fprintf(fp, "{\n  \"verdict\": \"%s\",\n  \"exit_status\": %d,\n", r->different ? "different" : "consistent",
@@ -328,6 +367,8 @@ static int write_json(const char *path, const check_args *args, const check_side
     put_key_number(fp, "    ", "family_level", 0.5 * args->opt.alpha, 0);
     put_key_number(fp, "    ", "p_threshold", r->block_threshold, 0);
     fprintf(fp, "    \"rejected\": %ld,\n", r->rejected);
+    fprintf(fp, "    \"variance_from_a\": \"%s\",\n    \"variance_from_b\": \"%s\",\n", block_source(a, r->blocks_a_from_runs),
+            block_source(b, r->blocks_b_from_runs));
     fprintf(fp, "    \"most_extreme\": {\"x\": %d, \"y\": %d, \"channel\": \"%c\", \"diff\": ", r->worst.x, r->worst.y,
             channel_names[r->worst.channel]);
     json_put_number(fp, r->worst.test.diff);
@@ -359,7 +400,16 @@ static int write_json(const char *path, const check_args *args, const check_side
     json_put_number(fp, r->tost.p_upper);
     fputs(", \"p\": ", fp);
     json_put_number(fp, r->tost.p);
-    fprintf(fp, ", \"equivalent\": %s}\n}\n", r->tost.equivalent ? "true" : "false");
+    fprintf(fp, ", \"equivalent\": %s},\n  \"warnings\": [", r->tost.equivalent ? "true" : "false");
+    for (side = 0, count = 0; side < 2; ++side) {
+        char msg[1024];
+        if (!correlated_warning(msg, sizeof msg, side, side ? side_file(&args->b) : side_file(&args->a), r,
+                                args->opt.block_size))
+            continue;
+        fputs(count++ ? ",\n    " : "\n    ", fp);
+        json_put_string(fp, msg);
+    }
+    fprintf(fp, "%s]\n}\n", count ? "\n  " : "");
     return atomic_file_commit(&f, e);
 }
 
@@ -411,6 +461,8 @@ static void print_summary(const check_args *args, const check_side *a, const che
            o->block_size, o->block_size, r->tests, r->blocks_x, r->blocks_y,
            o->correction == CHECK_BH ? "Benjamini-Hochberg" : "Sidak", 0.5 * o->alpha, r->block_threshold,
            r->rejected);
+    printf("  block variances: A %s, B %s\n", block_source(a, r->blocks_a_from_runs),
+           block_source(b, r->blocks_b_from_runs));
     printf("  most extreme: block (%d, %d) channel %c, diff %.4g, t = %.4g, dof = %.4g, p = %.3g, z = %.3g\n",
            r->worst.x, r->worst.y, channel_names[r->worst.channel], r->worst.test.diff, r->worst.test.t,
            r->worst.test.dof, r->worst.test.p, r->worst.z);
@@ -424,12 +476,6 @@ static void print_summary(const check_args *args, const check_side *a, const che
                100.0 * r->bias);
     printf("equivalence (TOST, margin %g%%, level %g): %s (p = %.3g)\n", 100.0 * r->tost.margin, o->alpha,
            r->tost.equivalent ? "equivalent" : "not shown equivalent", r->tost.p);
-}
-
-/* The file that names a side in messages. */
-static const char *side_file(const side_args *s)
-{
-    return s->run_count > 0 ? s->runs[0] : s->moments ? s->moments : s->ref;
 }
 
 int cmd_check(int argc, char **argv)
@@ -453,6 +499,14 @@ int cmd_check(int argc, char **argv)
         return 2;
     }
     status = r.different || (args.require_equivalence && !r.tost.equivalent) ? 1 : 0;
+    {
+        char msg[1024];
+        int side;
+        for (side = 0; side < 2; ++side)
+            if (correlated_warning(msg, sizeof msg, side, side ? side_file(&args.b) : side_file(&args.a), &r,
+                                   args.opt.block_size))
+                fprintf(stderr, "restir check: warning: %s\n", msg);
+    }
     if (write_outputs(&args, &a, &b, &r, status, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         status = 2;

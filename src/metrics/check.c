@@ -40,37 +40,17 @@ int check_side_begin_runs(check_side *s, int width, int height, int block_size, 
     return 0;
 }
 
-/* Pixels in block (bx, by): edge blocks are smaller. */
-static long block_pixel_count(int width, int height, int b, int bx, int by)
-{
-    int w = width - bx * b < b ? width - bx * b : b;
-    int h = height - by * b < b ? height - by * b : b;
-    return (long)w * h;
-}
-
 int check_side_add_run(check_side *s, const image *run, const char *name, rerror *e)
 {
-    long blocks = (long)s->blocks_x * s->blocks_y, k, i;
-    double *grown, *sums;
-    int x, y, c;
+    long blocks = (long)s->blocks_x * s->blocks_y, k;
+    double *grown;
     if (moments_add(&s->acc, run, name, e)) return -1;
     k = s->acc.runs - 1;
     grown = realloc(s->block_run_means, (size_t)(k + 1) * (size_t)blocks * 3 * sizeof *grown);
     if (!grown) return rerror_set(e, "out of memory (block means)");
     s->block_run_means = grown;
-    sums = grown + (size_t)k * (size_t)blocks * 3;
-    memset(sums, 0, (size_t)blocks * 3 * sizeof *sums);
-    for (y = 0; y < run->height; ++y)
-        for (x = 0; x < run->width; ++x) {
-            const float *p = image_pixel(run, x, y);
-            double *b = sums + 3 * ((long)(y / s->block_size) * s->blocks_x + x / s->block_size);
-            for (c = 0; c < 3; ++c) b[c] += p[c];
-        }
-    for (i = 0; i < blocks; ++i) {
-        double n = (double)block_pixel_count(s->width, s->height, s->block_size, (int)(i % s->blocks_x),
-                                             (int)(i / s->blocks_x));
-        for (c = 0; c < 3; ++c) sums[3 * i + c] /= n;
-    }
+    /* The same function as `render --runs` uses for PREFIX.blocks.bin: bit-identical means. */
+    moments_block_means(run, s->block_size, grown + (size_t)k * (size_t)blocks * 3);
     return 0;
 }
 
@@ -98,6 +78,10 @@ int check_side_from_moments(check_side *s, moments_file *f, const char *name, re
     s->mean = f->mean;
     s->var = f->var;
     s->run_means = f->run_means;
+    s->run_block_count = f->block_size_count;
+    memcpy(s->run_block_sizes, f->block_sizes, sizeof s->run_block_sizes);
+    memcpy(s->run_block_means, f->block_means, sizeof s->run_block_means);
+    s->correlation = f->correlation;
     memset(f, 0, sizeof *f);
     return 0;
 }
@@ -115,10 +99,12 @@ int check_side_exact(check_side *s, image *ref, rerror *e)
 
 void check_side_free(check_side *s)
 {
+    int i;
     image_free(&s->mean);
     image_free(&s->var);
     free(s->run_means);
     free(s->block_run_means);
+    for (i = 0; i < s->run_block_count; ++i) free(s->run_block_means[i]);
     moments_free(&s->acc);
     memset(s, 0, sizeof *s);
 }
@@ -148,12 +134,26 @@ static stats_estimate mean_of_runs(const double *x, long stride, long runs)
     return stats_estimate_from_samples(mean, ss / (double)(runs - 1), (double)runs);
 }
 
-/* Block mean of channel c. From raw runs the variance comes from the K per-run block
- * means: exact whatever the correlation between the block's pixels. From moments it is
+/* The per-run block means of a moments side at block size b, or NULL if the file set
+ * has none at that size. */
+static const double *moments_run_blocks(const check_side *s, int b)
+{
+    int i;
+    if (s->kind != CHECK_SIDE_MOMENTS) return NULL;
+    for (i = 0; i < s->run_block_count; ++i)
+        if (s->run_block_sizes[i] == b) return s->run_block_means[i];
+    return NULL;
+}
+
+/* Block mean of channel c. From raw runs, or from a moments file set that kept per-run
+ * block means at this block size, the variance comes from the K per-run block means:
+ * exact whatever the correlation between the block's pixels. Otherwise it is
  * sum(var_i) / (n^2 K), which assumes independent pixels (true for a path tracer, not
- * for ReSTIR), with the Welch-Satterthwaite dof of that sum (each term has K - 1). */
+ * for ReSTIR's spatial reuse), with the Welch-Satterthwaite dof of that sum (each term
+ * has K - 1). */
 static stats_estimate block_estimate(const check_side *s, int b, int bx, int by, int c)
 {
+    const double *run_blocks = moments_run_blocks(s, b);
     stats_estimate est = {0.0, 0.0, 0.0};
     int x0 = bx * b, y0 = by * b, x1 = x0 + b, y1 = y0 + b, x, y;
     double n, sum = 0.0, sum_var = 0.0, sum_var2 = 0.0;
@@ -163,6 +163,10 @@ static stats_estimate block_estimate(const check_side *s, int b, int bx, int by,
     if (s->kind == CHECK_SIDE_RUNS) {
         long blocks = (long)s->blocks_x * s->blocks_y, idx = (long)by * s->blocks_x + bx;
         return mean_of_runs(s->block_run_means + 3 * idx + c, 3 * blocks, s->runs);
+    }
+    if (run_blocks) {
+        long blocks = moments_block_count(s->width, s->height, b), idx = (long)by * ((s->width + b - 1) / b) + bx;
+        return mean_of_runs(run_blocks + 3 * idx + c, 3 * blocks, s->runs);
     }
     for (y = y0; y < y1; ++y)
         for (x = x0; x < x1; ++x) {
@@ -344,6 +348,12 @@ int check_compare(const check_side *a, const check_side *b, const check_options 
         return -1;
     }
     r->different = r->global_reject || r->rejected > 0;
+    r->blocks_a_from_runs = a->kind == CHECK_SIDE_RUNS || moments_run_blocks(a, o->block_size) != NULL;
+    r->blocks_b_from_runs = b->kind == CHECK_SIDE_RUNS || moments_run_blocks(b, o->block_size) != NULL;
+    r->correlated_warning_a = a->kind == CHECK_SIDE_MOMENTS && a->correlation == MOMENTS_CORRELATED &&
+                              (!r->blocks_a_from_runs || !r->lum_a_exact_runs);
+    r->correlated_warning_b = b->kind == CHECK_SIDE_MOMENTS && b->correlation == MOMENTS_CORRELATED &&
+                              (!r->blocks_b_from_runs || !r->lum_b_exact_runs);
 
     /* Equivalence (TOST at alpha) and the relative bias with its (1 - alpha) interval. */
     r->tost = stats_tost_ratio(r->lum_a, r->lum_b, o->margin, o->alpha);
