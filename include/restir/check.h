@@ -59,6 +59,10 @@ int check_side_from_moments(check_side *s, moments_file *f, const char *name, re
 /* A reference taken as exact (zero variance). Takes ownership of ref (emptied). */
 int check_side_exact(check_side *s, image *ref, rerror *e);
 void check_side_free(check_side *s);
+/* Multiplies every run of the side by `factor` (means by factor, variances by factor^2):
+ * a planted relative bias factor - 1, for measuring the power of check
+ * (`restir check --scale-a`, scripts/power.sh). */
+void check_side_scale(check_side *s, double factor);
 
 typedef struct {
     int x, y, channel;  /* block coordinates (in blocks) and channel 0..2 */

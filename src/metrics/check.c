@@ -109,6 +109,31 @@ void check_side_free(check_side *s)
     memset(s, 0, sizeof *s);
 }
 
+static void scale_values(double *v, size_t n, double factor)
+{
+    size_t i;
+    if (v)
+        for (i = 0; i < n; ++i) v[i] *= factor;
+}
+
+void check_side_scale(check_side *s, double factor)
+{
+    size_t i, npx = (size_t)s->width * (size_t)s->height * 3;
+    int j;
+    for (i = 0; i < npx; ++i) {
+        s->mean.px[i] = (float)(s->mean.px[i] * factor);
+        if (s->kind != CHECK_SIDE_EXACT) s->var.px[i] = (float)(s->var.px[i] * factor * factor);
+    }
+    if (s->kind == CHECK_SIDE_EXACT) return;
+    scale_values(s->run_means, 3 * (size_t)s->runs, factor);
+    if (s->kind == CHECK_SIDE_RUNS)
+        scale_values(s->block_run_means, 3 * (size_t)s->runs * (size_t)s->blocks_x * (size_t)s->blocks_y, factor);
+    for (j = 0; j < s->run_block_count; ++j)
+        scale_values(s->run_block_means[j],
+                     3 * (size_t)s->runs * (size_t)moments_block_count(s->width, s->height, s->run_block_sizes[j]),
+                     factor);
+}
+
 /* ---- estimates of one side ---- */
 
 /* Per-pixel mean: its variance is the single-run variance over K, with K - 1 dof. */
