@@ -348,6 +348,7 @@ TEST(check_cli_correlated_restir)
     CHECK(file_contains(json, "\"warnings\": []"));
     /* Moments-only (the old file set): the warning on stderr and in the JSON. */
     CHECK(strip_blocks(restir, old) == 0);
+    remove(json);
     status = test_cli(out, sizeof out, "check --a-moments %s --b-moments %s --json %s", old, pt, json);
     CHECKF(status == 0 || status == 1, "status %d: %s", status, out);
     CHECKF(strstr(out, "warning: side A") && strstr(out, "correlates pixels") && strstr(out, "block size 8"), "%s",
@@ -357,6 +358,12 @@ TEST(check_cli_correlated_restir)
     /* --block 5 is not stored: the same fallback and warning for the block part. */
     status = test_cli(out, sizeof out, "check --a-moments %s --b-moments %s --block 5 --quiet", restir, pt);
     CHECKF((status == 0 || status == 1) && strstr(out, "block size 5"), "%s", out);
+    /* --scale-a: a planted 30% bias is found; a bad value is a usage error. */
+    status = test_cli(out, sizeof out, "check --a-moments %s --b-moments %s --scale-a 1.3 --quiet", restir, pt);
+    CHECKF(status == 1, "status %d: %s", status, out);
+    remove(json);
+    status = test_cli(out, sizeof out, "check --a-moments %s --b-moments %s --scale-a -1 --json %s", restir, pt, json);
+    CHECKF(status == 2 && strstr(out, "--scale-a") && !test_file_exists(json), "%d %s", status, out);
     /* A broken block file is an input error naming it, and no output is written. */
     snprintf(bin, sizeof bin, "%s.blocks.bin", restir);
     CHECK(truncate(bin, 100) == 0);
