@@ -5,7 +5,7 @@
 #   sh scripts/false-alarm.sh [OUT_DIR] [BUILD_DIR]
 # Environment: SEEDS (default 40), SIZE (24), RUNS (K, 8), SCENE (scenes/cornell.scene),
 # PT_SPP (64), RESTIR_ARGS (extra ReSTIR options, e.g. "--ablate jacobian" for power),
-# THREADS (1). Seed i renders ReSTIR with seeds 1000 i .. 1000 i + K - 1 and 1 + (i mod 3)
+# THREADS (1), CHECK_ARGS (extra check options). Seed i renders ReSTIR with seeds 1000 i .. 1000 i + K - 1 and 1 + (i mod 3)
 # spatial passes, and the path tracer with seeds 1000 i + 500 .. (independent of ReSTIR).
 # Every pair is checked four ways: alpha 0.01 and 0.1, each with the per-run block means
 # (what `render --runs` writes now) and moments-only (the same file set without them, as
@@ -22,6 +22,7 @@ SCENE=${SCENE:-scenes/cornell.scene}
 PT_SPP=${PT_SPP:-64}
 RESTIR_ARGS=${RESTIR_ARGS:-}
 THREADS=${THREADS:-1}
+CHECK_ARGS=${CHECK_ARGS:-}
 mkdir -p "$OUT"
 LOG="$OUT/checks.txt"
 : > "$LOG"
@@ -46,18 +47,24 @@ i=1
 while [ "$i" -le "$SEEDS" ]; do
     passes=$((1 + i % 3))
     seed=$((1000 * i))
+    d="$OUT/seed$i"
+    mkdir -p "$d"
+    # The file sets are kept: a second run (e.g. with another check) renders nothing.
     # shellcheck disable=SC2086
-    "$R" render "$SCENE" --method restir --spatial-passes "$passes" $RESTIR_ARGS --size "${SIZE}x${SIZE}" \
-        --runs "$RUNS" --seed "$seed" --threads "$THREADS" --quiet --no-png -o "$OUT/restir.pfm"
-    "$R" render "$SCENE" --method pt --spp "$PT_SPP" --size "${SIZE}x${SIZE}" --runs "$RUNS" \
-        --seed $((seed + 500)) --threads "$THREADS" --quiet --no-png -o "$OUT/pt.pfm"
-    moments_only "$OUT/restir" "$OUT/restir-old"
-    moments_only "$OUT/pt" "$OUT/pt-old"
+    [ -f "$d/restir.moments.json" ] ||
+        "$R" render "$SCENE" --method restir --spatial-passes "$passes" $RESTIR_ARGS --size "${SIZE}x${SIZE}" \
+            --runs "$RUNS" --seed "$seed" --threads "$THREADS" --quiet --no-png -o "$d/restir.pfm"
+    [ -f "$d/pt.moments.json" ] ||
+        "$R" render "$SCENE" --method pt --spp "$PT_SPP" --size "${SIZE}x${SIZE}" --runs "$RUNS" \
+            --seed $((seed + 500)) --threads "$THREADS" --quiet --no-png -o "$d/pt.pfm"
+    moments_only "$d/restir" "$d/restir-old"
+    moments_only "$d/pt" "$d/pt-old"
     for alpha in 0.01 0.1; do
         for kind in blocks old; do
-            if [ "$kind" = blocks ]; then a="$OUT/restir" b="$OUT/pt"; else a="$OUT/restir-old" b="$OUT/pt-old"; fi
+            if [ "$kind" = blocks ]; then a="$d/restir" b="$d/pt"; else a="$d/restir-old" b="$d/pt-old"; fi
             status=0
-            "$R" check --a-moments "$a" --b-moments "$b" --alpha "$alpha" --quiet --json "$OUT/check.json" \
+            # shellcheck disable=SC2086
+            "$R" check --a-moments "$a" --b-moments "$b" --alpha "$alpha" $CHECK_ARGS --quiet --json "$OUT/check.json" \
                 > /dev/null 2>&1 || status=$?
             [ "$status" -le 1 ] || { echo "check failed (status $status) at seed $i" >&2; exit 2; }
             g=$(json_value "$OUT/check.json" image_mean reject)

@@ -372,3 +372,61 @@ TEST(check_cli_correlated_restir)
     CHECKF(status == 2 && strstr(out, "corr_restir.blocks.bin: ") && strstr(out, "bytes"), "%d %s", status, out);
     CHECK(!test_file_exists(json));
 }
+
+/* Right-skewed per-run block means (each 8 x 8 block of a run scaled by a lognormal
+ * factor with sigma 0.8, mean 1: skewness ~3.7) against the exact reference, K = 8,
+ * alpha = 0.1 (block family level 0.05), 200 trials. Plain Welch rejects too often, and
+ * only on the low side (a run set without a large factor has a low mean and a low
+ * variance); the skew correction (default) brings the family back to <= nominal. */
+TEST(check_skewed_block_calibration)
+{
+    const int trials = 200, runs = 8;
+    int t, corrected = 0, plain = 0, plain_low = 0;
+    check_options o;
+    rerror e;
+    check_options_default(&o);
+    o.alpha = 0.1;
+    for (t = 0; t < trials; ++t) {
+        check_side a, ref;
+        check_result r;
+        image img, truth;
+        int k, x, y, c, pass;
+        uint32_t seed = test_seed() * 104729u + (uint32_t)t;
+        CHECK(image_alloc(&img, 32, 32, &e) == 0 && image_alloc(&truth, 32, 32, &e) == 0);
+        CHECK(check_side_begin_runs(&a, 32, 32, 8, &e) == 0);
+        for (y = 0; y < 32; ++y)
+            for (x = 0; x < 32; ++x)
+                for (c = 0; c < 3; ++c) image_pixel(&truth, x, y)[c] = (float)(0.5 + 0.1 * c + 0.01 * x);
+        for (k = 0; k < runs; ++k) {
+            for (y = 0; y < 32; ++y)
+                for (x = 0; x < 32; ++x) {
+                    uint32_t block = 0x40000000u | (uint32_t)((y / 8) * 4 + x / 8);
+                    double f = exp(0.8 * normal01(seed, block, (uint32_t)k) - 0.32); /* E = 1 */
+                    double n = 1.0 + 0.1 * normal01(seed, (uint32_t)(y * 32 + x), (uint32_t)k);
+                    for (c = 0; c < 3; ++c) image_pixel(&img, x, y)[c] = (float)(image_pixel(&truth, x, y)[c] * f * n);
+                }
+            CHECK(check_side_add_run(&a, &img, "skewed", &e) == 0);
+        }
+        image_free(&img);
+        CHECK(check_side_end_runs(&a, &e) == 0 && check_side_exact(&ref, &truth, &e) == 0);
+        for (pass = 0; pass < 2; ++pass) {
+            o.skew_correction = pass == 0;
+            CHECK(check_compare(&a, &ref, &o, &r, &e) == 0);
+            if (pass == 0) {
+                corrected += r.rejected > 0;
+                CHECKF(r.skew_a > 0.0 && r.skew_b == 0.0, "%g %g", r.skew_a, r.skew_b);
+            } else {
+                plain += r.rejected > 0;
+                plain_low += r.rejected > 0 && r.worst.test.t < 0;
+            }
+            check_result_free(&r);
+        }
+        check_side_free(&a);
+        check_side_free(&ref);
+    }
+    printf("    block family rejections at level 0.05, skewed runs, %d trials: skew-corrected %d, plain Welch %d "
+           "(%d on the low side)\n", trials, corrected, plain, plain_low);
+    /* Nominal <= 5% (10 of 200) + 3 binomial sigma = 19. */
+    CHECKF(corrected <= 19, "%d of %d", corrected, trials);
+    CHECKF(corrected < plain, "corrected %d, plain %d", corrected, plain);
+}

@@ -24,6 +24,9 @@ typedef struct {
     enum check_correction correction; /* block family correction (default Sidak) */
     double margin;                    /* relative equivalence margin (default 0.01) */
     int block_size;                   /* block edge in pixels (default 8; 1 = per pixel) */
+    int skew_correction;              /* 1 (default): block tests on per-run block means discount
+                                         t on the tail opposite the pooled skewness (Hall 1992;
+                                         docs/statistics.md "Skewed per-run means"); 0: plain Welch */
 } check_options;
 
 void check_options_default(check_options *o);
@@ -89,6 +92,7 @@ typedef struct {
     long rejected;
     double block_threshold;  /* a block test rejects iff its p <= this */
     check_block worst;       /* smallest p */
+    double skew_a, skew_b;   /* pooled standardized skewness of the per-run block means (0 without them) */
     image block_z;           /* blocks_x x blocks_y, z per channel */
     /* pixels (diagnostic only, not part of the verdict) */
     image pixel_z;           /* width x height, z per channel, saturated at +-CHECK_Z_MAX */

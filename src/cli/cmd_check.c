@@ -31,6 +31,8 @@ static const char usage[] =
     "  --json OUT.json        machine-readable results\n"
     "  --z-map OUT.pfm|.png   per-pixel normal-equivalent z (PFM: per channel; PNG: red A>B, blue A<B)\n"
     "  --block-z-map OUT.pfm|.png   the same per block (one pixel per block)\n"
+    "  --no-skew-correction   plain Welch block tests (default: discount the tail opposite the\n"
+    "                         pooled skewness of the per-run block means, Hall 1992)\n"
     "  --scale-a S            multiply side A by S (a planted relative bias S - 1, to measure power)\n"
     "  --quiet                print only the verdict line\n"
     "exit status: 0 consistent, 1 different, 2 usage or input error\n";
@@ -96,7 +98,8 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
         const char *opt = argv[i];
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
         int needs_value = strcmp(opt, "--a") && strcmp(opt, "--b") && strcmp(opt, "--require-equivalence") &&
-                          strcmp(opt, "--quiet") && strcmp(opt, "--help") && strcmp(opt, "-h");
+                          strcmp(opt, "--quiet") && strcmp(opt, "--help") && strcmp(opt, "-h") &&
+                          strcmp(opt, "--no-skew-correction");
         if (needs_value && !val) return usage_error("%s needs a value", opt);
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             fputs(usage, stdout);
@@ -136,6 +139,9 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
                 return usage_error("--correction must be sidak or bh, not '%s'", val);
         } else if (!strcmp(opt, "--require-equivalence")) {
             a->require_equivalence = 1;
+            continue;
+        } else if (!strcmp(opt, "--no-skew-correction")) {
+            a->opt.skew_correction = 0;
             continue;
         } else if (!strcmp(opt, "--quiet")) {
             a->quiet = 1;
@@ -372,6 +378,9 @@ static int write_json(const char *path, const check_args *args, const check_side
     put_key_number(fp, "    ", "family_level", 0.5 * args->opt.alpha, 0);
     put_key_number(fp, "    ", "p_threshold", r->block_threshold, 0);
     fprintf(fp, "    \"rejected\": %ld,\n", r->rejected);
+    fprintf(fp, "    \"skew_correction\": %s,\n", args->opt.skew_correction ? "true" : "false");
+    put_key_number(fp, "    ", "skewness_a", r->skew_a, 0);
+    put_key_number(fp, "    ", "skewness_b", r->skew_b, 0);
     fprintf(fp, "    \"variance_from_a\": \"%s\",\n    \"variance_from_b\": \"%s\",\n", block_source(a, r->blocks_a_from_runs),
             block_source(b, r->blocks_b_from_runs));
     fprintf(fp, "    \"most_extreme\": {\"x\": %d, \"y\": %d, \"channel\": \"%c\", \"diff\": ", r->worst.x, r->worst.y,
@@ -466,8 +475,9 @@ static void print_summary(const check_args *args, const check_side *a, const che
            o->block_size, o->block_size, r->tests, r->blocks_x, r->blocks_y,
            o->correction == CHECK_BH ? "Benjamini-Hochberg" : "Sidak", 0.5 * o->alpha, r->block_threshold,
            r->rejected);
-    printf("  block variances: A %s, B %s\n", block_source(a, r->blocks_a_from_runs),
-           block_source(b, r->blocks_b_from_runs));
+    printf("  block variances: A %s, B %s; skewness of per-run block means A %.3g, B %.3g (%s)\n",
+           block_source(a, r->blocks_a_from_runs), block_source(b, r->blocks_b_from_runs), r->skew_a, r->skew_b,
+           o->skew_correction ? "skew-corrected tail" : "no skew correction");
     printf("  most extreme: block (%d, %d) channel %c, diff %.4g, t = %.4g, dof = %.4g, p = %.3g, z = %.3g\n",
            r->worst.x, r->worst.y, channel_names[r->worst.channel], r->worst.test.diff, r->worst.test.t,
            r->worst.test.dof, r->worst.test.p, r->worst.z);
