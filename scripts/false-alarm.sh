@@ -7,8 +7,9 @@
 # PT_SPP (64), RESTIR_ARGS (extra ReSTIR options, e.g. "--ablate jacobian" for power),
 # THREADS (1), CHECK_ARGS (extra check options). Seed i renders ReSTIR with seeds 1000 i .. 1000 i + K - 1 and 1 + (i mod 3)
 # spatial passes, and the path tracer with seeds 1000 i + 500 .. (independent of ReSTIR).
-# Every pair is checked four ways: alpha 0.01 and 0.1, each with the per-run block means
-# (what `render --runs` writes now) and moments-only (the same file set without them, as
+# Every pair is checked six ways: alpha 0.01 and 0.1, each with the per-run block means
+# (what `render --runs` writes now) and check's default skew correction, with them and
+# --no-skew-correction (plain Welch), and moments-only (the same file set without them, as
 # before: the block tests then assume independent pixels). Prints one table row per
 # configuration: rejections of the image-mean part, of the block part, and of the verdict,
 # each with its Wilson 95% interval. Run it with `nice -n 10`; not part of `make test`.
@@ -60,11 +61,13 @@ while [ "$i" -le "$SEEDS" ]; do
     moments_only "$d/restir" "$d/restir-old"
     moments_only "$d/pt" "$d/pt-old"
     for alpha in 0.01 0.1; do
-        for kind in blocks old; do
-            if [ "$kind" = blocks ]; then a="$d/restir" b="$d/pt"; else a="$d/restir-old" b="$d/pt-old"; fi
+        for kind in blocks plain old; do
+            a="$d/restir" b="$d/pt" extra=""
+            [ "$kind" = plain ] && extra="--no-skew-correction"
+            [ "$kind" = old ] && a="$d/restir-old" b="$d/pt-old"
             status=0
             # shellcheck disable=SC2086
-            "$R" check --a-moments "$a" --b-moments "$b" --alpha "$alpha" $CHECK_ARGS --quiet --json "$OUT/check.json" \
+            "$R" check --a-moments "$a" --b-moments "$b" --alpha "$alpha" $extra $CHECK_ARGS --quiet --json "$OUT/check.json" \
                 > /dev/null 2>&1 || status=$?
             [ "$status" -le 1 ] || { echo "check failed (status $status) at seed $i" >&2; exit 2; }
             g=$(json_value "$OUT/check.json" image_mean reject)
@@ -80,16 +83,17 @@ echo "# restir check on ReSTIR (spatial passes 1-3, $RESTIR_ARGS) vs PT ($PT_SPP
 echo "| alpha | block variances | image mean rejected | blocks rejected | verdict different | max |z| of a block (median) |"
 echo "| --- | --- | --- | --- | --- | --- |"
 for alpha in 0.01 0.1; do
-    for kind in blocks old; do
+    for kind in blocks plain old; do
         awk -v alpha="$alpha" -v kind="$kind" '
             function wilson(k, n,   p, z, c, h) { z = 1.959964; p = k / n; c = (p + z * z / (2 * n)) / (1 + z * z / n)
                 h = z * sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
                 return sprintf("%d/%d = %.1f%% [%.1f, %.1f]", k, n, 100 * p, 100 * (c - h < 0 ? 0 : c - h), 100 * (c + h)) }
             $3 == alpha && $4 == kind { n++; g += ($5 == "true"); b += ($6 > 0); d += ($7 == 1); zs[n] = ($8 < 0 ? -$8 : $8) }
-            END { asort_n = n; for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (zs[j] < zs[i]) { t = zs[i]; zs[i] = zs[j]; zs[j] = t }
+            END { for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (zs[j] < zs[i]) { t = zs[i]; zs[i] = zs[j]; zs[j] = t }
                   med = n % 2 ? zs[(n + 1) / 2] : (zs[n / 2] + zs[n / 2 + 1]) / 2
                   printf "| %s | %s | %s | %s | %s | %.2f |\n", alpha,
-                      kind == "blocks" ? "per-run block means" : "moments only (independent-pixel formula)",
+                      kind == "blocks" ? "per-run block means, skew-corrected (default)" : \
+                      kind == "plain" ? "per-run block means, plain Welch" : "moments only (independent-pixel formula)",
                       wilson(g, n), wilson(b, n), wilson(d, n), med }' "$LOG"
     done
 done
