@@ -371,10 +371,6 @@ static int block_tests(const check_side *a, const check_side *b, const check_opt
     p = rmalloc((size_t)r->tests, sizeof *p, e);
     if (!p) return -1;
     r->worst.test.p = 2.0;
-    if (o->skew_correction) {
-        r->skew_a = pooled_block_skewness(a, b_size);
-        r->skew_b = pooled_block_skewness(b, b_size);
-    }
     for (by = 0; by < r->blocks_y; ++by)
         for (bx = 0; bx < r->blocks_x; ++bx)
             for (c = 0; c < 3; ++c, ++i) {
@@ -428,10 +424,21 @@ int check_compare(const check_side *a, const check_side *b, const check_options 
     memset(r, 0, sizeof *r);
     if (validate(a, b, o, e)) return -1;
 
-    /* Part 1: the image mean (luminance), level alpha / 2. */
+    if (o->skew_correction) {
+        r->skew_a = pooled_block_skewness(a, o->block_size);
+        r->skew_b = pooled_block_skewness(b, o->block_size);
+    }
+
+    /* Part 1: the image mean (luminance), level alpha / 2. Its skew correction borrows
+     * the blocks' pooled skewness (an image mean averages blocks, so it is at most as
+     * skewed: the discount errs on the conservative side), for sides whose image-mean
+     * variance comes from per-run means (K - 1 dof, as skew_adjust assumes). */
     r->lum_a = luminance_estimate(a, &r->lum_a_exact_runs);
     r->lum_b = luminance_estimate(b, &r->lum_b_exact_runs);
     r->global = stats_welch_test(r->lum_a, r->lum_b);
+    if (o->skew_correction)
+        r->global = skew_adjust(r->global, r->lum_a, r->lum_b, r->lum_a_exact_runs ? r->skew_a : 0.0,
+                                r->lum_b_exact_runs ? r->skew_b : 0.0);
     r->global_reject = r->global.p < 0.5 * o->alpha;
 
     /* Part 2: blocks x channels with the family correction, level alpha / 2. */
