@@ -341,11 +341,13 @@ TEST(check_cli_correlated_restir)
     CHECK(file_contains(bin, "\"block_sizes\": [4, 8, 16, 32]"));
     snprintf(bin, sizeof bin, "%s.moments.json", pt);
     CHECK(file_contains(bin, "\"correlated_pixels\": false") && file_contains(bin, "\"method\": \"pt\""));
-    /* With the per-run statistics: consistent, no warning. */
+    /* With the per-run statistics: consistent; the only warning is about K = 8 < 16. */
     status = test_cli(out, sizeof out, "check --a-moments %s --b-moments %s --json %s", restir, pt, json);
     CHECKF(status == 0, "status %d: %s", status, out);
-    CHECK(strstr(out, "block variances: A per-run block means, B per-run block means") && !strstr(out, "warning"));
-    CHECK(file_contains(json, "\"warnings\": []"));
+    CHECK(strstr(out, "block variances: A per-run block means, B per-run block means"));
+    CHECKF(strstr(out, "warning: side A") && strstr(out, "K = 8 runs") && !strstr(out, "no per-run") &&
+               !strstr(out, "warning: side B"), "%s", out);
+    CHECK(file_contains(json, "use K >= 16") && !file_contains(json, "no per-run"));
     /* Moments-only (the old file set): the warning on stderr and in the JSON. */
     CHECK(strip_blocks(restir, old) == 0);
     remove(json);

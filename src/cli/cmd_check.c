@@ -350,6 +350,38 @@ static int correlated_warning(char *msg, size_t size, int side_b, const char *pr
     return 1;
 }
 
+/* Fewer runs than this from a renderer that correlates pixels: the block tests' false-alarm
+ * rate was measured above nominal (docs/statistics.md, "False alarms on correct ReSTIR"). */
+#define CHECK_CORRELATED_MIN_RUNS 16
+
+/* The warning for a side from a correlated renderer with per-run block means from too few
+ * runs; returns 0 (no warning) or 1 with the text in msg. */
+static int few_runs_warning(char *msg, size_t size, int side_b, const char *prefix, const check_side *s,
+                            const check_result *r)
+{
+    int blocks = side_b ? r->blocks_b_from_runs : r->blocks_a_from_runs;
+    if (s->kind != CHECK_SIDE_MOMENTS || s->correlation != MOMENTS_CORRELATED || !blocks ||
+        s->runs >= CHECK_CORRELATED_MIN_RUNS)
+        return 0;
+    snprintf(msg, size,
+             "side %c (%s) comes from a renderer that correlates pixels and has K = %ld runs: its per-run block "
+             "means are skewed, and with K < %d the block tests were measured to reject a correct ReSTIR more often "
+             "than alpha (docs/statistics.md, \"False alarms on correct ReSTIR\"); use K >= %d",
+             side_b ? 'B' : 'A', prefix, s->runs, CHECK_CORRELATED_MIN_RUNS, CHECK_CORRELATED_MIN_RUNS);
+    return 1;
+}
+
+/* Every warning about side `side_b` (0 = A, 1 = B), one at a time: index 0, 1, ... */
+static int side_warning(char *msg, size_t size, int side_b, int index, const check_args *args, const check_side *s,
+                        const check_result *r)
+{
+    const char *prefix = side_b ? side_file(&args->b) : side_file(&args->a);
+    int have = 0;
+    if (correlated_warning(msg, size, side_b, prefix, r, args->opt.block_size) && have++ == index) return 1;
+    if (few_runs_warning(msg, size, side_b, prefix, s, r) && have++ == index) return 1;
+    return 0;
+}
+
 static int write_json(const char *path, const check_args *args, const check_side *a, const check_side *b,
                       const check_result *r, int status, rerror *e)
 {
@@ -417,11 +449,11 @@ static int write_json(const char *path, const check_args *args, const check_side
     fprintf(fp, ", \"equivalent\": %s},\n  \"warnings\": [", r->tost.equivalent ? "true" : "false");
     for (side = 0, count = 0; side < 2; ++side) {
         char msg[1024];
-        if (!correlated_warning(msg, sizeof msg, side, side ? side_file(&args->b) : side_file(&args->a), r,
-                                args->opt.block_size))
-            continue;
-        fputs(count++ ? ",\n    " : "\n    ", fp);
-        json_put_string(fp, msg);
+        int index;
+        for (index = 0; side_warning(msg, sizeof msg, side, index, args, side ? b : a, r); ++index) {
+            fputs(count++ ? ",\n    " : "\n    ", fp);
+            json_put_string(fp, msg);
+        }
     }
     fprintf(fp, "%s]\n}\n", count ? "\n  " : "");
     return atomic_file_commit(&f, e);
@@ -523,10 +555,9 @@ int cmd_check(int argc, char **argv)
     status = r.different || (args.require_equivalence && !r.tost.equivalent) ? 1 : 0;
     {
         char msg[1024];
-        int side;
+        int side, index;
         for (side = 0; side < 2; ++side)
-            if (correlated_warning(msg, sizeof msg, side, side ? side_file(&args.b) : side_file(&args.a), &r,
-                                   args.opt.block_size))
+            for (index = 0; side_warning(msg, sizeof msg, side, index, &args, side ? &b : &a, &r); ++index)
                 fprintf(stderr, "restir check: warning: %s\n", msg);
     }
     if (write_outputs(&args, &a, &b, &r, status, &e)) {
