@@ -24,6 +24,9 @@ typedef struct {
     enum check_correction correction; /* block family correction (default Sidak) */
     double margin;                    /* relative equivalence margin (default 0.01) */
     int block_size;                   /* block edge in pixels (default 8; 1 = per pixel) */
+    int skew_correction;              /* 1 (default): block tests on per-run block means discount
+                                         t on the tail opposite the pooled skewness (Hall 1992;
+                                         docs/statistics.md "Skewed per-run means"); 0: plain Welch */
 } check_options;
 
 void check_options_default(check_options *o);
@@ -41,17 +44,28 @@ typedef struct {
     double *run_means;        /* 3 per run (r, g, b image means), or NULL */
     double *block_run_means;  /* runs only: [run][block][channel] block means */
     moments acc;              /* runs only, while accumulating */
+    /* moments only: per-run block means read from the file set (PREFIX.blocks.bin), used
+     * for the block tests when one of these sizes is the check's block size */
+    int run_block_count;
+    int run_block_sizes[MOMENTS_MAX_BLOCK_SIZES];
+    double *run_block_means[MOMENTS_MAX_BLOCK_SIZES];
+    enum moments_correlation correlation; /* moments only: what the file set says */
 } check_side;
 
 /* Runs: block_size must equal the check_options block size used later. */
 int check_side_begin_runs(check_side *s, int width, int height, int block_size, rerror *e);
 int check_side_add_run(check_side *s, const image *run, const char *name, rerror *e);
 int check_side_end_runs(check_side *s, rerror *e); /* needs >= 2 runs */
-/* Takes ownership of f's images and run means (f is emptied). Needs f->runs >= 2. */
+/* Takes ownership of f's images, run means and per-run block means (f is emptied).
+ * Needs f->runs >= 2. */
 int check_side_from_moments(check_side *s, moments_file *f, const char *name, rerror *e);
 /* A reference taken as exact (zero variance). Takes ownership of ref (emptied). */
 int check_side_exact(check_side *s, image *ref, rerror *e);
 void check_side_free(check_side *s);
+/* Multiplies every run of the side by `factor` (means by factor, variances by factor^2):
+ * a planted relative bias factor - 1, for measuring the power of check
+ * (`restir check --scale-a`, scripts/power.sh). */
+void check_side_scale(check_side *s, double factor);
 
 typedef struct {
     int x, y, channel;  /* block coordinates (in blocks) and channel 0..2 */
@@ -63,6 +77,13 @@ typedef struct {
     /* image-mean luminance test (level alpha / 2) */
     stats_estimate lum_a, lum_b;
     int lum_a_exact_runs, lum_b_exact_runs; /* 1: from per-run means; 0: independent-pixel bound */
+    int blocks_a_from_runs, blocks_b_from_runs; /* 1: block variances from per-run block means (any
+                                                   pixel correlation); 0: independent-pixel formula
+                                                   (or an exact side) */
+    /* 1: the side is a moments file set whose renderer correlates pixels
+     * ("correlated_pixels": true) but which lacks the per-run statistics for a part
+     * (image mean or blocks at this block size): that part is anti-conservative. */
+    int correlated_warning_a, correlated_warning_b;
     stats_welch global;
     int global_reject;
     /* block family (level alpha / 2) */
@@ -71,6 +92,7 @@ typedef struct {
     long rejected;
     double block_threshold;  /* a block test rejects iff its p <= this */
     check_block worst;       /* smallest p */
+    double skew_a, skew_b;   /* pooled standardized skewness of the per-run block means (0 without them) */
     image block_z;           /* blocks_x x blocks_y, z per channel */
     /* pixels (diagnostic only, not part of the verdict) */
     image pixel_z;           /* width x height, z per channel, saturated at +-CHECK_Z_MAX */

@@ -33,6 +33,9 @@ static const char usage[] =
     "  --json OUT.json        machine-readable results\n"
     "  --z-map OUT.pfm|.png   per-pixel normal-equivalent z (PFM: per channel; PNG: red A>B, blue A<B)\n"
     "  --block-z-map OUT.pfm|.png   the same per block (one pixel per block)\n"
+    "  --no-skew-correction   plain Welch block tests (default: discount the tail opposite the\n"
+    "                         pooled skewness of the per-run block means, Hall 1992)\n"
+    "  --scale-a S            multiply side A by S (a planted relative bias S - 1, to measure power)\n"
     "  --quiet                print only the verdict line\n"
     "exit status: 0 consistent, 1 different, 2 usage or input error\n";
 
@@ -49,6 +52,7 @@ typedef struct {
     check_options opt;
     int require_equivalence, quiet, paired;
     const char *json, *z_map, *block_z_map;
+    double scale_a; /* --scale-a (0: not given) */
 } check_args;
 
 static int usage_error(const char *fmt, const char *arg)
@@ -96,7 +100,8 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
         const char *opt = argv[i];
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
         int needs_value = strcmp(opt, "--a") && strcmp(opt, "--b") && strcmp(opt, "--require-equivalence") &&
-                          strcmp(opt, "--paired") && strcmp(opt, "--quiet") && strcmp(opt, "--help") && strcmp(opt, "-h");
+                          strcmp(opt, "--paired") && strcmp(opt, "--quiet") && strcmp(opt, "--help") && strcmp(opt, "-h") &&
+                          strcmp(opt, "--no-skew-correction");
         if (needs_value && !val) return usage_error("%s needs a value", opt);
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             fputs(usage, stdout);
@@ -137,12 +142,18 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
         } else if (!strcmp(opt, "--require-equivalence")) {
             a->require_equivalence = 1;
             continue;
+        } else if (!strcmp(opt, "--no-skew-correction")) {
+            a->opt.skew_correction = 0;
+            continue;
         } else if (!strcmp(opt, "--quiet")) {
             a->quiet = 1;
             continue;
         } else if (!strcmp(opt, "--paired")) {
             a->paired = 1;
             continue;
+        } else if (!strcmp(opt, "--scale-a")) {
+            if (parse_double(val, &a->scale_a) || !(a->scale_a > 0 && a->scale_a < 1e6))
+                return usage_error("--scale-a must be a positive number, not '%s'", val);
         } else if (!strcmp(opt, "--json")) {
             a->json = val;
         } else if (!strcmp(opt, "--z-map")) {
@@ -289,6 +300,18 @@ static const char *side_kind_name(const check_side *s)
 
 static const char channel_names[3] = {'r', 'g', 'b'};
 
+/* Where a side's block variances come from. */
+static const char *block_source(const check_side *s, int from_runs)
+{
+    return s->kind == CHECK_SIDE_EXACT ? "exact" : from_runs ? "per-run block means" : "independent-pixel formula";
+}
+
+/* The file that names a side in messages. */
+static const char *side_file(const side_args *s)
+{
+    return s->run_count > 0 ? s->runs[0] : s->moments ? s->moments : s->ref;
+}
+
 static void put_key_number(FILE *fp, const char *indent, const char *key, double v, int last)
 {
     fprintf(fp, "%s\"%s\": ", indent, key);
@@ -308,11 +331,70 @@ static void put_estimate(FILE *fp, const char *key, stats_estimate est, const ch
             s->kind == CHECK_SIDE_EXACT ? "exact" : from_runs ? "per-run image means" : "independent-pixel bound");
 }
 
+/* The warning for a moments side from a renderer that correlates pixels but without the
+ * per-run statistics a part of the verdict needs (docs/statistics.md, "Correlated
+ * renderers"); returns 0 (no warning) or 1 with the text in msg. */
+static int correlated_warning(char *msg, size_t size, int side_b, const char *prefix, const check_result *r,
+                              int block_size)
+{
+    int warn = side_b ? r->correlated_warning_b : r->correlated_warning_a;
+    int blocks = side_b ? r->blocks_b_from_runs : r->blocks_a_from_runs;
+    int lum = side_b ? r->lum_b_exact_runs : r->lum_a_exact_runs;
+    char missing[96];
+    if (!warn) return 0;
+    if (!blocks && !lum)
+        snprintf(missing, sizeof missing, "image means nor block means at block size %d", block_size);
+    else if (!blocks)
+        snprintf(missing, sizeof missing, "block means at block size %d", block_size);
+    else
+        snprintf(missing, sizeof missing, "image means");
+    snprintf(msg, size,
+             "side %c (%s) comes from a renderer that correlates pixels (\"correlated_pixels\": true) but has no "
+             "per-run %s: %s independent pixels and can call a correct renderer different; re-render with "
+             "`restir render --runs K` (keeps per-run block means at block sizes 4, 8, 16, 32) or give the raw runs",
+             side_b ? 'B' : 'A', prefix, missing,
+             blocks ? "the image-mean test assumes" : lum ? "its block tests assume" : "both of its tests assume");
+    return 1;
+}
+
+/* Fewer runs than this from a renderer that correlates pixels: the block tests' false-alarm
+ * rate was measured above nominal (docs/statistics.md, "False alarms on correct ReSTIR"). */
+#define CHECK_CORRELATED_MIN_RUNS 16
+
+/* The warning for a side from a correlated renderer with per-run block means from too few
+ * runs; returns 0 (no warning) or 1 with the text in msg. */
+static int few_runs_warning(char *msg, size_t size, int side_b, const char *prefix, const check_side *s,
+                            const check_result *r)
+{
+    int blocks = side_b ? r->blocks_b_from_runs : r->blocks_a_from_runs;
+    if (s->kind != CHECK_SIDE_MOMENTS || s->correlation != MOMENTS_CORRELATED || !blocks ||
+        s->runs >= CHECK_CORRELATED_MIN_RUNS)
+        return 0;
+    snprintf(msg, size,
+             "side %c (%s) comes from a renderer that correlates pixels and has K = %ld runs: its per-run block "
+             "means are skewed, and with K < %d the block tests were measured to reject a correct ReSTIR more often "
+             "than alpha (docs/statistics.md, \"False alarms on correct ReSTIR\"); use K >= %d",
+             side_b ? 'B' : 'A', prefix, s->runs, CHECK_CORRELATED_MIN_RUNS, CHECK_CORRELATED_MIN_RUNS);
+    return 1;
+}
+
+/* Every warning about side `side_b` (0 = A, 1 = B), one at a time: index 0, 1, ... */
+static int side_warning(char *msg, size_t size, int side_b, int index, const check_args *args, const check_side *s,
+                        const check_result *r)
+{
+    const char *prefix = side_b ? side_file(&args->b) : side_file(&args->a);
+    int have = 0;
+    if (correlated_warning(msg, size, side_b, prefix, r, args->opt.block_size) && have++ == index) return 1;
+    if (few_runs_warning(msg, size, side_b, prefix, s, r) && have++ == index) return 1;
+    return 0;
+}
+
 static int write_json(const char *path, const check_args *args, const check_side *a, const check_side *b,
                       const check_result *r, int status, rerror *e)
 {
     atomic_file f;
     FILE *fp;
+    int side, count;
     if (atomic_file_open(&f, path, e)) return -1;
     fp = f.fp;
     fprintf(fp, "{\n  \"verdict\": \"%s\",\n  \"exit_status\": %d,\n", r->different ? "different" : "consistent",
@@ -336,6 +418,11 @@ static int write_json(const char *path, const check_args *args, const check_side
     put_key_number(fp, "    ", "family_level", 0.5 * args->opt.alpha, 0);
     put_key_number(fp, "    ", "p_threshold", r->block_threshold, 0);
     fprintf(fp, "    \"rejected\": %ld,\n", r->rejected);
+    fprintf(fp, "    \"skew_correction\": %s,\n", args->opt.skew_correction ? "true" : "false");
+    put_key_number(fp, "    ", "skewness_a", r->skew_a, 0);
+    put_key_number(fp, "    ", "skewness_b", r->skew_b, 0);
+    fprintf(fp, "    \"variance_from_a\": \"%s\",\n    \"variance_from_b\": \"%s\",\n", block_source(a, r->blocks_a_from_runs),
+            block_source(b, r->blocks_b_from_runs));
     fprintf(fp, "    \"most_extreme\": {\"x\": %d, \"y\": %d, \"channel\": \"%c\", \"diff\": ", r->worst.x, r->worst.y,
             channel_names[r->worst.channel]);
     json_put_number(fp, r->worst.test.diff);
@@ -367,7 +454,16 @@ static int write_json(const char *path, const check_args *args, const check_side
     json_put_number(fp, r->tost.p_upper);
     fputs(", \"p\": ", fp);
     json_put_number(fp, r->tost.p);
-    fprintf(fp, ", \"equivalent\": %s}\n}\n", r->tost.equivalent ? "true" : "false");
+    fprintf(fp, ", \"equivalent\": %s},\n  \"warnings\": [", r->tost.equivalent ? "true" : "false");
+    for (side = 0, count = 0; side < 2; ++side) {
+        char msg[1024];
+        int index;
+        for (index = 0; side_warning(msg, sizeof msg, side, index, args, side ? b : a, r); ++index) {
+            fputs(count++ ? ",\n    " : "\n    ", fp);
+            json_put_string(fp, msg);
+        }
+    }
+    fprintf(fp, "%s]\n}\n", count ? "\n  " : "");
     return atomic_file_commit(&f, e);
 }
 
@@ -420,6 +516,9 @@ static void print_summary(const check_args *args, const check_side *a, const che
            o->block_size, o->block_size, r->tests, r->blocks_x, r->blocks_y,
            o->correction == CHECK_BH ? "Benjamini-Hochberg" : "Sidak", 0.5 * o->alpha, r->block_threshold,
            r->rejected);
+    printf("  block variances: A %s, B %s; skewness of per-run block means A %.3g, B %.3g (%s)\n",
+           block_source(a, r->blocks_a_from_runs), block_source(b, r->blocks_b_from_runs), r->skew_a, r->skew_b,
+           o->skew_correction ? "skew-corrected tail" : "no skew correction");
     printf("  most extreme: block (%d, %d) channel %c, diff %.4g, t = %.4g, dof = %.4g, p = %.3g, z = %.3g\n",
            r->worst.x, r->worst.y, channel_names[r->worst.channel], r->worst.test.diff, r->worst.test.t,
            r->worst.test.dof, r->worst.test.p, r->worst.z);
@@ -435,10 +534,11 @@ static void print_summary(const check_args *args, const check_side *a, const che
            r->tost.equivalent ? "equivalent" : "not shown equivalent", r->tost.p);
 }
 
-/* The file that names a side in messages. */
-static const char *side_file(const side_args *s)
+/* --scale-a: the planted bias (never fails; an int for the chain of steps in cmd_check). */
+static int scale_side(check_side *a, double scale)
 {
-    return s->run_count > 0 ? s->runs[0] : s->moments ? s->moments : s->ref;
+    if (scale > 0) check_side_scale(a, scale);
+    return 0;
 }
 
 int cmd_check(int argc, char **argv)
@@ -455,6 +555,7 @@ int cmd_check(int argc, char **argv)
         ((a.width != b.width || a.height != b.height) &&
          rerror_at(&e, side_file(&args.b), 0, "image is %d x %d but side A (%s) is %d x %d", b.width, b.height,
                    side_file(&args.a), a.width, a.height)) ||
+        scale_side(&a, args.scale_a) ||
         (args.paired ? check_compare_paired(&a, &b, &args.opt, &r, &e) : check_compare(&a, &b, &args.opt, &r, &e))) {
         fprintf(stderr, "%s\n", e.msg);
         check_side_free(&a);
@@ -462,6 +563,13 @@ int cmd_check(int argc, char **argv)
         return 2;
     }
     status = r.different || (args.require_equivalence && !r.tost.equivalent) ? 1 : 0;
+    {
+        char msg[1024];
+        int side, index;
+        for (side = 0; side < 2; ++side)
+            for (index = 0; side_warning(msg, sizeof msg, side, index, &args, side ? &b : &a, &r); ++index)
+                fprintf(stderr, "restir check: warning: %s\n", msg);
+    }
     if (write_outputs(&args, &a, &b, &r, status, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         status = 2;

@@ -153,22 +153,53 @@ static int render_one(const render_args *a, const scene *s, uint32_t seed, const
     return render_aov_image(a, s, img);
 }
 
+/* The sidecar's "renderer" object of a --runs file set (the options of the first run). */
+static void write_runs_config(FILE *fp, const void *ctx, const char *indent)
+{
+    const render_args *a = ctx;
+    if (a->method == METHOD_RESTIR) {
+        restir_options o = a->restir;
+        o.seed = a->seed;
+        o.jitter = a->jitter;
+        o.threads = a->threads;
+        restir_options_write_json(fp, &o, indent);
+    } else if (a->method == METHOD_PT) {
+        fprintf(fp, "{\"spp\": %u, \"max_depth\": %d, \"jitter\": %s, \"seed\": %u}", a->pt.spp, a->pt.max_depth,
+                a->jitter ? "true" : "false", a->seed);
+    } else {
+        fprintf(fp, "{\"aov\": \"%s\", \"jitter\": %s, \"seed\": %u}", aov_choices[a->aov],
+                a->jitter ? "true" : "false", a->seed);
+    }
+}
+
 /* --runs K: K renders with seeds seed, seed+1, ..., seed+K-1 (independent, since every
  * random number's address contains the seed), reduced to per-pixel mean and sample
- * variance (docs/statistics.md, "moments files"). The mean goes to `img` for the preview. */
+ * variance, plus the per-run image and block means that keep `restir check` exact when
+ * the renderer correlates pixels (ReSTIR's spatial reuse; docs/statistics.md, "moments
+ * files"). The mean goes to `img` for the preview. */
 static int render_runs(const render_args *a, const scene *s, const char *out, image *img, render_timings *t)
 {
     moments m;
+    moments_meta meta;
     rerror e;
     char prefix[4096], name[64];
     size_t n = strlen(out);
     int k, status = 0;
     e.msg[0] = '\0';
     snprintf(prefix, sizeof prefix, "%.*s", (int)(n > 4 && !strcmp(out + n - 4, ".pfm") ? n - 4 : n), out);
-    if (moments_init(&m, s->width, s->height, &e)) {
+    if (moments_init(&m, s->width, s->height, &e) ||
+        moments_set_block_sizes(&m, moments_default_block_sizes, 4, &e)) {
         fprintf(stderr, "%s\n", e.msg);
+        moments_free(&m);
         return 2;
     }
+    meta.method = method_names[a->method];
+    meta.write_config = write_runs_config;
+    meta.ctx = a;
+    /* Spatial reuse shares samples between pixels of one run; everything else keeps the
+     * pixels of a run independent (their random numbers are addressed by pixel). */
+    meta.correlation =
+        a->method == METHOD_RESTIR && a->restir.spatial_passes > 0 ? MOMENTS_CORRELATED : MOMENTS_INDEPENDENT;
     for (k = 0; k < a->runs && !status; ++k) {
         image run;
         status = render_one(a, s, a->seed + (uint32_t)k, NULL, &run, t);
@@ -177,7 +208,7 @@ static int render_runs(const render_args *a, const scene *s, const char *out, im
         if (moments_add(&m, &run, name, &e)) status = 2;
         image_free(&run);
     }
-    if (!status && moments_write(prefix, &m, &e)) status = 2;
+    if (!status && moments_write_meta(prefix, &m, &meta, &e)) status = 2;
     if (!status) {
         image var;
         if (moments_images(&m, img, &var, &e)) status = 2;

@@ -2,12 +2,56 @@
  * docs/statistics.md "Moments files"). */
 #include "restir/moments.h"
 
+#include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/atomic_file.h"
 #include "restir/json_text.h"
 #include "restir/output_set.h"
+
+const int moments_default_block_sizes[4] = {4, 8, 16, 32};
+
+long moments_block_count(int width, int height, int b)
+{
+    return (long)((width + b - 1) / b) * (long)((height + b - 1) / b);
+}
+
+void moments_block_means(const image *img, int b, double *out)
+{
+    int blocks_x = (img->width + b - 1) / b, blocks_y = (img->height + b - 1) / b, x, y, c, bx, by;
+    memset(out, 0, (size_t)blocks_x * (size_t)blocks_y * 3 * sizeof *out);
+    for (y = 0; y < img->height; ++y)
+        for (x = 0; x < img->width; ++x) {
+            const float *p = image_pixel(img, x, y);
+            double *o = out + 3 * ((long)(y / b) * blocks_x + x / b);
+            for (c = 0; c < 3; ++c) o[c] += p[c];
+        }
+    for (by = 0; by < blocks_y; ++by)
+        for (bx = 0; bx < blocks_x; ++bx) {
+            int w = img->width - bx * b < b ? img->width - bx * b : b;
+            int h = img->height - by * b < b ? img->height - by * b : b;
+            double *o = out + 3 * ((long)by * blocks_x + bx);
+            for (c = 0; c < 3; ++c) o[c] /= (double)w * (double)h;
+        }
+}
+
+int moments_set_block_sizes(moments *m, const int *sizes, int count, rerror *e)
+{
+    int i, j;
+    if (m->runs > 0) return rerror_set(e, "moments: block sizes must be set before the first run");
+    if (count < 0 || count > MOMENTS_MAX_BLOCK_SIZES)
+        return rerror_set(e, "moments: %d block sizes (at most %d)", count, MOMENTS_MAX_BLOCK_SIZES);
+    for (i = 0; i < count; ++i) {
+        if (sizes[i] < 1 || sizes[i] > 4096) return rerror_set(e, "moments: block size %d is not 1..4096", sizes[i]);
+        for (j = 0; j < i; ++j)
+            if (sizes[j] == sizes[i]) return rerror_set(e, "moments: block size %d given twice", sizes[i]);
+    }
+    for (i = 0; i < count; ++i) m->block_sizes[i] = sizes[i];
+    m->block_size_count = count;
+    return 0;
+}
 
 int moments_init(moments *m, int width, int height, rerror *e)
 {
@@ -30,7 +74,9 @@ void moments_free(moments *m)
 {
     free(m->mean);
     free(m->m2);
+    int i;
     free(m->run_means);
+    for (i = 0; i < m->block_size_count; ++i) free(m->block_means[i]);
     memset(m, 0, sizeof *m);
 }
 
@@ -57,10 +103,21 @@ int moments_add(moments *m, const image *run, const char *name, rerror *e)
     if (check_finite(run, name, e)) return -1;
     if (m->runs == m->run_capacity) {
         long cap = m->run_capacity ? 2 * m->run_capacity : 16;
+        int j;
         double *grown = realloc(m->run_means, (size_t)cap * 3 * sizeof *grown);
         if (!grown) return rerror_set(e, "out of memory (per-run means)");
         m->run_means = grown;
+        for (j = 0; j < m->block_size_count; ++j) {
+            long blocks = moments_block_count(m->width, m->height, m->block_sizes[j]);
+            grown = realloc(m->block_means[j], (size_t)cap * (size_t)blocks * 3 * sizeof *grown);
+            if (!grown) return rerror_set(e, "out of memory (per-run block means)");
+            m->block_means[j] = grown;
+        }
         m->run_capacity = cap;
+    }
+    for (i = 0; i < (size_t)m->block_size_count; ++i) {
+        long blocks = moments_block_count(m->width, m->height, m->block_sizes[i]);
+        moments_block_means(run, m->block_sizes[i], m->block_means[i] + (size_t)m->runs * (size_t)blocks * 3);
     }
     m->runs++;
     count = (double)m->runs;
@@ -90,12 +147,20 @@ int moments_images(const moments *m, image *mean, image *var, rerror *e)
     return 0;
 }
 
+static int write_set(const char *prefix, const image *mean, const image *var, long runs, const double *run_means,
+                     const moments *blocks, const moments_meta *meta, rerror *e);
+
 int moments_write(const char *prefix, const moments *m, rerror *e)
+{
+    return moments_write_meta(prefix, m, NULL, e);
+}
+
+int moments_write_meta(const char *prefix, const moments *m, const moments_meta *meta, rerror *e)
 {
     image mean, var;
     int status;
     if (moments_images(m, &mean, &var, e)) return -1;
-    status = moments_write_images(prefix, &mean, &var, m->runs, m->run_means, e);
+    status = write_set(prefix, &mean, &var, m->runs, m->run_means, m->block_size_count > 0 ? m : NULL, meta, e);
     image_free(&mean);
     image_free(&var);
     return status;
@@ -108,8 +173,59 @@ static const char *base_name(const char *path)
     return slash ? slash + 1 : path;
 }
 
+/* The per-run block means file (docs/statistics.md, "Per-run block means"): the magic
+ * MOMENTS_BLOCKS_MAGIC, then IEEE-754 binary64 little-endian values, per block size in
+ * the sidecar's order, per run, per block row (top first), block column, channel. */
+#define MOMENTS_BLOCKS_MAGIC "RSBLOCK1"
+
+static void put_f64le(FILE *fp, double v)
+{
+    unsigned char b[8];
+    uint64_t u;
+    int i;
+    memcpy(&u, &v, sizeof u);
+    for (i = 0; i < 8; ++i) b[i] = (unsigned char)(u >> (8 * i));
+    fwrite(b, 1, 8, fp);
+}
+
+static int write_blocks(const char *staged, const moments *m, rerror *e)
+{
+    atomic_file f;
+    int j;
+    size_t i;
+    if (atomic_file_open(&f, staged, e)) return -1;
+    fwrite(MOMENTS_BLOCKS_MAGIC, 1, 8, f.fp);
+    for (j = 0; j < m->block_size_count; ++j) {
+        size_t n = (size_t)m->runs * (size_t)moments_block_count(m->width, m->height, m->block_sizes[j]) * 3;
+        for (i = 0; i < n; ++i) put_f64le(f.fp, m->block_means[j][i]);
+    }
+    return atomic_file_commit(&f, e);
+}
+
+static void write_meta(FILE *fp, const char *blocks_name, const moments *blocks, const moments_meta *meta)
+{
+    int j;
+    if (meta && meta->method) {
+        fprintf(fp, ",\n  \"method\": ");
+        json_put_string(fp, meta->method);
+    }
+    if (meta && meta->correlation != MOMENTS_CORRELATION_UNKNOWN)
+        fprintf(fp, ",\n  \"correlated_pixels\": %s", meta->correlation == MOMENTS_CORRELATED ? "true" : "false");
+    if (meta && meta->write_config) {
+        fprintf(fp, ",\n  \"renderer\": ");
+        meta->write_config(fp, meta->ctx, "  ");
+    }
+    if (blocks) {
+        fprintf(fp, ",\n  \"block_sizes\": [");
+        for (j = 0; j < blocks->block_size_count; ++j) fprintf(fp, "%s%d", j ? ", " : "", blocks->block_sizes[j]);
+        fprintf(fp, "],\n  \"block_means\": ");
+        json_put_string(fp, blocks_name);
+    }
+}
+
 static int write_sidecar(const char *staged, const char *mean_name, const char *var_name, const image *mean,
-                         long runs, const double *run_means, rerror *e)
+                         long runs, const double *run_means, const char *blocks_name, const moments *blocks,
+                         const moments_meta *meta, rerror *e)
 {
     atomic_file f;
     long k;
@@ -119,6 +235,7 @@ static int write_sidecar(const char *staged, const char *mean_name, const char *
     json_put_string(f.fp, mean_name);
     fprintf(f.fp, ",\n  \"var\": ");
     json_put_string(f.fp, var_name);
+    write_meta(f.fp, blocks_name, blocks, meta);
     if (run_means) {
         fprintf(f.fp, ",\n  \"run_means\": [");
         for (k = 0; k < runs; ++k) {
@@ -139,7 +256,13 @@ static int write_sidecar(const char *staged, const char *mean_name, const char *
 int moments_write_images(const char *prefix, const image *mean, const image *var, long runs,
                          const double *run_means, rerror *e)
 {
-    char mean_path[4096], var_path[4096], json_path[4096];
+    return write_set(prefix, mean, var, runs, run_means, NULL, NULL, e);
+}
+
+static int write_set(const char *prefix, const image *mean, const image *var, long runs, const double *run_means,
+                     const moments *blocks, const moments_meta *meta, rerror *e)
+{
+    char mean_path[4096], var_path[4096], json_path[4096], blocks_path[4096];
     const char *staged;
     output_set out;
     if (runs < 1) return rerror_set(e, "%s: moments need at least one run", prefix);
@@ -147,13 +270,16 @@ int moments_write_images(const char *prefix, const image *mean, const image *var
         return rerror_set(e, "%s: mean and variance images differ in size", prefix);
     if (snprintf(mean_path, sizeof mean_path, "%s.mean.pfm", prefix) >= (int)sizeof mean_path ||
         snprintf(var_path, sizeof var_path, "%s.var.pfm", prefix) >= (int)sizeof var_path ||
-        snprintf(json_path, sizeof json_path, "%s.moments.json", prefix) >= (int)sizeof json_path)
+        snprintf(json_path, sizeof json_path, "%s.moments.json", prefix) >= (int)sizeof json_path ||
+        snprintf(blocks_path, sizeof blocks_path, "%s.blocks.bin", prefix) >= (int)sizeof blocks_path)
         return rerror_set(e, "%s: path too long", prefix);
     output_set_init(&out);
     if (!(staged = output_set_stage(&out, mean_path, e)) || pfm_write(staged, mean, e)) goto fail;
     if (!(staged = output_set_stage(&out, var_path, e)) || pfm_write(staged, var, e)) goto fail;
+    if (blocks && (!(staged = output_set_stage(&out, blocks_path, e)) || write_blocks(staged, blocks, e))) goto fail;
     if (!(staged = output_set_stage(&out, json_path, e)) ||
-        write_sidecar(staged, base_name(mean_path), base_name(var_path), mean, runs, run_means, e))
+        write_sidecar(staged, base_name(mean_path), base_name(var_path), mean, runs, run_means,
+                      base_name(blocks_path), blocks, meta, e))
         goto fail;
     return output_set_commit(&out, e);
 fail:
@@ -165,9 +291,12 @@ fail:
 
 typedef struct {
     long runs, width, height, version;
-    char format[64], mean[4096], var[4096];
+    char format[64], mean[4096], var[4096], blocks[4096], method[64];
     double *run_means;
     long run_means_count;
+    int block_size_count;
+    int block_sizes[MOMENTS_MAX_BLOCK_SIZES];
+    enum moments_correlation correlation;
 } sidecar;
 
 static int read_integer(json_reader *r, const char *key, long lo, long *out)
@@ -206,6 +335,43 @@ static int read_run_means(json_reader *r, sidecar *s)
     return json_expect(r, ']');
 }
 
+static int read_block_sizes(json_reader *r, sidecar *s)
+{
+    if (json_expect(r, '[')) return -1;
+    if (json_peek(r) == ']') return json_expect(r, ']');
+    for (;;) {
+        long b;
+        int j;
+        if (s->block_size_count == MOMENTS_MAX_BLOCK_SIZES)
+            return rerror_at(r->e, r->path, r->line, "\"block_sizes\" has more than %d entries",
+                             MOMENTS_MAX_BLOCK_SIZES);
+        if (read_integer(r, "block_sizes", 1, &b)) return -1;
+        if (b > 4096) return rerror_at(r->e, r->path, r->line, "block size %ld is larger than 4096", b);
+        for (j = 0; j < s->block_size_count; ++j)
+            if (s->block_sizes[j] == b) return rerror_at(r->e, r->path, r->line, "block size %ld given twice", b);
+        s->block_sizes[s->block_size_count++] = (int)b;
+        if (json_peek(r) != ',') break;
+        r->pos++;
+    }
+    return json_expect(r, ']');
+}
+
+static int read_bool(json_reader *r, const char *key, enum moments_correlation *out)
+{
+    json_peek(r); /* skips white space */
+    if (!strncmp(r->text + r->pos, "true", 4)) {
+        r->pos += 4;
+        *out = MOMENTS_CORRELATED;
+        return 0;
+    }
+    if (!strncmp(r->text + r->pos, "false", 5)) {
+        r->pos += 5;
+        *out = MOMENTS_INDEPENDENT;
+        return 0;
+    }
+    return rerror_at(r->e, r->path, r->line, "\"%s\" must be true or false", key);
+}
+
 static int read_sidecar(const char *path, sidecar *s, rerror *e)
 {
     json_reader r;
@@ -234,6 +400,14 @@ static int read_sidecar(const char *path, sidecar *s, rerror *e)
                 status = json_read_string(&r, s->var, sizeof s->var);
             else if (!strcmp(key, "run_means"))
                 status = read_run_means(&r, s);
+            else if (!strcmp(key, "block_sizes"))
+                status = read_block_sizes(&r, s);
+            else if (!strcmp(key, "block_means"))
+                status = json_read_string(&r, s->blocks, sizeof s->blocks);
+            else if (!strcmp(key, "correlated_pixels"))
+                status = read_bool(&r, key, &s->correlation);
+            else if (!strcmp(key, "method"))
+                status = json_read_string(&r, s->method, sizeof s->method);
             else
                 status = json_skip_value(&r); /* unknown keys are allowed (forward compatible) */
             if (status) goto fail;
@@ -251,6 +425,10 @@ static int read_sidecar(const char *path, sidecar *s, rerror *e)
     }
     if (s->runs < 1 || s->width < 1 || s->height < 1 || !s->mean[0] || !s->var[0]) {
         rerror_at(e, path, 0, "missing one of \"runs\", \"width\", \"height\", \"mean\", \"var\"");
+        goto fail;
+    }
+    if ((s->block_size_count > 0) != (s->blocks[0] != '\0')) {
+        rerror_at(e, path, 0, "\"block_sizes\" and \"block_means\" go together");
         goto fail;
     }
     if (s->run_means && s->run_means_count != s->runs) {
@@ -300,9 +478,65 @@ static int check_image(const char *json_path, const char *path, const image *img
     return 0;
 }
 
+static double get_f64le(const unsigned char *b)
+{
+    uint64_t u = 0;
+    double v;
+    int i;
+    for (i = 7; i >= 0; --i) u = (u << 8) | b[i];
+    memcpy(&v, &u, sizeof v);
+    return v;
+}
+
+/* PREFIX.blocks.bin (see write_blocks): the exact size the sidecar implies, finite values. */
+static int read_blocks(const char *path, const sidecar *s, moments_file *out, rerror *e)
+{
+    FILE *fp = fopen(path, "rb");
+    unsigned char magic[8], b[8];
+    long expected = 8, size;
+    int j;
+    for (j = 0; j < s->block_size_count; ++j)
+        expected += 8L * 3 * s->runs * moments_block_count((int)s->width, (int)s->height, s->block_sizes[j]);
+    if (!fp) return rerror_at(e, path, 0, "cannot open: %s", strerror(errno));
+    if (fseek(fp, 0, SEEK_END) != 0 || (size = ftell(fp)) < 0 || fseek(fp, 0, SEEK_SET) != 0) {
+        fclose(fp);
+        return rerror_at(e, path, 0, "cannot read: %s", strerror(errno));
+    }
+    if (fread(magic, 1, 8, fp) != 8 || memcmp(magic, MOMENTS_BLOCKS_MAGIC, 8) != 0) {
+        fclose(fp);
+        return rerror_at(e, path, 0, "not a per-run block means file (no \"" MOMENTS_BLOCKS_MAGIC "\" at the start)");
+    }
+    if (size != expected) {
+        fclose(fp);
+        return rerror_at(e, path, 0, "%ld bytes, but %ld runs of %d x %d pixels at the given block sizes need %ld",
+                         size, s->runs, (int)s->width, (int)s->height, expected);
+    }
+    for (j = 0; j < s->block_size_count; ++j) {
+        size_t i, n = (size_t)s->runs * (size_t)moments_block_count((int)s->width, (int)s->height, s->block_sizes[j]) * 3;
+        double *v = rmalloc(n, sizeof *v, e);
+        out->block_means[j] = v;
+        out->block_sizes[j] = s->block_sizes[j];
+        out->block_size_count = j + 1;
+        if (!v) break;
+        for (i = 0; i < n; ++i) {
+            if (fread(b, 1, 8, fp) != 8) {
+                fclose(fp);
+                return rerror_at(e, path, 0, "read failed");
+            }
+            v[i] = get_f64le(b);
+            if (!isfinite(v[i])) {
+                fclose(fp);
+                return rerror_at(e, path, 0, "block size %d: value %zu is not finite", s->block_sizes[j], i);
+            }
+        }
+    }
+    fclose(fp);
+    return j < s->block_size_count ? -1 : 0;
+}
+
 int moments_read(const char *path, moments_file *out, rerror *e)
 {
-    char json_path[4096], mean_path[4096], var_path[4096];
+    char json_path[4096], mean_path[4096], var_path[4096], blocks_path[4096];
     sidecar s;
     memset(out, 0, sizeof *out);
     if (snprintf(json_path, sizeof json_path, has_suffix(path, ".moments.json") ? "%s" : "%s.moments.json", path) >=
@@ -310,23 +544,30 @@ int moments_read(const char *path, moments_file *out, rerror *e)
         return rerror_set(e, "%s: path too long", path);
     if (read_sidecar(json_path, &s, e)) return -1;
     if (sibling_path(mean_path, sizeof mean_path, json_path, s.mean) ||
-        sibling_path(var_path, sizeof var_path, json_path, s.var)) {
+        sibling_path(var_path, sizeof var_path, json_path, s.var) ||
+        sibling_path(blocks_path, sizeof blocks_path, json_path, s.blocks)) {
         free(s.run_means);
         return rerror_at(e, json_path, 0, "image path too long");
     }
     if (pfm_read(mean_path, &out->mean, NULL, e) || check_image(json_path, mean_path, &out->mean, &s, 0, e) ||
-        pfm_read(var_path, &out->var, NULL, e) || check_image(json_path, var_path, &out->var, &s, 1, e)) {
+        pfm_read(var_path, &out->var, NULL, e) || check_image(json_path, var_path, &out->var, &s, 1, e) ||
+        (s.block_size_count > 0 && read_blocks(blocks_path, &s, out, e))) {
         free(s.run_means);
         moments_file_free(out);
         return -1;
     }
     out->runs = s.runs;
     out->run_means = s.run_means;
+    out->correlation = s.correlation;
+    memcpy(out->method, s.method, sizeof out->method);
     return 0;
 }
 
 void moments_file_free(moments_file *f)
 {
+    int j;
+    for (j = 0; j < f->block_size_count; ++j) free(f->block_means[j]);
+    f->block_size_count = 0;
     image_free(&f->mean);
     image_free(&f->var);
     free(f->run_means);
