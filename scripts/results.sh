@@ -4,7 +4,8 @@
 #   make results                          (= sh scripts/results.sh out/results build)
 #   SEEDS=2 SIZE=16 make results          (smoke run, ~1 minute; does not touch docs/)
 # Knobs (environment): SEEDS (runs per point, default 5), SIZE (Figs. 7, 8, 11 image side,
-# default 64), ET_SIZE (equal time, default 2 * SIZE), FIG_REF_SPP (4096), ET_FRAMES (ReSTIR
+# default 64), ET_SIZE (equal time, default 2 * SIZE), FIG_REF_SPP (4096; Figs. 7, 8),
+# F11_REF_SPP (Fig. 11, default FIG_REF_SPP), TALBOT_MAX_R (7: Fig. 8 Talbot windows), ET_FRAMES (ReSTIR
 # frames per equal-time run, 1), ET_SCENES ("cornell ajar"), ET_REF_PT_SPP (1024),
 # ET_REF_FRAMES (32), THREADS (2), PARTS ("fig7 fig11 equal_time fig8";
 # PARTS=docs WRITE_DOCS=1 only splices the sections of an earlier run into docs/results.md).
@@ -22,7 +23,7 @@ HERE=$(dirname "$0")
 SUMMARY="$HERE/results/summary.awk"
 
 smoke=0
-for knob in SEEDS SIZE ET_SIZE FIG_REF_SPP ET_FRAMES ET_SCENES ET_REF_PT_SPP ET_REF_FRAMES PARTS; do
+for knob in SEEDS SIZE ET_SIZE FIG_REF_SPP F11_REF_SPP TALBOT_MAX_R ET_FRAMES ET_SCENES ET_REF_PT_SPP ET_REF_FRAMES PARTS; do
     eval "[ -n \"\${$knob+x}\" ]" && smoke=1
 done
 [ "${WRITE_DOCS:-}" = 1 ] && smoke=0
@@ -31,6 +32,8 @@ SEEDS=${SEEDS:-5}
 SIZE=${SIZE:-64}
 ET_SIZE=${ET_SIZE:-$((2 * SIZE))}
 FIG_REF_SPP=${FIG_REF_SPP:-4096}
+F11_REF_SPP=${F11_REF_SPP:-$FIG_REF_SPP}
+TALBOT_MAX_R=${TALBOT_MAX_R:-7}
 ET_FRAMES=${ET_FRAMES:-1}
 ET_SCENES=${ET_SCENES:-cornell ajar}
 ET_REF_PT_SPP=${ET_REF_PT_SPP:-1024}

@@ -77,7 +77,7 @@ fig8() {
         for r in 1 2 3 5 7 10 15; do
             w=$(((2 * r + 1) * (2 * r + 1)))
             for mis in constant pairwise pairwise-defensive talbot; do
-                if [ $mis = talbot ] && [ $r -gt 7 ]; then continue; fi # O(M^2) shifts
+                if [ $mis = talbot ] && [ $r -gt "$TALBOT_MAX_R" ]; then continue; fi # O(M^2) shifts
                 window_run "$seed" "$runs" "$w" "$mis" --candidates 1 --radius "$r" --mis "$mis"
             done
         done
@@ -85,7 +85,7 @@ fig8() {
     summarise "$runs" fig8 window_pixels "GRIS Fig. 8: growing window, N = 1, grey Cornell indirect, ${SIZE}^2, $SEEDS seeds" \
         "window pixels (2r+1)^2" "relMSE (one frame)"
     {
-        echo "Setup: as Fig. 7 with N = 1 path tree per pixel and box windows of (2r + 1)² pixels, r = 1, 2, 3, 5, 7, 10, 15 (Talbot only up to r = 7: (M − 1)² shifts per pixel); ${SIZE} × ${SIZE}, $SEEDS seeds, mean ± 95% interval."
+        echo "Setup: as Fig. 7 with N = 1 path tree per pixel and box windows of (2r + 1)² pixels, r = 1, 2, 3, 5, 7, 10, 15 (Talbot only up to r = $TALBOT_MAX_R: (M − 1)² shifts per pixel); ${SIZE} × ${SIZE}, $SEEDS seeds, mean ± 95% interval."
         echo "$(ref_line "$GREF" "$(smallest_mean "$OUT/fig8.csv")") (The same reference as Fig. 7.)"
         echo
         echo "Effective window: the mean number of domains per pixel (the pixel itself and its neighbours inside the image; no other rejection):"
@@ -97,7 +97,7 @@ fig8() {
         cat "$OUT/fig8.table.md"
         echo
         echo "Ratio relMSE(961-pixel window) / relMSE(49-pixel window) per seed (paired), mean ± 95% interval:"
-        echo "constant $(drop "$runs" constant 961 49), pairwise $(drop "$runs" pairwise 961 49), pairwise defensive $(drop "$runs" pairwise-defensive 961 49); Talbot relMSE(225) / relMSE(49): $(drop "$runs" talbot 225 49)."
+        echo "constant $(drop "$runs" constant 961 49), pairwise $(drop "$runs" pairwise 961 49), pairwise defensive $(drop "$runs" pairwise-defensive 961 49); Talbot relMSE($(((2 * TALBOT_MAX_R + 1) * (2 * TALBOT_MAX_R + 1)))) / relMSE(49): $(drop "$runs" talbot $(((2 * TALBOT_MAX_R + 1) * (2 * TALBOT_MAX_R + 1))) 49)."
     } > "$OUT/fig8.section.md"
 }
 
@@ -108,7 +108,7 @@ F11_OPTS="--method restir --candidates 4 --spatial-passes 3 --neighbors 6 --radi
 fig11() {
     runs="$OUT/fig11.runs.csv"; : > "$runs"
     for S in cornell cornell-glossy; do
-        ref=$(reference "$S" "$SIZE" "scenes/$S.scene" pt "$FIG_REF_SPP")
+        ref=$(reference "$S" "$SIZE" "scenes/$S.scene" pt "$F11_REF_SPP")
         eval "ref_$(echo $S | tr - _)=\$ref"
         for seed in $(seq_seeds); do
             for shift in reconnection hybrid; do
@@ -131,7 +131,7 @@ fig11() {
         echo "Setup: \`cornell\` (GGX roughness 0.5) and \`cornell-glossy\` (roughness 0.15), ${SIZE} × ${SIZE}, all light, max depth 10, 4 path trees, 3 spatial passes, 6 neighbours (r2) in radius 3, Talbot MIS, the mean of T independent frames; $SEEDS seeds, mean ± 95% interval."
         echo "cornell: $(ref_line "$ref_cornell" "$(awk -F, 'NR > 1 { if (m == "" || $2 < m) m = $2; if ($3 < m) m = $3 } END { print m }' "$OUT/fig11.csv")")"
         echo "cornell-glossy: $(ref_line "$ref_cornell_glossy" "$(awk -F, 'NR > 1 { if (m == "" || $4 < m) m = $4; if ($5 < m) m = $5 } END { print m }' "$OUT/fig11.csv")")"
-        echo "References: path tracer, $FIG_REF_SPP spp, seed 9001."
+        echo "References: path tracer, $F11_REF_SPP spp, seed 9001."
         echo
         cat "$OUT/fig11.table.md"
         echo
