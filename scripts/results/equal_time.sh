@@ -79,6 +79,18 @@ equal_time() {
             done
         done
     done
+    equal_time_section
+}
+
+# The tables of the equal-time part from OUT/equal_time.runs.csv and .speedup.csv (also on
+# its own: PARTS="equal_time_section docs" WRITE_DOCS=1 with the knobs of the run).
+equal_time_section() {
+    runs="$OUT/equal_time.runs.csv"; speed="$OUT/equal_time.speedup.csv"; refs="$TMP/equal_time.refs"
+    # the same speed-up from MAPE, assuming MAPE ~ 1 / sqrt(time): (MAPE_PT / MAPE_ReSTIR)^2 t_PT / t_ReSTIR
+    awk -F, '{ v[$1, $2, $3] = $4; if (!(($1, $3) in seen)) { seen[$1, $3] = 1; key[++n] = $1 SUBSEP $3 } }
+        END { for (i = 1; i <= n; ++i) { split(key[i], k, SUBSEP); x = k[1]; s = k[2]
+            a = v[x, "PT MAPE", s] / v[x, "ReSTIR MAPE", s]
+            printf "%s,%.6g\n", x, a * a * v[x, "PT seconds", s] / v[x, "ReSTIR seconds", s] } }' "$runs" > "$OUT/equal_time.speedup_mape.csv"
     # per-seed relMSE of both methods (the spread behind the intervals), for the plot
     awk -F, '$2 == "ReSTIR relMSE" || $2 == "PT relMSE" { print $3 "," $1 " " $2 "," $3 "," $4 }' "$runs" |
         awk -F, -v mode=wide -v xname=seed -f "$SUMMARY" > "$OUT/equal_time.csv"
@@ -92,9 +104,11 @@ equal_time() {
         echo
         echo "Speed-up (time the path tracer needs for ReSTIR's relMSE / ReSTIR's time = ratio of efficiencies, per seed), geometric mean [95% interval over seeds]:"
         echo
-        echo "| scene, light | speed-up of ReSTIR over PT (relMSE) |"
-        echo "|---|---|"
-        while IFS='|' read -r x ref; do echo "| $x | $(geo_ci "$speed" "$x") |"; done < "$refs"
+        echo "| scene, light | speed-up of ReSTIR over PT (relMSE) | the same from MAPE, assuming MAPE ∝ 1/√time |"
+        echo "|---|---|---|"
+        while IFS='|' read -r x ref; do
+            echo "| $x | $(geo_ci "$speed" "$x") | $(geo_ci "$OUT/equal_time.speedup_mape.csv" "$x") |"
+        done < "$refs"
         echo
         echo "References and their own error (measured from their two halves; ratio = reference error / the smaller of the two methods' mean errors it judges):"
         echo
