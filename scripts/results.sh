@@ -1,162 +1,127 @@
 #!/bin/sh
-# Regenerates the measurements of docs/results.md (the GRIS claims, Figs. 7, 8, 11 and
-# equal-time ReSTIR PT vs the path tracer) with our own CLI: render, compare, plot.
-#   make results            (or: sh scripts/results.sh [OUT_DIR] [BUILD_DIR])
-# Small images and short runs so that it fits a 2-core machine in ~10 minutes; the sizes
-# are variables below. Not part of `make test`.
+# Regenerates the measurements of docs/results.md (GRIS Figs. 7, 8, 11 and offline ReSTIR PT
+# vs the path tracer at equal time) with our own CLI: render, compare, merge, plot.
+#   make results                          (= sh scripts/results.sh out/results build)
+#   SEEDS=2 SIZE=16 make results          (smoke run, ~1 minute; does not touch docs/)
+# Knobs (environment): SEEDS (runs per point, default 5), SIZE (Figs. 7, 8, 11 image side,
+# default 64), ET_SIZE (equal time, default 2 * SIZE), FIG_REF_SPP (4096; Figs. 7, 8),
+# F11_REF_SPP (Fig. 11, default FIG_REF_SPP), TALBOT_MAX_R (7: Fig. 8 Talbot windows), ET_FRAMES (ReSTIR
+# frames per equal-time run, 1), ET_SCENES ("cornell ajar"), ET_REF_PT_SPP (1024),
+# ET_REF_FRAMES (32), THREADS (2), PARTS ("fig7 fig11 equal_time fig8";
+# PARTS=docs WRITE_DOCS=1 only splices the sections of an earlier run into docs/results.md).
+# WRITE_DOCS=0 never touches docs/.
+# A run with every knob at its default (or WRITE_DOCS=1) also rewrites the generated tables
+# of docs/results.md and copies the plots to docs/results/; any knob set makes it a smoke
+# run that writes only out/results/.
+# References are cached in OUT/cache (keyed by scene, size, method, budget, seed) and reused.
+# Not part of `make test`.
 set -eu
 OUT=${1:-out/results}
-R=${2:-build}/restir
-SIZE=${SIZE:-32}
-THREADS=${THREADS:-2}
-REF_SPP=${REF_SPP:-16384}
-mkdir -p "$OUT"
-TMP="$OUT/tmp"
-mkdir -p "$TMP"
+BUILD=${2:-build}
+R=$BUILD/restir
+HERE=$(dirname "$0")
+SUMMARY="$HERE/results/summary.awk"
 
+smoke=0
+for knob in SEEDS SIZE ET_SIZE FIG_REF_SPP F11_REF_SPP TALBOT_MAX_R ET_FRAMES ET_SCENES ET_REF_PT_SPP ET_REF_FRAMES PARTS; do
+    eval "[ -n \"\${$knob+x}\" ]" && smoke=1
+done
+[ "${WRITE_DOCS:-}" = 1 ] && smoke=0
+[ "${WRITE_DOCS:-}" = 0 ] && smoke=1
+SEEDS=${SEEDS:-5}
+SIZE=${SIZE:-64}
+ET_SIZE=${ET_SIZE:-$((2 * SIZE))}
+FIG_REF_SPP=${FIG_REF_SPP:-4096}
+F11_REF_SPP=${F11_REF_SPP:-$FIG_REF_SPP}
+TALBOT_MAX_R=${TALBOT_MAX_R:-7}
+ET_FRAMES=${ET_FRAMES:-1}
+ET_SCENES=${ET_SCENES:-cornell ajar}
+ET_REF_PT_SPP=${ET_REF_PT_SPP:-1024}
+ET_REF_FRAMES=${ET_REF_FRAMES:-32}
+THREADS=${THREADS:-2}
+PARTS=${PARTS:-fig7 fig11 equal_time fig8}
+TMP="$OUT/tmp"
+CACHE="$OUT/cache"
+mkdir -p "$OUT" "$TMP" "$CACHE"
+
+# ---- helpers ------------------------------------------------------------------------------
 # metric NAME TEST.pfm REF.pfm: one value from `restir compare`
 metric() { "$R" compare "$2" "$3" | awk -v m="$1" '$1 == m { print $2 }'; }
-# seconds of the last render (its --stats file)
-render_seconds() { grep -o '"render": [0-9.e+-]*' "$1" | awk '{ print $2 }'; }
-render() { "$R" render "$@" --size "${SIZE}x${SIZE}" --threads "$THREADS" --quiet --no-png; }
-
-reference() { # scene -> $TMP/NAME.ref.pfm
-    name=$(basename "$1" .scene)
-    [ -f "$TMP/$name.ref.pfm" ] || render "$1" --method pt --spp "$REF_SPP" --seed 9001 -o "$TMP/$name.ref.pfm"
+# wall seconds of the rendering of the last run (its --stats file)
+render_seconds() { grep -o '"render": [0-9.e+-]*' "$1" | tail -n 1 | awk '{ print $2 }'; }
+# render SIDE SCENE options...: one render at SIDE x SIDE
+render() {
+    side=$1; shift
+    "$R" render "$@" --size "${side}x${side}" --threads "$THREADS" --quiet --no-png
 }
+seq_seeds() { i=1; while [ $i -le "$SEEDS" ]; do echo $i; i=$((i + 1)); done; }
+calc() { awk "BEGIN { printf \"%.6g\", $1 }"; }
 
-# A grey Cornell box (every reflectance and the light made grey with its luminance): with a
-# grey integrand F(Y) / p̂(Y) is constant, so the single-sample error measures the
-# resampling alone and not the colour noise of shading one path with a luminance target.
-grey_cornell() {
-    d="$TMP/grey"
-    mkdir -p "$d"
-    cp scenes/cornell.obj "$d/cornell.obj"
-    awk '$1 == "Kd" || $1 == "Ke" { y = 0.2126 * $2 + 0.7152 * $3 + 0.0722 * $4; print $1, y, y, y; next } { print }' \
-        scenes/cornell.mtl > "$d/cornell.mtl"
-    sed 's/kd 0.725 0.71 0.68/kd 0.711 0.711 0.711/' scenes/cornell.scene > "$d/cornell-grey.scene"
-    echo "$d/cornell-grey.scene"
+# reference KEY SIDE SCENE METHOD BUDGET [options...] -> prints the path of the reference.
+# Two independent halves A and B (PT: sample ranges [0, n/2) and [n/2, n) of seed 9001;
+# ReSTIR: frame ranges [0, F/2) and [F/2, F)) merged into REF. Since REF = (A + B) / 2,
+# A - REF = (A - B) / 2 has the variance of REF itself, so compare(A, REF) estimates the
+# reference's own error in every metric (relMSE exactly in expectation; MAPE for Gaussian
+# noise); written to KEY.err as "relmse mape".
+reference() {
+    key=$1 side=$2 scene=$3 method=$4 budget=$5; shift 5
+    ref="$CACHE/$key-${side}-$method$budget-s9001"
+    if [ ! -f "$ref.pfm" ] || [ ! -f "$ref.err" ]; then
+        half=$((budget / 2))
+        if [ "$method" = pt ]; then
+            render "$side" "$scene" --method pt --spp $half --seed 9001 "$@" -o "$ref.a.pfm"
+            render "$side" "$scene" --method pt --spp $half --sample-offset $half --seed 9001 "$@" -o "$ref.b.pfm"
+        else
+            render "$side" "$scene" --method restir --frames $half --seed 9001 "$@" -o "$ref.a.pfm"
+            render "$side" "$scene" --method restir --frames $half --first-frame $half --seed 9001 "$@" -o "$ref.b.pfm"
+        fi
+        "$R" merge -o "$ref.tmp.pfm" "$ref.a.pfm" "$ref.b.pfm" --counts $half,$half --no-png --quiet
+        echo "$(metric relmse "$ref.a.pfm" "$ref.tmp.pfm") $(metric mape "$ref.a.pfm" "$ref.tmp.pfm")" > "$ref.err"
+        mv "$ref.tmp.pfm" "$ref.pfm"
+    fi
+    echo "$ref"
 }
+ref_relmse() { awk '{ print $1 }' "$1.err"; }
+ref_mape() { awk '{ print $2 }' "$1.err"; }
 
-# relMSE against the grey reference of one spatial-only frame (1 pass, box window, no
-# rejection), averaged over seeds 1-3. Arguments: SCENE, then the remaining render options.
-mean_relmse() {
-    scene=$1; shift
-    sum=0
-    for seed in 1 2 3; do
-        render "$scene" --method restir --spatial-passes 1 --pattern box --no-reject "$@" --seed $seed \
-            -o "$TMP/window.pfm"
-        e=$(metric relmse "$TMP/window.pfm" "$TMP/cornell-grey.ref.pfm")
-        sum=$(awk -v a="$sum" -v b="$e" 'BEGIN { print a + b }')
+# summarise RUNS.csv NAME XNAME TITLE XLABEL YLABEL: NAME.csv (means, plotted to NAME.svg) and
+# the markdown table NAME.table.md (mean ± 95% interval over seeds).
+summarise() {
+    runs=$1 name=$2 xname=$3
+    awk -F, -v mode=wide -v xname="$xname" -f "$SUMMARY" "$runs" > "$OUT/$name.csv"
+    { awk -F, -v mode=header -v xname="$xname" -f "$SUMMARY" "$runs"
+      awk -F, -v mode=md -f "$SUMMARY" "$runs"; } > "$OUT/$name.table.md"
+    "$R" plot "$OUT/$name.csv" -o "$OUT/$name.svg" --title "$4" --xlabel "$5" --ylabel "$6"
+}
+# paired_ratio RUNS.csv NUM DEN: markdown rows "| x | mean ± hw |" of NUM/DEN per seed
+paired_ratio() { awk -F, -v mode=ratio -v num="$2" -v den="$3" -f "$SUMMARY" "$1"; }
+# drop RUNS.csv SERIES X1 X2: "mean ± hw" of value(X1)/value(X2) per seed
+drop() { awk -F, -v mode=drop -v num="$2" -v lo="$3" -v hi="$4" -f "$SUMMARY" "$1"; }
+
+. "$HERE/results/figs.sh"
+. "$HERE/results/equal_time.sh"
+docs() { :; } # PARTS=docs WRITE_DOCS=1: only splice the sections of an earlier run into docs/
+
+for part in $PARTS; do
+    echo "results: $part ($(date -u +%H:%M:%S))" >&2
+    $part
+done
+
+# ---- docs: splice each generated section between its markers ------------------------------
+if [ $smoke = 0 ]; then
+    mkdir -p docs/results
+    for md in "$OUT"/*.section.md; do
+        [ -f "$md" ] || continue
+        name=$(basename "$md" .section.md)
+        awk -v name="$name" -v file="$md" '
+            $0 == "<!-- generated:" name " -->" { print; while ((getline l < file) > 0) print l; skip = 1; next }
+            $0 == "<!-- /generated:" name " -->" { skip = 0 }
+            !skip { print }' docs/results.md > docs/results.md.tmp
+        mv docs/results.md.tmp docs/results.md
     done
-    awk -v a="$sum" 'BEGIN { printf "%.6g", a / 3 }'
-}
-
-# ---- (a) GRIS Fig. 7: single-frame error vs input samples per pixel, fixed 7x7 window --------
-fig7() {
-    S=$(grey_cornell)
-    reference $S
-    csv="$OUT/fig7.csv"
-    echo "samples_per_pixel,constant,talbot,pairwise" > "$csv.tmp"
-    for n in 1 2 4 8 16; do
-        row="$n"
-        for mis in constant talbot pairwise; do
-            row="$row,$(mean_relmse "$S" --candidates $n --radius 3 --mis $mis)"
-        done
-        echo "$row" >> "$csv.tmp"
-    done
-    mv "$csv.tmp" "$csv"
-    "$R" plot "$csv" -o "$OUT/fig7.svg" --title "GRIS Fig. 7: 7x7 window, grey cornell ${SIZE}^2, one frame" \
-        --xlabel "input samples per pixel (path trees)" --ylabel "relMSE"
-}
-
-# ---- (b) GRIS Fig. 8: growing window, one canonical sample --------------------------------------
-fig8() {
-    S=$(grey_cornell)
-    reference $S
-    csv="$OUT/fig8.csv"
-    echo "window_pixels,constant,pairwise,pairwise-defensive,talbot" > "$csv.tmp"
-    for r in 1 2 3 5 7 10 15; do
-        w=$(( (2 * r + 1) * (2 * r + 1) ))
-        row="$w"
-        for mis in constant pairwise pairwise-defensive talbot; do
-            if [ $mis = talbot ] && [ $r -gt 7 ]; then row="$row,"; continue; fi # O(M^2) shifts
-            row="$row,$(mean_relmse "$S" --candidates 1 --radius $r --mis $mis)"
-        done
-        echo "$row" >> "$csv.tmp"
-    done
-    mv "$csv.tmp" "$csv"
-    "$R" plot "$csv" -o "$OUT/fig8.svg" --title "GRIS Fig. 8: growing window, 1 canonical sample, grey cornell ${SIZE}^2" \
-        --xlabel "window pixels (2r+1)^2" --ylabel "relMSE"
-}
-
-# ---- (c) GRIS Fig. 11: reconnection vs hybrid shift, rough vs glossy Cornell box ---------------
-fig11() {
-    csv="$OUT/fig11.csv"
-    echo "frames,cornell-reconnection,cornell-hybrid,glossy-reconnection,glossy-hybrid" > "$csv.tmp"
-    reference scenes/cornell.scene
-    reference scenes/cornell-glossy.scene
-    for f in 1 2 4 8 16; do
-        row="$f"
-        for S in scenes/cornell.scene scenes/cornell-glossy.scene; do
-            name=$(basename $S .scene)
-            for shift in reconnection hybrid; do
-                render $S --method restir --candidates 4 --spatial-passes 3 --neighbors 6 --radius 3 --shift $shift \
-                    --frames $f -o "$TMP/f11.pfm"
-                row="$row,$(metric relmse "$TMP/f11.pfm" "$TMP/$name.ref.pfm")"
-            done
-        done
-        echo "$row" >> "$csv.tmp"
-    done
-    mv "$csv.tmp" "$csv"
-    "$R" plot "$csv" -o "$OUT/fig11.svg" --title "GRIS Fig. 11: shifts on rough vs glossy Cornell box (${SIZE}^2)" \
-        --xlabel "frames (4 path trees, 3 passes, 6 neighbours)" --ylabel "relMSE"
-}
-
-# ---- (d) equal time: offline ReSTIR PT vs the path tracer ---------------------------------------
-equal_time() {
-    table="$OUT/equal_time.csv"
-    echo "scene,pt_seconds,pt_mape,restir_seconds,restir_mape,restir_seconds_to_pt_mape,speedup" > "$table.tmp"
-    for S in scenes/cornell.scene scenes/cornell-glossy.scene scenes/glass.scene scenes/ajar.scene; do
-        name=$(basename $S .scene)
-        reference $S
-        csv="$OUT/equal_time_$name.csv"
-        echo "seconds,pt,restir" > "$csv.tmp"
-        : > "$TMP/pt.$name"
-        : > "$TMP/rs.$name"
-        for spp in 16 32 64 128 256 512 1024; do
-            render $S --method pt --spp $spp --seed 77 -o "$TMP/et.pfm" --stats "$TMP/et.json"
-            t=$(render_seconds "$TMP/et.json"); e=$(metric mape "$TMP/et.pfm" "$TMP/$name.ref.pfm")
-            echo "$t $e" >> "$TMP/pt.$name"; echo "$t,$e," >> "$csv.tmp"
-        done
-        for f in 1 2 4 8 16 32; do
-            render $S --method restir --preset gris-offline --radius 3 --frames $f --seed 77 -o "$TMP/et.pfm" \
-                --stats "$TMP/et.json"
-            t=$(render_seconds "$TMP/et.json"); e=$(metric mape "$TMP/et.pfm" "$TMP/$name.ref.pfm")
-            echo "$t $e" >> "$TMP/rs.$name"; echo "$t,,$e" >> "$csv.tmp"
-        done
-        mv "$csv.tmp" "$csv"
-        "$R" plot "$csv" -o "$OUT/equal_time_$name.svg" --title "$name ${SIZE}^2: MAPE vs seconds" \
-            --xlabel seconds --ylabel MAPE
-        # time for ReSTIR to reach the PT's final MAPE: log-log interpolation between records
-        # (extrapolated with the last two records' slope if it is not reached)
-        awk -v name="$name" '
-            FNR == NR { pt_t = $1; pt_e = $2; next }
-            { n++; t[n] = $1; e[n] = $2 }
-            END {
-                reach = -1
-                for (k = 1; k <= n; ++k) if (e[k] <= pt_e) { reach = k; break }
-                if (reach == 1) tt = t[1];
-                else {
-                    a = reach > 1 ? reach - 1 : n - 1; b = reach > 1 ? reach : n
-                    s = (log(t[b]) - log(t[a])) / (log(e[b]) - log(e[a]))
-                    tt = exp(log(t[a]) + s * (log(pt_e) - log(e[a])))
-                }
-                printf "%s,%.4g,%.5g,%.4g,%.5g,%.4g%s,%.3g\n", name, pt_t, pt_e, t[n], e[n], tt, reach < 0 ? "(extrapolated)" : "", pt_t / tt
-            }' "$TMP/pt.$name" "$TMP/rs.$name" >> "$table.tmp"
-    done
-    mv "$table.tmp" "$table"
-}
-
-for part in ${PARTS:-fig7 fig8 fig11 equal_time}; do $part; done
-echo "results in $OUT: fig7, fig8, fig11, equal_time_*.svg/csv, equal_time.csv"
+    for svg in "$OUT"/*.svg; do [ -f "$svg" ] && cp "$svg" docs/results/; done
+    echo "results: docs/results.md and docs/results/*.svg updated" >&2
+else
+    echo "results: smoke run (a knob was set): docs/ left alone" >&2
+fi
+echo "results in $OUT"

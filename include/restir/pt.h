@@ -52,6 +52,8 @@ typedef struct {
     uint32_t seed;          /* run seed of the addressed RNG */
     uint32_t sample_offset; /* first sample index of a fresh run (runs with disjoint ranges merge) */
     int max_depth;          /* maximum path length d in segments, 1..255 (1 = emission at x1 only) */
+    int min_depth;          /* shortest path length d counted, 1..max_depth (default 1 = all light;
+                               3 = indirect light only, what restir --paths indirect renders) */
     enum pt_strategy strategy;
     int russian_roulette;   /* 0 (default) or 1: unbiased roulette, see rr_min_depth */
     int rr_min_depth;       /* roulette decides continuation after vertex x_i for i >= this (default 3) */

@@ -28,6 +28,7 @@ void render_pt_args_default(render_pt_args *a)
     memset(a, 0, sizeof *a);
     a->spp = o.spp;
     a->max_depth = o.max_depth;
+    a->min_depth = o.min_depth;
     a->strategy = (int)o.strategy;
 }
 
@@ -37,6 +38,7 @@ int render_pt_options(cli_option *rows, render_pt_args *a)
         {"--spp", OPT_UINT32, &a->spp, "pt: target samples per pixel (default 16; 0 with --time-limit: until time)", NULL, 0, 0, NULL},
         {"--time-limit", OPT_REAL, &a->time_limit, "pt: render whole 1-spp passes until SECONDS have passed", NULL, 0, 1e9, NULL},
         {"--max-depth", OPT_INT, &a->max_depth, "pt: maximum path length d in segments, 1..255 (default 10; 2 = direct light)", NULL, 1, PT_MAX_DEPTH_LIMIT, NULL},
+        {"--min-depth", OPT_INT, &a->min_depth, "pt: shortest path length counted (default 1; 3 = indirect light only, like restir --paths indirect)", NULL, 1, PT_MAX_DEPTH_LIMIT, NULL},
         {"--pt-strategy", OPT_CHOICE, &a->strategy, "pt: MIS (GRIS Eq. 49), NEE only or BSDF sampling only", pt_strategy_names, 0, 0, NULL},
         {"--ablate", OPT_CHOICE, &a->ablate, "pt: a deliberately broken estimator (docs/path-tracer.md)", ablate_choices, 0, 0, NULL},
         {"--rr", OPT_FLAG, &a->rr, "pt: unbiased Russian roulette after the 3rd vertex (default off)", NULL, 0, 0, NULL},
@@ -110,6 +112,7 @@ static void options_from_args(const render_pt_args *a, uint32_t seed, int thread
     o->seed = seed;
     o->sample_offset = a->sample_offset;
     o->max_depth = a->max_depth;
+    o->min_depth = a->min_depth;
     o->strategy = (enum pt_strategy)a->strategy;
     o->russian_roulette = a->rr;
     o->jitter = jitter;
@@ -171,10 +174,10 @@ int render_pt_image(const render_pt_args *a, const scene *s, uint32_t seed, int 
 void render_pt_stats_json(FILE *out, const render_pt_args *a, const pt_result *r)
 {
     fprintf(out,
-            "  \"pt\": {\"spp\": %u, \"sample_offset\": %u, \"max_depth\": %d, \"strategy\": \"%s\", "
+            "  \"pt\": {\"spp\": %u, \"sample_offset\": %u, \"max_depth\": %d, \"min_depth\": %d, \"strategy\": \"%s\", "
             "\"ablate\": \"%s\", \"russian_roulette\": %d, \"seconds\": %.6f, \"paths\": %llu, \"rays\": %llu, "
             "\"paths_per_second\": %.1f, \"nonfinite_samples\": %llu, \"stopped\": %d},\n",
-            r->state.spp, r->state.sample_offset, a->max_depth, pt_strategy_names[a->strategy],
+            r->state.spp, r->state.sample_offset, a->max_depth, a->min_depth, pt_strategy_names[a->strategy],
             ablate_choices[a->ablate], a->rr, r->seconds, (unsigned long long)r->paths, (unsigned long long)r->rays,
             r->seconds > 0 ? (double)r->paths / r->seconds : 0.0, (unsigned long long)r->state.nonfinite, r->stopped);
 }

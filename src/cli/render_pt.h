@@ -11,6 +11,7 @@ typedef struct {
     uint32_t spp;            /* --spp: target total samples per pixel */
     double time_limit;       /* --time-limit SECONDS */
     int max_depth;           /* --max-depth: max path length d (segments) */
+    int min_depth;           /* --min-depth: shortest path length counted (3 = indirect light) */
     int strategy;            /* --pt-strategy mis|nee|bsdf */
     int ablate;              /* --ablate none|light-pdf|mis-sum|mis-lobe */
     int rr;                  /* --rr */
@@ -25,7 +26,7 @@ void render_pt_args_default(render_pt_args *a);
 /* Sets --ablate by name; -1 if NAME is not one of the path tracer's ablations. */
 int render_pt_set_ablation(render_pt_args *a, const char *name);
 /* Writes the PT option rows into rows[] (room for RENDER_PT_OPTION_ROWS); returns the count. */
-#define RENDER_PT_OPTION_ROWS 11
+#define RENDER_PT_OPTION_ROWS 12
 int render_pt_options(cli_option *rows, render_pt_args *a);
 
 /* Renders s with the path tracer. SIGINT/SIGTERM stop it between passes (the checkpoint, if

@@ -26,6 +26,7 @@ void pt_options_default(pt_options *o)
     o->spp = 16;
     o->seed = 1;
     o->max_depth = 10;
+    o->min_depth = 1;
     o->strategy = PT_STRATEGY_MIS;
     o->rr_min_depth = 3;
     o->threads = 1;
@@ -37,6 +38,8 @@ int pt_options_validate(const pt_options *o, rerror *e)
     if (o->max_depth < 1 || o->max_depth > PT_MAX_DEPTH_LIMIT)
         return rerror_set(e, "pt: max depth %d is outside 1..%d (path length in segments)", o->max_depth,
                           PT_MAX_DEPTH_LIMIT);
+    if (o->min_depth < 1 || o->min_depth > o->max_depth)
+        return rerror_set(e, "pt: min depth %d is outside 1..%d (the max depth)", o->min_depth, o->max_depth);
     if (o->threads < 1) return rerror_set(e, "pt: %d threads", o->threads);
     if (o->strategy < PT_STRATEGY_MIS || o->strategy > PT_STRATEGY_BSDF)
         return rerror_set(e, "pt: unknown strategy %d", (int)o->strategy);
@@ -104,11 +107,14 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
     ++*rays;
     if (!scene_intersect(j->s, &r, &h)) return rgb_gray(0);
     path_vertex_make(&v, j->s, &h, v3_from_f(r.dir));
-    L = path_vertex_emitted(&j->ctx, &v); /* emission at x1 is added directly (DESIGN §3) */
-    /* At x_i, both NEE and the BSDF bounce make paths of length i + 1 <= max_depth. */
+    /* emission at x1 is added directly (DESIGN §3); it is the path of length 1 */
+    L = o->min_depth <= 1 ? path_vertex_emitted(&j->ctx, &v) : rgb_gray(0);
+    /* At x_i, both NEE and the BSDF bounce make paths of length i + 1 <= max_depth; those
+     * shorter than min_depth are traced (the walk needs them) but not counted. */
     for (i = 1; i < o->max_depth; ++i) {
         bsdf_bounce b;
-        if (j->ctx.strategy != PT_STRATEGY_BSDF && v.can_nee) {
+        int counted = i + 1 >= o->min_depth;
+        if (counted && j->ctx.strategy != PT_STRATEGY_BSDF && v.can_nee) {
             nee_sample n;
             int lit = vertex_sample_light(&j->ctx, &v, key, (uint32_t)i, &n);
             *rays += (uint64_t)n.shadow_ray;
@@ -121,7 +127,7 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
         ++*rays;
         if (!scene_intersect(j->s, &r, &h)) break;
         path_vertex_make(&next, j->s, &h, v3_from_f(r.dir));
-        L = rgb_add(L, rgb_mul(beta, emitter_hit(j, &v, &next, &b)));
+        if (counted) L = rgb_add(L, rgb_mul(beta, emitter_hit(j, &v, &next, &b)));
         v = next;
     }
     return L;

@@ -61,6 +61,7 @@ void restir_options_preset_gris_offline(restir_options *o)
     o->spatial_passes = 3;
     o->neighbors = 6;
     o->radius = 10;
+    o->mis = MIS_PAIRWISE_DEFENSIVE;
 }
 
 void restir_options_preset_gris_realtime(restir_options *o)
