@@ -116,8 +116,8 @@ for patch in tests/mutants/*.patch; do
             [ "$outcome" = survived ] || outcome="$outcome (test-long only)"
         fi
         if [ -s "$dir/margins.txt" ]; then
-            tests=$(awk '{ printf "%s%s (%s)", NR > 1 ? ", " : "", $1, $2 == "exact" ? "exact" : "|z| " $3 }' "$dir/margins.txt")
-            margin=$(awk '$2 == "exact" { e = 1 } $2 == "z" && $3 > z { z = $3 }
+            tests=$(awk '{ printf "%s%s (%s)", (NR > 1 ? ", " : ""), $1, ($2 == "exact" ? "exact" : "|z| " $3) }' "$dir/margins.txt")
+            margin=$(awk '$2 == "exact" { e = 1 } $2 == "z" && $3 + 0 > z + 0 { z = $3 }
                           END { if (e) print "exact"; else if (z != "") printf "|z| %s", z }' "$dir/margins.txt")
         fi
     fi
