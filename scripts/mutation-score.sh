@@ -58,6 +58,10 @@ git ls-files -z --cached --others --exclude-standard |
 
 say() { printf '%s\n' "$*" >&2; }
 
+# Tests read ../shared/data relative to the tree (make test-data, the long suite): the
+# scratch copies see the same directory.
+[ -d "$root/../shared" ] && ln -s "$(cd "$root/../shared" && pwd)" "$scratch/shared"
+
 # Runs the suite (make test or test-long) in directory $1; margins go to $2, log to $3.
 # Prints the outcome: survived / caught / crashed / timeout.
 run_suite() {
@@ -81,6 +85,13 @@ base=$(run_suite "$scratch/base" "$scratch/base/margins.txt" "$out/base-test.log
 if [ "$base" != survived ]; then
     say "mutation-score: the unmutated tree is not green ($out/base-test.log)"
     exit 2
+fi
+if [ "$long" = 1 ]; then
+    base=$(run_suite "$scratch/base" "$scratch/base/margins.txt" "$out/base-test-long.log" test-long)
+    if [ "$base" != survived ]; then
+        say "mutation-score: the unmutated tree fails make test-long ($out/base-test-long.log)"
+        exit 2
+    fi
 fi
 
 table="$out/table.md"
