@@ -8,11 +8,14 @@
 #   make test-data       load every file of ../shared/data (real-world OBJ/MTL/PFM)
 #   make bench           benchmarks, machine-readable JSON on stdout
 #   make mutation-score  planted bugs of tests/mutants vs make test (slow; MUTANT_FLAGS=--long)
-# Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  SEED=n  T=filter  BUILD=dir
+# Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir
+#   DEBUG=1 checks the estimator's invariants after every GRIS step and aborts with
+#   file:line on a failure (include/restir/invariant.h; docs/statistics.md).
 
 PRECISION ?= double
 SANITIZE ?= 0
 WERROR ?= 0
+DEBUG ?= 0
 
 ifeq ($(SANITIZE),1)
 BUILD_SAN := /san
@@ -20,7 +23,10 @@ endif
 ifeq ($(PRECISION),float)
 BUILD_PREC := /float
 endif
-BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)
+ifeq ($(DEBUG),1)
+BUILD_DEBUG := /debug
+endif
+BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)$(BUILD_DEBUG)
 
 CFLAGS ?= -O2
 CFLAGS += -std=c99 -Wall -Wextra -Wpedantic -ffp-contract=off -D_POSIX_C_SOURCE=200809L
@@ -35,6 +41,10 @@ LDFLAGS += -fsanitize=address,undefined
 endif
 ifeq ($(WERROR),1)
 CFLAGS += -Werror
+endif
+ifeq ($(DEBUG),1)
+CPPFLAGS += -DRESTIR_DEBUG
+CFLAGS += -g
 endif
 
 LIB_SRC := $(sort $(filter-out src/cli/main.c,$(wildcard src/*/*.c)))

@@ -184,3 +184,44 @@ int test_scene_prepare(scene *s)
     }
     return 0;
 }
+
+/* Inward-facing triangle of the furnace sphere (skips the degenerate ones at the poles). */
+static void furnace_triangle(scene *s, vec3f a, vec3f b, vec3f c, vec3f centre, uint32_t m)
+{
+    vec3f n = v3f_cross(v3f_sub(b, a), v3f_sub(c, a));
+    vec3f mid = v3f_scale(v3f_add(a, v3f_add(b, c)), 1.0f / 3.0f);
+    if (v3f_dot(n, n) <= 0) return;
+    if (v3f_dot(n, v3f_sub(mid, centre)) > 0) test_scene_triangle(s, a, c, b, m);
+    else test_scene_triangle(s, a, b, c, m);
+}
+
+/* The analytic furnace: the inside of a closed, tessellated sphere whose every triangle
+ * emits Le and reflects with Lambertian albedo rho, so L = Le (1 + rho + rho^2 + ...)
+ * everywhere. A sphere rather than a box: between two points of a sphere the geometry
+ * term is bounded, whereas next to a box's concave edges it is not, and NEE-only then has
+ * infinite variance: its z-tests were skewed (mean z -0.9 over 150 seeds, rejections at
+ * 4.5 sigma for 3 of them) although the pooled mean over 100 seeds agreed within 0.25%. */
+int test_scene_furnace_sphere(scene *s, rgb le, rgb rho, int res)
+{
+    enum { RINGS = 12, SEGMENTS = 24 };
+    const vec3f centre = v3f(0, 0.25f, 0.5f);
+    uint32_t m;
+    int i, j;
+    if (test_scene_begin(s, 2 * RINGS * SEGMENTS, 2)) return -1;
+    m = test_scene_material(s, MAT_LAMBERT, rho, le);
+    for (i = 0; i < RINGS; ++i) {
+        for (j = 0; j < SEGMENTS; ++j) {
+            vec3f p[4];
+            int k;
+            for (k = 0; k < 4; ++k) {
+                double th = 3.14159265358979 * (i + (k == 1 || k == 2)) / RINGS;
+                double ph = 2 * 3.14159265358979 * (j + (k >= 2)) / SEGMENTS;
+                p[k] = v3f_add(centre, v3f_scale(v3f((float)(sin(th) * cos(ph)), (float)cos(th), (float)(sin(th) * sin(ph))), 1.5f));
+            }
+            furnace_triangle(s, p[0], p[1], p[2], centre, m);
+            furnace_triangle(s, p[0], p[2], p[3], centre, m);
+        }
+    }
+    test_scene_camera(s, v3((real)0.1, (real)0.2, 0), v3((real)0.3, (real)0.1, 1), v3(0, 1, 0), 100, res);
+    return 0;
+}

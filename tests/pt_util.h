@@ -34,6 +34,12 @@ material *test_scene_last_material(scene *s);
 void test_scene_camera(scene *s, vec3 eye, vec3 target, vec3 up, real fov_y, int res);
 /* Multiplies every position and the camera eye/target by k (a change of units). */
 void test_scene_scale(scene *s, float k);
+/* The analytic furnace of the path-tracer and ReSTIR tests (docs/path-tracer.md "Furnace"):
+ * the inside of a closed, tessellated sphere (12 rings x 24 segments, radius 1.5) whose
+ * every triangle emits Le and reflects with Lambertian albedo rho, so the radiance is
+ * L_D = Le (1 - rho^D) / (1 - rho) everywhere for paths of at most D segments; the camera
+ * sits inside. Unprepared. */
+int test_scene_furnace_sphere(scene *s, rgb le, rgb rho, int res);
 /* scene_prepare, recording a test failure with its message; returns nonzero on failure. */
 int test_scene_prepare(scene *s);
 

@@ -189,3 +189,96 @@ int rt_make_spot(scene *s, int res)
     return 0;
 }
 
+
+/* ---- a fresh evaluation of an offset path (restir_util.h) ---------------------------- */
+
+/* f_l|cos| / (P(l|wo) pdf_l(w)) at v: the one-lobe bounce weight of the path sampler. */
+static rgb lobe_weight(const path_vertex *v, unsigned lobe, vec3 w, real *pdf)
+{
+    rgb f;
+    *pdf = 0;
+    if (lobe >= PATH_LOBE_NEE || !path_vertex_eval_lobe(v, (int)lobe, w, &f, pdf)) return rgb_gray(0);
+    return rgb_scale(f, 1 / *pdf);
+}
+
+/* The BSDF technique's last factor at `from`: bounce weight of `lobe` towards the emitter
+ * `to` (seen along w), Le, and w_bsdf with the all-lobe pdf and the light pdf from `from`. */
+static rgb bsdf_end(const restir_context *c, const path_vertex *from, unsigned lobe, vec3 w, const path_vertex *to)
+{
+    bsdf_bounce b;
+    real light_pdf, pdf_lobe;
+    rgb weight = lobe_weight(from, lobe, w, &pdf_lobe);
+    if (rgb_is_black(weight)) return weight;
+    memset(&b, 0, sizeof b);
+    b.pdf_lobe = pdf_lobe;
+    b.pdf_all = path_vertex_pdf(from, w);
+    light_pdf = path_light_pdf(&c->path, to->hit.triangle, from->position, to->position, to->ng);
+    return rgb_mul(weight, rgb_scale(path_vertex_emitted(&c->path, to), mis_weight_bsdf_hit(&c->path, &b, light_pdf)));
+}
+
+/* The NEE technique's last factor at `from` towards the light point y (normal ny, on
+ * triangle tri, emitting le towards from): f_all|cos| Le / p_light times w_nee. */
+static rgb nee_end(const restir_context *c, const path_vertex *from, vec3 w, uint32_t tri, vec3 y, vec3 ny, rgb le)
+{
+    real p_light = path_light_pdf(&c->path, tri, from->position, y, ny);
+    rgb f = path_vertex_eval(from, w);
+    if (!from->can_nee || !(p_light > 0) || rgb_is_black(f)) return rgb_gray(0);
+    return rgb_scale(rgb_scale(rgb_mul(f, le), 1 / p_light), mis_weight_nee(&c->path, p_light, path_vertex_pdf(from, w)));
+}
+
+rgb rt_fresh_contribution(const restir_context *c, const path_vertex *y1, const path_vertex *x1_origin,
+                          const path_sample *x)
+{
+    const scene *s = c->path.scene;
+    path_trunk t, o;
+    path_end end, end_o;
+    path_vertex xk;
+    int k = x->rc_k, d = x->length, j;
+    unsigned lobe_prev;
+    const path_vertex *prev;
+    vec3f origin_f;
+    vec3 xk_pos, w, to;
+    rgb F, black = rgb_gray(0);
+    real pdf;
+    if (!path_sample_is_valid(x)) return black;
+    if (k == PATH_RC_NONE) return path_replay(&t, c, y1, x, &end) == SHIFT_OK ? end.F : black;
+    /* x_k .. x_d: the base path's own vertices, from its own pixel */
+    if (path_replay(&o, c, x1_origin, x, &end_o) != SHIFT_OK) return black;
+    if (trunk_replay(&t, c, y1, x, k - 1) != SHIFT_OK) return black;
+    prev = &t.v[k - 1];
+    lobe_prev = x->lobe[k - 1];
+    xk_pos = k == d && x->technique == PATH_TECH_NEE ? v3_from_f(end_o.nee.y.position) : o.v[k].position;
+    /* the segment starts where the path sampler starts it: the spawned ray's origin for a
+     * BSDF bounce, the vertex for NEE (vertex_sample_light) */
+    origin_f = lobe_prev == PATH_LOBE_NEE
+                   ? prev->hit.position
+                   : scene_spawn_ray(prev->hit.position, prev->hit.ng, v3f_sub(v3f_from(xk_pos), prev->hit.position),
+                                     v3f_from(prev->wo)).origin;
+    to = v3_sub(xk_pos, v3_from_f(origin_f));
+    w = v3_normalize(to);
+    /* the reconnection segment, traced again */
+    if (!scene_visible(s, prev->hit.position, prev->hit.ng, v3f_from(xk_pos),
+                       k == d && x->technique == PATH_TECH_NEE ? &end_o.nee.y.normal : &o.v[k].hit.ng))
+        return black;
+    F = t.beta[k - 1];
+    if (k == d && x->technique == PATH_TECH_NEE)
+        return rgb_mul(F, nee_end(c, prev, w, end_o.nee.y.triangle, xk_pos, v3_from_f(end_o.nee.y.normal),
+                                  light_emitted(c->path.lights->lights[c->path.lights->light_of_triangle[end_o.nee.y.triangle]].emission,
+                                                v3_from_f(end_o.nee.y.normal), v3_neg(w))));
+    path_vertex_make(&xk, s, &o.v[k].hit, w); /* x_k seen from y_{k-1} */
+    if (k == d) return rgb_mul(F, bsdf_end(c, prev, lobe_prev, w, &xk));
+    F = rgb_mul(F, lobe_weight(prev, lobe_prev, w, &pdf));
+    if (k == d - 1) {
+        if (x->technique == PATH_TECH_NEE)
+            return rgb_mul(F, nee_end(c, &xk, end_o.nee.wi, end_o.nee.y.triangle, v3_from_f(end_o.nee.y.position),
+                                      v3_from_f(end_o.nee.y.normal), end_o.nee.emitted));
+        return rgb_mul(F, bsdf_end(c, &xk, x->lobe[k], o.b[k].wi, &o.v[d]));
+    }
+    F = rgb_mul(F, lobe_weight(&xk, x->lobe[k], o.b[k].wi, &pdf));
+    for (j = k + 1; j < d - 1; ++j) F = rgb_mul(F, o.b[j].weight);
+    if (x->technique == PATH_TECH_NEE)
+        return rgb_mul(F, rgb_scale(end_o.nee.contribution,
+                                    mis_weight_nee(&c->path, end_o.nee.pdf_light, end_o.nee.pdf_bsdf)));
+    return rgb_mul(F, rgb_mul(o.b[d - 1].weight, rgb_scale(path_vertex_emitted(&c->path, &o.v[d]),
+                                                          mis_weight_bsdf_hit(&c->path, &o.b[d - 1], end_o.light_pdf))));
+}

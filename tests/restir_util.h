@@ -37,4 +37,16 @@ void rt_context(restir_context *c, const scene *s, const light_set *lights, int 
  * 8 cm above the floor, res x res pixels; where the Jacobian and light-pdf ablations show. */
 int rt_make_spot(scene *s, int res);
 
+/* A fresh evaluation of sample x as a path of the pixel whose primary hit is y1, by the
+ * path-sampling code alone (path_sampler.h, path_replay.h), never by the shift code:
+ * the prefix y_1..y_{k-1} is replayed from y1 with x's numbers, the suffix x_k..x_d is
+ * replayed from x's own pixel (primary hit x1_origin; the shifts keep x_k..x_d), x_k is
+ * rebuilt as seen from y_{k-1} and every factor of F = f/p is evaluated again (lobe
+ * bounces, the BSDF at x_k, the final NEE/BSDF MIS weight with the light pdf seen from
+ * the new x_{d-1}), and the reconnection segment is re-traced. Without a reconnection
+ * index the whole path is replayed from y1. Returns F (black if the path does not exist
+ * in y1's pixel: a replay fails, the segment is blocked, a factor is 0). */
+rgb rt_fresh_contribution(const restir_context *c, const path_vertex *y1, const path_vertex *x1_origin,
+                          const path_sample *x);
+
 #endif

@@ -81,11 +81,27 @@ typedef struct {
     double bias, bias_lo, bias_hi; /* mean_a / mean_b - 1 and its (1 - alpha) Fieller interval */
     int bias_ci_bounded;
     int different;           /* the verdict */
+    int paired;              /* 1: from check_compare_paired (tests on per-run differences) */
 } check_result;
 
 #define CHECK_Z_MAX 40.0
 
 int check_compare(const check_side *a, const check_side *b, const check_options *o, check_result *r, rerror *e);
+/* The paired comparison (docs/statistics.md "Paired check"): run k of A and run k of B
+ * were made from the same random numbers (e.g. a reuse feature and its validated baseline
+ * on the same seeds and frames), so their shared noise cancels in the differences
+ * d_k = A_k - B_k. Both sides need the same K >= 2 runs with per-run image and block means
+ * (check_side_begin_runs ...). The verdict has the same two parts at alpha/2 each:
+ *   - the image-mean luminance difference: one-sample t-test of the K d_k (K - 1 dof);
+ *   - per block and channel, one-sample t-tests of the K block-mean differences, with the
+ *     Sidak or Benjamini-Hochberg correction.
+ * global / worst hold the paired tests (diff = mean d, se = sd(d)/sqrt(K)); lum_a, lum_b
+ * each side's own estimate; pixel_z the unpaired per-pixel Welch z (diagnostic only: the
+ * sides keep no per-run pixels); bias = mean d / B's mean with the t interval of mean d
+ * divided by B's mean (B's mean taken as fixed); the TOST is the paired one on
+ * d against +-margin x B's mean. r->paired = 1. */
+int check_compare_paired(const check_side *a, const check_side *b, const check_options *o, check_result *r,
+                         rerror *e);
 void check_result_free(check_result *r);
 
 #endif

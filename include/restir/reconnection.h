@@ -60,4 +60,11 @@ real rc_jacobian(const rc_terms *t, const path_sample *x);
  * the replay's failure (then s is unchanged). */
 enum shift_failure path_record(const restir_context *c, const path_vertex *x1, path_sample *s);
 
+/* The reconnection segment of sample y of the pixel with primary hit y1, traced again:
+ * y_1..y_{k-1} replayed with y's numbers, then the shadow ray y_{k-1} -> x_k. 1 if visible
+ * (or y has no reconnection vertex), 0 if blocked or the replay fails. For the debug
+ * build's invariants (spatial_check_step, merge_two_domains): every successful shift must
+ * pass it. */
+int rc_segment_visible(const restir_context *c, const path_vertex *y1, const path_sample *y);
+
 #endif

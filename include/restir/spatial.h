@@ -18,6 +18,7 @@
 #ifndef RESTIR_SPATIAL_H
 #define RESTIR_SPATIAL_H
 
+#include <stddef.h>
 #include "restir/mis.h"
 #include "restir/reservoir.h"
 #include "restir/shift.h"
@@ -35,6 +36,8 @@ typedef struct {
 typedef struct {
     int max_domains;
     real *ptarget, *confidence, *jacobian;
+    real *mis;      /* m_j(y_j) the step used for candidate j (0 if it was not valid) */
+    real *check_confidence; /* scratch of spatial_check_step */
     path_sample *shifted;
     unsigned char *valid;
 } spatial_workspace;
@@ -49,5 +52,20 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
                       spatial_stats *st);
 
 void spatial_stats_add(spatial_stats *acc, const spatial_stats *add);
+
+/* The invariants of the GRIS step spatial_resample just computed into out, with its
+ * workspace w still holding the step (the debug build runs this after every step and
+ * aborts on failure; docs/statistics.md "Debug invariants"):
+ *   - every input confidence c_j >= 0, out's c = sum_j c_j exactly (failed shifts too),
+ *     out's W >= 0 and finite;
+ *   - for every candidate j that entered the resampling, the MIS weights recomputed over
+ *     the TRUE input confidences sum to one over all domains, failed shifts included
+ *     (sum_i m_i(y_j) = 1, GRIS Eq. 17), and the m_j(y_j) the step used equals them;
+ *   - every successful reconnection (candidate j >= 1 with a reconnection vertex) is
+ *     visible: y_1..y_{k-1} replayed from x1[0] and the segment y_{k-1} -> x_k re-traced.
+ * Returns 0, or nonzero with what failed in why[0..why_size). */
+int spatial_check_step(const restir_context *c, mis_family mis, int m, const path_vertex *const *x1,
+                       const reservoir *const *in, const reservoir *out, spatial_workspace *w, char *why,
+                       size_t why_size);
 
 #endif

@@ -28,6 +28,8 @@ static const char usage[] =
     "  --correction sidak|bh  block family correction (default sidak)\n"
     "  --margin M             relative equivalence margin for the TOST (default 0.01)\n"
     "  --require-equivalence  also exit 1 unless equivalence within the margin is shown\n"
+    "  --paired               run k of A and run k of B share their random numbers (same seeds):\n"
+    "                         test the K per-run differences (needs --a and --b with the same K)\n"
     "  --json OUT.json        machine-readable results\n"
     "  --z-map OUT.pfm|.png   per-pixel normal-equivalent z (PFM: per channel; PNG: red A>B, blue A<B)\n"
     "  --block-z-map OUT.pfm|.png   the same per block (one pixel per block)\n"
@@ -45,7 +47,7 @@ typedef struct {
 typedef struct {
     side_args a, b;
     check_options opt;
-    int require_equivalence, quiet;
+    int require_equivalence, quiet, paired;
     const char *json, *z_map, *block_z_map;
 } check_args;
 
@@ -94,7 +96,7 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
         const char *opt = argv[i];
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
         int needs_value = strcmp(opt, "--a") && strcmp(opt, "--b") && strcmp(opt, "--require-equivalence") &&
-                          strcmp(opt, "--quiet") && strcmp(opt, "--help") && strcmp(opt, "-h");
+                          strcmp(opt, "--paired") && strcmp(opt, "--quiet") && strcmp(opt, "--help") && strcmp(opt, "-h");
         if (needs_value && !val) return usage_error("%s needs a value", opt);
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             fputs(usage, stdout);
@@ -138,6 +140,9 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
         } else if (!strcmp(opt, "--quiet")) {
             a->quiet = 1;
             continue;
+        } else if (!strcmp(opt, "--paired")) {
+            a->paired = 1;
+            continue;
         } else if (!strcmp(opt, "--json")) {
             a->json = val;
         } else if (!strcmp(opt, "--z-map")) {
@@ -155,6 +160,8 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
         return usage_error("%s", "give side B as exactly one of --b RUN..., --b-moments PREFIX or --ref REF.pfm");
     if ((a->b.ref_var != NULL) != (a->b.ref_runs > 0) || (a->b.ref_var && !a->b.ref))
         return usage_error("%s", "--ref-var and --ref-runs go together, with --ref");
+    if (a->paired && (a->a.run_count == 0 || a->b.run_count == 0 || a->a.run_count != a->b.run_count))
+        return usage_error("%s", "--paired needs --a RUN... and --b RUN... with the same number of runs");
     return 0;
 }
 
@@ -312,6 +319,7 @@ static int write_json(const char *path, const check_args *args, const check_side
             status);
     fprintf(fp, "  \"width\": %d,\n  \"height\": %d,\n", a->width, a->height);
     put_key_number(fp, "  ", "alpha", args->opt.alpha, 0);
+    fprintf(fp, "  \"paired\": %s,\n", r->paired ? "true" : "false");
     fprintf(fp, "  \"image_mean\": {\n    \"channel\": \"luminance\",\n");
     put_estimate(fp, "a", r->lum_a, a, r->lum_a_exact_runs);
     put_estimate(fp, "b", r->lum_b, b, r->lum_b_exact_runs);
@@ -405,7 +413,8 @@ static void print_summary(const check_args *args, const check_side *a, const che
         printf("  note: A has no per-run means; its se assumes independent pixels\n");
     if (!r->lum_b_exact_runs && b->kind != CHECK_SIDE_EXACT)
         printf("  note: B has no per-run means; its se assumes independent pixels\n");
-    printf("  Welch t = %.4g, dof = %.4g, p = %.3g (level %g): %s\n", r->global.t, r->global.dof, r->global.p,
+    if (r->paired) printf("paired: run k of A with run k of B; the tests below are on the %ld per-run differences\n", a->runs);
+    printf("  %s t = %.4g, dof = %.4g, p = %.3g (level %g): %s\n", r->paired ? "paired" : "Welch", r->global.t, r->global.dof, r->global.p,
            0.5 * o->alpha, r->global_reject ? "REJECT" : "no evidence of a difference");
     printf("blocks %dx%d: %ld tests (%d x %d blocks x 3 channels), %s, family level %g, p threshold %.3g: %ld rejected\n",
            o->block_size, o->block_size, r->tests, r->blocks_x, r->blocks_y,
@@ -446,7 +455,7 @@ int cmd_check(int argc, char **argv)
         ((a.width != b.width || a.height != b.height) &&
          rerror_at(&e, side_file(&args.b), 0, "image is %d x %d but side A (%s) is %d x %d", b.width, b.height,
                    side_file(&args.a), a.width, a.height)) ||
-        check_compare(&a, &b, &args.opt, &r, &e)) {
+        (args.paired ? check_compare_paired(&a, &b, &args.opt, &r, &e) : check_compare(&a, &b, &args.opt, &r, &e))) {
         fprintf(stderr, "%s\n", e.msg);
         check_side_free(&a);
         check_side_free(&b);

@@ -354,6 +354,131 @@ int check_compare(const check_side *a, const check_side *b, const check_options 
     return 0;
 }
 
+/* ---- the paired comparison (check.h, check_compare_paired) ---- */
+
+static int validate_paired(const check_side *a, const check_side *b, const check_options *o, rerror *e)
+{
+    if (validate(a, b, o, e)) return -1;
+    if (!a->run_means || !b->run_means || !a->block_run_means || !b->block_run_means)
+        return rerror_set(e, "paired: both sides need K runs with per-run image and block means");
+    if (a->runs != b->runs)
+        return rerror_set(e, "paired: A has %ld runs but B has %ld (run k of A is paired with run k of B)", a->runs,
+                          b->runs);
+    if (a->blocks_x != b->blocks_x || a->blocks_y != b->blocks_y)
+        return rerror_set(e, "paired: the sides were accumulated with different blocks");
+    return 0;
+}
+
+/* One-sample t-test of the K differences x_a[k*stride] - x_b[k*stride] against 0, as a
+ * Welch result against an exact zero. */
+static stats_welch paired_test(const double *x_a, const double *x_b, long stride, long runs, double *d)
+{
+    stats_estimate zero = {0.0, 0.0, 0.0};
+    long k;
+    for (k = 0; k < runs; ++k) d[k] = x_a[k * stride] - x_b[k * stride];
+    return stats_welch_test(mean_of_runs(d, 1, runs), zero);
+}
+
+static int paired_block_tests(const check_side *a, const check_side *b, const check_options *o, check_result *r,
+                              double *d, rerror *e)
+{
+    long blocks = (long)a->blocks_x * a->blocks_y, i;
+    double *p;
+    int c;
+    r->blocks_x = a->blocks_x;
+    r->blocks_y = a->blocks_y;
+    r->tests = 3L * blocks;
+    if (image_alloc(&r->block_z, r->blocks_x, r->blocks_y, e)) return -1;
+    p = rmalloc((size_t)r->tests, sizeof *p, e);
+    if (!p) return -1;
+    r->worst.test.p = 2.0;
+    for (i = 0; i < blocks; ++i)
+        for (c = 0; c < 3; ++c) {
+            stats_welch w = paired_test(a->block_run_means + 3 * i + c, b->block_run_means + 3 * i + c, 3 * blocks,
+                                        a->runs, d);
+            double z = welch_z(w);
+            p[3 * i + c] = w.p;
+            image_pixel(&r->block_z, (int)(i % a->blocks_x), (int)(i / a->blocks_x))[c] = (float)z;
+            if (w.p < r->worst.test.p || (w.p == r->worst.test.p && fabs(z) > fabs(r->worst.z))) {
+                r->worst.x = (int)(i % a->blocks_x);
+                r->worst.y = (int)(i / a->blocks_x);
+                r->worst.channel = c;
+                r->worst.test = w;
+                r->worst.z = z;
+            }
+        }
+    if (o->correction == CHECK_BH) {
+        r->rejected = stats_benjamini_hochberg(p, r->tests, 0.5 * o->alpha, NULL, &r->block_threshold, e);
+    } else {
+        r->block_threshold = stats_sidak_level(0.5 * o->alpha, r->tests);
+        r->rejected = 0;
+        for (i = 0; i < r->tests; ++i) r->rejected += p[i] <= r->block_threshold;
+    }
+    free(p);
+    return r->rejected < 0 ? -1 : 0;
+}
+
+/* Bias and TOST of the paired luminance difference relative to B's mean. */
+static void paired_bias(const check_options *o, check_result *r)
+{
+    double mb = r->lum_b.mean, se = r->global.se, dof = r->global.dof, q;
+    r->bias = mb != 0.0 ? r->global.diff / mb : NAN;
+    r->tost.margin = o->margin;
+    r->bias_ci_bounded = mb != 0.0 && se > 0.0;
+    if (!r->bias_ci_bounded) {
+        r->bias_lo = -INFINITY;
+        r->bias_hi = INFINITY;
+        r->tost.p_lower = r->tost.p_upper = r->tost.p = 1.0;
+        return;
+    }
+    q = stats_t_quantile(1.0 - 0.5 * o->alpha, dof);
+    r->bias_lo = (r->global.diff - q * se) / fabs(mb);
+    r->bias_hi = (r->global.diff + q * se) / fabs(mb);
+    r->tost.p_lower = stats_t_sf((r->global.diff + o->margin * fabs(mb)) / se, dof); /* H0: d <= -margin |m_B| */
+    r->tost.p_upper = stats_t_cdf((r->global.diff - o->margin * fabs(mb)) / se, dof); /* H0: d >= +margin |m_B| */
+    r->tost.p = fmax(r->tost.p_lower, r->tost.p_upper);
+    r->tost.equivalent = r->tost.p < o->alpha;
+}
+
+int check_compare_paired(const check_side *a, const check_side *b, const check_options *o, check_result *r,
+                         rerror *e)
+{
+    double *la, *lb, *d;
+    long k;
+    int status = 0;
+    memset(r, 0, sizeof *r);
+    if (validate_paired(a, b, o, e)) return -1;
+    r->paired = 1;
+    la = rmalloc((size_t)a->runs, sizeof *la, e);
+    lb = rmalloc((size_t)a->runs, sizeof *lb, e);
+    d = rmalloc((size_t)a->runs, sizeof *d, e);
+    if (!la || !lb || !d) {
+        free(la);
+        free(lb);
+        free(d);
+        return -1;
+    }
+    r->lum_a = luminance_estimate(a, &r->lum_a_exact_runs);
+    r->lum_b = luminance_estimate(b, &r->lum_b_exact_runs);
+    for (k = 0; k < a->runs; ++k) {
+        la[k] = run_luminance(a, k);
+        lb[k] = run_luminance(b, k);
+    }
+    r->global = paired_test(la, lb, 1, a->runs, d);
+    r->global_reject = r->global.p < 0.5 * o->alpha;
+    if (paired_block_tests(a, b, o, r, d, e) || pixel_tests(a, b, o, r, e)) {
+        check_result_free(r);
+        status = -1;
+    } else {
+        r->different = r->global_reject || r->rejected > 0;
+        paired_bias(o, r);
+    }
+    free(la);
+    free(lb);
+    free(d);
+    return status;
+}
+
 void check_result_free(check_result *r)
 {
     image_free(&r->block_z);

@@ -282,3 +282,12 @@ enum shift_failure path_record(const restir_context *c, const path_vertex *x1, p
     *s = r;
     return SHIFT_OK;
 }
+
+int rc_segment_visible(const restir_context *c, const path_vertex *y1, const path_sample *y)
+{
+    path_trunk t;
+    int k = y->rc_k;
+    if (k == PATH_RC_NONE) return 1;
+    if (trunk_replay(&t, c, y1, y, k - 1) != SHIFT_OK) return 0;
+    return scene_visible(c->path.scene, t.v[k - 1].hit.position, t.v[k - 1].hit.ng, y->rc_position, &y->rc_normal);
+}

@@ -1,8 +1,11 @@
 /* One spatial GRIS step (include/restir/spatial.h). */
 #include "restir/spatial.h"
 
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/invariant.h"
 
 int spatial_workspace_alloc(spatial_workspace *w, int max_domains, rerror *e)
 {
@@ -15,7 +18,9 @@ int spatial_workspace_alloc(spatial_workspace *w, int max_domains, rerror *e)
     w->jacobian = rcalloc(m, sizeof *w->jacobian, e);
     w->shifted = rcalloc(m, sizeof *w->shifted, e);
     w->valid = rcalloc(m, 1, e);
-    if (!w->ptarget || !w->confidence || !w->jacobian || !w->shifted || !w->valid) {
+    w->mis = rcalloc(m, sizeof *w->mis, e);
+    w->check_confidence = rcalloc(m, sizeof *w->check_confidence, e);
+    if (!w->ptarget || !w->confidence || !w->jacobian || !w->shifted || !w->valid || !w->mis || !w->check_confidence) {
         spatial_workspace_free(w);
         return -1;
     }
@@ -29,6 +34,8 @@ void spatial_workspace_free(spatial_workspace *w)
     free(w->jacobian);
     free(w->shifted);
     free(w->valid);
+    free(w->mis);
+    free(w->check_confidence);
     memset(w, 0, sizeof *w);
 }
 
@@ -116,9 +123,11 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
     mi.ptarget = w->ptarget;
     for (j = 0; j < m; ++j) {
         real mj, wj;
+        w->mis[j] = 0;
         if (w->valid[j]) {
             /* m_j(y_j): GRIS Eqs. 36-38 / Stochastic MIS Eqs. 9-12 (mis.c) */
             mj = mis_weight(mis, &mi, j, j, &unused);
+            w->mis[j] = mj;
             wj = gris_resampling_weight(mj, w->ptarget[j], in[j]->W, w->jacobian[j]); /* GRIS Eq. 19 */
             if (reservoir_stream(out, &w->shifted[j], wj, u[j])) chosen = j;
         }
@@ -126,6 +135,86 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
     }
     if (chosen > 0) st->selected_neighbor++;
     reservoir_finalize(out); /* GRIS Eq. 22 */
+    if (RESTIR_DEBUG_ENABLED) {
+        char why[512];
+        if (spatial_check_step(c, mis, m, x1, in, out, w, why, sizeof why)) restir_invariant_failed(__FILE__, __LINE__, why);
+    }
+}
+
+/* ---- invariants (spatial.h, spatial_check_step) -------------------------------------- */
+
+/* Agreement of two weights computed in the estimator precision by different sums. */
+static int weights_agree(real a, real b)
+{
+    real tol = sizeof(real) == 4 ? (real)1e-4 : (real)1e-9;
+    return fabs((double)(a - b)) <= (double)tol;
+}
+
+/* Sum_i m_i(y_j) = 1 over the true input confidences, and the used m_j(y_j) equals them. */
+static int check_mis_column(mis_family mis, int m, const reservoir *const *in, const spatial_workspace *w, int j,
+                            real *conf, char *why, size_t n)
+{
+    mis_input mi;
+    real sum = 0, mj = 0;
+    int i;
+    for (i = 0; i < m; ++i) conf[i] = in[i]->confidence;
+    mi.m = m;
+    mi.n_canonical = 1;
+    mi.confidence = conf;
+    mi.ptarget = w->ptarget;
+    for (i = 0; i < m; ++i) {
+        real mij = mis_weight(mis, &mi, i, j, NULL);
+        if (!(mij >= 0)) {
+            snprintf(why, n, "MIS weight m_%d(y_%d) = %g < 0 (%s, M = %d)", i, j, (double)mij, mis_family_name(mis), m);
+            return 1;
+        }
+        sum += mij;
+        if (i == j) mj = mij;
+    }
+    if (!weights_agree(sum, 1)) {
+        snprintf(why, n, "sum_i m_i(y_%d) = %.17g, not 1 (%s, M = %d)", j, (double)sum, mis_family_name(mis), m);
+        return 1;
+    }
+    if (!weights_agree(w->mis[j], mj)) {
+        snprintf(why, n, "m_%d(y_%d) used %.17g, over the input confidences %.17g (%s, M = %d)", j, j, (double)w->mis[j],
+                 (double)mj, mis_family_name(mis), m);
+        return 1;
+    }
+    return 0;
+}
+
+int spatial_check_step(const restir_context *c, mis_family mis, int m, const path_vertex *const *x1,
+                       const reservoir *const *in, const reservoir *out, spatial_workspace *w, char *why,
+                       size_t why_size)
+{
+    real csum = 0;
+    int j;
+    for (j = 0; j < m; ++j) {
+        if (!(in[j]->confidence >= 0)) {
+            snprintf(why, why_size, "input %d has confidence %g < 0", j, (double)in[j]->confidence);
+            return 1;
+        }
+        csum += in[j]->confidence;
+    }
+    if (!(out->W >= 0) || !isfinite((double)out->W)) {
+        snprintf(why, why_size, "output W = %g is not finite and >= 0", (double)out->W);
+        return 1;
+    }
+    if (!(out->confidence >= 0) || out->confidence != csum) {
+        snprintf(why, why_size, "output confidence %.17g, the %d inputs sum to %.17g", (double)out->confidence, m,
+                 (double)csum);
+        return 1;
+    }
+    for (j = 0; j < m; ++j) {
+        if (!w->valid[j]) continue;
+        if (check_mis_column(mis, m, in, w, j, w->check_confidence, why, why_size)) return 1;
+        if (j > 0 && !rc_segment_visible(c, x1[0], &w->shifted[j])) {
+            snprintf(why, why_size, "candidate %d: successful reconnection to x_%d, but the segment is occluded", j,
+                     w->shifted[j].rc_k);
+            return 1;
+        }
+    }
+    return 0;
 }
 
 void spatial_stats_add(spatial_stats *acc, const spatial_stats *add)
