@@ -5,12 +5,14 @@
 #include <string.h>
 #include "restir/camera.h"
 #include "restir/gbuffer.h"
+#include "restir/generate_rooms.h"
 #include "test.h"
 
 int rt_load_scene(const char *path, int res, scene *s)
 {
     rerror e;
-    if (scene_load(s, path, &e) || scene_prepare(s, &e)) {
+    int status = !strcmp(path, RT_CORRIDOR) ? generate_corridor(s, &e) : scene_load(s, path, &e);
+    if (status || scene_prepare(s, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         return -1;
     }

@@ -8,8 +8,11 @@
 #include "restir/restir.h"
 #include "restir/shift.h"
 
-/* Loads and prepares a scene file, then sets the image size to res x res. 0 on success
- * (a test failure is recorded otherwise). */
+/* The name rt_load_scene takes for the generated mirror corridor (generate_corridor). */
+#define RT_CORRIDOR "generated:corridor"
+
+/* Loads and prepares a scene file (or RT_CORRIDOR), then sets the image size to res x res.
+ * 0 on success (a test failure is recorded otherwise). */
 int rt_load_scene(const char *path, int res, scene *s);
 
 /* One side of a comparison (block: the block edge of the per-block tests): K runs of restir_render with disjoint frame ranges

@@ -185,6 +185,9 @@ TEST(scenes_shipped_files_are_the_generated_scenes)
     check_matches_generated("scenes/glass.scene", &g);
     CHECK(g.triangle_count == 10 + 2 + 12 + 2 * 64 * 31);
     scene_free(&g);
+    CHECKF(generate_corridor(&g, &e) == 0, "%s", e.msg);
+    check_matches_generated("scenes/corridor.scene", &g);
+    scene_free(&g);
 }
 
 /* Every object of the door-ajar building (at several angles) and the glass room's
@@ -437,5 +440,10 @@ TEST(scenes_cli_generate)
     CHECK(test_cli(out, sizeof out, "generate glass --door-angle 5 -o %s", obj) == 2);
     CHECK(test_cli(out, sizeof out, "generate teapot -o %s", obj) == 2);
     CHECK(test_cli(out, sizeof out, "generate glass") == 2);
-    CHECK(test_cli(out, sizeof out, "generate --help") == 0 && strstr(out, "--door-angle"));
+    CHECK(test_cli(out, sizeof out, "generate --help") == 0 && strstr(out, "--door-angle") && strstr(out, "corridor"));
+    CHECK(test_cli(out, sizeof out, "generate corridor --subdivisions 3 -o %s", obj) == 2);
+    CHECKF(test_cli(out, sizeof out, "generate corridor -o %s", obj) == 0, "%s", out);
+    CHECKF(scene_load(&s, scene_path, &e) == 0, "%s", e.msg);
+    CHECK(s.has_camera && scene_emitter_count(&s) == 2); /* one 1 x 1 quad light: two triangles */
+    scene_free(&s);
 }

@@ -1,9 +1,17 @@
-/* Shift mappings (include/restir/shift.h) on random paths of the Cornell scenes:
+/* Shift mappings (include/restir/shift.h) on random paths of the Cornell scenes, the glass
+ * room (delta lobes) and the mirror corridor (long replayed prefixes, late reconnection,
+ * rough transmission):
  *   - T to the own pixel is the identity with J = 1 (exactly: the source terms are
  *     computed by the code every shift runs);
  *   - every successful T_{a->b}(x) = y shifts back: T_{b->a}(y) = x (same length,
  *     technique, lobes, k, x_k and source terms), F(x) recovered, and
  *     J(a->b) J(b->a) = 1;
+ *   - shifts of shifted samples (what spatial pass 2+ does): y is the identity at b,
+ *     T_{b->c}(y) = w shifts back to y (J(b->c) J(c->b) = 1) and on to a: T_{c->a}(w) = x
+ *     with J(a->b) J(b->c) J(c->a) = 1; under random replay y equals the sample that
+ *     path_record builds afresh at b from x's numbers (every stored field), and under
+ *     the other shifts y's prefix lobes and stored source terms equal the ones
+ *     evaluated afresh at b;
  *   - zero logic failures (a successful shift whose inverse fails or differs).
  * 10^4 paths per scene and shift here; 10^5 in the TEST_LONG version. */
 #include <stdlib.h>
@@ -26,6 +34,9 @@ typedef struct {
     long logic_failures;   /* inverse failed or differed, or the identity was not one */
     long outcome[SHIFT_FAILURE_COUNT]; /* forward shifts a -> b by result */
     long by_k[PATH_MAX_LENGTH + 1], by_k_ok[PATH_MAX_LENGTH + 1];
+    long by_replay_ok[PATH_MAX_LENGTH + 1]; /* successful a -> b by replayed bounces (info.replayed - 1) */
+    long delta_ok, rough_transmission_ok;   /* successful a -> b of paths with such a lobe */
+    long chain_ok, fresh_compared;          /* T_{b->c}(y) succeeded; replay: y compared with path_record */
     double max_f_err, max_jj_err, max_identity_f_err; /* F errors over well-conditioned paths */
     char first_failure[512];
 } shift_tally;
@@ -74,6 +85,38 @@ static int ill_conditioned(const restir_context *c, const path_vertex *x1, const
            length < rc_min_distance_for_scene(c->path.scene, (real)0.02);
 }
 
+/* How much F of x (at its own pixel, vertex x1) moves when x_k moves by one float ulp along
+ * an axis: F after a shift is computed from float vertex positions, so this is the scale
+ * of the rounding error of any F comparison. Nearly all paths have ~1e-7; refraction
+ * through the corridor's rough glass near the critical angle reaches ~1e-2 (observed F
+ * errors 6.2e-4 and 2.2e-2 on such paths). */
+static double f_sensitivity(const restir_context *c, const path_vertex *x1, const path_sample *x)
+{
+    path_sample y0, y1;
+    real J;
+    double worst = 0;
+    int axis, sign;
+    if (x->rc_k == PATH_RC_NONE || shift_path(c, x1, x, &y0, &J, NULL) != SHIFT_OK) return 0;
+    for (axis = 0; axis < 3; ++axis)
+        for (sign = -1; sign <= 1; sign += 2) {
+            path_sample moved = *x;
+            float *p = axis == 0 ? &moved.rc_position.x : axis == 1 ? &moved.rc_position.y : &moved.rc_position.z;
+            *p = nextafterf(*p, (float)sign * HUGE_VALF);
+            if (shift_path(c, x1, &moved, &y1, &J, NULL) == SHIFT_OK && rel_err(y1.F, y0.F) > worst)
+                worst = rel_err(y1.F, y0.F);
+        }
+    return worst;
+}
+
+/* F of x recovered to e: within F_RTOL, or on an ill-conditioned reconnection, or within
+ * 8 times the measured rounding sensitivity (one ulp on each of x_{k-1} and x_k, both
+ * directions, a factor 2 to spare). */
+static int f_close(const restir_context *c, const path_vertex *x1, const path_sample *x, double e)
+{
+    if (e <= F_RTOL || ill_conditioned(c, x1, x)) return 1;
+    return e <= F_RTOL + 8 * f_sensitivity(c, x1, x);
+}
+
 static void logic_failure(shift_tally *t, const char *fmt, long i, int reason, double value)
 {
     if (!t->logic_failures)
@@ -81,7 +124,106 @@ static void logic_failure(shift_tally *t, const char *fmt, long i, int reason, d
     t->logic_failures++;
 }
 
+/* Whether x has a delta lobe / a rough (GGX) transmission lobe on x_1..x_{d-1}. */
+static void lobe_kinds(const restir_context *c, const path_vertex *x1, const path_sample *x, int *delta, int *rough_t)
+{
+    path_trunk t;
+    int j;
+    *delta = *rough_t = 0;
+    if (trunk_replay(&t, c, x1, x, x->length - 1) != SHIFT_OK) return;
+    for (j = 1; j < x->length; ++j) {
+        if (x->lobe[j] == PATH_LOBE_NEE) continue;
+        *delta |= bsdf_lobe_is_delta(&t.v[j].b, x->lobe[j]);
+        *rough_t |= bsdf_lobe_kind_of(&t.v[j].b, x->lobe[j]) == BSDF_LOBE_GLOSSY_TRANSMISSION;
+    }
+}
+
+/* Every stored field of two samples of the same path (F to F_RTOL, the rest exactly). */
+static int same_fields(const path_sample *a, const path_sample *b)
+{
+    return same_path(a, b) && a->rc_flags == b->rc_flags && a->light_pdf == b->light_pdf &&
+           a->rc_radiance.r == b->rc_radiance.r && a->rc_radiance.g == b->rc_radiance.g &&
+           a->rc_radiance.b == b->rc_radiance.b && rel_err(a->F, b->F) <= F_RTOL && a->n_pss == b->n_pss;
+}
+
 static uint32_t draw(rng_key key, uint32_t slot, uint32_t n) { return (uint32_t)(rng_u(key, RNG_TEST, 1, slot) * n); }
+
+/* The prefix lobes and the source terms of Enhanced Eq. 2 that a shifted sample y
+ * stores must be the ones of y's own domain b: the lobes of y_1..y_{k-2} as replayed at
+ * b, and p_{k-1}, G, p_k and the light pdf evaluated from y_{k-1} (bit for bit: the
+ * same code computes both). */
+static int stored_terms_fresh(const restir_context *c, const path_vertex *xb, const path_sample *y)
+{
+    path_trunk t;
+    rc_terms terms;
+    int k = y->rc_k, j;
+    if (trunk_replay(&t, c, xb, y, k - 1) != SHIFT_OK) return 0;
+    for (j = 1; j < k - 1; ++j)
+        if (y->lobe[j] != t.b[j].lobe) return 0;
+    if (rc_evaluate(c, &t.v[k - 1], y, &terms) != SHIFT_OK) return 0;
+    return terms.pdf_prev == y->rc_pdf_prev && terms.geom == y->rc_geom && terms.pdf_k == y->rc_pdf &&
+           terms.light_pdf == y->light_pdf;
+}
+
+/* Shifts of the shifted sample y = T_{a->b}(x) (spatial pass 2+): the identity at b,
+ * y -> c -> b and y -> c -> a, with the Jacobians multiplying to 1 along the chains;
+ * under random replay y must equal the sample recorded afresh at b from x's numbers. */
+static void shift_chain(const restir_context *c, const scene *s, const path_vertex *xa, const path_vertex *xb,
+                        const path_sample *x, const path_sample *y, real j_ab, rng_key key, long i, int radius, int bx,
+                        int by, shift_tally *t)
+{
+    int cx = bx + (int)draw(key, 4, 2u * radius + 1) - radius, cy = by + (int)draw(key, 5, 2u * radius + 1) - radius;
+    path_vertex xc;
+    path_sample w, v, back;
+    real j_bb, j_bc, j_cb, j_ca;
+    enum shift_failure why = shift_path(c, xb, y, &v, &j_bb, NULL);
+    if (why != SHIFT_OK || !same_path(&v, y) || j_bb != 1 ||
+        !f_close(c, xb, y, rel_err(v.F, y->F))) {
+        logic_failure(t, "path %ld: the identity shift of a shifted sample is not the identity (%s, %g)", i, why, 0);
+        return;
+    }
+    if (c->shift == RESTIR_SHIFT_REPLAY) {
+        path_sample fresh;
+        path_sample_begin(&fresh, x->seed, x->pixel, x->sample);
+        fresh.length = x->length;
+        fresh.technique = x->technique;
+        why = path_record(c, xb, &fresh);
+        t->fresh_compared++;
+        if (why != SHIFT_OK || !same_fields(&fresh, y)) {
+            logic_failure(t, "path %ld: the replayed sample differs from the one recorded at b (%s, F rel %g)", i, why,
+                          rel_err(fresh.F, y->F));
+            return;
+        }
+    }
+    if (y->rc_k != PATH_RC_NONE && !stored_terms_fresh(c, xb, y)) {
+        logic_failure(t, "path %ld: a shifted sample's stored prefix lobes or source terms differ from the ones "
+                         "evaluated afresh at b (%s, %g)", i, SHIFT_OK, 0);
+        return;
+    }
+    if (cx < 0 || cy < 0 || cx >= s->width || cy >= s->height || (cx == bx && cy == by)) return;
+    if (!rt_primary_vertex(s, cx, cy, &xc)) return;
+    if (shift_path(c, &xc, y, &w, &j_bc, NULL) != SHIFT_OK) return;
+    t->chain_ok++;
+    why = shift_path(c, xb, &w, &v, &j_cb, NULL);
+    if (why != SHIFT_OK || !same_path(&v, y)) {
+        logic_failure(t, "path %ld: T_{c->b}(T_{b->c}(y)) is not y (%s, %g)", i, why, 0);
+        return;
+    }
+    if (!(fabs((double)j_bc * (double)j_cb - 1) <= JJ_RTOL) ||
+        !f_close(c, xb, y, rel_err(v.F, y->F))) {
+        logic_failure(t, "path %ld: chain b->c->b: J J - 1 = %2$s%3$g", i, 0, (double)j_bc * (double)j_cb - 1);
+        return;
+    }
+    why = shift_path(c, xa, &w, &back, &j_ca, NULL);
+    if (why != SHIFT_OK || !same_path(&back, x)) {
+        logic_failure(t, "path %ld: T_{c->a}(T_{b->c}(T_{a->b}(x))) is not x (%s, %g)", i, why, 0);
+        return;
+    }
+    if (!(fabs((double)j_ab * (double)j_bc * (double)j_ca - 1) <= JJ_RTOL) ||
+        !f_close(c, xa, x, rel_err(back.F, x->F)))
+        logic_failure(t, "path %ld: chain a->b->c->a: J J J - 1 = %2$s%3$g", i, 0,
+                      (double)j_ab * (double)j_bc * (double)j_ca - 1);
+}
 
 /* One base path of pixel a, shifted to itself and to a random pixel b within `radius`. */
 static void one_path(const restir_context *c, const initial_options *io, const scene *s, uint32_t seed, long i,
@@ -96,6 +238,7 @@ static void one_path(const restir_context *c, const initial_options *io, const s
     path_sample y, z;
     real j_ab, j_ba, j_id;
     enum shift_failure why;
+    shift_info info;
     memset(&st, 0, sizeof st);
     if (!rt_primary_vertex(s, ax, ay, &xa)) return;
     initial_sample_pixel(c, io, &xa, seed, (uint32_t)(ay * s->width + ax), (uint32_t)i, &r, &st);
@@ -107,7 +250,7 @@ static void one_path(const restir_context *c, const initial_options *io, const s
         double e = rel_err(y.F, r.y.F);
         t->identity_ok++;
         if (e > t->max_identity_f_err && !ill_conditioned(c, &xa, &r.y)) t->max_identity_f_err = e;
-        if (!same_path(&y, &r.y) || j_id != 1 || !(e <= F_RTOL || ill_conditioned(c, &xa, &r.y)))
+        if (!same_path(&y, &r.y) || j_id != 1 || !f_close(c, &xa, &r.y, e))
             logic_failure(t, "path %ld: the identity shift is not the identity (%s, F error %g)", i, why, e);
     } else if (!(r.y.rc_flags & PATH_RC_FLAG_UNSHIFTABLE)) {
         logic_failure(t, "path %ld: the identity shift failed: %s (%g)", i, why, 0);
@@ -115,7 +258,8 @@ static void one_path(const restir_context *c, const initial_options *io, const s
     if (bx < 0 || by < 0 || bx >= s->width || by >= s->height || (bx == ax && by == ay)) return;
     if (!rt_primary_vertex(s, bx, by, &xb)) return;
     t->by_k[r.y.rc_k]++;
-    why = shift_path(c, &xb, &r.y, &y, &j_ab, NULL);
+    memset(&info, 0, sizeof info);
+    why = shift_path(c, &xb, &r.y, &y, &j_ab, &info);
     t->outcome[why]++;
     if (why != SHIFT_OK) return;
     t->forward_ok++;
@@ -130,9 +274,17 @@ static void one_path(const restir_context *c, const initial_options *io, const s
         if (fe > t->max_f_err && !ill_conditioned(c, &xa, &r.y)) t->max_f_err = fe;
         if (jj > t->max_jj_err) t->max_jj_err = jj;
         if (!same_path(&z, &r.y)) logic_failure(t, "path %ld: T^-1(T(x)) is another path (%s, %g)", i, SHIFT_OK, 0);
-        else if (!(fe <= F_RTOL || ill_conditioned(c, &xa, &r.y))) logic_failure(t, "path %ld: F(T^-1(T(x))) differs from F(x) (%s, rel %g)", i, SHIFT_OK, fe);
+        else if (!f_close(c, &xa, &r.y, fe)) logic_failure(t, "path %ld: F(T^-1(T(x))) differs from F(x) (%s, rel %g)", i, SHIFT_OK, fe);
         else if (!(jj <= JJ_RTOL)) logic_failure(t, "path %ld: J(a->b) J(b->a) - 1 = %2$s%3$g", i, 0, jj);
     }
+    {
+        int delta, rough_t;
+        if (info.replayed >= 1) t->by_replay_ok[info.replayed - 1]++;
+        lobe_kinds(c, &xa, &r.y, &delta, &rough_t);
+        t->delta_ok += delta;
+        t->rough_transmission_ok += rough_t;
+    }
+    shift_chain(c, s, &xa, &xb, &r.y, &y, j_ab, key, i, radius, bx, by, t);
 }
 
 static void print_tally(const char *what, const shift_tally *t)
@@ -145,6 +297,12 @@ static void print_tally(const char *what, const shift_tally *t)
             t->max_identity_f_err);
     for (i = 0; i <= PATH_MAX_LENGTH; ++i)
         if (t->by_k[i]) fprintf(stderr, " %d: %ld/%ld", i, t->by_k_ok[i], t->by_k[i]);
+    fprintf(stderr, "\n    replayed bounces (successful a -> b):");
+    for (i = 0; i <= PATH_MAX_LENGTH; ++i)
+        if (t->by_replay_ok[i]) fprintf(stderr, " %d: %ld", i, t->by_replay_ok[i]);
+    fprintf(stderr, "\n    delta-lobe paths shifted %ld, rough-transmission paths shifted %ld, chains b->c ok %ld, "
+                    "replay compared with path_record %ld",
+            t->delta_ok, t->rough_transmission_ok, t->chain_ok, t->fresh_compared);
     fprintf(stderr, "\n    failures:");
     for (i = 1; i < SHIFT_FAILURE_COUNT; ++i)
         if (t->outcome[i]) fprintf(stderr, " %s %ld", shift_failure_names[i], t->outcome[i]);
@@ -187,6 +345,21 @@ static void invertibility(const char *path, int shift, long n_paths)
         CHECKF(t.outcome[SHIFT_FAIL_RC_PREV] > 0 && t.outcome[SHIFT_FAIL_RC_EARLIER] > 0 && t.by_k_ok[3] > 0,
                "%s: invertibility checks not exercised (rc_prev %ld, rc_earlier %ld, k = 3 shifts %ld)", what,
                t.outcome[SHIFT_FAIL_RC_PREV], t.outcome[SHIFT_FAIL_RC_EARLIER], t.by_k_ok[3]);
+    CHECKF(t.chain_ok > n_paths / 50, "%s: only %ld shifts of shifted samples succeeded", what, t.chain_ok);
+    if (strstr(path, "glass"))
+        CHECKF(t.delta_ok >= 10, "%s: only %ld paths with a delta lobe shifted", what, t.delta_ok);
+    if (!strcmp(path, RT_CORRIDOR)) {
+        long late = 0, long_replay = 0;
+        int j;
+        for (j = 5; j <= PATH_MAX_LENGTH; ++j) late += t.by_k_ok[j];
+        for (j = 3; j <= PATH_MAX_LENGTH; ++j) long_replay += t.by_replay_ok[j];
+        CHECKF(t.rough_transmission_ok > n_paths / 100, "%s: only %ld rough-transmission paths shifted", what,
+               t.rough_transmission_ok);
+        /* measured (seeds 1-5): ~1150 of 10^4 paths reconnect at k >= 5, ~1230 replay 3+ bounces */
+        if (shift == RESTIR_SHIFT_HYBRID)
+            CHECKF(late > n_paths / 30 && long_replay > n_paths / 30,
+                   "%s: only %ld successful shifts at k >= 5 and %ld with 3+ replayed bounces", what, late, long_replay);
+    }
 }
 
 static void all_shifts(long n)
@@ -198,7 +371,20 @@ static void all_shifts(long n)
     }
 }
 
+/* Delta lobes (the glass room) and long replayed prefixes with late reconnections and
+ * rough transmission (the mirror corridor). */
+static void coverage_scenes(long n)
+{
+    int shift;
+    for (shift = 0; shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++shift) {
+        invertibility("scenes/glass.scene", shift, n);
+        if (!test_has_failed()) invertibility(RT_CORRIDOR, shift, n);
+    }
+}
+
 TEST(shift_identity_and_invertibility) { all_shifts(10000); }
+TEST(shift_invertibility_delta_and_corridor) { coverage_scenes(10000); }
+TEST_LONG(shift_invertibility_delta_and_corridor_1e5) { coverage_scenes(100000); }
 TEST_LONG(shift_identity_and_invertibility_1e5) { all_shifts(100000); }
 
 /* Every failure reason has a name (the --stats keys) and the tables are complete. */

@@ -28,6 +28,14 @@ int generate_ajar(scene *s, double door_angle_degrees, rerror *e);
  * light carrying the Cornell light's power. */
 int generate_glass_room(scene *s, rerror *e);
 
+/* Fills a zeroed scene with the mirror corridor (docs/scenes.md §8): a 0.6 x 0.6 x 5 m
+ * corridor of glossy conductors (roughness 0.05 and 0.1, below the reconnection
+ * threshold) that opens into a lit room holding a rough glass block; the camera looks
+ * down the corridor, so most camera paths bounce 3 or more times off its walls before
+ * their first rough vertex (hybrid shift: long replayed prefixes, late reconnection).
+ * Metres. */
+int generate_corridor(scene *s, rerror *e);
+
 /* Writes a scene file for s (atomically): `comment` (may be NULL, may hold several lines)
  * as # lines, `mesh MESH_NAME`, the camera, the size and one `material` line per
  * material with every field, so the scene file alone states the materials. */

@@ -96,7 +96,7 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
 /* The effective configuration as a JSON object (no trailing newline). */
 void restir_options_write_json(FILE *out, const restir_options *o, const char *indent);
 /* The GRIS offline preset (GRIS §8.3): 32 path trees, 3 spatial passes, 6 neighbours in
- * radius 10; the other fields are kept. */
+ * radius 10, defensive pairwise MIS; the other fields are kept. */
 void restir_options_preset_gris_offline(restir_options *o);
 
 /* One pixel, for `restir inspect` (docs/restir-pt.md): prints the selected path of pixel

@@ -1,4 +1,4 @@
-/* restir generate ajar|glass|sphere -o OUT.obj: writes a generated scene as OUT.obj,
+/* restir generate ajar|glass|corridor|sphere -o OUT.obj: writes a generated scene as OUT.obj,
  * OUT.mtl and OUT.scene (docs/scenes.md). */
 #include <stdio.h>
 #include <string.h>
@@ -46,6 +46,12 @@ static void describe(const char *kind, const generate_args *a, char *out, size_t
                  "Lambertian block and a small 40 x 40 mm light (docs/scenes.md). Millimetres.\n"
                  "Written by: restir generate glass -o %s",
                  base_name(a->output));
+    else if (!strcmp(kind, "corridor"))
+        snprintf(out, size,
+                 "Mirror corridor: a 5 m corridor of glossy conductors (roughness 0.05 / 0.1) opening into a lit room\n"
+                 "with a rough glass block; long replayed prefixes and late reconnections (docs/scenes.md). Metres.\n"
+                 "Written by: restir generate corridor -o %s",
+                 base_name(a->output));
     else
         snprintf(out, size, "Displaced sphere benchmark scene (generate.h).\nWritten by: restir generate sphere --subdivisions %d -o %s",
                  a->subdivisions, base_name(a->output));
@@ -55,6 +61,7 @@ static int generate_kind(const char *kind, const generate_args *a, scene *s, rer
 {
     if (!strcmp(kind, "ajar")) return generate_ajar(s, a->door_angle, e);
     if (!strcmp(kind, "glass")) return generate_glass_room(s, e);
+    if (!strcmp(kind, "corridor")) return generate_corridor(s, e);
     return generate_displaced_sphere(s, a->subdivisions, e);
 }
 
@@ -79,13 +86,14 @@ int cmd_generate(int argc, char **argv)
         };
         status = cli_parse("generate", argc, argv, options, positional, 2, &count);
         if (status == 1) {
-            cli_print_help(stdout, "generate", "ajar|glass|sphere -o OUT.obj [options]", options);
+            cli_print_help(stdout, "generate", "ajar|glass|corridor|sphere -o OUT.obj [options]", options);
             return 0;
         }
     }
     if (status) return status;
-    if (count != 1 || (strcmp(positional[0], "ajar") && strcmp(positional[0], "glass") && strcmp(positional[0], "sphere"))) {
-        fprintf(stderr, "restir generate: expected one of ajar, glass, sphere (restir generate --help)\n");
+    if (count != 1 || (strcmp(positional[0], "ajar") && strcmp(positional[0], "glass") && strcmp(positional[0], "corridor") &&
+                       strcmp(positional[0], "sphere"))) {
+        fprintf(stderr, "restir generate: expected one of ajar, glass, corridor, sphere (restir generate --help)\n");
         return 2;
     }
     if (!a.output) {

@@ -48,9 +48,12 @@ static void restir_neighbor_options(neighbor_options *no, const restir_options *
     no->max_relative_depth = (float)o->depth_ratio;
 }
 
+/* GRIS §8.3: "we use defensive pairwise MIS for spatial reuse" (issue 9: the preset kept
+ * Talbot before). */
 void restir_options_preset_gris_offline(restir_options *o)
 {
     o->candidates = 32;
+    o->mis = MIS_PAIRWISE_DEFENSIVE;
     o->spatial_passes = 3;
     o->neighbors = 6;
     o->radius = 10;

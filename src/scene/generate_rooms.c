@@ -432,6 +432,102 @@ int generate_glass_room(scene *s, rerror *e)
 }
 
 /* ------------------------------------------------------------------------------- */
+/* The mirror corridor                                                                */
+
+/* Metres; x across, y up, z away from the camera. Corridor interior x in [-CO_W/2, CO_W/2],
+ * y in [0, CO_H], z in [0, CO_L]; it opens into a lit room, interior x in [-RO_W/2,
+ * RO_W/2], y in [RO_Y0, RO_H], z in [CO_L, CO_L + RO_D]. The room floor is 1 cm below the
+ * corridor's so that the two floors are never coplanar. */
+#define CO_W 0.6
+#define CO_H 0.6
+#define CO_L 5.0
+#define CO_T 0.1
+#define RO_W 4.0
+#define RO_H 2.5
+#define RO_D 4.0
+#define RO_Y0 (-0.01)
+
+static const material_spec corridor_materials[] = {
+    /* Glossy conductors below the reconnection threshold 0.2: the hybrid shift must
+     * replay every bounce in the corridor. */
+    {"mirror", MAT_CONDUCTOR, {0, 0, 0}, {0.95, 0.95, 0.95}, {0, 0, 0}, 0.05, 1.5},
+    {"glossy", MAT_CONDUCTOR, {0, 0, 0}, {0.9, 0.85, 0.8}, {0, 0, 0}, 0.1, 1.5},
+    {"dark", MAT_LAMBERT, {0.1, 0.1, 0.1}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"white", MAT_LAMBERT, {0.75, 0.73, 0.7}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"red", MAT_LAMBERT, {0.63, 0.065, 0.05}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"floor", MAT_PLASTIC, {0.45, 0.4, 0.35}, {1, 1, 1}, {0, 0, 0}, 0.5, 1.5},
+    {"rough_glass", MAT_ROUGH_DIELECTRIC, {0, 0, 0}, {1, 1, 1}, {0, 0, 0}, 0.3, 1.5},
+    {"light", MAT_LAMBERT, {0, 0, 0}, {0, 0, 0}, {12, 11, 10}, 1, 1.5},
+};
+
+/* The corridor: glossy floor and ceiling slabs, mirror side walls reaching into the
+ * slabs, a dark cap behind the camera. Its walls run 1 cm into the room through the
+ * room's front wall. */
+static void corridor_tube(mesh_writer *m)
+{
+    const double t = CO_T, x = CO_W / 2, z1 = CO_L + 0.01;
+    use(m, "glossy", "corridor_floor");
+    box(m, -x - 2 * t, -t, -2 * t, x + 2 * t, 0, z1);
+    use(m, "glossy", "corridor_ceiling");
+    box(m, -x - 2 * t, CO_H, -2 * t, x + 2 * t, CO_H + t, z1);
+    use(m, "mirror", "corridor_left");
+    box(m, -x - t, -0.5 * t, -1.5 * t, -x, CO_H + 0.5 * t, z1);
+    use(m, "mirror", "corridor_right");
+    box(m, x, -0.5 * t, -1.5 * t, x + t, CO_H + 0.5 * t, z1);
+    use(m, "dark", "corridor_cap");
+    box(m, -x - 0.5 * t, -0.7 * t, -t, x + 0.5 * t, CO_H + 0.7 * t, 0);
+}
+
+/* The room: slabs, walls (the front wall a U-shaped prism whose notch holds the
+ * corridor), a rough glass block facing the corridor and a ceiling light. */
+static void corridor_room(mesh_writer *m)
+{
+    const double t = CO_T, x = RO_W / 2, z0 = CO_L, z1 = CO_L + RO_D;
+    const double ay0 = RO_Y0 - 0.7 * t, ay1 = RO_H + 0.7 * t, ax = x + 0.5 * t, nx = CO_W / 2 + 0.5 * t;
+    const double front[8][2] = {{-ax, ay0}, {-nx, ay0}, {-nx, CO_H + 0.5 * t}, {nx, CO_H + 0.5 * t},
+                                {nx, ay0},  {ax, ay0},  {ax, ay1},           {-ax, ay1}};
+    uint32_t a, b, c, d;
+    use(m, "floor", "room_floor");
+    box(m, -x - 2 * t, RO_Y0 - t, z0 - 2 * t, x + 2 * t, RO_Y0, z1 + 2 * t);
+    use(m, "white", "room_ceiling");
+    box(m, -x - 2 * t, RO_H, z0 - 2 * t, x + 2 * t, RO_H + t, z1 + 2 * t);
+    use(m, "red", "room_left");
+    box(m, -x - t, RO_Y0 - 0.5 * t, z0 - 1.5 * t, -x, RO_H + 0.5 * t, z1 + 1.5 * t);
+    use(m, "white", "room_right");
+    box(m, x, RO_Y0 - 0.5 * t, z0 - 1.5 * t, x + t, RO_H + 0.5 * t, z1 + 1.5 * t);
+    use(m, "white", "room_back");
+    box(m, -ax, ay0, z1, ax, ay1, z1 + t);
+    use(m, "white", "room_front");
+    prism(m, front[0], 8, 2, z0 - t, z0);
+    /* The glass block stands 1 mm above the floor: no other surface may lie inside a
+     * dielectric (a floor face inside the glass would be lit from within the medium). */
+    use(m, "rough_glass", "rough_glass_block");
+    box(m, -0.35, RO_Y0 + 0.001, z0 + 1.2, 0.45, 0.7, z0 + 1.6);
+    /* The light: 1 x 1 m, 5 mm below the ceiling, facing down ((x) x (z) = -y). */
+    use(m, "light", "light");
+    a = vertex(m, -0.5, RO_H - 0.005, z0 + RO_D / 2 - 0.5);
+    b = vertex(m, 0.5, RO_H - 0.005, z0 + RO_D / 2 - 0.5);
+    c = vertex(m, 0.5, RO_H - 0.005, z0 + RO_D / 2 + 0.5);
+    d = vertex(m, -0.5, RO_H - 0.005, z0 + RO_D / 2 + 0.5);
+    quad(m, a, b, c, d);
+}
+
+/* The camera: in the corridor 0.2 m from its cap, looking past the corridor's far
+ * end towards its upper right edge, so that most primary rays meet a wall first. */
+#define CORRIDOR_CAMERA 0.0, 0.3, 0.2, 0.45, 0.55, 3.0, 40
+
+int generate_corridor(scene *s, rerror *e)
+{
+    mesh_writer m;
+    if (writer_begin(&m, s, "generated:corridor", e)) return -1;
+    define_materials(&m, corridor_materials, (int)(sizeof corridor_materials / sizeof *corridor_materials));
+    corridor_tube(&m);
+    corridor_room(&m);
+    set_camera(s, CORRIDOR_CAMERA);
+    return writer_end(&m);
+}
+
+/* ------------------------------------------------------------------------------- */
 /* Scene file output                                                                  */
 
 static const char *const type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric"};
