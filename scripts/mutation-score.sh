@@ -10,7 +10,7 @@
 #     --long    run `make test-long` on the survivors of `make test` (slow)
 #     --seed N  the suite's seed (default: the suite's own, 1)
 #     --keep    keep the scratch directory
-#     NAME      only these mutants (file names without .patch)
+#     NAME      only these mutants, in this order (file names without .patch)
 # Environment: MUTANT_SCRATCH (scratch directory, default /tmp/restir-mutants.PID),
 # MUTANT_OUT (logs and the table, default out/mutants), MUTANT_TIMEOUT (seconds per
 # suite run, default 1200), MAKE_JOBS (default 2).
@@ -102,11 +102,15 @@ table="$out/table.md"
 total=0
 caught=0
 bad=0
-for patch in tests/mutants/*.patch; do
+# Every mutant in name order, or the named ones in the order given.
+patches=
+if [ -n "$only" ]; then
+    for name in $only; do patches="$patches tests/mutants/$name.patch"; done
+else
+    patches=$(ls tests/mutants/*.patch)
+fi
+for patch in $patches; do
     name=$(basename "$patch" .patch)
-    if [ -n "$only" ]; then
-        case " $only " in *" $name "*) ;; *) continue ;; esac
-    fi
     total=$((total + 1))
     dir="$scratch/mutant"
     rm -rf "$dir"
@@ -116,7 +120,9 @@ for patch in tests/mutants/*.patch; do
     tests=""
     margin=""
     say "mutation-score: $name"
-    if ! (cd "$dir" && git apply -p1 "$root/$patch") >"$log" 2>&1; then
+    if [ ! -f "$patch" ]; then
+        outcome="no such mutant"
+    elif ! (cd "$dir" && git apply -p1 "$root/$patch") >"$log" 2>&1; then
         outcome="does not apply"
     elif ! (cd "$dir" && nice -n 10 make -j"$jobs" build/restir build/tests/run) >>"$log" 2>&1; then
         outcome="does not build"
