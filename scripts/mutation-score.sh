@@ -5,6 +5,7 @@
 # failing statistic, or "exact" for a deterministic assertion; tests/test.h
 # test_margin). Prints a markdown table and the score; exit status 1 if any mutant
 # survives, does not apply or does not build, 2 if the unmutated tree is not green.
+# Margins are written \|z\| in the table (a markdown-escaped |z|).
 #
 #   sh scripts/mutation-score.sh [--long] [--seed N] [--keep] [NAME ...]
 #     --long    run `make test-long` on the survivors of `make test` (slow)
@@ -133,9 +134,9 @@ for patch in $patches; do
             [ "$outcome" = survived ] || outcome="$outcome (test-long only)"
         fi
         if [ -s "$dir/margins.txt" ]; then
-            tests=$(awk '{ printf "%s%s (%s)", (NR > 1 ? ", " : ""), $1, ($2 == "exact" ? "exact" : "|z| " $3) }' "$dir/margins.txt")
+            tests=$(awk '{ printf "%s%s (%s)", (NR > 1 ? ", " : ""), $1, ($2 == "exact" ? "exact" : "\\|z\\| " $3) }' "$dir/margins.txt")
             margin=$(awk '$2 == "exact" { e = 1 } $2 == "z" && $3 + 0 > z + 0 { z = $3 }
-                          END { if (e) print "exact"; else if (z != "") printf "|z| %s", z }' "$dir/margins.txt")
+                          END { if (e) print "exact"; else if (z != "") printf "\\|z\\| %s", z }' "$dir/margins.txt")
         fi
     fi
     case "$outcome" in
