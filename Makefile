@@ -7,6 +7,7 @@
 #   make test-long       the longer statistical suites too
 #   make test-data       load every file of ../shared/data (real-world OBJ/MTL/PFM)
 #   make bench           benchmarks, machine-readable JSON on stdout
+#   make mutation-score  planted bugs of tests/mutants vs make test (slow; MUTANT_FLAGS=--long)
 # Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir
 #   DEBUG=1 checks the estimator's invariants after every GRIS step and aborts with
 #   file:line on a failure (include/restir/invariant.h; docs/statistics.md).
@@ -51,7 +52,7 @@ LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/*.c))
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-.PHONY: all run test test-long test-data bench clean results results-temporal
+.PHONY: all run test test-long test-data bench clean results results-temporal mutation-score
 all: $(BUILD)/restir
 
 $(BUILD)/%.o: %.c
@@ -106,3 +107,8 @@ results: $(BUILD)/restir
 # Temporal reuse, GRIS Fig. 9 (docs/results.md; minutes, never part of `make test`).
 results-temporal: $(BUILD)/restir
 	sh scripts/results_temporal.sh out/results-temporal $(BUILD)
+
+# Planted bugs (tests/mutants/*.patch) against `make test`: score, catching tests and
+# margins (docs/statistics.md, "Mutation score"; about 2 minutes per mutant, not CI).
+mutation-score:
+	sh scripts/mutation-score.sh $(MUTANT_FLAGS)

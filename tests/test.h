@@ -18,6 +18,14 @@ void test_fail(const char *file, int line, const char *fmt, ...)
     ;
 int test_has_failed(void);
 
+/* Optional machine-readable margin of a statistical check (scripts/mutation-score.sh):
+ * the normal-equivalent z of the statistic a test decides on. When the environment
+ * variable RESTIR_TEST_MARGIN_FILE names a file, each failing test appends one line
+ * "name z |z|" (the largest |z| given here, else the largest "z <number>" or two-sided
+ * "p <number>" found in its failure message) or "name exact" (no statistic: a
+ * deterministic assertion failed). */
+void test_margin(double z);
+
 #define CHECK(cond)                                                 \
     do {                                                            \
         if (!(cond)) {                                              \

@@ -1,5 +1,7 @@
 /* Test runner: runs every registered test (or those whose name contains one of
  * the filters), prints one line per test and ends with "N passed, N failed". */
+#include <ctype.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -7,6 +9,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
+#include "restir/stats.h"
 #include "test.h"
 
 #define X(name, is_long) void test_##name(void);
@@ -42,6 +45,49 @@ void test_fail(const char *file, int line, const char *fmt, ...)
 }
 
 int test_has_failed(void) { return current_failed; }
+
+/* ---- margins of failed tests (test.h: test_margin) ---- */
+
+static double current_margin; /* largest |z| reported by test_margin, or -1 */
+
+void test_margin(double z)
+{
+    if (z != z) return;
+    if (fabs(z) > current_margin) current_margin = fabs(z);
+}
+
+/* The largest |z| of "z <number>" / "z = <number>" in msg, and of the normal z of
+ * two-sided "p <number>" / "p = <number>" (a chi-square or Welch p-value); -1 if none. */
+static double margin_from_message(const char *msg)
+{
+    double best = -1;
+    const char *c;
+    for (c = msg; *c; ++c) {
+        const char *after = c + 1;
+        char *end;
+        double x;
+        if ((*c != 'z' && *c != 'p') || (c > msg && (isalnum((unsigned char)c[-1]) || c[-1] == '_'))) continue;
+        if (*after == ' ' && after[1] == '=') after += 2;
+        else if (*after == '=') after += 1;
+        else if (*after != ' ') continue;
+        x = strtod(after, &end);
+        if (end == after || x != x) continue;
+        if (*c == 'p') x = x > 0 && x <= 1 ? -stats_normal_quantile(x / 2) : (x == 0 ? 40 : -1);
+        if (fabs(x) > best) best = fabs(x);
+    }
+    return best;
+}
+
+static void record_margin(const char *name)
+{
+    const char *path = getenv("RESTIR_TEST_MARGIN_FILE");
+    double z = current_margin >= 0 ? current_margin : margin_from_message(current_message);
+    FILE *f;
+    if (!path || !*path || !(f = fopen(path, "a"))) return;
+    if (z >= 0) fprintf(f, "%s z %.2f\n", name, z > 40 ? 40 : z);
+    else fprintf(f, "%s exact\n", name);
+    fclose(f);
+}
 uint32_t test_seed(void) { return run_seed; }
 const char *test_tmpdir(void) { return RESTIR_TMP; }
 
@@ -144,11 +190,13 @@ int main(int argc, char **argv)
         double t0;
         if (!selected(t, run_long, argc, argv, first_filter)) continue;
         current_failed = 0;
+        current_margin = -1;
         current_message[0] = '\0';
         t0 = wall_seconds();
         t->fn();
         if (current_failed) {
             printf("FAIL %s (%.2f s): %s\n", t->name, wall_seconds() - t0, current_message);
+            record_margin(t->name);
             failed++;
         } else {
             printf("ok   %s (%.2f s)\n", t->name, wall_seconds() - t0);
