@@ -399,12 +399,12 @@ static int apply_sequence_options(render_args *a)
     /* the path tracer's --checkpoint FILE / --resume FILE rows serve sequences too */
     a->seq.checkpoint = a->pt.checkpoint;
     a->seq.resume = a->pt.resume;
-    return apply_stage_options(a);
+    return 0;
 }
 
 static int apply_shared_options(render_args *a)
 {
-    if (apply_sequence_options(a)) return 2;
+    if (apply_sequence_options(a) || apply_stage_options(a)) return 2;
     if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.time_limit; /* --time-limit */
     if (a->method == METHOD_RESTIR && a->max_depth_given) {
         if (a->pt.max_depth < 2 || a->pt.max_depth > PATH_MAX_LENGTH) {
