@@ -22,6 +22,7 @@
 #include "restir/reservoir.h"
 #include "restir/rng.h"
 #include "restir/warp.h"
+#include "frame_job.h"
 
 /* ---- evaluators ---------------------------------------------------------------------- */
 
@@ -428,6 +429,90 @@ static int e_rc_jacobian(const double *in, int n_in, double *out)
     return 1;
 }
 
+/* ---- scene-level shifts: scenes/cornell.scene at 24 x 18, frame 0, pixel centres ------- */
+
+#define SHIFT_SCENE "scenes/cornell.scene"
+#define SHIFT_W 24
+#define SHIFT_H 18
+
+static struct {
+    int state; /* 0 not loaded, 1 loaded, -1 failed */
+    scene s;
+    light_set lights;
+    gbuffer g;
+} shift_scene;
+
+/* The scene, its lights and G-buffer, loaded once (relative to the working directory: the
+ * repository root). Not thread-safe: vectors are generated and checked on one thread. */
+static int shift_scene_load(void)
+{
+    rerror e;
+    camera cam;
+    if (shift_scene.state) return shift_scene.state > 0 ? 0 : -1;
+    shift_scene.state = -1;
+    if (scene_load(&shift_scene.s, SHIFT_SCENE, &e)) return -1;
+    shift_scene.s.width = SHIFT_W;
+    shift_scene.s.height = SHIFT_H;
+    if (scene_prepare(&shift_scene.s, &e) || lights_build(&shift_scene.lights, &shift_scene.s, &e)) return -1;
+    camera_init(&cam, scene_camera_at(&shift_scene.s, 0), SHIFT_W, SHIFT_H);
+    if (gbuffer_build(&shift_scene.g, &shift_scene.s, &cam, 1, 0, 0, 1, &e)) return -1;
+    shift_scene.state = 1;
+    return 0;
+}
+
+/* shift (0 reconnection, 1 random replay, 2 hybrid), seed, base x, y, destination x, y ->
+ * base: valid, d, k, p̂; shift: failure reason (enum shift_failure, 0 = ok), J, offset d, k,
+ * F rgb, p̂ (Stochastic MIS Eq. 5: Y = T(X); Jacobian GRIS Eq. 54 / Enhanced Eq. 2; the
+ * target p̂_{<-i} of GRIS Eq. 35 is p̂(Y) / J of the reverse direction). */
+static int e_shift(const double *in, int n_in, double *out)
+{
+    restir_options o;
+    restir_context ctx;
+    initial_options io;
+    initial_stats st;
+    reservoir base;
+    path_sample y;
+    path_vertex x1, y1;
+    shift_info info;
+    real jac = 0;
+    int kind = (int)in[0], bx = (int)in[2], by = (int)in[3], dx = (int)in[4], dy = (int)in[5], fail;
+    NEED(6);
+    if (kind < 0 || kind > 2 || bx < 0 || by < 0 || dx < 0 || dy < 0 || bx >= SHIFT_W || dx >= SHIFT_W ||
+        by >= SHIFT_H || dy >= SHIFT_H || shift_scene_load())
+        return -1;
+    restir_options_default(&o);
+    o.shift = kind;
+    o.seed = (uint32_t)in[1];
+    restir_context_for(&ctx, &shift_scene.s, &shift_scene.lights, &o);
+    restir_initial_options_for(&io, &o);
+    memset(&st, 0, sizeof st);
+    reservoir_init(&base);
+    if (frame_primary_vertex(&shift_scene.s, &shift_scene.g, (long)by * SHIFT_W + bx, &x1))
+        initial_sample_pixel(&ctx, &io, &x1, o.seed, (uint32_t)(by * SHIFT_W + bx), 0, &base, &st);
+    out[0] = path_sample_is_valid(&base.y);
+    out[1] = base.y.length;
+    out[2] = base.y.rc_k;
+    out[3] = (double)base.y.target;
+    path_sample_clear(&y);
+    memset(&info, 0, sizeof info);
+    if (!path_sample_is_valid(&base.y)) fail = SHIFT_FAIL_EMPTY;
+    else if (!frame_primary_vertex(&shift_scene.s, &shift_scene.g, (long)dy * SHIFT_W + dx, &y1))
+        fail = SHIFT_FAIL_NO_PRIMARY;
+    else
+        fail = (int)shift_path(&ctx, &y1, &base.y, &y, &jac, &info);
+    if (fail != SHIFT_OK) {
+        path_sample_clear(&y);
+        jac = 0;
+    }
+    out[4] = fail;
+    out[5] = (double)jac;
+    out[6] = y.length;
+    out[7] = y.rc_k;
+    outc(out + 8, y.F);
+    out[11] = (double)y.target;
+    return 12;
+}
+
 #define MAT "type,Kd.r,Kd.g,Kd.b,Ks.r,Ks.g,Ks.b,roughness,ior"
 static const vector_fn table[] = {
     {"rng", "rng_u", "seed,pixel,sample,stream,vertex,slot -> bits,u", e_rng_u},
@@ -476,11 +561,15 @@ static const vector_fn table[] = {
      e_mis},
     {"mis", "mis_pair_canonical", "c_c,p_c,c_n,p_n_from_c -> m_c", e_pair_canonical},
     {"mis", "mis_pair_neighbor", "c_n,p_n_from_n,c_c,p_c_at_n -> m_n", e_pair_neighbor},
+    {"shift", "shift_path",
+     "shift(0 reconnection,1 replay,2 hybrid),seed,base.x,base.y,dest.x,dest.y -> base_valid,base_d,base_k,"
+     "base_target,failure,J,d,k,F.r,F.g,F.b,target",
+     e_shift},
     {"reconnection", "rc_jacobian", "pdf_prev_y,geom_y,pdf_k_y,pdf_prev_x,geom_x,pdf_k_x -> J", e_rc_jacobian},
     {NULL, NULL, NULL, NULL}};
 
 static const char *const family_names[] = {"rng", "warp", "microfacet", "bsdf", "light", "wrs", "mis",
-                                           "reconnection", NULL};
+                                           "reconnection", "shift", NULL};
 
 const vector_fn *vectors_functions(void) { return table; }
 const char *const *vectors_families(void) { return family_names; }
@@ -793,6 +882,26 @@ static void gen_reconnection(gen *g)
     EMIT("rc_jacobian", eqs, "degenerate base (denominator 0)", 0.3, 0.05, 0.8, 0, 0.05, 0.8);
 }
 
+/* Every shift from a few base pixels to their neighbours (and to themselves: J = 1), for
+ * three seeds: successes with each mapping and the failure reasons the scene produces. */
+static void gen_shift(gen *g)
+{
+    static const char eqs[] = "Stochastic MIS 5;GRIS 35;Stochastic MIS 10;GRIS 54";
+    static const int pix[][4] = {{12, 9, 12, 9}, {12, 9, 13, 9}, {5, 12, 6, 13}, {20, 4, 18, 4},
+                                 {3, 3, 4, 3},   {12, 15, 11, 15}, {8, 9, 16, 9}};
+    static const char *const names[] = {"reconnection", "random replay", "hybrid"};
+    size_t i;
+    int kind, seed;
+    char label[96];
+    for (kind = 0; kind < 3; ++kind)
+        for (seed = 1; seed <= 3; ++seed)
+            for (i = 0; i < sizeof pix / sizeof pix[0]; ++i) {
+                snprintf(label, sizeof label, "%s, %s", names[kind],
+                         pix[i][0] == pix[i][2] && pix[i][1] == pix[i][3] ? "own pixel" : "neighbour");
+                EMIT("shift_path", eqs, label, kind, seed, pix[i][0], pix[i][1], pix[i][2], pix[i][3]);
+            }
+}
+
 static void generate(gen *g, const char *family)
 {
     g->family = family;
@@ -804,6 +913,7 @@ static void generate(gen *g, const char *family)
     else if (!strcmp(family, "wrs")) gen_wrs(g);
     else if (!strcmp(family, "mis")) gen_mis(g);
     else if (!strcmp(family, "reconnection")) gen_reconnection(g);
+    else if (!strcmp(family, "shift")) gen_shift(g);
 }
 
 int vectors_cover(const char *eq)
@@ -823,6 +933,9 @@ int vectors_write(const char *dir, rerror *e)
     int i;
     if (stat(dir, &st) != 0 && mkdir(dir, 0777) != 0 && errno != EEXIST)
         return rerror_set(e, "%s: cannot create directory: %s", dir, strerror(errno));
+    if (shift_scene_load())
+        return rerror_set(e, "%s: cannot load it for the shift vectors (run `restir vectors` from the repository root)",
+                          SHIFT_SCENE);
     for (i = 0; family_names[i]; ++i) {
         atomic_file f;
         gen g;
