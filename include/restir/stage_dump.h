@@ -41,9 +41,12 @@ typedef struct stage_io_s {
     const char *from_dir;                  /* NULL: no restart */
     char from_stage[STAGE_NAME_SIZE];
     const char *scene_path;                /* for the manifest (hashed) */
+    int argc;                              /* the command line, for the manifest (argv may be NULL) */
+    char **argv;
     /* state */
     char order[STAGE_MAX][STAGE_NAME_SIZE]; /* stage order seen in the first frame */
     int n_order, frames_done, first_frame, last_frame, restarted;
+    int width, height;                     /* image size (from the first stage) */
     uint32_t frame;                        /* the frame in progress */
     int failed;
     rerror err;                            /* the first failure (sticky) */

@@ -485,6 +485,8 @@ int cmd_render(int argc, char **argv)
     status = apply_shared_options(&a);
     if (status) return status;
     a.sio.scene_path = positional[0];
+    a.sio.argc = argc;
+    a.sio.argv = argv;
     status = load_scene_for_command("render", positional[0], &a.overrides, &s, &t.load, &t.prepare);
     if (status) return status;
     if (scene_is_animated(&s) && scene_pose_at(&s, a.frame, &e)) { /* objects at --frame (animation.h) */

@@ -122,6 +122,8 @@ void stage_io_reservoirs(stage_io *io, const char *name, reservoir *rs, int widt
     char path[4200];
     reservoir_dump_info info;
     if (!io || io->failed) return;
+    io->width = width;
+    io->height = height;
     note_order(io, name);
     if (io->from_dir && !strcmp(name, io->from_stage) && restart_load(io, name, rs, width, height)) {
         io->failed = 1;
@@ -181,7 +183,7 @@ static int write_manifest(stage_io *io, const restir_options *o, rerror *e)
     atomic_file f;
     uint32_t crc = 0;
     long bytes = 0;
-    int have_scene = io->scene_path && file_crc(io->scene_path, &crc, &bytes) == 0;
+    int have_scene = io->scene_path && file_crc(io->scene_path, &crc, &bytes) == 0, i;
     snprintf(path, sizeof path, "%s/manifest.json", io->dump_dir);
     if (atomic_file_open(&f, path, e)) return -1;
     fprintf(f.fp, "{\n  \"format\": \"restir-stage-dump\",\n  \"format_version\": %u,\n", STAGE_DUMP_FORMAT_VERSION);
@@ -191,8 +193,15 @@ static int write_manifest(stage_io *io, const restir_options *o, rerror *e)
     json_put_string(f.fp, io->scene_path ? io->scene_path : "");
     if (have_scene) fprintf(f.fp, ", \"crc32\": \"%08x\", \"bytes\": %ld},\n", (unsigned)crc, bytes);
     else fprintf(f.fp, ", \"crc32\": null, \"bytes\": null},\n");
+    fprintf(f.fp, "  \"image\": {\"width\": %d, \"height\": %d},\n", io->width, io->height);
     fprintf(f.fp, "  \"seed\": %u,\n  \"frames\": {\"first\": %d, \"last\": %d, \"written\": %d},\n", o->seed,
             io->first_frame, io->last_frame, io->frames_done);
+    fprintf(f.fp, "  \"command_line\": [");
+    for (i = 0; io->argv && i < io->argc; ++i) {
+        if (i) fputs(", ", f.fp);
+        json_put_string(f.fp, io->argv[i]);
+    }
+    fprintf(f.fp, "],\n");
     fprintf(f.fp, "  \"stage_order\": ");
     put_name_list(f.fp, io->order, io->n_order);
     fprintf(f.fp, ",\n  \"dumped_stages\": ");
