@@ -129,6 +129,8 @@ typedef struct {
     const char *resume;     /* non-NULL: continue after the frame k stored in this checkpoint
                                (first-1 <= k < last): frames k+1..last come out
                                byte-identical to an uninterrupted run (not with accumulate) */
+    struct stage_io_s *stages; /* non-NULL: per-stage dumps and/or restart from a dump
+                                  (stage_dump.h, docs/oracle.md) */
 } restir_sequence;
 
 /* Renders frames seq->first..last of s with the real-time pipeline: per frame the scene's

@@ -13,6 +13,7 @@
 #include "restir/gbuffer.h"
 #include "restir/moments.h"
 #include "restir/progress.h"
+#include "restir/stage_dump.h"
 #include "restir/threads.h"
 #include "render_pt.h"
 #include "render_restir.h"
@@ -39,6 +40,9 @@ typedef struct {
     const char *sequence, *mcap;
     int accumulate, no_temporal;
     restir_sequence seq;
+    /* the golden-oracle kit (stage_dump.h): --dump-dir, --dump-stages, --from-dump, --from-stage */
+    const char *dump_stages, *from_stage;
+    stage_io sio;
 } render_args;
 
 typedef struct {
@@ -348,6 +352,39 @@ static int ablation_index(const char *const *names, const char *name)
 }
 
 /* Hands the shared options to the chosen method. */
+/* --dump-dir DIR [--dump-stages a,b], --from-dump DIR --from-stage S (docs/oracle.md). */
+static int apply_stage_options(render_args *a)
+{
+    rerror e;
+    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage;
+    if (!any) return 0;
+    if (!a->sequence) {
+        fprintf(stderr, "restir render: --dump-dir, --dump-stages, --from-dump and --from-stage need --sequence A..B\n");
+        return 2;
+    }
+    if (a->dump_stages && !a->sio.dump_dir) {
+        fprintf(stderr, "restir render: --dump-stages needs --dump-dir DIR\n");
+        return 2;
+    }
+    if (!a->sio.from_dir != !a->from_stage) {
+        fprintf(stderr, "restir render: --from-dump DIR and --from-stage S go together\n");
+        return 2;
+    }
+    if (a->dump_stages && stage_io_set_stages(&a->sio, a->dump_stages, &e)) {
+        fprintf(stderr, "restir render: %s\n", e.msg);
+        return 2;
+    }
+    if (a->from_stage) {
+        if (strlen(a->from_stage) >= sizeof a->sio.from_stage) {
+            fprintf(stderr, "restir render: --from-stage: '%s' is too long\n", a->from_stage);
+            return 2;
+        }
+        strcpy(a->sio.from_stage, a->from_stage);
+    }
+    a->seq.stages = &a->sio;
+    return 0;
+}
+
 /* --sequence A..B, --mcap C|inf, --accumulate, --no-temporal (restir only). */
 static int apply_sequence_options(render_args *a)
 {
@@ -398,7 +435,7 @@ static int apply_sequence_options(render_args *a)
 
 static int apply_shared_options(render_args *a)
 {
-    if (apply_sequence_options(a)) return 2;
+    if (apply_sequence_options(a) || apply_stage_options(a)) return 2;
     if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.time_limit; /* --time-limit */
     if (a->method == METHOD_RESTIR && a->max_depth_given) {
         if (a->pt.max_depth < 2 || a->pt.max_depth > PATH_MAX_LENGTH) {
@@ -452,6 +489,10 @@ int cmd_render(int argc, char **argv)
             {"--accumulate", OPT_FLAG, &a.accumulate, "with --sequence: frame f's file holds the average of frames A..f (a still camera, GRIS 6.4)", NULL, 0, 0, NULL},
             {"--mcap", OPT_STRING, &a.mcap, "with --sequence: cap the previous frame's confidence at C x the current one's (C > 0 or inf; default 20, GRIS 6.2)", NULL, 0, 0, NULL},
             {"--no-temporal", OPT_FLAG, &a.no_temporal, "with --sequence: no temporal reuse (independent frames through the same pipeline)", NULL, 0, 0, NULL},
+            {"--dump-dir", OPT_STRING, &a.sio.dump_dir, "with --sequence: write DIR/manifest.json and per frame the G-buffer and the reservoirs after each stage (docs/oracle.md)", NULL, 0, 0, NULL},
+            {"--dump-stages", OPT_STRING, &a.dump_stages, "with --dump-dir: only these stages, e.g. initial,temporal,spatial1 (default: all)", NULL, 0, 0, NULL},
+            {"--from-dump", OPT_STRING, &a.sio.from_dir, "with --sequence: restart from this stage dump (needs --from-stage)", NULL, 0, 0, NULL},
+            {"--from-stage", OPT_STRING, &a.from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
         };
@@ -474,6 +515,9 @@ int cmd_render(int argc, char **argv)
     a.overrides.quiet = a.quiet;
     status = apply_shared_options(&a);
     if (status) return status;
+    a.sio.scene_path = positional[0];
+    a.sio.argc = argc;
+    a.sio.argv = argv;
     status = load_scene_for_command("render", positional[0], &a.overrides, &s, &t.load, &t.prepare);
     if (status) return status;
     if (scene_is_animated(&s) && scene_pose_at(&s, a.frame, &e)) { /* objects at --frame (animation.h) */

@@ -13,6 +13,8 @@ int cmd_bench(int argc, char **argv);
 int cmd_merge(int argc, char **argv);
 int cmd_inspect(int argc, char **argv);
 int cmd_generate(int argc, char **argv);
+int cmd_diff_dump(int argc, char **argv);
+int cmd_vectors(int argc, char **argv);
 
 const cli_command cli_commands[] = {
     {"render", cmd_render, "render a scene (.scene or .obj) to PFM + PNG"},
@@ -24,6 +26,8 @@ const cli_command cli_commands[] = {
     {"merge", cmd_merge, "combine path-tracer runs: checkpoints, or images with --counts"},
     {"inspect", cmd_inspect, "one pixel's ReSTIR path sample and its shift to a neighbour"},
     {"generate", cmd_generate, "write a generated scene (ajar, glass, sphere) as OBJ + MTL + scene file"},
+    {"diff-dump", cmd_diff_dump, "stage-by-stage comparison of two --dump-dir directories (docs/oracle.md)"},
+    {"vectors", cmd_vectors, "golden test vectors (JSON lines, one file per formula family), or --check them"},
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
     {NULL, NULL, NULL},
 };

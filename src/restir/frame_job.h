@@ -8,6 +8,7 @@
 #include "restir/camera.h"
 #include "restir/gbuffer.h"
 #include "restir/restir.h"
+#include "restir/stage_dump.h"
 
 typedef struct {
     restir_stats st;
@@ -37,7 +38,13 @@ typedef struct {
     double *sum;                     /* 3 per pixel */
     worker_state *workers;
     int temporal;                    /* real-time pipeline with temporal reuse (workspaces >= 2) */
+    stage_io *sio;                   /* NULL, or stage dumps / restart (stage_dump.h) */
 } frame_job;
+
+/* Every stage of a frame calls this once its output reservoirs `rs` are complete: it
+ * dumps them and/or replaces them by a dump (restart), as j->sio says (stage_dump.h).
+ * A new stage plugs into the golden-oracle kit with this one line. */
+void pipeline_stage_done(frame_job *j, const char *name, reservoir *rs);
 
 /* The neighbour selection options of o (neighbors.h). */
 void restir_neighbor_options_for(neighbor_options *no, const restir_options *o);

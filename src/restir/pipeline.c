@@ -151,6 +151,7 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     reservoir *final;
     double t = now_seconds();
     j->frame = (uint32_t)frame;
+    if (j->sio) stage_io_frame_begin(j->sio, j->frame);
     if (pose_frame(pl, frame, e)) return -1;
     times->ms_pose += frame_lap_ms(&t);
     camera_init(&pl->cam, scene_camera_at(j->s, frame), j->s->width, j->s->height);
@@ -159,9 +160,12 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
         gbuffer_motion(&j->g, j->s, frame, &pl->prev_cam, pl->prev_frame, &pl->prev_g, NULL, e))
         return -1;
     times->ms_motion += frame_lap_ms(&t);
+    if (j->sio) stage_io_gbuffer(j->sio, &j->g);
     frame_stage_initial(j, times, &t);
+    pipeline_stage_done(j, "initial", j->initial);
     if (j->o->temporal) {
         stage_temporal(pl, j->initial, j->pong, times, &t);
+        pipeline_stage_done(j, "temporal", j->pong);
         final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
     } else
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
@@ -256,13 +260,14 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
     progress bar;
     int f, status = 0, start = q->first;
     if (q->resume && (start = checkpoint_resume(pl, q, e) + 1) < 1) return -1;
+    if (j->sio && stage_io_begin(j->sio, start, q->last, e)) return -1;
     progress_begin(&bar, "restir", j->o->quiet);
     for (f = start; f <= q->last && !status; ++f) {
         restir_stats st;
         image img;
         memset(&st, 0, sizeof st);
         if (!q->accumulate) memset(j->sum, 0, 3 * pixels * sizeof *j->sum);
-        if (pipeline_frame(pl, f, &st, e)) return -1;
+        if (pipeline_frame(pl, f, &st, e) || stage_io_frame_end(j->sio, j->o, e)) return -1;
         frame_sum_stats(j, &st);
         stats_reset_workers(j);
         st.frames = 1;
@@ -299,6 +304,7 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     j->s = s;
     j->o = o;
     j->temporal = o->temporal;
+    j->sio = q->stages;
     restir_context_for(&j->ctx, s, &pl.lights, o);
     pl.prev_ctx = j->ctx;
     restir_initial_options_for(&j->io, o);

@@ -254,6 +254,11 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
         parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
         final = j->dst;
         times->ms_spatial[j->pass] += frame_lap_ms(t);
+        if (j->sio) {
+            char name[32];
+            snprintf(name, sizeof name, "spatial%d", j->pass + 1);
+            pipeline_stage_done(j, name, j->dst);
+        }
     }
     return final;
 }

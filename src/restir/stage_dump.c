@@ -1,0 +1,439 @@
+/* Per-stage dumps, the manifest and restart from a dump (include/restir/stage_dump.h,
+ * docs/oracle.md, docs/formats.md "Stage dumps"). */
+#include "restir/stage_dump.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include "restir/atomic_file.h"
+#include "restir/checksum.h"
+#include "restir/json_text.h"
+#include "restir/restir.h"
+#include "frame_job.h"
+
+void stage_dump_path(char *buf, size_t size, const char *dir, uint32_t frame, const char *name, const char *ext)
+{
+    snprintf(buf, size, "%s/frame_%04u/%s.%s", dir, (unsigned)frame, name, ext);
+}
+
+static int make_dir(const char *dir, rerror *e)
+{
+    struct stat st;
+    if (stat(dir, &st) == 0) return S_ISDIR(st.st_mode) ? 0 : rerror_set(e, "%s: not a directory", dir);
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return rerror_set(e, "%s: cannot create directory: %s", dir, strerror(errno));
+    return 0;
+}
+
+static int valid_name(const char *s)
+{
+    size_t i, n = strlen(s);
+    if (n == 0 || n >= STAGE_NAME_SIZE) return 0;
+    for (i = 0; i < n; ++i)
+        if (!((s[i] >= 'a' && s[i] <= 'z') || (s[i] >= '0' && s[i] <= '9') || s[i] == '-' || s[i] == '_')) return 0;
+    return 1;
+}
+
+int stage_io_set_stages(stage_io *io, const char *list, rerror *e)
+{
+    const char *p = list;
+    io->n_want = 0;
+    while (*p) {
+        const char *comma = strchr(p, ',');
+        size_t n = comma ? (size_t)(comma - p) : strlen(p);
+        char name[64];
+        if (n >= sizeof name || io->n_want >= STAGE_MAX)
+            return rerror_set(e, "--dump-stages: too long or too many names in '%s'", list);
+        memcpy(name, p, n);
+        name[n] = '\0';
+        if (!valid_name(name))
+            return rerror_set(e, "--dump-stages: '%s' is not a stage name (lower-case letters, digits, '-', '_'; "
+                                 "at most %d characters)", name, STAGE_NAME_SIZE - 1);
+        strcpy(io->want[io->n_want++], name);
+        p += n;
+        if (*p == ',') ++p;
+    }
+    if (io->n_want == 0) return rerror_set(e, "--dump-stages: empty list");
+    return 0;
+}
+
+int stage_io_begin(stage_io *io, int first, int last, rerror *e)
+{
+    io->first_frame = first;
+    io->last_frame = last;
+    io->n_order = io->frames_done = io->failed = io->restarted = 0;
+    if (io->from_dir && !valid_name(io->from_stage))
+        return rerror_set(e, "--from-stage: '%s' is not a stage name", io->from_stage);
+    if (io->dump_dir && make_dir(io->dump_dir, e)) return -1;
+    return 0;
+}
+
+void stage_io_frame_begin(stage_io *io, uint32_t frame)
+{
+    char dir[4200];
+    io->frame = frame;
+    if (!io->dump_dir || io->failed) return;
+    snprintf(dir, sizeof dir, "%s/frame_%04u", io->dump_dir, (unsigned)frame);
+    if (make_dir(dir, &io->err)) io->failed = 1;
+}
+
+static int wanted(const stage_io *io, const char *name)
+{
+    int i;
+    if (!io->dump_dir) return 0;
+    if (io->n_want == 0) return 1;
+    for (i = 0; i < io->n_want; ++i)
+        if (!strcmp(io->want[i], name)) return 1;
+    return 0;
+}
+
+static void note_order(stage_io *io, const char *name)
+{
+    int i;
+    if (io->frames_done > 0) return;
+    for (i = 0; i < io->n_order; ++i)
+        if (!strcmp(io->order[i], name)) return;
+    if (io->n_order < STAGE_MAX && strlen(name) < STAGE_NAME_SIZE) strcpy(io->order[io->n_order++], name);
+}
+
+/* Replaces rs by the dumped output of stage `name` of the current frame. */
+static int restart_load(stage_io *io, const char *name, reservoir *rs, int width, int height)
+{
+    char path[4200];
+    reservoir_dump_info info;
+    reservoir *in;
+    stage_dump_path(path, sizeof path, io->from_dir, io->frame, name, "resv");
+    if (reservoir_dump_read(path, &in, &info, &io->err)) return -1;
+    if (info.width != (uint32_t)width || info.height != (uint32_t)height || info.frame != io->frame ||
+        strcmp(info.tag, name)) {
+        free(in);
+        return rerror_at(&io->err, path, 0, "is %ux%u, frame %u, stage '%s'; the run needs %dx%d, frame %u, stage '%s'",
+                         info.width, info.height, info.frame, info.tag, width, height, (unsigned)io->frame, name);
+    }
+    memcpy(rs, in, (size_t)width * (size_t)height * sizeof *rs);
+    free(in);
+    io->restarted++;
+    return 0;
+}
+
+void stage_io_reservoirs(stage_io *io, const char *name, reservoir *rs, int width, int height)
+{
+    char path[4200];
+    reservoir_dump_info info;
+    if (!io || io->failed) return;
+    io->width = width;
+    io->height = height;
+    note_order(io, name);
+    if (io->from_dir && !strcmp(name, io->from_stage) && restart_load(io, name, rs, width, height)) {
+        io->failed = 1;
+        return;
+    }
+    if (!wanted(io, name)) return;
+    memset(&info, 0, sizeof info);
+    info.width = (uint32_t)width;
+    info.height = (uint32_t)height;
+    info.frame = io->frame;
+    strcpy(info.tag, name);
+    stage_dump_path(path, sizeof path, io->dump_dir, io->frame, name, "resv");
+    if (reservoir_dump_write(path, rs, &info, &io->err)) io->failed = 1;
+}
+
+void stage_io_gbuffer(stage_io *io, const gbuffer *g)
+{
+    char path[4200];
+    if (!io || io->failed || !io->dump_dir) return;
+    stage_dump_path(path, sizeof path, io->dump_dir, io->frame, "gbuffer", "gbuf");
+    if (gbuffer_dump_write(path, g, io->frame, &io->err)) io->failed = 1;
+}
+
+/* ---- manifest ---- */
+
+/* CRC-32 and size of a file (the scene file; the OBJ/MTL it names are not hashed). */
+static int file_crc(const char *path, uint32_t *crc, long *bytes)
+{
+    unsigned char buf[65536];
+    size_t n;
+    FILE *fp = fopen(path, "rb");
+    *crc = 0;
+    *bytes = 0;
+    if (!fp) return -1;
+    while ((n = fread(buf, 1, sizeof buf, fp)) > 0) {
+        *crc = crc32_update(*crc, buf, n);
+        *bytes += (long)n;
+    }
+    fclose(fp);
+    return 0;
+}
+
+static void put_name_list(FILE *fp, char names[][STAGE_NAME_SIZE], int n)
+{
+    int i;
+    fputc('[', fp);
+    for (i = 0; i < n; ++i) {
+        if (i) fputs(", ", fp);
+        json_put_string(fp, names[i]);
+    }
+    fputc(']', fp);
+}
+
+static int write_manifest(stage_io *io, const restir_options *o, rerror *e)
+{
+    char path[4200];
+    atomic_file f;
+    uint32_t crc = 0;
+    long bytes = 0;
+    int have_scene = io->scene_path && file_crc(io->scene_path, &crc, &bytes) == 0, i;
+    snprintf(path, sizeof path, "%s/manifest.json", io->dump_dir);
+    if (atomic_file_open(&f, path, e)) return -1;
+    fprintf(f.fp, "{\n  \"format\": \"restir-stage-dump\",\n  \"format_version\": %u,\n", STAGE_DUMP_FORMAT_VERSION);
+    fprintf(f.fp, "  \"reservoir_dump_version\": %u,\n  \"gbuffer_dump_version\": %u,\n  \"rng_spec_version\": %u,\n",
+            RESERVOIR_DUMP_VERSION, GBUFFER_DUMP_VERSION, RNG_SPEC_VERSION);
+    fprintf(f.fp, "  \"real_bits\": %u,\n  \"scene\": {\"path\": ", (unsigned)(8 * sizeof(real)));
+    json_put_string(f.fp, io->scene_path ? io->scene_path : "");
+    if (have_scene) fprintf(f.fp, ", \"crc32\": \"%08x\", \"bytes\": %ld},\n", (unsigned)crc, bytes);
+    else fprintf(f.fp, ", \"crc32\": null, \"bytes\": null},\n");
+    fprintf(f.fp, "  \"image\": {\"width\": %d, \"height\": %d},\n", io->width, io->height);
+    fprintf(f.fp, "  \"seed\": %u,\n  \"frames\": {\"first\": %d, \"last\": %d, \"written\": %d},\n", o->seed,
+            io->first_frame, io->last_frame, io->frames_done);
+    fprintf(f.fp, "  \"command_line\": [");
+    for (i = 0; io->argv && i < io->argc; ++i) {
+        if (i) fputs(", ", f.fp);
+        json_put_string(f.fp, io->argv[i]);
+    }
+    fprintf(f.fp, "],\n");
+    fprintf(f.fp, "  \"stage_order\": ");
+    put_name_list(f.fp, io->order, io->n_order);
+    fprintf(f.fp, ",\n  \"dumped_stages\": ");
+    if (io->n_want) put_name_list(f.fp, io->want, io->n_want);
+    else put_name_list(f.fp, io->order, io->n_order);
+    fprintf(f.fp, ",\n  \"restart\": ");
+    if (io->from_dir) {
+        fprintf(f.fp, "{\"from_dump\": ");
+        json_put_string(f.fp, io->from_dir);
+        fprintf(f.fp, ", \"from_stage\": ");
+        json_put_string(f.fp, io->from_stage);
+        fprintf(f.fp, "}");
+    } else
+        fprintf(f.fp, "null");
+    fprintf(f.fp, ",\n  \"files\": \"frame_NNNN/STAGE.resv, frame_NNNN/gbuffer.gbuf\",\n  \"options\": ");
+    restir_options_write_json(f.fp, o, "  ");
+    fprintf(f.fp, "\n}\n");
+    return atomic_file_commit(&f, e);
+}
+
+static int known_stage(const stage_io *io, const char *name)
+{
+    int i;
+    for (i = 0; i < io->n_order; ++i)
+        if (!strcmp(io->order[i], name)) return 1;
+    return 0;
+}
+
+static void order_text(const stage_io *io, char *buf, size_t size)
+{
+    int i;
+    buf[0] = '\0';
+    for (i = 0; i < io->n_order; ++i) {
+        if (i) strncat(buf, ",", size - strlen(buf) - 1);
+        strncat(buf, io->order[i], size - strlen(buf) - 1);
+    }
+}
+
+int stage_io_frame_end(stage_io *io, const void *restir_opts, rerror *e)
+{
+    char stages[STAGE_MAX * STAGE_NAME_SIZE + STAGE_MAX];
+    int i;
+    if (!io) return 0;
+    if (io->failed) {
+        *e = io->err;
+        return -1;
+    }
+    order_text(io, stages, sizeof stages);
+    if (io->frames_done == 0) {
+        for (i = 0; io->dump_dir && i < io->n_want; ++i)
+            if (!known_stage(io, io->want[i]))
+                return rerror_set(e, "--dump-stages: this pipeline has no stage '%s' (its stages: %s)", io->want[i],
+                                  stages);
+        if (io->from_dir && !known_stage(io, io->from_stage))
+            return rerror_set(e, "--from-stage: this pipeline has no stage '%s' (its stages: %s)", io->from_stage,
+                              stages);
+    }
+    io->frames_done++;
+    if (io->dump_dir) return write_manifest(io, (const restir_options *)restir_opts, e);
+    return 0;
+}
+
+/* ---- G-buffer dump: little-endian, docs/formats.md "G-buffer dump" ---- */
+
+static void put32(unsigned char **p, uint32_t v)
+{
+    int i;
+    for (i = 0; i < 4; ++i) *(*p)++ = (unsigned char)(v >> (8 * i));
+}
+
+static void putf(unsigned char **p, float f)
+{
+    uint32_t b;
+    memcpy(&b, &f, 4);
+    put32(p, b);
+}
+
+static void putv(unsigned char **p, vec3f v)
+{
+    putf(p, v.x);
+    putf(p, v.y);
+    putf(p, v.z);
+}
+
+static uint32_t get32(const unsigned char **p)
+{
+    uint32_t v = 0;
+    int i;
+    for (i = 0; i < 4; ++i) v |= (uint32_t)(*(*p)++) << (8 * i);
+    return v;
+}
+
+static float getf(const unsigned char **p)
+{
+    uint32_t b = get32(p);
+    float f;
+    memcpy(&f, &b, 4);
+    return f;
+}
+
+static vec3f getv(const unsigned char **p)
+{
+    vec3f v;
+    v.x = getf(p);
+    v.y = getf(p);
+    v.z = getf(p);
+    return v;
+}
+
+static void encode_texel(const gbuffer_texel *t, unsigned char *buf)
+{
+    unsigned char *p = buf;
+    put32(&p, (uint32_t)t->valid);
+    put32(&p, t->hit.triangle);
+    put32(&p, t->hit.material);
+    put32(&p, t->hit.object);
+    putf(&p, t->hit.b1);
+    putf(&p, t->hit.b2);
+    putf(&p, t->hit.t);
+    putv(&p, t->hit.position);
+    putv(&p, t->hit.ng);
+    putv(&p, t->hit.ns);
+    putv(&p, t->view_dir);
+    putf(&p, t->distance);
+    putf(&p, t->cos_theta);
+    putf(&p, t->depth);
+    putf(&p, t->pixel[0]);
+    putf(&p, t->pixel[1]);
+    putf(&p, t->motion[0]);
+    putf(&p, t->motion[1]);
+    put32(&p, (uint32_t)t->prev_valid);
+}
+
+static void decode_texel(const unsigned char *buf, gbuffer_texel *t)
+{
+    const unsigned char *p = buf;
+    memset(t, 0, sizeof *t);
+    t->valid = (int)get32(&p);
+    t->hit.triangle = get32(&p);
+    t->hit.material = get32(&p);
+    t->hit.object = get32(&p);
+    t->hit.b1 = getf(&p);
+    t->hit.b2 = getf(&p);
+    t->hit.t = getf(&p);
+    t->hit.position = getv(&p);
+    t->hit.ng = getv(&p);
+    t->hit.ns = getv(&p);
+    t->view_dir = getv(&p);
+    t->distance = getf(&p);
+    t->cos_theta = getf(&p);
+    t->depth = getf(&p);
+    t->pixel[0] = getf(&p);
+    t->pixel[1] = getf(&p);
+    t->motion[0] = getf(&p);
+    t->motion[1] = getf(&p);
+    t->prev_valid = (int)get32(&p);
+}
+
+int gbuffer_dump_write(const char *path, const gbuffer *g, uint32_t frame, rerror *e)
+{
+    unsigned char head[GBUFFER_DUMP_HEADER_SIZE], rec[GBUFFER_DUMP_RECORD_SIZE], *p = head;
+    size_t i, n = (size_t)g->width * (size_t)g->height;
+    atomic_file f;
+    memcpy(p, GBUFFER_DUMP_MAGIC, 8);
+    p += 8;
+    put32(&p, GBUFFER_DUMP_VERSION);
+    put32(&p, GBUFFER_DUMP_HEADER_SIZE);
+    put32(&p, GBUFFER_DUMP_RECORD_SIZE);
+    put32(&p, (uint32_t)g->width);
+    put32(&p, (uint32_t)g->height);
+    put32(&p, frame);
+    if (atomic_file_open(&f, path, e)) return -1;
+    if (fwrite(head, 1, sizeof head, f.fp) != sizeof head) goto failed;
+    for (i = 0; i < n; ++i) {
+        encode_texel(&g->texels[i], rec);
+        if (fwrite(rec, 1, sizeof rec, f.fp) != sizeof rec) goto failed;
+    }
+    return atomic_file_commit(&f, e);
+failed:
+    atomic_file_abort(&f);
+    return rerror_at(e, path, 0, "write failed: %s", strerror(errno));
+}
+
+int gbuffer_dump_read(const char *path, gbuffer *g, uint32_t *frame, rerror *e)
+{
+    unsigned char head[GBUFFER_DUMP_HEADER_SIZE], rec[GBUFFER_DUMP_RECORD_SIZE];
+    const unsigned char *p = head + 8;
+    uint32_t version, hsize, rsize, w, h;
+    size_t i, n;
+    FILE *fp = fopen(path, "rb");
+    memset(g, 0, sizeof *g);
+    if (!fp) return rerror_at(e, path, 0, "cannot open: %s", strerror(errno));
+    if (fread(head, 1, sizeof head, fp) != sizeof head || memcmp(head, GBUFFER_DUMP_MAGIC, 8)) {
+        fclose(fp);
+        return rerror_at(e, path, 0, "not a G-buffer dump (magic is not \"%s\")", GBUFFER_DUMP_MAGIC);
+    }
+    version = get32(&p);
+    hsize = get32(&p);
+    rsize = get32(&p);
+    w = get32(&p);
+    h = get32(&p);
+    *frame = get32(&p);
+    if (version != GBUFFER_DUMP_VERSION || hsize != GBUFFER_DUMP_HEADER_SIZE || rsize != GBUFFER_DUMP_RECORD_SIZE ||
+        w == 0 || h == 0 || w > 65536 || h > 65536) {
+        fclose(fp);
+        return rerror_at(e, path, 0, "unsupported G-buffer dump (version %u, sizes %u/%u, %ux%u; expected version %u)",
+                         version, hsize, rsize, w, h, GBUFFER_DUMP_VERSION);
+    }
+    n = (size_t)w * h;
+    g->width = (int)w;
+    g->height = (int)h;
+    g->texels = rmalloc(n, sizeof *g->texels, e);
+    if (!g->texels) {
+        fclose(fp);
+        return -1;
+    }
+    for (i = 0; i < n; ++i) {
+        if (fread(rec, 1, sizeof rec, fp) != sizeof rec) {
+            fclose(fp);
+            gbuffer_free(g);
+            return rerror_at(e, path, 0, "file is short: texel %lu of %lu is missing", (unsigned long)i,
+                             (unsigned long)n);
+        }
+        decode_texel(rec, &g->texels[i]);
+    }
+    fclose(fp);
+    return 0;
+}
+
+/* ---- the hook (frame_job.h) ---- */
+
+void pipeline_stage_done(frame_job *j, const char *name, reservoir *rs)
+{
+    if (j->sio) stage_io_reservoirs(j->sio, name, rs, j->s->width, j->s->height);
+}

@@ -1,0 +1,1041 @@
+/* Golden test vectors: the evaluators (one per library function, inputs and outputs as
+ * flat number lists) and the generator of the cases (include/restir/vectors.h,
+ * docs/oracle.md). The cases include the extremes a GPU port gets wrong first: grazing
+ * angles, roughness 1e-4, nearly coincident points, zero targets, failed shifts
+ * (Jacobian or target 0), NaN/negative weights. Non-finite numbers are the strings
+ * "inf", "-inf", "nan". */
+#include "restir/vectors.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include "restir/atomic_file.h"
+#include "restir/bsdf.h"
+#include "restir/json_text.h"
+#include "restir/lights.h"
+#include "restir/microfacet.h"
+#include "restir/mis.h"
+#include "restir/reconnection.h"
+#include "restir/reservoir.h"
+#include "restir/rng.h"
+#include "restir/warp.h"
+#include "frame_job.h"
+
+/* ---- evaluators ---------------------------------------------------------------------- */
+
+static vec3 in3(const double *in) { return v3((real)in[0], (real)in[1], (real)in[2]); }
+static vec2 in2(const double *in) { return v2((real)in[0], (real)in[1]); }
+static int out3(double *out, vec3 v)
+{
+    out[0] = (double)v.x;
+    out[1] = (double)v.y;
+    out[2] = (double)v.z;
+    return 3;
+}
+static int outc(double *out, rgb c)
+{
+    out[0] = (double)c.r;
+    out[1] = (double)c.g;
+    out[2] = (double)c.b;
+    return 3;
+}
+static int out2(double *out, vec2 v)
+{
+    out[0] = (double)v.x;
+    out[1] = (double)v.y;
+    return 2;
+}
+
+#define NEED(n)                      \
+    do {                             \
+        if (n_in != (n)) return -1;  \
+    } while (0)
+
+static int e_rng_u(const double *in, int n_in, double *out)
+{
+    rng_key k;
+    NEED(6);
+    k = rng_key_at(rng_key_make((uint32_t)in[0], (uint32_t)in[1], (uint32_t)in[2]), (uint32_t)in[3], (uint32_t)in[4],
+                   (uint32_t)in[5]);
+    out[0] = (double)rng_bits(k);
+    out[1] = (double)rng_uniform(k);
+    return 2;
+}
+
+static int e_rng_pcg4d(const double *in, int n_in, double *out)
+{
+    uint32_t v[4];
+    int i;
+    NEED(4);
+    for (i = 0; i < 4; ++i) v[i] = (uint32_t)in[i];
+    rng_pcg4d(v);
+    for (i = 0; i < 4; ++i) out[i] = (double)v[i];
+    return 4;
+}
+
+static int e_disk(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    out2(out, warp_disk_concentric(in2(in)));
+    out[2] = (double)warp_disk_pdf();
+    return 3;
+}
+static int e_disk_inv(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    return out2(out, warp_disk_concentric_inverse(in2(in)));
+}
+static int e_cosine(const double *in, int n_in, double *out)
+{
+    vec3 w;
+    NEED(2);
+    w = warp_cosine_hemisphere(in2(in));
+    out3(out, w);
+    out[3] = (double)warp_cosine_hemisphere_pdf(w.z);
+    return 4;
+}
+static int e_cosine_inv(const double *in, int n_in, double *out)
+{
+    NEED(3);
+    return out2(out, warp_cosine_hemisphere_inverse(in3(in)));
+}
+static int e_sphere(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    out3(out, warp_uniform_sphere(in2(in)));
+    out[3] = (double)warp_uniform_sphere_pdf();
+    return 4;
+}
+static int e_sphere_inv(const double *in, int n_in, double *out)
+{
+    NEED(3);
+    return out2(out, warp_uniform_sphere_inverse(in3(in)));
+}
+static int e_hemi(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    out3(out, warp_uniform_hemisphere(in2(in)));
+    out[3] = (double)warp_uniform_hemisphere_pdf();
+    return 4;
+}
+static int e_hemi_inv(const double *in, int n_in, double *out)
+{
+    NEED(3);
+    return out2(out, warp_uniform_hemisphere_inverse(in3(in)));
+}
+static int e_cone(const double *in, int n_in, double *out)
+{
+    NEED(3);
+    out3(out, warp_uniform_cone(in2(in), (real)in[2]));
+    out[3] = (double)warp_uniform_cone_pdf((real)in[2]);
+    return 4;
+}
+static int e_cone_inv(const double *in, int n_in, double *out)
+{
+    NEED(4);
+    return out2(out, warp_uniform_cone_inverse(in3(in), (real)in[3]));
+}
+static int e_tri(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    return out2(out, warp_uniform_triangle(in2(in)));
+}
+static int e_tri_inv(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    return out2(out, warp_uniform_triangle_inverse(in2(in)));
+}
+
+static int e_ggx_alpha(const double *in, int n_in, double *out)
+{
+    NEED(1);
+    out[0] = (double)ggx_alpha_from_roughness((real)in[0]);
+    return 1;
+}
+static int e_ggx_D(const double *in, int n_in, double *out)
+{
+    NEED(4);
+    out[0] = (double)ggx_D(in3(in), (real)in[3]);
+    return 1;
+}
+static int e_ggx_G1(const double *in, int n_in, double *out)
+{
+    NEED(7);
+    out[0] = (double)ggx_G1(in3(in), in3(in + 3), (real)in[6]);
+    out[1] = (double)ggx_lambda(in3(in), (real)in[6]);
+    return 2;
+}
+static int e_vndf_pdf(const double *in, int n_in, double *out)
+{
+    NEED(7);
+    out[0] = (double)ggx_vndf_pdf(in3(in), in3(in + 3), (real)in[6]);
+    return 1;
+}
+static int e_vndf_sample(const double *in, int n_in, double *out)
+{
+    NEED(6);
+    return out3(out, ggx_vndf_sample(in3(in), in2(in + 3), (real)in[5]));
+}
+static int e_vndf_inv(const double *in, int n_in, double *out)
+{
+    vec2 u = v2(0, 0);
+    NEED(7);
+    out[0] = (double)ggx_vndf_sample_inverse(in3(in), in3(in + 3), (real)in[6], &u);
+    out2(out + 1, u);
+    return 3;
+}
+static int e_fresnel(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    out[0] = (double)fresnel_dielectric((real)in[0], (real)in[1]);
+    return 1;
+}
+
+/* material: type, Kd rgb, Ks rgb, roughness, ior (9 numbers) */
+static bsdf in_bsdf(const double *in)
+{
+    material m;
+    memset(&m, 0, sizeof m);
+    m.type = (enum material_type)(int)in[0];
+    m.diffuse = rgb_make((real)in[1], (real)in[2], (real)in[3]);
+    m.specular = rgb_make((real)in[4], (real)in[5], (real)in[6]);
+    m.roughness = (real)in[7];
+    m.ior = (real)in[8];
+    return bsdf_from_material(&m);
+}
+
+static int e_lobe_probs(const double *in, int n_in, double *out)
+{
+    bsdf b;
+    real p[BSDF_MAX_LOBES];
+    int i;
+    NEED(12);
+    b = in_bsdf(in);
+    bsdf_lobe_probabilities(&b, in3(in + 9), p);
+    for (i = 0; i < BSDF_MAX_LOBES; ++i) out[i] = i < bsdf_lobe_count(&b) ? (double)p[i] : 0.0;
+    out[BSDF_MAX_LOBES] = bsdf_lobe_count(&b);
+    return BSDF_MAX_LOBES + 1;
+}
+static int e_lobe_eval(const double *in, int n_in, double *out)
+{
+    bsdf b;
+    int lobe = (int)in[9];
+    NEED(16);
+    b = in_bsdf(in);
+    if (lobe < 0 || lobe >= bsdf_lobe_count(&b)) return -1;
+    outc(out, bsdf_lobe_eval(&b, lobe, in3(in + 10), in3(in + 13)));
+    out[3] = (double)bsdf_lobe_pdf(&b, lobe, in3(in + 10), in3(in + 13));
+    return 4;
+}
+static int e_lobe_sample(const double *in, int n_in, double *out)
+{
+    bsdf b;
+    bsdf_sample_record s;
+    int lobe = (int)in[9];
+    NEED(15);
+    b = in_bsdf(in);
+    if (lobe < 0 || lobe >= bsdf_lobe_count(&b)) return -1;
+    memset(&s, 0, sizeof s);
+    out[0] = (double)bsdf_lobe_sample(&b, lobe, in3(in + 10), in2(in + 13), &s);
+    if (out[0] == 0) memset(&s, 0, sizeof s); /* a failed sample's record is unspecified */
+    out3(out + 1, s.wi);
+    outc(out + 4, s.f_cos);
+    out[7] = (double)s.pdf;
+    out[8] = (double)s.is_delta;
+    return 9;
+}
+static int e_lobe_inv(const double *in, int n_in, double *out)
+{
+    bsdf b;
+    vec2 u = v2(0, 0);
+    int lobe = (int)in[9];
+    NEED(16);
+    b = in_bsdf(in);
+    if (lobe < 0 || lobe >= bsdf_lobe_count(&b)) return -1;
+    out[0] = (double)bsdf_lobe_sample_inverse(&b, lobe, in3(in + 10), in3(in + 13), &u);
+    if (out[0] == 0) u = v2(0, 0);
+    out2(out + 1, u);
+    return 3;
+}
+static int e_bsdf_eval(const double *in, int n_in, double *out)
+{
+    bsdf b;
+    NEED(15);
+    b = in_bsdf(in);
+    outc(out, bsdf_eval(&b, in3(in + 9), in3(in + 12)));
+    out[3] = (double)bsdf_pdf(&b, in3(in + 9), in3(in + 12));
+    return 4;
+}
+static int e_bsdf_sample(const double *in, int n_in, double *out)
+{
+    bsdf b;
+    bsdf_sample_record s;
+    NEED(15);
+    b = in_bsdf(in);
+    memset(&s, 0, sizeof s);
+    out[0] = (double)bsdf_sample(&b, in3(in + 9), (real)in[12], in2(in + 13), &s);
+    if (out[0] == 0) memset(&s, 0, sizeof s);
+    out[1] = s.lobe;
+    out3(out + 2, s.wi);
+    outc(out + 5, s.weight);
+    out[8] = (double)s.pdf;
+    out[9] = (double)s.lobe_prob;
+    return 10;
+}
+
+static int e_area_to_sa(const double *in, int n_in, double *out)
+{
+    NEED(10);
+    out[0] = (double)pdf_area_to_solid_angle((real)in[0], in3(in + 1), in3(in + 4), in3(in + 7));
+    return 1;
+}
+static int e_light_emitted(const double *in, int n_in, double *out)
+{
+    NEED(9);
+    return outc(out, light_emitted(rgb_make((real)in[0], (real)in[1], (real)in[2]), in3(in + 3), in3(in + 6)));
+}
+static int e_light_inv(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    return out2(out, light_sample_point_inverse(in2(in)));
+}
+
+static int e_wrs_update(const double *in, int n_in, double *out)
+{
+    real wsum = (real)in[0];
+    uint32_t bad = 0;
+    NEED(3);
+    out[0] = wrs_update(&wsum, (real)in[1], (real)in[2], &bad);
+    out[1] = (double)wsum;
+    out[2] = bad;
+    return 3;
+}
+static int e_ris_weight(const double *in, int n_in, double *out)
+{
+    NEED(3);
+    out[0] = (double)ris_candidate_weight((real)in[0], (real)in[1], (real)in[2]);
+    return 1;
+}
+static int e_gris_weight(const double *in, int n_in, double *out)
+{
+    NEED(4);
+    out[0] = (double)gris_resampling_weight((real)in[0], (real)in[1], (real)in[2], (real)in[3]);
+    return 1;
+}
+/* n, then n x (w, u, target), then the confidence of every input: the WRS stream, then
+ * the finalisation W = wsum / p̂(Y). */
+static int e_stream(const double *in, int n_in, double *out)
+{
+    reservoir r;
+    int n = n_in > 0 ? (int)in[0] : -1, i;
+    if (n < 0 || n_in != 1 + 4 * n) return -1;
+    reservoir_init(&r);
+    for (i = 0; i < n; ++i) {
+        path_sample y;
+        path_sample_begin(&y, 1, 0, (uint32_t)i);
+        y.length = 2;
+        y.technique = PATH_TECH_NEE;
+        y.target = (real)in[1 + 4 * i + 2];
+        reservoir_stream(&r, &y, (real)in[1 + 4 * i], (real)in[1 + 4 * i + 1]);
+        reservoir_add_confidence(&r, (real)in[1 + 4 * i + 3]);
+    }
+    reservoir_finalize(&r);
+    out[0] = path_sample_is_valid(&r.y) ? (double)r.y.sample : -1.0;
+    out[1] = (double)r.wsum;
+    out[2] = (double)r.W;
+    out[3] = (double)r.confidence;
+    out[4] = r.n_invalid;
+    return 5;
+}
+static int e_estimate(const double *in, int n_in, double *out)
+{
+    reservoir r;
+    NEED(4);
+    reservoir_init(&r);
+    path_sample_begin(&r.y, 1, 0, 0);
+    r.y.length = 2;
+    r.y.technique = PATH_TECH_NEE;
+    path_sample_set_contribution(&r.y, rgb_make((real)in[0], (real)in[1], (real)in[2]));
+    r.W = (real)in[3];
+    outc(out, reservoir_estimate(&r));
+    out[3] = (double)r.y.target; /* p̂ = luminance(F) */
+    return 4;
+}
+static int e_cap(const double *in, int n_in, double *out)
+{
+    reservoir r;
+    NEED(2);
+    reservoir_init(&r);
+    r.confidence = (real)in[0];
+    reservoir_cap_confidence(&r, (real)in[1]);
+    out[0] = (double)r.confidence;
+    return 1;
+}
+
+/* family, M, R, c[M], ptarget[M*M] (row i = domain i), j -> m_0(y_j) .. m_{M-1}(y_j) */
+static int e_mis(const double *in, int n_in, double *out)
+{
+    real c[8], p[64], m[8];
+    mis_input mi;
+    int f, M, R, j, i;
+    long shifts = 0;
+    if (n_in < 3) return -1;
+    f = (int)in[0];
+    M = (int)in[1];
+    R = (int)in[2];
+    if (f < 0 || f > 3 || M < 1 || M > 8 || R < 1 || R > M || n_in != 3 + M + M * M + 1) return -1;
+    for (i = 0; i < M; ++i) c[i] = (real)in[3 + i];
+    for (i = 0; i < M * M; ++i) p[i] = (real)in[3 + M + i];
+    j = (int)in[3 + M + M * M];
+    if (j < 0 || j >= M) return -1;
+    mi.m = M;
+    mi.n_canonical = R;
+    mi.confidence = c;
+    mi.ptarget = p;
+    mis_weights_at((mis_family)f, &mi, j, m, &shifts);
+    for (i = 0; i < M; ++i) out[i] = (double)m[i];
+    return M;
+}
+static int e_pair_canonical(const double *in, int n_in, double *out)
+{
+    NEED(4);
+    out[0] = (double)mis_pair_canonical((real)in[0], (real)in[1], (real)in[2], (real)in[3]);
+    return 1;
+}
+static int e_pair_neighbor(const double *in, int n_in, double *out)
+{
+    NEED(4);
+    out[0] = (double)mis_pair_neighbor((real)in[0], (real)in[1], (real)in[2], (real)in[3]);
+    return 1;
+}
+
+static int e_rc_jacobian(const double *in, int n_in, double *out)
+{
+    rc_terms t;
+    path_sample x;
+    NEED(6);
+    memset(&t, 0, sizeof t);
+    path_sample_clear(&x);
+    t.pdf_prev = (real)in[0];
+    t.geom = (real)in[1];
+    t.pdf_k = (real)in[2];
+    x.rc_pdf_prev = (real)in[3];
+    x.rc_geom = (real)in[4];
+    x.rc_pdf = (real)in[5];
+    out[0] = (double)rc_jacobian(&t, &x);
+    return 1;
+}
+
+/* ---- scene-level shifts: scenes/cornell.scene at 24 x 18, frame 0, pixel centres ------- */
+
+#define SHIFT_SCENE "scenes/cornell.scene"
+#define SHIFT_W 24
+#define SHIFT_H 18
+
+static struct {
+    int state; /* 0 not loaded, 1 loaded, -1 failed */
+    scene s;
+    light_set lights;
+    gbuffer g;
+} shift_scene;
+
+/* The scene, its lights and G-buffer, loaded once (relative to the working directory: the
+ * repository root). Not thread-safe: vectors are generated and checked on one thread. */
+static int shift_scene_load(void)
+{
+    rerror e;
+    camera cam;
+    if (shift_scene.state) return shift_scene.state > 0 ? 0 : -1;
+    shift_scene.state = -1;
+    if (scene_load(&shift_scene.s, SHIFT_SCENE, &e)) return -1;
+    shift_scene.s.width = SHIFT_W;
+    shift_scene.s.height = SHIFT_H;
+    if (scene_prepare(&shift_scene.s, &e) || lights_build(&shift_scene.lights, &shift_scene.s, &e)) return -1;
+    camera_init(&cam, scene_camera_at(&shift_scene.s, 0), SHIFT_W, SHIFT_H);
+    if (gbuffer_build(&shift_scene.g, &shift_scene.s, &cam, 1, 0, 0, 1, &e)) return -1;
+    shift_scene.state = 1;
+    return 0;
+}
+
+/* shift (0 reconnection, 1 random replay, 2 hybrid), seed, base x, y, destination x, y ->
+ * base: valid, d, k, p̂; shift: failure reason (enum shift_failure, 0 = ok), J, offset d, k,
+ * F rgb, p̂ (Stochastic MIS Eq. 5: Y = T(X); Jacobian GRIS Eq. 54 / Enhanced Eq. 2; the
+ * target p̂_{<-i} of GRIS Eq. 35 is p̂(Y) / J of the reverse direction). */
+static int e_shift(const double *in, int n_in, double *out)
+{
+    restir_options o;
+    restir_context ctx;
+    initial_options io;
+    initial_stats st;
+    reservoir base;
+    path_sample y;
+    path_vertex x1, y1;
+    shift_info info;
+    real jac = 0;
+    int kind = (int)in[0], bx = (int)in[2], by = (int)in[3], dx = (int)in[4], dy = (int)in[5], fail;
+    NEED(6);
+    if (kind < 0 || kind > 2 || bx < 0 || by < 0 || dx < 0 || dy < 0 || bx >= SHIFT_W || dx >= SHIFT_W ||
+        by >= SHIFT_H || dy >= SHIFT_H || shift_scene_load())
+        return -1;
+    restir_options_default(&o);
+    o.shift = kind;
+    o.seed = (uint32_t)in[1];
+    restir_context_for(&ctx, &shift_scene.s, &shift_scene.lights, &o);
+    restir_initial_options_for(&io, &o);
+    memset(&st, 0, sizeof st);
+    reservoir_init(&base);
+    if (frame_primary_vertex(&shift_scene.s, &shift_scene.g, (long)by * SHIFT_W + bx, &x1))
+        initial_sample_pixel(&ctx, &io, &x1, o.seed, (uint32_t)(by * SHIFT_W + bx), 0, &base, &st);
+    out[0] = path_sample_is_valid(&base.y);
+    out[1] = base.y.length;
+    out[2] = base.y.rc_k;
+    out[3] = (double)base.y.target;
+    path_sample_clear(&y);
+    memset(&info, 0, sizeof info);
+    if (!path_sample_is_valid(&base.y)) fail = SHIFT_FAIL_EMPTY;
+    else if (!frame_primary_vertex(&shift_scene.s, &shift_scene.g, (long)dy * SHIFT_W + dx, &y1))
+        fail = SHIFT_FAIL_NO_PRIMARY;
+    else
+        fail = (int)shift_path(&ctx, &y1, &base.y, &y, &jac, &info);
+    if (fail != SHIFT_OK) {
+        path_sample_clear(&y);
+        jac = 0;
+    }
+    out[4] = fail;
+    out[5] = (double)jac;
+    out[6] = y.length;
+    out[7] = y.rc_k;
+    outc(out + 8, y.F);
+    out[11] = (double)y.target;
+    return 12;
+}
+
+#define MAT "type,Kd.r,Kd.g,Kd.b,Ks.r,Ks.g,Ks.b,roughness,ior"
+static const vector_fn table[] = {
+    {"rng", "rng_u", "seed,pixel,sample,stream,vertex,slot -> bits,u", e_rng_u},
+    {"rng", "rng_pcg4d", "v0,v1,v2,v3 -> v0,v1,v2,v3", e_rng_pcg4d},
+    {"warp", "warp_disk_concentric", "u.x,u.y -> p.x,p.y,pdf", e_disk},
+    {"warp", "warp_disk_concentric_inverse", "p.x,p.y -> u.x,u.y", e_disk_inv},
+    {"warp", "warp_cosine_hemisphere", "u.x,u.y -> w.x,w.y,w.z,pdf", e_cosine},
+    {"warp", "warp_cosine_hemisphere_inverse", "w.x,w.y,w.z -> u.x,u.y", e_cosine_inv},
+    {"warp", "warp_uniform_sphere", "u.x,u.y -> w.x,w.y,w.z,pdf", e_sphere},
+    {"warp", "warp_uniform_sphere_inverse", "w.x,w.y,w.z -> u.x,u.y", e_sphere_inv},
+    {"warp", "warp_uniform_hemisphere", "u.x,u.y -> w.x,w.y,w.z,pdf", e_hemi},
+    {"warp", "warp_uniform_hemisphere_inverse", "w.x,w.y,w.z -> u.x,u.y", e_hemi_inv},
+    {"warp", "warp_uniform_cone", "u.x,u.y,cos_max -> w.x,w.y,w.z,pdf", e_cone},
+    {"warp", "warp_uniform_cone_inverse", "w.x,w.y,w.z,cos_max -> u.x,u.y", e_cone_inv},
+    {"warp", "warp_uniform_triangle", "u.x,u.y -> b1,b2", e_tri},
+    {"warp", "warp_uniform_triangle_inverse", "b1,b2 -> u.x,u.y", e_tri_inv},
+    {"microfacet", "ggx_alpha_from_roughness", "roughness -> alpha", e_ggx_alpha},
+    {"microfacet", "ggx_D", "m.x,m.y,m.z,alpha -> D", e_ggx_D},
+    {"microfacet", "ggx_G1", "w.x,w.y,w.z,m.x,m.y,m.z,alpha -> G1,lambda", e_ggx_G1},
+    {"microfacet", "ggx_vndf_pdf", "wo.x,wo.y,wo.z,m.x,m.y,m.z,alpha -> pdf_m", e_vndf_pdf},
+    {"microfacet", "ggx_vndf_sample", "wo.x,wo.y,wo.z,u.x,u.y,alpha -> m.x,m.y,m.z", e_vndf_sample},
+    {"microfacet", "ggx_vndf_sample_inverse", "wo.x,wo.y,wo.z,m.x,m.y,m.z,alpha -> ok,u.x,u.y", e_vndf_inv},
+    {"microfacet", "fresnel_dielectric", "cos_i,eta -> F", e_fresnel},
+    {"bsdf", "bsdf_lobe_probabilities", MAT ",wo.x,wo.y,wo.z -> P(lobe0|wo),P(lobe1|wo),lobe_count",
+     e_lobe_probs},
+    {"bsdf", "bsdf_lobe_eval_pdf", MAT ",lobe,wo.x,wo.y,wo.z,wi.x,wi.y,wi.z -> f.r,f.g,f.b,pdf", e_lobe_eval},
+    {"bsdf", "bsdf_lobe_sample",
+     MAT ",lobe,wo.x,wo.y,wo.z,u.x,u.y -> ok,wi.x,wi.y,wi.z,f_cos.r,f_cos.g,f_cos.b,pdf,is_delta", e_lobe_sample},
+    {"bsdf", "bsdf_lobe_sample_inverse", MAT ",lobe,wo.x,wo.y,wo.z,wi.x,wi.y,wi.z -> ok,u.x,u.y", e_lobe_inv},
+    {"bsdf", "bsdf_eval_pdf", MAT ",wo.x,wo.y,wo.z,wi.x,wi.y,wi.z -> f.r,f.g,f.b,pdf", e_bsdf_eval},
+    {"bsdf", "bsdf_sample",
+     MAT ",wo.x,wo.y,wo.z,u_lobe,u.x,u.y -> ok,lobe,wi.x,wi.y,wi.z,weight.r,weight.g,weight.b,pdf,lobe_prob",
+     e_bsdf_sample},
+    {"light", "pdf_area_to_solid_angle", "pdf_area,x.x,x.y,x.z,y.x,y.y,y.z,ny.x,ny.y,ny.z -> pdf_solid_angle",
+     e_area_to_sa},
+    {"light", "light_emitted", "Le.r,Le.g,Le.b,n.x,n.y,n.z,to.x,to.y,to.z -> L.r,L.g,L.b", e_light_emitted},
+    {"light", "light_sample_point_inverse", "b1,b2 -> u.x,u.y", e_light_inv},
+    {"wrs", "wrs_update", "wsum,w,u -> selected,wsum,n_invalid", e_wrs_update},
+    {"wrs", "ris_candidate_weight", "target,ucw,n_trees -> w", e_ris_weight},
+    {"wrs", "gris_resampling_weight", "mis,target,ucw,jacobian -> w", e_gris_weight},
+    {"wrs", "reservoir_stream_finalize", "n,(w,u,target,confidence) x n -> selected,wsum,W,confidence,n_invalid",
+     e_stream},
+    {"wrs", "reservoir_estimate", "F.r,F.g,F.b,W -> FW.r,FW.g,FW.b,target", e_estimate},
+    {"wrs", "reservoir_cap_confidence", "c,cap -> c", e_cap},
+    {"mis", "mis_weights", "family(0 constant,1 talbot,2 pairwise,3 defensive),M,R,c[M],ptarget[M*M],j -> m[M]",
+     e_mis},
+    {"mis", "mis_pair_canonical", "c_c,p_c,c_n,p_n_from_c -> m_c", e_pair_canonical},
+    {"mis", "mis_pair_neighbor", "c_n,p_n_from_n,c_c,p_c_at_n -> m_n", e_pair_neighbor},
+    {"shift", "shift_path",
+     "shift(0 reconnection,1 replay,2 hybrid),seed,base.x,base.y,dest.x,dest.y -> base_valid,base_d,base_k,"
+     "base_target,failure,J,d,k,F.r,F.g,F.b,target",
+     e_shift},
+    {"reconnection", "rc_jacobian", "pdf_prev_y,geom_y,pdf_k_y,pdf_prev_x,geom_x,pdf_k_x -> J", e_rc_jacobian},
+    {NULL, NULL, NULL, NULL}};
+
+static const char *const family_names[] = {"rng", "warp", "microfacet", "bsdf", "light", "wrs", "mis",
+                                           "reconnection", "shift", NULL};
+
+const vector_fn *vectors_functions(void) { return table; }
+const char *const *vectors_families(void) { return family_names; }
+
+static const vector_fn *find_fn(const char *fn)
+{
+    int i;
+    for (i = 0; table[i].fn; ++i)
+        if (!strcmp(table[i].fn, fn)) return &table[i];
+    return NULL;
+}
+
+/* ---- the generator ------------------------------------------------------------------- */
+
+typedef struct {
+    FILE *fp;            /* NULL: only look for want_eq */
+    const char *family;  /* the family being written */
+    const char *want_eq;
+    int found;
+} gen;
+
+/* 1 if the ';'-separated list has the tag. */
+static int eq_list_has(const char *list, const char *eq)
+{
+    size_t n = strlen(eq);
+    const char *p = list;
+    while (p && *p) {
+        const char *end = strchr(p, ';');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        if (len == n && !strncmp(p, eq, n)) return 1;
+        p = end ? end + 1 : NULL;
+    }
+    return 0;
+}
+
+/* A finite number with 17 significant digits; "inf", "-inf", "nan" as strings (JSON has
+ * no non-finite numbers, and several cases need them as inputs). */
+static void put_value(FILE *fp, double v)
+{
+    if (isnan(v)) fputs("\"nan\"", fp);
+    else if (isinf(v)) fputs(v > 0 ? "\"inf\"" : "\"-inf\"", fp);
+    else json_put_number(fp, v);
+}
+
+static void emit(gen *g, const char *fn, const char *eqs, const char *label, const double *in, int n_in)
+{
+    const vector_fn *f = find_fn(fn);
+    double out[VECTORS_MAX_OUT];
+    int n_out, i;
+    const char *p;
+    if (!f || strcmp(f->family, g->family)) return; /* not this family's pass */
+    if (!g->fp) {
+        if (g->want_eq && eq_list_has(eqs, g->want_eq)) g->found = 1;
+        return;
+    }
+    n_out = f->eval(in, n_in, out);
+    if (n_out < 0) return; /* a generator bug; the coverage test would notice missing lines */
+    fprintf(g->fp, "{\"family\": \"%s\", \"fn\": \"%s\", \"eq\": [", f->family, f->fn);
+    for (p = eqs, i = 0; *p; ++i) {
+        const char *end = strchr(p, ';');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        fprintf(g->fp, "%s\"%.*s\"", i ? ", " : "", (int)len, p);
+        p += len;
+        if (*p == ';') ++p;
+    }
+    fprintf(g->fp, "], \"case\": ");
+    json_put_string(g->fp, label);
+    fprintf(g->fp, ", \"sig\": ");
+    json_put_string(g->fp, f->sig);
+    fprintf(g->fp, ", \"in\": [");
+    for (i = 0; i < n_in; ++i) {
+        if (i) fputs(", ", g->fp);
+        put_value(g->fp, in[i]);
+    }
+    fprintf(g->fp, "], \"out\": [");
+    for (i = 0; i < n_out; ++i) {
+        if (i) fputs(", ", g->fp);
+        put_value(g->fp, out[i]);
+    }
+    fprintf(g->fp, "]}\n");
+}
+
+#define EMIT(fn, eqs, label, ...)                                       \
+    do {                                                                \
+        const double in_[] = {__VA_ARGS__};                             \
+        emit(g, fn, eqs, label, in_, (int)(sizeof in_ / sizeof in_[0])); \
+    } while (0)
+
+static void gen_rng(gen *g)
+{
+    static const uint32_t addr[][6] = {{1, 0, 0, 1, 1, 0},          {1, 0, 0, 1, 1, 1},
+                                       {1, 12345, 7, 4, 48, 0},      {2, 12345, 7, 4, 48, 0},
+                                       {0xffffffffu, 0xffffffffu, 0xffffffffu, 255, 255, 65535},
+                                       {7, 640 * 360 - 1, 32, 2, 3, 2}, {1, 5, 0, 4, 32, 3}};
+    size_t i;
+    for (i = 0; i < sizeof addr / sizeof addr[0]; ++i)
+        EMIT("rng_u", "", "address", addr[i][0], addr[i][1], addr[i][2], addr[i][3], addr[i][4], addr[i][5]);
+    EMIT("rng_pcg4d", "", "zero", 0, 0, 0, 0);
+    EMIT("rng_pcg4d", "", "words", 1, 2, 3, 4);
+    EMIT("rng_pcg4d", "", "max", 4294967295.0, 4294967295.0, 4294967295.0, 4294967295.0);
+}
+
+static void gen_warp(gen *g)
+{
+    static const double us[][2] = {{0.5, 0.5}, {0.25, 0.75}, {0, 0}, {0.999999999, 0.123}, {1e-9, 0.5}, {0.5, 1e-9}};
+    size_t i;
+    for (i = 0; i < sizeof us / sizeof us[0]; ++i) {
+        const char *label = us[i][0] < 1e-6 || us[i][1] < 1e-6 || us[i][0] > 0.99999 ? "edge" : "interior";
+        vec2 d = warp_disk_concentric(v2((real)us[i][0], (real)us[i][1]));
+        vec3 w = warp_cosine_hemisphere(v2((real)us[i][0], (real)us[i][1]));
+        EMIT("warp_disk_concentric", "", label, us[i][0], us[i][1]);
+        EMIT("warp_disk_concentric_inverse", "", label, (double)d.x, (double)d.y);
+        EMIT("warp_cosine_hemisphere", "", label, us[i][0], us[i][1]);
+        EMIT("warp_cosine_hemisphere_inverse", "", label, (double)w.x, (double)w.y, (double)w.z);
+        w = warp_uniform_sphere(v2((real)us[i][0], (real)us[i][1]));
+        EMIT("warp_uniform_sphere", "", label, us[i][0], us[i][1]);
+        EMIT("warp_uniform_sphere_inverse", "", label, (double)w.x, (double)w.y, (double)w.z);
+        w = warp_uniform_hemisphere(v2((real)us[i][0], (real)us[i][1]));
+        EMIT("warp_uniform_hemisphere", "", label, us[i][0], us[i][1]);
+        EMIT("warp_uniform_hemisphere_inverse", "", label, (double)w.x, (double)w.y, (double)w.z);
+        EMIT("warp_uniform_cone", "", label, us[i][0], us[i][1], 0.9);
+        EMIT("warp_uniform_cone", "", "narrow cone", us[i][0], us[i][1], 0.999999);
+        w = warp_uniform_cone(v2((real)us[i][0], (real)us[i][1]), (real)0.9);
+        EMIT("warp_uniform_cone_inverse", "", label, (double)w.x, (double)w.y, (double)w.z, 0.9);
+        d = warp_uniform_triangle(v2((real)us[i][0], (real)us[i][1]));
+        EMIT("warp_uniform_triangle", "", label, us[i][0], us[i][1]);
+        EMIT("warp_uniform_triangle_inverse", "", label, (double)d.x, (double)d.y);
+    }
+}
+
+/* Unit directions by polar cosine (1e-4 is grazing) and azimuth. */
+static vec3 dir(double cos_t, double phi)
+{
+    double s = sqrt(fmax(0, 1 - cos_t * cos_t));
+    return v3((real)(s * cos(phi)), (real)(s * sin(phi)), (real)cos_t);
+}
+
+static void gen_microfacet(gen *g)
+{
+    static const double rough[] = {1e-4, 0.05, 0.3, 0.7, 1.0};
+    static const double cosines[] = {1.0, 0.7, 0.2, 1e-4};
+    size_t i, k;
+    for (i = 0; i < sizeof rough / sizeof rough[0]; ++i) {
+        double a = (double)ggx_alpha_from_roughness((real)rough[i]);
+        const char *label = rough[i] < 1e-3 ? "roughness 1e-4" : "rough";
+        EMIT("ggx_alpha_from_roughness", "", label, rough[i]);
+        for (k = 0; k < sizeof cosines / sizeof cosines[0]; ++k) {
+            vec3 wo = dir(cosines[k], 0.3), m = dir(fmax(cosines[k], 0.5), 1.1), s;
+            const char *lk = cosines[k] < 1e-3 ? "grazing" : label;
+            EMIT("ggx_D", "", lk, (double)m.x, (double)m.y, (double)m.z, a);
+            EMIT("ggx_G1", "", lk, (double)wo.x, (double)wo.y, (double)wo.z, (double)m.x, (double)m.y, (double)m.z, a);
+            EMIT("ggx_vndf_pdf", "", lk, (double)wo.x, (double)wo.y, (double)wo.z, (double)m.x, (double)m.y,
+                 (double)m.z, a);
+            EMIT("ggx_vndf_sample", "", lk, (double)wo.x, (double)wo.y, (double)wo.z, 0.37, 0.81, a);
+            s = ggx_vndf_sample(wo, v2((real)0.37, (real)0.81), (real)a);
+            EMIT("ggx_vndf_sample_inverse", "", lk, (double)wo.x, (double)wo.y, (double)wo.z, (double)s.x, (double)s.y,
+                 (double)s.z, a);
+        }
+    }
+    EMIT("fresnel_dielectric", "", "normal", 1.0, 1.5);
+    EMIT("fresnel_dielectric", "", "grazing", 1e-4, 1.5);
+    EMIT("fresnel_dielectric", "", "inside", -0.5, 1.5);
+    EMIT("fresnel_dielectric", "", "total internal reflection", -0.2, 1.5);
+}
+
+static void gen_bsdf(gen *g)
+{
+    /* type, Kd, Ks, roughness, ior */
+    static const double mats[][9] = {
+        {MAT_LAMBERT, 0.8, 0.5, 0.2, 0, 0, 0, 1, 1.5},      {MAT_CONDUCTOR, 0, 0, 0, 0.9, 0.6, 0.3, 1e-4, 1.5},
+        {MAT_CONDUCTOR, 0, 0, 0, 0.9, 0.6, 0.3, 0.3, 1.5},  {MAT_CONDUCTOR, 0, 0, 0, 0.9, 0.6, 0.3, 1.0, 1.5},
+        {MAT_PLASTIC, 0.5, 0.2, 0.1, 1, 1, 1, 0.5, 1.5},    {MAT_PLASTIC, 0.5, 0.2, 0.1, 1, 1, 1, 1e-4, 1.5},
+        {MAT_DIELECTRIC, 0, 0, 0, 1, 1, 1, 0, 1.5},         {MAT_ROUGH_DIELECTRIC, 0, 0, 0, 1, 1, 1, 0.3, 1.5}};
+    static const char *const mat_names[] = {"lambert", "conductor r=1e-4", "conductor r=0.3", "conductor r=1",
+                                            "plastic r=0.5", "plastic r=1e-4", "smooth glass", "rough glass r=0.3"};
+    static const double cosines[] = {1.0, 0.6, 1e-4, -0.5};
+    size_t i, k;
+    for (i = 0; i < sizeof mats / sizeof mats[0]; ++i) {
+        const double *m = mats[i];
+        bsdf b = in_bsdf(m);
+        int lobes = bsdf_lobe_count(&b), l;
+        for (k = 0; k < sizeof cosines / sizeof cosines[0]; ++k) {
+            vec3 wo = dir(cosines[k], 0.4), wi = dir(0.5, 2.0), wr = v3(-wo.x, -wo.y, wo.z), wt = dir(-0.6, 3.5);
+            char label[96];
+            snprintf(label, sizeof label, "%s, %s", mat_names[i],
+                     cosines[k] < 0 ? "wo below" : cosines[k] < 1e-3 ? "grazing wo" : "wo above");
+            EMIT("bsdf_lobe_probabilities", "GRIS 50", label, m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
+                 (double)wo.x, (double)wo.y, (double)wo.z);
+            EMIT("bsdf_eval_pdf", "GRIS 49", label, m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
+                 (double)wo.x, (double)wo.y, (double)wo.z, (double)wi.x, (double)wi.y, (double)wi.z);
+            EMIT("bsdf_eval_pdf", "GRIS 49", label, m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
+                 (double)wo.x, (double)wo.y, (double)wo.z, (double)wr.x, (double)wr.y, (double)wr.z);
+            EMIT("bsdf_sample", "GRIS 50", label, m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], (double)wo.x,
+                 (double)wo.y, (double)wo.z, 0.3, 0.42, 0.77);
+            EMIT("bsdf_sample", "GRIS 50", label, m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], (double)wo.x,
+                 (double)wo.y, (double)wo.z, 0.95, 1e-7, 0.999999);
+            for (l = 0; l < lobes; ++l) {
+                bsdf_sample_record s;
+                EMIT("bsdf_lobe_eval_pdf", "GRIS 50", label, m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], l,
+                     (double)wo.x, (double)wo.y, (double)wo.z, (double)wi.x, (double)wi.y, (double)wi.z);
+                EMIT("bsdf_lobe_eval_pdf", "GRIS 50", label, m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], l,
+                     (double)wo.x, (double)wo.y, (double)wo.z, (double)wt.x, (double)wt.y, (double)wt.z);
+                EMIT("bsdf_lobe_sample", "GRIS 50", label, m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], l,
+                     (double)wo.x, (double)wo.y, (double)wo.z, 0.42, 0.77);
+                memset(&s, 0, sizeof s);
+                if (bsdf_lobe_sample(&b, l, wo, v2((real)0.42, (real)0.77), &s))
+                    EMIT("bsdf_lobe_sample_inverse", "GRIS 50", label, m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7],
+                         m[8], l, (double)wo.x, (double)wo.y, (double)wo.z, (double)s.wi.x, (double)s.wi.y,
+                         (double)s.wi.z);
+            }
+        }
+    }
+}
+
+static void gen_light(gen *g)
+{
+    EMIT("pdf_area_to_solid_angle", "", "facing", 0.25, 0, 0, 0, 0, 0, 2, 0, 0, -1);
+    EMIT("pdf_area_to_solid_angle", "", "oblique", 0.25, 0, 0, 0, 1, 0.5, 2, 0, 0.6, -0.8);
+    EMIT("pdf_area_to_solid_angle", "", "grazing", 0.25, 0, 0, 0, 1, 0, 0, 0, 1e-6, -1);
+    EMIT("pdf_area_to_solid_angle", "", "nearly coincident", 0.25, 0, 0, 0, 1e-7, 0, 1e-7, 0, 0, -1);
+    EMIT("pdf_area_to_solid_angle", "", "coincident", 0.25, 1, 1, 1, 1, 1, 1, 0, 0, -1);
+    EMIT("light_emitted", "", "front", 5, 4, 3, 0, 0, 1, 0.3, 0, 0.9);
+    EMIT("light_emitted", "", "back", 5, 4, 3, 0, 0, 1, 0.3, 0, -0.9);
+    EMIT("light_emitted", "", "grazing", 5, 4, 3, 0, 0, 1, 1, 0, 1e-9);
+    EMIT("light_sample_point_inverse", "", "interior", 0.2, 0.3);
+    EMIT("light_sample_point_inverse", "", "vertex", 0, 0);
+}
+
+static void gen_wrs(gen *g)
+{
+    static const char ris[] = "GRIS 1;Mutations 5;Mutations 7;Mutations 11;Stochastic MIS 2";
+    static const char gris[] = "GRIS 6;GRIS 7;GRIS 19;Enhanced 1;Mutations 12;Mutations 13;Stochastic MIS 6";
+    static const char fin[] = "GRIS 2;GRIS 22;Mutations 8;Stochastic MIS 7";
+    EMIT("wrs_update", "Mutations 6", "first candidate", 0, 0.5, 0.99);
+    EMIT("wrs_update", "Mutations 6", "accepted", 1.0, 0.5, 0.3);
+    EMIT("wrs_update", "Mutations 6", "rejected", 1.0, 0.5, 0.34);
+    EMIT("wrs_update", "Mutations 6", "boundary u = w/wsum", 1.5, 0.5, 0.25);
+    EMIT("wrs_update", "Mutations 6", "zero weight", 1.0, 0, 0.0);
+    EMIT("wrs_update", "Mutations 6", "negative weight", 1.0, -0.5, 0.0);
+    EMIT("wrs_update", "Mutations 6", "NaN weight", 1.0, NAN, 0.0);
+    EMIT("wrs_update", "Mutations 6", "infinite weight", 1.0, INFINITY, 0.0);
+    EMIT("ris_candidate_weight", ris, "one tree", 0.7, 1.0, 1);
+    EMIT("ris_candidate_weight", ris, "32 trees, roulette", 0.7, 4.0, 32);
+    EMIT("ris_candidate_weight", ris, "zero target", 0.0, 3.0, 4);
+    EMIT("gris_resampling_weight", gris, "canonical", 0.5, 0.8, 2.0, 1.0);
+    EMIT("gris_resampling_weight", gris, "shifted", 0.25, 0.8, 2.0, 1.7);
+    EMIT("gris_resampling_weight", gris, "failed shift (J = 0, infinite UCW)", 0.25, 0.8, INFINITY, 0.0);
+    EMIT("gris_resampling_weight", gris, "zero target", 0.25, 0.0, 2.0, INFINITY);
+    EMIT("gris_resampling_weight", gris, "tiny jacobian", 1.0, 1e-300, 1e300, 1e-10);
+    EMIT("reservoir_stream_finalize", fin, "empty", 0);
+    EMIT("reservoir_stream_finalize", fin, "three candidates", 3, 0.5, 0.9, 1.2, 1, 0.25, 0.1, 0.4, 1, 1.0, 0.5, 2.0, 1);
+    EMIT("reservoir_stream_finalize", fin, "zero weights only", 2, 0, 0.1, 1.0, 1, 0, 0.9, 1.0, 1);
+    EMIT("reservoir_stream_finalize", fin, "selected target 0 (null sample)", 1, 0.5, 0.2, 0.0, 1);
+    EMIT("reservoir_stream_finalize", fin, "NaN and negative skipped", 3, NAN, 0.1, 1, 1, -1, 0.1, 1, 1, 0.3, 0.5, 0.6,
+         1);
+    EMIT("reservoir_estimate", "Mutations 9", "gray", 0.5, 0.5, 0.5, 2.0);
+    EMIT("reservoir_estimate", "Mutations 9", "colour", 1.0, 0.2, 0.05, 0.75);
+    EMIT("reservoir_estimate", "Mutations 9", "null sample", 1.0, 0.2, 0.05, 0.0);
+    EMIT("reservoir_cap_confidence", "", "capped", 45, 20);
+    EMIT("reservoir_cap_confidence", "", "below cap", 5, 20);
+    EMIT("reservoir_cap_confidence", "", "infinite cap", 5, INFINITY);
+}
+
+static void emit_mis(gen *g, int family, int M, int R, const double *c, const double *p, int j, const char *label)
+{
+    static const char *const eqs[] = {"", "GRIS 5;GRIS 36;Stochastic MIS 9",
+                                      "GRIS 37", "GRIS 38;Stochastic MIS 11a;Stochastic MIS 11b;Stochastic MIS 12"};
+    double in[VECTORS_MAX_IN];
+    int n = 0, i;
+    in[n++] = family;
+    in[n++] = M;
+    in[n++] = R;
+    for (i = 0; i < M; ++i) in[n++] = c[i];
+    for (i = 0; i < M * M; ++i) in[n++] = p[i];
+    in[n++] = j;
+    emit(g, "mis_weights", eqs[family], label, in, n);
+}
+
+static void gen_mis(gen *g)
+{
+    /* 3 domains, canonical 0; p[i*3 + j] = p̂_{<-i}(y_j) */
+    static const double c3[] = {1, 2, 0.5}, p3[] = {0.8, 0.6, 0.1, 0.5, 0.9, 0.2, 0.0, 0.3, 0.7};
+    static const double zero3[] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    static const double c4[] = {1, 1, 20, 3},
+                        p4[] = {1, 0.5, 0.25, 2, 0.7, 1, 0.1, 0.2, 0.3, 0.4, 1.5, 0, 1e-12, 5, 0.6, 0.9};
+    int f, j;
+    for (f = 0; f <= 3; ++f)
+        for (j = 0; j < 3; ++j) {
+            emit_mis(g, f, 3, 1, c3, p3, j, "3 domains, R = 1");
+            emit_mis(g, f, 3, 1, c3, zero3, j, "zero targets everywhere");
+        }
+    for (f = 0; f <= 3; ++f)
+        for (j = 0; j < 4; ++j) emit_mis(g, f, 4, 2, c4, p4, j, "4 domains, R = 2, temporal-like confidence 20");
+    EMIT("mis_pair_canonical", "Mutations 31", "two frames", 1, 0.8, 20, 0.6);
+    EMIT("mis_pair_canonical", "Mutations 31", "failed reverse shift", 1, 0.8, 20, 0);
+    EMIT("mis_pair_canonical", "Mutations 31", "zero denominator", 1, 0, 20, 0);
+    EMIT("mis_pair_neighbor", "Mutations 32", "two frames", 20, 0.6, 1, 0.8);
+    EMIT("mis_pair_neighbor", "Mutations 32", "zero target at the current pixel", 20, 0.6, 1, 0);
+    EMIT("mis_pair_neighbor", "Mutations 32", "zero denominator", 20, 0, 1, 0);
+}
+
+static void gen_reconnection(gen *g)
+{
+    static const char eqs[] = "GRIS 52;GRIS 54;Enhanced 2";
+    EMIT("rc_jacobian", eqs, "identity (own pixel)", 0.3, 0.05, 0.8, 0.3, 0.05, 0.8);
+    EMIT("rc_jacobian", eqs, "k = d (pdf_k = 1)", 0.4, 0.02, 1, 0.3, 0.05, 1);
+    EMIT("rc_jacobian", eqs, "nearly coincident vertices (huge G)", 0.3, 1e12, 0.8, 0.3, 1e10, 0.8);
+    EMIT("rc_jacobian", eqs, "grazing at x_k (tiny G)", 0.3, 1e-9, 0.8, 0.3, 0.05, 0.8);
+    EMIT("rc_jacobian", eqs, "failed shift (offset pdf 0)", 0, 0.05, 0.8, 0.3, 0.05, 0.8);
+    EMIT("rc_jacobian", eqs, "degenerate base (denominator 0)", 0.3, 0.05, 0.8, 0, 0.05, 0.8);
+}
+
+/* Every shift from a few base pixels to their neighbours (and to themselves: J = 1), for
+ * three seeds: successes with each mapping and the failure reasons the scene produces. */
+static void gen_shift(gen *g)
+{
+    static const char eqs[] = "Stochastic MIS 5;GRIS 35;Stochastic MIS 10;GRIS 54";
+    static const int pix[][4] = {{12, 9, 12, 9}, {12, 9, 13, 9}, {5, 12, 6, 13}, {20, 4, 18, 4},
+                                 {3, 3, 4, 3},   {12, 15, 11, 15}, {8, 9, 16, 9}};
+    static const char *const names[] = {"reconnection", "random replay", "hybrid"};
+    size_t i;
+    int kind, seed;
+    char label[96];
+    for (kind = 0; kind < 3; ++kind)
+        for (seed = 1; seed <= 3; ++seed)
+            for (i = 0; i < sizeof pix / sizeof pix[0]; ++i) {
+                snprintf(label, sizeof label, "%s, %s", names[kind],
+                         pix[i][0] == pix[i][2] && pix[i][1] == pix[i][3] ? "own pixel" : "neighbour");
+                EMIT("shift_path", eqs, label, kind, seed, pix[i][0], pix[i][1], pix[i][2], pix[i][3]);
+            }
+}
+
+static void generate(gen *g, const char *family)
+{
+    g->family = family;
+    if (!strcmp(family, "rng")) gen_rng(g);
+    else if (!strcmp(family, "warp")) gen_warp(g);
+    else if (!strcmp(family, "microfacet")) gen_microfacet(g);
+    else if (!strcmp(family, "bsdf")) gen_bsdf(g);
+    else if (!strcmp(family, "light")) gen_light(g);
+    else if (!strcmp(family, "wrs")) gen_wrs(g);
+    else if (!strcmp(family, "mis")) gen_mis(g);
+    else if (!strcmp(family, "reconnection")) gen_reconnection(g);
+    else if (!strcmp(family, "shift")) gen_shift(g);
+}
+
+int vectors_cover(const char *eq)
+{
+    gen g;
+    int i;
+    memset(&g, 0, sizeof g);
+    g.want_eq = eq;
+    for (i = 0; family_names[i]; ++i) generate(&g, family_names[i]);
+    return g.found;
+}
+
+int vectors_write(const char *dir, rerror *e)
+{
+    char path[4200];
+    struct stat st;
+    int i;
+    if (stat(dir, &st) != 0 && mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return rerror_set(e, "%s: cannot create directory: %s", dir, strerror(errno));
+    if (shift_scene_load())
+        return rerror_set(e, "%s: cannot load it for the shift vectors (run `restir vectors` from the repository root)",
+                          SHIFT_SCENE);
+    for (i = 0; family_names[i]; ++i) {
+        atomic_file f;
+        gen g;
+        memset(&g, 0, sizeof g);
+        snprintf(path, sizeof path, "%s/%s.jsonl", dir, family_names[i]);
+        if (atomic_file_open(&f, path, e)) return -1;
+        g.fp = f.fp;
+        generate(&g, family_names[i]);
+        if (atomic_file_commit(&f, e)) return -1;
+    }
+    return 0;
+}
+
+/* ---- the check ----------------------------------------------------------------------- */
+
+/* A number, or "inf", "-inf", "nan" (put_value). */
+static int read_num(json_reader *r, double *v)
+{
+    char s[8];
+    if (json_peek(r) != '"') return json_read_number(r, v);
+    if (json_read_string(r, s, sizeof s)) return -1;
+    if (!strcmp(s, "inf")) *v = INFINITY;
+    else if (!strcmp(s, "-inf")) *v = -INFINITY;
+    else if (!strcmp(s, "nan")) *v = NAN;
+    else return rerror_at(r->e, r->path, r->line, "\"%s\" is not a number (\"inf\", \"-inf\" or \"nan\")", s);
+    return 0;
+}
+
+static int read_array(json_reader *r, double *v, int max, int *n)
+{
+    *n = 0;
+    if (json_expect(r, '[')) return -1;
+    if (json_peek(r) == ']') return json_expect(r, ']');
+    for (;;) {
+        if (*n >= max) return rerror_at(r->e, r->path, r->line, "more than %d numbers", max);
+        if (read_num(r, &v[(*n)++])) return -1;
+        if (json_peek(r) != ',') break;
+        r->pos++;
+    }
+    return json_expect(r, ']');
+}
+
+/* Same value: bit-identical doubles (NaN matches NaN). */
+static int same_value(double want, double got)
+{
+    if (isnan(want) || isnan(got)) return isnan(want) && isnan(got);
+    return want == got && signbit(want) == signbit(got);
+}
+
+int vectors_check_file(const char *path, long *lines, long *bad, rerror *e)
+{
+    json_reader r;
+    int status = 0;
+    *lines = *bad = 0;
+    if (json_reader_open(&r, path, e)) return -1;
+    while (json_peek(&r) == '{') {
+        char fn[96] = "", key[32], label[128] = "";
+        double in[VECTORS_MAX_IN], want[VECTORS_MAX_OUT], got[VECTORS_MAX_OUT];
+        int n_in = -1, n_want = -1, n_got, i;
+        long line;
+        const vector_fn *f;
+        json_expect(&r, '{');
+        line = r.line;
+        for (;;) {
+            int st;
+            if (json_read_string(&r, key, sizeof key) || json_expect(&r, ':')) goto malformed;
+            if (!strcmp(key, "fn")) st = json_read_string(&r, fn, sizeof fn);
+            else if (!strcmp(key, "case")) st = json_read_string(&r, label, sizeof label);
+            else if (!strcmp(key, "in")) st = read_array(&r, in, VECTORS_MAX_IN, &n_in);
+            else if (!strcmp(key, "out")) st = read_array(&r, want, VECTORS_MAX_OUT, &n_want);
+            else st = json_skip_value(&r);
+            if (st) goto malformed;
+            if (json_peek(&r) != ',') break;
+            r.pos++;
+        }
+        if (json_expect(&r, '}')) goto malformed;
+        ++*lines;
+        if (!(f = find_fn(fn)) || n_in < 0 || n_want < 0) {
+            rerror_at(e, path, line, "unknown \"fn\" '%s' or missing \"in\"/\"out\"", fn);
+            goto malformed;
+        }
+        n_got = f->eval(in, n_in, got);
+        if (n_got != n_want) {
+            if (!*bad) rerror_at(e, path, line, "%s (%s): %d outputs, the vector has %d", fn, label, n_got, n_want);
+            ++*bad;
+            continue;
+        }
+        for (i = 0; i < n_got; ++i)
+            if (!same_value(want[i], got[i])) {
+                if (!*bad)
+                    rerror_at(e, path, line, "%s (%s): output %d is %.17g, the vector says %.17g", fn, label, i, got[i],
+                              want[i]);
+                ++*bad;
+                break;
+            }
+    }
+    if (json_expect_end(&r)) goto malformed;
+    json_reader_close(&r);
+    return *bad ? 1 : status;
+malformed:
+    json_reader_close(&r);
+    return -1;
+}
