@@ -17,6 +17,8 @@ typedef struct {
     path_vertex *verts;      /* storage of the domains' primary vertices */
     const reservoir **in;    /* per domain */
     real *u;                 /* per domain */
+    stochastic_workspace sw; /* stochastic pairwise MIS (stochastic_spatial.h) */
+    real up[STOCHASTIC_MAX_PICKS], uc[STOCHASTIC_MAX_PICKS]; /* its pick numbers */
     char pad[64];            /* keep workers' counters on separate cache lines */
 } worker_state;
 
