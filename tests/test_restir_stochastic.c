@@ -1,0 +1,212 @@
+/* Stochastic pairwise MIS in the spatial passes (stochastic_spatial.h; docs/stochastic-mis.md):
+ *   - unbiased against the reference path tracer (unpaired, `restir check` statistics)
+ *     for Ñ in {1, 4, 16} with and without the §4.3 confidence scaling, every shift;
+ *   - paired against the deterministic all-M comparator (defensive pairwise MIS over the
+ *     same domains, GRIS Eq. 38 = Stochastic MIS Eq. 11, which the stochastic weights
+ *     estimate) on the same seeds: run k of both reuses exactly the same initial samples;
+ *   - `--ablate stochastic-p` (picks among the non-zero samples without the P(i)
+ *     correction) is detected.
+ * Neighbours: the 5 x 5 box window (M = up to 24 non-canonical domains) so that Ñ < M. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir_util.h"
+#include "test.h"
+
+#define ALPHA 1e-3
+
+typedef struct {
+    scene s;
+    check_side pt;
+    int res, block, runs, max_depth;
+} sto_bench;
+
+typedef struct {
+    int shift, n, nc, no_scaling, passes, ablation, frames;
+    int candidates; /* 0: 2 path trees */
+} sto_case;
+
+static int bench_open(sto_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth)
+{
+    memset(b, 0, sizeof *b);
+    b->res = res;
+    b->block = 4;
+    b->runs = runs;
+    b->max_depth = max_depth;
+    if (rt_load_scene(path, res, &b->s)) return -1;
+    if (rt_pt_side(&b->s, test_seed() * 7919u + 11, runs, spp, max_depth, 0, b->block, &b->pt)) {
+        scene_free(&b->s);
+        return -1;
+    }
+    return 0;
+}
+
+static void bench_close(sto_bench *b)
+{
+    check_side_free(&b->pt);
+    scene_free(&b->s);
+}
+
+static void options_for(const sto_bench *b, const sto_case *m, uint32_t seed, int mis, restir_options *o)
+{
+    restir_options_default(o);
+    o->seed = seed;
+    o->shift = m->shift;
+    o->mis = mis;
+    o->stochastic_n = m->n;
+    o->stochastic_nc = m->nc;
+    o->no_confidence_scaling = m->no_scaling;
+    o->spatial_passes = m->passes;
+    o->pattern = NEIGHBOR_BOX;
+    o->radius = 2;
+    o->ablation = m->ablation;
+    o->frames = m->frames;
+    o->candidates = m->candidates ? m->candidates : 2;
+    o->max_depth = b->max_depth;
+    o->threads = 2;
+}
+
+static void case_name(const char *scene_name, const sto_case *m, char *out, size_t n)
+{
+    snprintf(out, n, "%s shift %s N~ %d N~c %d%s passes %d ablate %s", scene_name, restir_shift_names[m->shift], m->n,
+             m->nc, m->no_scaling ? " unscaled" : "", m->passes, restir_ablation_names[m->ablation]);
+}
+
+/* Unpaired against the path tracer; `biased` says which verdict is expected. */
+static void expect_pt(sto_bench *b, const char *scene_name, const sto_case *m, int biased)
+{
+    restir_options o;
+    check_side a;
+    check_result c;
+    char what[256];
+    options_for(b, m, test_seed() * 1187u + 13u * (uint32_t)m->shift + 7u * (uint32_t)m->n + (uint32_t)m->no_scaling, RESTIR_MIS_STOCHASTIC_PAIRWISE, &o);
+    if (rt_restir_side(&b->s, &o, b->runs, b->block, &a)) return;
+    {
+        check_options opt;
+        rerror e;
+        int status;
+        check_options_default(&opt);
+        opt.alpha = ALPHA;
+        opt.block_size = b->block;
+        status = check_compare(&a, &b->pt, &opt, &c, &e);
+        check_side_free(&a);
+        CHECKF(status == 0, "check_compare: %s", e.msg);
+        if (status) return;
+    }
+    case_name(scene_name, m, what, sizeof what);
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
+                rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+    if (biased)
+        CHECKF(c.different, "%s: the biased estimator was not detected (mean z %.2f, worst block z %.2f)", what,
+               rt_mean_z(&c), c.worst.z);
+    else
+        CHECKF(!c.different, "%s: differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks rejected, worst z %.2f",
+               what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
+    check_result_free(&c);
+}
+
+/* Paired against defensive pairwise MIS over the same domains and seeds. */
+static void expect_paired(sto_bench *b, const char *scene_name, const sto_case *m, int biased)
+{
+    restir_options oa, ob;
+    check_side a, d;
+    check_options opt;
+    check_result r;
+    rerror e;
+    char what[256];
+    int status;
+    uint32_t seed = test_seed() * 2654435761u + 101u + (uint32_t)m->n;
+    options_for(b, m, seed, RESTIR_MIS_STOCHASTIC_PAIRWISE, &oa);
+    options_for(b, m, seed, MIS_PAIRWISE_DEFENSIVE, &ob);
+    ob.ablation = RESTIR_ABLATE_NONE;
+    if (rt_restir_side(&b->s, &oa, b->runs, b->block, &a)) return;
+    if (rt_restir_side(&b->s, &ob, b->runs, b->block, &d)) {
+        check_side_free(&a);
+        return;
+    }
+    check_options_default(&opt);
+    opt.alpha = ALPHA;
+    opt.block_size = b->block;
+    status = check_compare_paired(&a, &d, &opt, &r, &e);
+    check_side_free(&a);
+    check_side_free(&d);
+    CHECKF(status == 0, "check_compare_paired: %s", e.msg);
+    if (status) return;
+    case_name(scene_name, m, what, sizeof what);
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  paired vs all-M defensive, %s: mean z %.2f (relative diff %+.4f%%), worst block z %.2f\n",
+                what, stats_t_to_z(r.global.t, r.global.dof), 100 * r.bias, r.worst.z);
+    if (biased)
+        CHECKF(r.different, "%s: the biased estimator was not detected by the paired test (mean z %.2f, worst block z %.2f)",
+               what, stats_t_to_z(r.global.t, r.global.dof), r.worst.z);
+    else
+        CHECKF(!r.different, "%s: differs from the all-M comparator on the same seeds: mean z %.2f, %ld of %ld blocks rejected, worst z %.2f",
+               what, stats_t_to_z(r.global.t, r.global.dof), r.rejected, r.tests, r.worst.z);
+    check_result_free(&r);
+}
+
+static void matrix(const char *path, int res, int runs, int frames, uint32_t spp, int passes)
+{
+    static const int picks[] = {1, 4, 16};
+    sto_bench b;
+    sto_case m = {0, 1, 1, 0, 1, RESTIR_ABLATE_NONE, 1, 0};
+    int k;
+    m.frames = frames;
+    m.passes = passes;
+    if (bench_open(&b, path, res, runs, spp, 4)) return;
+    for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift)
+        for (k = 0; k < 3 && !test_has_failed(); ++k)
+            for (m.no_scaling = 0; m.no_scaling < 2 && !test_has_failed(); ++m.no_scaling) {
+                m.n = picks[k];
+                m.nc = picks[k] > 1 ? 2 : 1;
+                expect_pt(&b, path, &m, 0);
+            }
+    bench_close(&b);
+}
+
+/* A subset: every shift, every Ñ, scaling on and off, cornell-glossy; the ablation. */
+TEST(restir_stochastic_unbiased_subset)
+{
+    sto_bench b;
+    static const sto_case cases[] = {
+        {RESTIR_SHIFT_HYBRID, 1, 1, 0, 1, RESTIR_ABLATE_NONE, 1, 0},
+        {RESTIR_SHIFT_RECONNECTION, 4, 2, 1, 1, RESTIR_ABLATE_NONE, 1, 0},
+        {RESTIR_SHIFT_REPLAY, 16, 2, 0, 1, RESTIR_ABLATE_NONE, 1, 0},
+        {RESTIR_SHIFT_HYBRID, 4, 1, 0, 2, RESTIR_ABLATE_NONE, 1, 0},
+    };
+    size_t i;
+    if (bench_open(&b, "scenes/cornell-glossy.scene", 16, 16, 16, 4)) return;
+    for (i = 0; i < sizeof cases / sizeof cases[0] && !test_has_failed(); ++i)
+        expect_pt(&b, "cornell-glossy", &cases[i], 0);
+    bench_close(&b);
+}
+
+TEST(restir_stochastic_paired_and_ablation)
+{
+    sto_bench b;
+    sto_case ok = {RESTIR_SHIFT_HYBRID, 4, 2, 1, 1, RESTIR_ABLATE_NONE, 1, 0};
+    /* the ablation: direct light only (max depth 2) and 1 path tree, so that shadowed and
+     * penumbra pixels hold zero samples; unscaled confidences give the picks most weight */
+    sto_case naive = {RESTIR_SHIFT_HYBRID, 1, 1, 1, 1, RESTIR_ABLATE_STOCHASTIC_P, 1, 1};
+    memset(&b, 0, sizeof b);
+    b.res = 16;
+    b.block = 4;
+    b.runs = 12;
+    b.max_depth = 4;
+    if (rt_load_scene("scenes/cornell-glossy.scene", 16, &b.s)) return;
+    expect_paired(&b, "cornell-glossy", &ok, 0);
+    scene_free(&b.s);
+    b.max_depth = 2;
+    b.runs = 32;
+    if (rt_load_scene("scenes/cornell-glossy.scene", 32, &b.s)) return;
+    if (!test_has_failed()) expect_paired(&b, "cornell-glossy 32", &naive, 1);
+    scene_free(&b.s);
+}
+
+TEST_LONG(restir_stochastic_unbiased_matrix_long)
+{
+    matrix("scenes/cornell.scene", 16, 16, 1, 16, 1);
+    if (!test_has_failed()) matrix("scenes/cornell-glossy.scene", 16, 16, 1, 16, 1);
+    if (!test_has_failed()) matrix("scenes/glass.scene", 16, 16, 2, 32, 1);
+}
