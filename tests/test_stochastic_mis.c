@@ -216,6 +216,11 @@ TEST(stochastic_mis_pairwise_forms_match_mis_c)
             CHECKF(fabs(E - (double)sum_b) < 1e-9, "case %d: E[Eq. 18 sum] %.12g vs %.12g", c, E, (double)sum_b);
         }
     }
+    {   /* Eq. 17: proportional to c p̂ W, normalised; negative / NaN count as 0 */
+        real a[5] = {1, 3, 0, -2, 0}, P[5];
+        CHECK(stochastic_selection_p(a, 5, P) == 4);
+        CHECK(P[0] == (real)0.25 && P[1] == (real)0.75 && P[2] == 0 && P[3] == 0 && P[4] == 0);
+    }
     CHECK(stochastic_confidence_scale(1, 8) == (real)0.125);
     CHECK(stochastic_confidence_scale(16, 8) == 1);
 }
