@@ -24,6 +24,7 @@ typedef struct {
 typedef struct {
     int shift, n, nc, no_scaling, passes, ablation, frames;
     int candidates; /* 0: 2 path trees */
+    int cells;      /* reuse cells (Stochastic MIS §5) instead of the box window */
 } sto_case;
 
 static int bench_open(sto_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth)
@@ -59,6 +60,7 @@ static void options_for(const sto_bench *b, const sto_case *m, uint32_t seed, in
     o->spatial_passes = m->passes;
     o->pattern = NEIGHBOR_BOX;
     o->radius = 2;
+    o->cells = m->cells;
     o->ablation = m->ablation;
     o->frames = m->frames;
     o->candidates = m->candidates ? m->candidates : 2;
@@ -68,8 +70,9 @@ static void options_for(const sto_bench *b, const sto_case *m, uint32_t seed, in
 
 static void case_name(const char *scene_name, const sto_case *m, char *out, size_t n)
 {
-    snprintf(out, n, "%s shift %s N~ %d N~c %d%s passes %d ablate %s", scene_name, restir_shift_names[m->shift], m->n,
-             m->nc, m->no_scaling ? " unscaled" : "", m->passes, restir_ablation_names[m->ablation]);
+    snprintf(out, n, "%s shift %s N~ %d N~c %d%s%s passes %d ablate %s", scene_name, restir_shift_names[m->shift], m->n,
+             m->nc, m->no_scaling ? " unscaled" : "", m->cells ? " cells" : "", m->passes,
+             restir_ablation_names[m->ablation]);
 }
 
 /* Unpaired against the path tracer; `biased` says which verdict is expected. */
@@ -146,14 +149,15 @@ static void expect_paired(sto_bench *b, const char *scene_name, const sto_case *
     check_result_free(&r);
 }
 
-static void matrix(const char *path, int res, int runs, int frames, uint32_t spp, int passes)
+static void matrix(const char *path, int res, int runs, int frames, uint32_t spp, int passes, int cells)
 {
     static const int picks[] = {1, 4, 16};
     sto_bench b;
-    sto_case m = {0, 1, 1, 0, 1, RESTIR_ABLATE_NONE, 1, 0};
+    sto_case m = {0, 1, 1, 0, 1, RESTIR_ABLATE_NONE, 1, 0, 0};
     int k;
     m.frames = frames;
     m.passes = passes;
+    m.cells = cells;
     if (bench_open(&b, path, res, runs, spp, 4)) return;
     for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift)
         for (k = 0; k < 3 && !test_has_failed(); ++k)
@@ -170,10 +174,12 @@ TEST(restir_stochastic_unbiased_subset)
 {
     sto_bench b;
     static const sto_case cases[] = {
-        {RESTIR_SHIFT_HYBRID, 1, 1, 0, 1, RESTIR_ABLATE_NONE, 1, 0},
-        {RESTIR_SHIFT_RECONNECTION, 4, 2, 1, 1, RESTIR_ABLATE_NONE, 1, 0},
-        {RESTIR_SHIFT_REPLAY, 16, 2, 0, 1, RESTIR_ABLATE_NONE, 1, 0},
-        {RESTIR_SHIFT_HYBRID, 4, 1, 0, 2, RESTIR_ABLATE_NONE, 1, 0},
+        {RESTIR_SHIFT_HYBRID, 1, 1, 0, 1, RESTIR_ABLATE_NONE, 1, 0, 0},
+        {RESTIR_SHIFT_RECONNECTION, 4, 2, 1, 1, RESTIR_ABLATE_NONE, 1, 0, 0},
+        {RESTIR_SHIFT_REPLAY, 16, 2, 0, 1, RESTIR_ABLATE_NONE, 1, 0, 0},
+        {RESTIR_SHIFT_HYBRID, 4, 1, 0, 2, RESTIR_ABLATE_NONE, 1, 0, 0},
+        {RESTIR_SHIFT_HYBRID, 1, 1, 0, 1, RESTIR_ABLATE_NONE, 1, 0, 1},
+        {RESTIR_SHIFT_RECONNECTION, 16, 4, 1, 2, RESTIR_ABLATE_NONE, 1, 0, 1},
     };
     size_t i;
     if (bench_open(&b, "scenes/cornell-glossy.scene", 16, 16, 16, 4)) return;
@@ -185,10 +191,11 @@ TEST(restir_stochastic_unbiased_subset)
 TEST(restir_stochastic_paired_and_ablation)
 {
     sto_bench b;
-    sto_case ok = {RESTIR_SHIFT_HYBRID, 4, 2, 1, 1, RESTIR_ABLATE_NONE, 1, 0};
+    sto_case ok = {RESTIR_SHIFT_HYBRID, 4, 2, 1, 1, RESTIR_ABLATE_NONE, 1, 0, 0};
+    sto_case cells = {RESTIR_SHIFT_HYBRID, 4, 2, 1, 1, RESTIR_ABLATE_NONE, 1, 0, 1};
     /* the ablation: direct light only (max depth 2) and 1 path tree, so that shadowed and
      * penumbra pixels hold zero samples; unscaled confidences give the picks most weight */
-    sto_case naive = {RESTIR_SHIFT_HYBRID, 1, 1, 1, 1, RESTIR_ABLATE_STOCHASTIC_P, 1, 1};
+    sto_case naive = {RESTIR_SHIFT_HYBRID, 1, 1, 1, 1, RESTIR_ABLATE_STOCHASTIC_P, 1, 1, 0};
     memset(&b, 0, sizeof b);
     b.res = 16;
     b.block = 4;
@@ -196,6 +203,7 @@ TEST(restir_stochastic_paired_and_ablation)
     b.max_depth = 4;
     if (rt_load_scene("scenes/cornell-glossy.scene", 16, &b.s)) return;
     expect_paired(&b, "cornell-glossy", &ok, 0);
+    if (!test_has_failed()) expect_paired(&b, "cornell-glossy", &cells, 0); /* vs all-M over the same cell (Fig. 7d) */
     scene_free(&b.s);
     b.max_depth = 2;
     b.runs = 32;
@@ -206,7 +214,10 @@ TEST(restir_stochastic_paired_and_ablation)
 
 TEST_LONG(restir_stochastic_unbiased_matrix_long)
 {
-    matrix("scenes/cornell.scene", 16, 16, 1, 16, 1);
-    if (!test_has_failed()) matrix("scenes/cornell-glossy.scene", 16, 16, 1, 16, 1);
-    if (!test_has_failed()) matrix("scenes/glass.scene", 16, 16, 2, 32, 1);
+    int cells;
+    for (cells = 0; cells < 2 && !test_has_failed(); ++cells) {
+        matrix("scenes/cornell.scene", 16, 16, 1, 16, 1, cells);
+        if (!test_has_failed()) matrix("scenes/cornell-glossy.scene", 16, 16, 1, 16, 1, cells);
+        if (!test_has_failed()) matrix("scenes/glass.scene", 16, 16, 2, 32, 1, cells);
+    }
 }

@@ -21,6 +21,7 @@
 #include "restir/mis.h"
 #include "restir/neighbors.h"
 #include "restir/spatial.h"
+#include "restir/reuse_cells.h"
 #include "restir/stochastic_spatial.h"
 #include "restir/temporal.h"
 
@@ -70,6 +71,8 @@ typedef struct {
     int stochastic_n;           /* Ñ picks per pixel and pass (default 1) */
     int stochastic_nc;          /* Ñ_c canonical picks (default 1) */
     int no_confidence_scaling;  /* 1: no c_i <- c_i min(1, Ñ/M) (Stochastic MIS §4.3) */
+    int cells;                  /* spatial domains = a reuse cell found by the §5.1 search
+                                   (reuse_cells.h) instead of neighbor_select; any --mis */
 } restir_options;
 
 typedef struct {

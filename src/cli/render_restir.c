@@ -75,6 +75,10 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--stochastic-nc", OPT_INT, &o->stochastic_nc,
                     "stochastic-pairwise: uniform picks estimating the canonical weight, N~_c (default 1)", NULL, 1,
                     STOCHASTIC_MAX_PICKS);
+    rows[n++] = row("--reuse-cells", OPT_FLAG, &o->cells,
+                    "spatial domains = the pixels of one 8x8-tile reuse cell found by the Stochastic MIS 5.1 search "
+                    "(instead of --pattern neighbours; any --mis)",
+                    NULL, 0, 0);
     rows[n++] = row("--no-confidence-scaling", OPT_FLAG, &o->no_confidence_scaling,
                     "stochastic-pairwise: keep the neighbours' confidences (no c_i <- c_i N~/M, Stochastic MIS 4.3)",
                     NULL, 0, 0);

@@ -39,6 +39,7 @@ typedef struct {
     double *sum;                     /* 3 per pixel */
     worker_state *workers;
     int temporal;                    /* real-time pipeline with temporal reuse (workspaces >= 2) */
+    reuse_cells cells;               /* o->cells: the current pass's reuse cells (reuse_cells.h) */
 } frame_job;
 
 /* The neighbour selection options of o (neighbors.h). */

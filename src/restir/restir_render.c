@@ -197,9 +197,15 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
         return;
     }
     /* capacity is checked by restir_options_validate, so this cannot fail */
-    n = neighbor_select(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, j->max_domains - 1, &w->st.neighbors,
-                        NULL);
-    if (n < 0) n = 0;
+    if (j->o->cells) {
+        /* Stochastic MIS §5.1: a reuse cell; its pixels except p are the domains */
+        int c = reuse_cell_search(&j->cells, &j->g, (float)j->o->normal_cos, j->o->seed, nsample, x, y);
+        n = c >= 0 ? reuse_cell_domains(&j->cells, c, (uint32_t)p, w->nbr) : 0;
+    } else {
+        n = neighbor_select(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, j->max_domains - 1, &w->st.neighbors,
+                            NULL);
+        if (n < 0) n = 0;
+    }
     for (d = 0; d <= n; ++d) {
         long q = d == 0 ? p : (long)w->nbr[d - 1];
         if (d > 0) primary_vertex(j, q, &w->verts[d]); /* accepted neighbours have a primary hit */
@@ -273,6 +279,7 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
         /* ping-pong: a -> b -> a -> ... */
         j->src = j->pass % 2 == 0 ? a : b;
         j->dst = j->pass % 2 == 0 ? b : a;
+        if (j->o->cells) reuse_cells_build(&j->cells, &j->g, j->src, NULL); /* allocated: cannot fail */
         parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
         final = j->dst;
         times->ms_spatial[j->pass] += frame_lap_ms(t);
@@ -373,6 +380,11 @@ int frame_workers_alloc(frame_job *j, rerror *e)
 {
     int t;
     size_t m = (size_t)j->max_domains;
+    if (j->o->cells) {
+        if (j->max_domains < REUSE_CELL_MAX_PIXELS + 1) j->max_domains = REUSE_CELL_MAX_PIXELS + 1;
+        m = (size_t)j->max_domains;
+        if (reuse_cells_alloc(&j->cells, j->s->width, j->s->height, e)) return -1;
+    }
     j->workers = rcalloc((size_t)j->o->threads, sizeof *j->workers, e);
     if (!j->workers) return -1;
     if (j->o->spatial_passes == 0 && !j->temporal) return 0;
@@ -395,6 +407,7 @@ int frame_workers_alloc(frame_job *j, rerror *e)
 void frame_workers_free(frame_job *j)
 {
     int t;
+    reuse_cells_free(&j->cells);
     if (!j->workers) return;
     for (t = 0; t < j->o->threads; ++t) {
         worker_state *w = &j->workers[t];
