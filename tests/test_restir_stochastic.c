@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/animation.h"
 #include "restir_util.h"
 #include "test.h"
 
@@ -220,4 +221,139 @@ TEST_LONG(restir_stochastic_unbiased_matrix_long)
         if (!test_has_failed()) matrix("scenes/cornell-glossy.scene", 16, 16, 1, 16, 1, cells);
         if (!test_has_failed()) matrix("scenes/glass.scene", 16, 16, 2, 32, 1, cells);
     }
+}
+
+/* ---- the real-time pipeline: the pillars disocclusion sequence (scenes/pillars.scene) ---- */
+
+#define SEQ_TIMES 3
+
+typedef struct {
+    int times[SEQ_TIMES], nt;
+    check_side side[SEQ_TIMES];
+} seq_sides;
+
+static int seq_collect(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
+{
+    seq_sides *q = user;
+    int i;
+    (void)st;
+    for (i = 0; i < q->nt; ++i)
+        if (q->times[i] == frame && check_side_add_run(&q->side[i], img, "run", e)) return -1;
+    return 0;
+}
+
+/* K sequences 0..last (seed + 7919 k) into one side per frame of q->times. */
+static int seq_run(const scene *s, const restir_options *o, int runs, int block, seq_sides *q)
+{
+    restir_sequence seq;
+    rerror e;
+    int i, k, status = 0;
+    memset(&seq, 0, sizeof seq);
+    seq.last = q->times[q->nt - 1];
+    for (i = 0; i < q->nt; ++i)
+        if (check_side_begin_runs(&q->side[i], s->width, s->height, block, &e)) {
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            return -1;
+        }
+    for (k = 0; k < runs && !status; ++k) {
+        restir_options ok = *o;
+        restir_stats total;
+        ok.seed = o->seed + 7919u * (uint32_t)k;
+        status = restir_render_sequence(s, &ok, &seq, seq_collect, q, &total, &e);
+    }
+    for (i = 0; i < q->nt && !status; ++i) status = check_side_end_runs(&q->side[i], &e);
+    if (status) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        for (i = 0; i < q->nt; ++i) check_side_free(&q->side[i]);
+    }
+    return status;
+}
+
+/* Pillars frames `times` with temporal reuse (Talbot) + one stochastic spatial pass per
+ * case, each frame against the path tracer on the scene posed at that frame. */
+static void pillars(const sto_case *cases, int n_cases, const int *times, int nt, int runs, double alpha)
+{
+    scene s;
+    check_side pt[SEQ_TIMES];
+    rerror e;
+    int i, c;
+    if (rt_load_scene("scenes/pillars.scene", 16, &s)) return;
+    for (i = 0; i < nt; ++i) {
+        if (scene_pose_at(&s, times[i], &e) ||
+            rt_pt_side_at(&s, test_seed() * 7919u + 5 + 131u * (uint32_t)i, runs, 64, 4, 0, times[i], 4, &pt[i])) {
+            test_fail(__FILE__, __LINE__, "pillars reference of frame %d", times[i]);
+            while (i-- > 0) check_side_free(&pt[i]);
+            scene_free(&s);
+            return;
+        }
+    }
+    if (scene_pose_at(&s, 0, &e)) test_fail(__FILE__, __LINE__, "%s", e.msg);
+    for (c = 0; c < n_cases && !test_has_failed(); ++c) {
+        const sto_case *m = &cases[c];
+        restir_options o;
+        seq_sides q;
+        sto_bench dummy;
+        dummy.max_depth = 4;
+        options_for(&dummy, m, test_seed() * 1181u + 17u * (uint32_t)c, RESTIR_MIS_STOCHASTIC_PAIRWISE, &o);
+        o.temporal = 1;
+        o.temporal_mis = MIS_TALBOT;
+        memset(&q, 0, sizeof q);
+        q.nt = nt;
+        for (i = 0; i < nt; ++i) q.times[i] = times[i];
+        if (seq_run(&s, &o, runs, 4, &q)) break;
+        for (i = 0; i < nt; ++i) {
+            check_options opt;
+            check_result r;
+            char what[256];
+            int status;
+            check_options_default(&opt);
+            opt.alpha = alpha;
+            opt.block_size = 4;
+            status = check_compare(&q.side[i], &pt[i], &opt, &r, &e);
+            CHECKF(status == 0, "check_compare: %s", e.msg);
+            if (status) continue;
+            case_name("pillars", m, what, sizeof what);
+            if (getenv("RESTIR_TEST_VERBOSE"))
+                fprintf(stderr, "  %s frame %d: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n",
+                        what, times[i], rt_mean_z(&r), r.lum_a.mean, r.lum_b.mean, r.rejected, r.tests, r.worst.z);
+            CHECKF(!r.different, "%s frame %d: differs from the path tracer: mean z %.2f, %ld of %ld blocks rejected, worst z %.2f",
+                   what, times[i], rt_mean_z(&r), r.rejected, r.tests, r.worst.z);
+            check_result_free(&r);
+        }
+        for (i = 0; i < nt; ++i) check_side_free(&q.side[i]);
+    }
+    for (i = 0; i < nt; ++i) check_side_free(&pt[i]);
+    scene_free(&s);
+}
+
+TEST(restir_stochastic_pillars_sequence_subset)
+{
+    static const int times[] = {4};
+    static const sto_case cases[] = {
+        {RESTIR_SHIFT_HYBRID, 4, 1, 0, 1, RESTIR_ABLATE_NONE, 1, 0, 1},
+        {RESTIR_SHIFT_REPLAY, 1, 1, 1, 1, RESTIR_ABLATE_NONE, 1, 0, 0},
+    };
+    pillars(cases, 2, times, 1, 16, ALPHA);
+}
+
+/* Every shift x Ñ in {1, 4, 16} x scaling on/off x {box window, cells}, frames 1, 4, 16. */
+TEST_LONG(restir_stochastic_pillars_sequence_long)
+{
+    static const int times[] = {1, 4, 16};
+    static const int picks[] = {1, 4, 16};
+    sto_case cases[RESTIR_SHIFT_COUNT * 3 * 2 * 2];
+    int n = 0, sh, k, sc, ce;
+    for (sh = 0; sh < RESTIR_SHIFT_COUNT; ++sh)
+        for (k = 0; k < 3; ++k)
+            for (sc = 0; sc < 2; ++sc)
+                for (ce = 0; ce < 2; ++ce) {
+                    sto_case m = {0, 1, 1, 0, 1, RESTIR_ABLATE_NONE, 1, 0, 0};
+                    m.shift = sh;
+                    m.n = picks[k];
+                    m.nc = picks[k] > 1 ? 2 : 1;
+                    m.no_scaling = sc;
+                    m.cells = ce;
+                    cases[n++] = m;
+                }
+    pillars(cases, n, times, 3, 24, 1e-4); /* 216 comparisons */
 }
