@@ -34,6 +34,10 @@ typedef struct {
     int *K, *Kc;   /* multiplicities of the Ñ and the Ñ_c picks */
     path_sample *shifted;
     real *jacobian;
+    /* optional: domain i's primary vertex on demand (i >= 1), so that only the Ñ_c
+     * canonical picks pay for building one (cells hold up to 63 domains); NULL: x1[i] */
+    const path_vertex *(*vertex)(void *user, int i);
+    void *vertex_user;
 } stochastic_workspace;
 
 int stochastic_workspace_alloc(stochastic_workspace *w, int max_domains, rerror *e);

@@ -19,10 +19,11 @@ typedef struct {
     real *u;                 /* per domain */
     stochastic_workspace sw; /* stochastic pairwise MIS (stochastic_spatial.h) */
     real up[STOCHASTIC_MAX_PICKS], uc[STOCHASTIC_MAX_PICKS]; /* its pick numbers */
+    struct frame_job_s *lazy_job; /* the job of the pixel being resampled (lazy_vertex) */
     char pad[64];            /* keep workers' counters on separate cache lines */
 } worker_state;
 
-typedef struct {
+typedef struct frame_job_s {
     const scene *s;                  /* the frame's (posed) scene */
     const restir_options *o;
     restir_context ctx;

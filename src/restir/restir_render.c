@@ -166,6 +166,17 @@ static void initial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         }
 }
 
+/* stochastic_workspace.vertex: domain i's primary vertex, built on first use. */
+static const path_vertex *lazy_vertex(void *user, int i)
+{
+    worker_state *w = user;
+    if (!w->x1[i]) {
+        primary_vertex(w->lazy_job, (long)w->nbr[i - 1], &w->verts[i]);
+        w->x1[i] = &w->verts[i];
+    }
+    return w->x1[i];
+}
+
 /* The stochastic pairwise step (stochastic_spatial.h) over the domains spatial_pixel set
  * up. Pick k of pass p draws RNG_RIS vertex 64 + p, slot k; canonical pick k vertex
  * 80 + p, slot k (passes < 16, so no clash with 32 + p or the temporal vertex 48). */
@@ -179,6 +190,8 @@ static void stochastic_spatial_pixel(frame_job *j, worker_state *w, rng_key key,
     so.naive_p = j->ctx.ablation == RESTIR_ABLATE_STOCHASTIC_P;
     for (k = 0; k < so.n_picks; ++k) w->up[k] = rng_u(key, RNG_RIS, 64u + (uint32_t)j->pass, (uint32_t)k);
     for (k = 0; k < so.n_canonical_picks; ++k) w->uc[k] = rng_u(key, RNG_RIS, 80u + (uint32_t)j->pass, (uint32_t)k);
+    w->sw.vertex = lazy_vertex;
+    w->sw.vertex_user = w;
     stochastic_pairwise_resample(&j->ctx, &so, m, w->x1, w->in, w->u, w->up, w->uc, out, &w->sw, &w->st.spatial);
 }
 
@@ -206,10 +219,12 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
                             NULL);
         if (n < 0) n = 0;
     }
+    w->lazy_job = j;
     for (d = 0; d <= n; ++d) {
         long q = d == 0 ? p : (long)w->nbr[d - 1];
-        if (d > 0) primary_vertex(j, q, &w->verts[d]); /* accepted neighbours have a primary hit */
-        w->x1[d] = &w->verts[d];
+        /* accepted neighbours have a primary hit; the stochastic step builds them on demand */
+        if (d > 0 && j->o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE) primary_vertex(j, q, &w->verts[d]);
+        w->x1[d] = d > 0 && j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE ? NULL : &w->verts[d];
         w->in[d] = &j->src[q];
         /* vertex 32 + p: initial sampling uses vertices 2..16 of RNG_RIS (the key packs
          * vertex < 256 and slot < 65536, so the pass must not go into the slot) */

@@ -78,10 +78,12 @@ static real canonical_weight(const restir_context *c, const stochastic_options *
     }
     for (i = 0; i < n; ++i) {
         path_sample back;
+        const path_vertex *xi;
         real jac, q = 0, c_i = scale * in[i + 1]->confidence;
         if (!w->Kc[i]) continue;
         st->mis_shifts++;
-        if (counted_shift(c, x1[i + 1], &in[0]->y, &back, &jac, st) == SHIFT_OK) q = back.target * jac; /* Eq. 10 */
+        xi = w->vertex ? w->vertex(w->vertex_user, i + 1) : x1[i + 1];
+        if (counted_shift(c, xi, &in[0]->y, &back, &jac, st) == SHIFT_OK) q = back.target * jac; /* Eq. 10 */
         /* Eq. 18: K'(i) / (Ñ_c P_c) b_i(Y_c) */
         m_c += (real)w->Kc[i] / ((real)so->n_canonical_picks * Pc) * stochastic_pairwise_b(c_c, c_S, c_i, q, p);
     }
