@@ -51,7 +51,7 @@ LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/*.c))
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-.PHONY: all run test test-long test-data bench clean results results-temporal
+.PHONY: all run test test-long test-data bench clean results results-temporal results-stochastic
 all: $(BUILD)/restir
 
 $(BUILD)/%.o: %.c
@@ -106,3 +106,6 @@ results: $(BUILD)/restir
 # Temporal reuse, GRIS Fig. 9 (docs/results.md; minutes, never part of `make test`).
 results-temporal: $(BUILD)/restir
 	sh scripts/results_temporal.sh out/results-temporal $(BUILD)
+
+results-stochastic: $(BUILD)/restir
+	sh scripts/results_stochastic.sh out/results-stochastic $(BUILD)

@@ -558,6 +558,10 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
             o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads, indent);
+    if (o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE || o->cells) /* issue 14 (only when used) */
+        fprintf(out, "\"stochastic_n\": %d, \"stochastic_nc\": %d, \"confidence_scaling\": %s, \"reuse_cells\": %s,\n%s  ",
+                o->stochastic_n, o->stochastic_nc, o->no_confidence_scaling ? "false" : "true", o->cells ? "true" : "false",
+                indent);
     if (isinf(o->mcap))
         fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"}", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis]);
