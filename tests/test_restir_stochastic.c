@@ -357,3 +357,35 @@ TEST_LONG(restir_stochastic_pillars_sequence_long)
                 }
     pillars(cases, n, times, 3, 24, 1e-4); /* 216 comparisons */
 }
+
+/* The CLI: the options reach the renderer (--stats echoes them), bad values exit 2 and
+ * write nothing. */
+TEST(restir_stochastic_cli)
+{
+    char out[16384], json[1024], pfm[1024], bad[1024];
+    int status;
+    snprintf(json, sizeof json, "%s", test_tmp_path("stochastic-cli.json"));
+    snprintf(pfm, sizeof pfm, "%s", test_tmp_path("stochastic-cli.pfm"));
+    snprintf(bad, sizeof bad, "%s", test_tmp_path("stochastic-cli-bad.pfm"));
+    status = test_cli(out, sizeof out,
+                      "render scenes/cornell.scene --method restir --size 16x16 --spatial-passes 1 --mis "
+                      "stochastic-pairwise --stochastic-n 3 --stochastic-nc 2 --no-confidence-scaling --reuse-cells "
+                      "--quiet --no-png -o %s --stats %s",
+                      pfm, json);
+    CHECKF(status == 0, "exit %d: %s", status, out);
+    status = test_cli(out, sizeof out, "render scenes/cornell.scene --method restir --stochastic-n 0 -o %s", bad);
+    CHECKF(status == 2, "--stochastic-n 0: exit %d", status);
+    status = test_cli(out, sizeof out, "render scenes/cornell.scene --method restir --temporal-mis stochastic-pairwise "
+                                       "--spatial-passes 1 -o %s", bad);
+    CHECKF(status == 2, "--temporal-mis stochastic-pairwise: exit %d (%s)", status, out);
+    CHECK(!test_file_exists(bad));
+    {
+        FILE *f = fopen(json, "rb");
+        char buf[8192];
+        size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+        if (f) fclose(f);
+        buf[n] = 0;
+        CHECKF(strstr(buf, "\"stochastic_n\": 3, \"stochastic_nc\": 2, \"confidence_scaling\": false, \"reuse_cells\": true") != NULL,
+               "stats config: %.300s", buf);
+    }
+}
