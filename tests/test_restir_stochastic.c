@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/animation.h"
+#include "restir/camera.h"
+#include "restir/gbuffer.h"
 #include "restir_util.h"
 #include "test.h"
 
@@ -388,4 +390,88 @@ TEST(restir_stochastic_cli)
         CHECKF(strstr(buf, "\"stochastic_n\": 3, \"stochastic_nc\": 2, \"confidence_scaling\": false, \"reuse_cells\": true") != NULL,
                "stats config: %.300s", buf);
     }
+}
+
+/* Reuse cells (reuse_cells.h) on a real G-buffer: Algorithm 1's lists are a partition of
+ * the hit pixels into cells inside one tile with one hash; the non-zero lists hold exactly
+ * the non-zero samples; confidence sums; the §5.1 search returns a cell of the same object
+ * with a similar normal, and depends on the confidences, never on the sample values. */
+TEST(restir_stochastic_reuse_cells_invariants)
+{
+    scene s;
+    restir_options o;
+    restir_result r;
+    gbuffer g;
+    camera cam;
+    reuse_cells rc;
+    rerror e;
+    long p, n;
+    int c, x, y, found = 0;
+    if (rt_load_scene("scenes/cornell-glossy.scene", 40, &s)) return;
+    restir_options_default(&o);
+    o.keep_reservoirs = 1;
+    o.threads = 2;
+    memset(&g, 0, sizeof g);
+    memset(&rc, 0, sizeof rc);
+    if (restir_render(&s, &o, &r, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        scene_free(&s);
+        return;
+    }
+    camera_init(&cam, scene_camera_at(&s, 0), s.width, s.height);
+    CHECK(gbuffer_build(&g, &s, &cam, o.seed, 0, 0, 1, &e) == 0);
+    CHECK(reuse_cells_build(&rc, &g, r.reservoirs, &e) == 0);
+    n = (long)s.width * s.height;
+    CHECK(rc.tiles == 25 && rc.cell_count >= rc.tiles / 2);
+    {
+        long listed = 0, nz = 0;
+        for (c = 0; c < rc.cell_count && !test_has_failed(); ++c) {
+            int i, t0 = -1;
+            double conf = 0;
+            for (i = rc.start[c]; i < rc.start[c + 1]; ++i) {
+                long q = rc.pixels[i];
+                int t = (int)(q % s.width) / REUSE_TILE + ((int)(q / s.width) / REUSE_TILE) * 5;
+                CHECK(rc.cell_of[q] == c && g.texels[q].valid);
+                CHECK(rc.hash[q] == rc.hash[rc.pixels[rc.start[c]]]);
+                if (t0 < 0) t0 = t;
+                CHECKF(t == t0, "cell %d spans tiles %d and %d", c, t0, t);
+                conf += (double)r.reservoirs[q].confidence;
+                listed++;
+            }
+            CHECK(fabs(conf - rc.confidence[c]) < 1e-9 && reuse_cell_size(&rc, c) <= REUSE_CELL_MAX_PIXELS);
+            for (i = rc.nz_start[c]; i < rc.nz_start[c + 1]; ++i) {
+                const reservoir *q = &r.reservoirs[rc.nz_pixels[i]];
+                CHECK(rc.cell_of[rc.nz_pixels[i]] == c && path_sample_is_valid(&q->y) && q->W > 0 && q->y.target > 0);
+                nz++;
+            }
+        }
+        for (p = 0; p < n; ++p) {
+            const reservoir *q = &r.reservoirs[p];
+            listed -= g.texels[p].valid;
+            nz -= g.texels[p].valid && path_sample_is_valid(&q->y) && q->W > 0 && q->y.target > 0;
+        }
+        CHECKF(listed == 0 && nz == 0, "lists miss or repeat pixels: %ld, non-zero %ld", listed, nz);
+    }
+    for (y = 0; y < s.height; y += 3)
+        for (x = 0; x < s.width; x += 3) {
+            const gbuffer_texel *t = gbuffer_at(&g, x, y);
+            int cell = reuse_cell_search(&rc, &g, 0.5f, o.seed, 7, x, y), again;
+            uint32_t dom[REUSE_CELL_MAX_PIXELS];
+            if (cell < 0) continue;
+            found++;
+            CHECK(t->valid && g.texels[rc.pixels[rc.start[cell]]].hit.object == t->hit.object);
+            CHECK(reuse_cell_domains(&rc, cell, (uint32_t)(y * s.width + x), dom) ==
+                  reuse_cell_size(&rc, cell) - (rc.cell_of[y * s.width + x] == cell));
+            /* the sample values do not enter the search: zero every W and search again */
+            for (p = 0; p < n; ++p) r.reservoirs[p].W = 0;
+            reuse_cells_build(&rc, &g, r.reservoirs, &e);
+            again = reuse_cell_search(&rc, &g, 0.5f, o.seed, 7, x, y);
+            CHECK(again == cell);
+        }
+    /* 40 x 40 is small for the paper's 30-120 px search: most points fall outside the image */
+    CHECKF(found >= 10, "the search found a cell for %d of the probed pixels", found);
+    reuse_cells_free(&rc);
+    gbuffer_free(&g);
+    restir_result_free(&r);
+    scene_free(&s);
 }
