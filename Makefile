@@ -52,7 +52,7 @@ LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/*.c))
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-.PHONY: all run test test-long test-data bench clean results results-temporal mutation-score
+.PHONY: all run test test-long test-data bench clean results results-temporal results-stochastic mutation-score
 all: $(BUILD)/restir
 
 $(BUILD)/%.o: %.c
@@ -112,3 +112,6 @@ results-temporal: $(BUILD)/restir
 # margins (docs/statistics.md, "Mutation score"; about 2 minutes per mutant, not CI).
 mutation-score:
 	sh scripts/mutation-score.sh $(MUTANT_FLAGS)
+
+results-stochastic: $(BUILD)/restir
+	sh scripts/results_stochastic.sh out/results-stochastic $(BUILD)

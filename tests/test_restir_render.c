@@ -131,7 +131,11 @@ TEST(restir_options_rows_and_validation)
     CHECK(d.roughness_threshold == 0.2 && d.distance_threshold == 0.02);
     o = d; o.spatial_passes = RESTIR_MAX_SPATIAL_PASSES + 1; CHECK(restir_options_validate(&o, &e) != 0);
     o = d; o.neighbors = 0; CHECK(restir_options_validate(&o, &e) != 0);
-    o = d; o.mis = MIS_FAMILY_COUNT; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.mis = RESTIR_MIS_STOCHASTIC_PAIRWISE + 1; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.mis = RESTIR_MIS_STOCHASTIC_PAIRWISE; CHECK(restir_options_validate(&o, &e) == 0);
+    o = d; o.stochastic_n = 0; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.stochastic_nc = STOCHASTIC_MAX_PICKS + 1; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.temporal_mis = RESTIR_MIS_STOCHASTIC_PAIRWISE; CHECK(restir_options_validate(&o, &e) != 0);
     o = d; o.time_limit = -1; CHECK(restir_options_validate(&o, &e) != 0);
     o = d; o.pattern = NEIGHBOR_BOX; o.radius = 16; CHECK(restir_options_validate(&o, &e) != 0);
     o = d; o.pattern = NEIGHBOR_BOX; o.radius = 3; CHECK(restir_options_validate(&o, &e) == 0);

@@ -21,6 +21,8 @@
 #include "restir/mis.h"
 #include "restir/neighbors.h"
 #include "restir/spatial.h"
+#include "restir/reuse_cells.h"
+#include "restir/stochastic_spatial.h"
 #include "restir/temporal.h"
 
 #define RESTIR_MAX_SPATIAL_PASSES 16
@@ -28,8 +30,10 @@
 
 enum restir_paths { RESTIR_PATHS_ALL = 0, RESTIR_PATHS_INDIRECT = 1 };
 extern const char *const restir_paths_names[]; /* "all", "indirect" */
-/* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive" */
+/* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive", then
+ * "stochastic-pairwise" (spatial passes only; not a mis_family: stochastic_spatial.h) */
 extern const char *const restir_mis_names[];
+#define RESTIR_MIS_STOCHASTIC_PAIRWISE MIS_FAMILY_COUNT
 
 typedef struct {
     int shift;                  /* enum restir_shift (default hybrid) */
@@ -63,6 +67,12 @@ typedef struct {
     int temporal;               /* temporal reuse (GRIS §6.3 step 2; default 1 in sequences) */
     int temporal_mis;           /* mis_family of the temporal step (default MIS_TALBOT, GRIS §8.3) */
     double mcap;                /* C > 0: c_prev <= C c_cur (GRIS §6.2, §6.4; default 20; may be inf) */
+    /* stochastic pairwise MIS (mis = RESTIR_MIS_STOCHASTIC_PAIRWISE; stochastic_spatial.h): */
+    int stochastic_n;           /* Ñ picks per pixel and pass (default 1) */
+    int stochastic_nc;          /* Ñ_c canonical picks (default 1) */
+    int no_confidence_scaling;  /* 1: no c_i <- c_i min(1, Ñ/M) (Stochastic MIS §4.3) */
+    int cells;                  /* spatial domains = a reuse cell found by the §5.1 search
+                                   (reuse_cells.h) instead of neighbor_select; any --mis */
 } restir_options;
 
 typedef struct {

@@ -59,12 +59,16 @@ enum restir_ablation {
                                    shift (current -> previous pixel) with the CURRENT frame's
                                    camera and scene instead of the previous frame's (notes
                                    pitfall 8; GRIS App. B requires the previous frame's) */
-    RESTIR_ABLATE_TEMPORAL_SUFFIX = 4 /* "temporal-suffix": in animated scenes a sample crosses
+    RESTIR_ABLATE_TEMPORAL_SUFFIX = 4, /* "temporal-suffix": in animated scenes a sample crosses
                                    frames with its cached x_k position and suffix radiance L_k
                                    (no rc_retrace_suffix): where objects moved, a reused path
                                    is not a path of the current scene */
+    RESTIR_ABLATE_STOCHASTIC_P = 5 /* "stochastic-p": stochastic pairwise MIS picks its Ñ
+                                   candidates uniformly among the non-zero samples but weights
+                                   them as if P(i) = 1/M (no P(i) correction; Stochastic MIS §3:
+                                   "naively choosing input pixels based on their samples") */
 };
-#define RESTIR_ABLATION_COUNT 5
+#define RESTIR_ABLATION_COUNT 6
 
 /* Reconnection criterion (GRIS §7.4-7.5, §8.3; Enhanced §2.3): x_{k-1} and x_k must be
  * rough for their lobes and ||x_k - x_{k-1}|| >= min_distance. */

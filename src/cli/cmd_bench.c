@@ -12,6 +12,7 @@
 #include "restir/progress.h"
 #include "restir/pt.h"
 #include "restir/restir_bench.h"
+#include "restir/stochastic_bench.h"
 #include "restir/threads.h"
 #include "scene_args.h"
 
@@ -230,6 +231,18 @@ static int bench_realtime_on(const scene *s, const char *name, const bench_args 
     return status ? 2 : 0;
 }
 
+/* Stochastic pairwise MIS and reuse cells at 256 x 256 (stochastic_bench.h). */
+static int bench_stochastic_on(const scene *s, const char *name, const bench_args *a, int *first)
+{
+    scene sized = *s;
+    rerror e;
+    int status;
+    sized.width = sized.height = 256;
+    status = bench_stochastic(stdout, &sized, name, a->rays.threads > 0 ? a->rays.threads : threads_default(), first, &e);
+    if (status) fprintf(stderr, "%s\n", e.msg);
+    return status ? 2 : 0;
+}
+
 static int compare_names(const void *a, const void *b)
 {
     return strcmp(*(const char *const *)a, *(const char *const *)b);
@@ -309,7 +322,7 @@ int cmd_bench(int argc, char **argv)
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);
         if (status == 1) {
             cli_print_help(stdout, "bench",
-                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | all [options]",
+                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | stochastic [SCENE] | all [options]",
                            options);
             return 0;
         }
@@ -321,10 +334,10 @@ int cmd_bench(int argc, char **argv)
     }
     if (count < 1 ||
         (strcmp(positional[0], "rays") && strcmp(positional[0], "all") && strcmp(positional[0], "restir") &&
-         strcmp(positional[0], "animation") && strcmp(positional[0], "realtime")) ||
+         strcmp(positional[0], "animation") && strcmp(positional[0], "realtime") && strcmp(positional[0], "stochastic")) ||
         (!strcmp(positional[0], "rays") && count != 2 && !a.generated)) {
         fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]`, `animation [SCENE]`, "
-                        "`realtime [SCENE]` or `all`\n");
+                        "`realtime [SCENE]`, `stochastic [SCENE]` or `all`\n");
         return 2;
     }
     printf("[\n");
@@ -333,6 +346,8 @@ int cmd_bench(int argc, char **argv)
         status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_restir_on, &a, &first);
     else if (!strcmp(positional[0], "animation"))
         status = count > 1 ? on_file(positional[1], bench_animation_on, &a, &first) : bench_animation_all(&a, &first);
+    else if (!strcmp(positional[0], "stochastic"))
+        status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_stochastic_on, &a, &first);
     else if (!strcmp(positional[0], "realtime"))
         status = count > 1 ? on_file(positional[1], bench_realtime_on, &a, &first) : bench_realtime_animated(&a, &first);
     else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);

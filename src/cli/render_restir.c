@@ -67,8 +67,21 @@ int render_restir_options(cli_option *rows, restir_options *o)
                     "reject a neighbour if |d_i - d_j| > this * min(d_i, d_j) (default 0.1)", NULL, 0, 1e9);
     rows[n++] = row("--mis", OPT_CHOICE, &o->mis,
                     "resampling MIS: constant (biased, GRIS 5.6), talbot (default, Eq. 36), pairwise (Eq. 37), "
-                    "pairwise-defensive (Eq. 38)",
+                    "pairwise-defensive (Eq. 38), stochastic-pairwise (Stochastic MIS Eqs. 16-19: Ne picks by Eq. 17)",
                     restir_mis_names, 0, 0);
+    rows[n++] = row("--stochastic-n", OPT_INT, &o->stochastic_n,
+                    "stochastic-pairwise: candidates picked per pixel and pass, N~ (default 1)", NULL, 1,
+                    STOCHASTIC_MAX_PICKS);
+    rows[n++] = row("--stochastic-nc", OPT_INT, &o->stochastic_nc,
+                    "stochastic-pairwise: uniform picks estimating the canonical weight, N~_c (default 1)", NULL, 1,
+                    STOCHASTIC_MAX_PICKS);
+    rows[n++] = row("--reuse-cells", OPT_FLAG, &o->cells,
+                    "spatial domains = the pixels of one 8x8-tile reuse cell found by the Stochastic MIS 5.1 search "
+                    "(instead of --pattern neighbours; any --mis)",
+                    NULL, 0, 0);
+    rows[n++] = row("--no-confidence-scaling", OPT_FLAG, &o->no_confidence_scaling,
+                    "stochastic-pairwise: keep the neighbours' confidences (no c_i <- c_i N~/M, Stochastic MIS 4.3)",
+                    NULL, 0, 0);
     rows[n++] = row("--time-limit", OPT_REAL, &o->time_limit,
                     "render frames until this many seconds have passed (at least one; --frames is then ignored)",
                     NULL, 0, 1e8);
@@ -88,7 +101,8 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--paths", OPT_CHOICE, &o->paths, "all (default) or indirect (path length >= 3 only)",
                     restir_paths_names, 0, 0);
     rows[n++] = row("--ablate", OPT_CHOICE, &o->ablation,
-                    "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf)",
+                    "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf), "
+                    "stochastic-p (stochastic-pairwise without the P(i) correction)",
                     restir_ablation_names, 0, 0);
     rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
                     "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",

@@ -18,10 +18,13 @@ typedef struct {
     path_vertex *verts;      /* storage of the domains' primary vertices */
     const reservoir **in;    /* per domain */
     real *u;                 /* per domain */
+    stochastic_workspace sw; /* stochastic pairwise MIS (stochastic_spatial.h) */
+    real up[STOCHASTIC_MAX_PICKS], uc[STOCHASTIC_MAX_PICKS]; /* its pick numbers */
+    struct frame_job_s *lazy_job; /* the job of the pixel being resampled (lazy_vertex) */
     char pad[64];            /* keep workers' counters on separate cache lines */
 } worker_state;
 
-typedef struct {
+typedef struct frame_job_s {
     const scene *s;                  /* the frame's (posed) scene */
     const restir_options *o;
     restir_context ctx;
@@ -39,6 +42,7 @@ typedef struct {
     worker_state *workers;
     int temporal;                    /* real-time pipeline with temporal reuse (workspaces >= 2) */
     stage_io *sio;                   /* NULL, or stage dumps / restart (stage_dump.h) */
+    reuse_cells cells;               /* o->cells: the current pass's reuse cells (reuse_cells.h) */
 } frame_job;
 
 /* Every stage of a frame calls this once its output reservoirs `rs` are complete: it

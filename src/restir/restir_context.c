@@ -4,7 +4,7 @@
 #include <stddef.h>
 
 const char *const restir_shift_names[] = {"reconnection", "replay", "hybrid", NULL};
-const char *const restir_ablation_names[] = {"none", "jacobian", "light-pdf", "temporal-target", "temporal-suffix", NULL};
+const char *const restir_ablation_names[] = {"none", "jacobian", "light-pdf", "temporal-target", "temporal-suffix", "stochastic-p", NULL};
 
 /* Index = enum shift_failure. */
 const char *const shift_failure_names[] = {

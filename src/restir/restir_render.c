@@ -13,7 +13,7 @@
 #include "frame_job.h"
 
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
-const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", NULL};
+const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", "stochastic-pairwise", NULL};
 
 void restir_options_default(restir_options *o)
 {
@@ -39,6 +39,8 @@ void restir_options_default(restir_options *o)
     o->temporal = 1;
     o->temporal_mis = MIS_TALBOT;
     o->mcap = 20;
+    o->stochastic_n = 1;
+    o->stochastic_nc = 1;
 }
 
 void restir_neighbor_options_for(neighbor_options *no, const restir_options *o)
@@ -83,7 +85,11 @@ int restir_options_validate(const restir_options *o, rerror *e)
     neighbor_options no;
     if (o->spatial_passes < 0 || o->spatial_passes > RESTIR_MAX_SPATIAL_PASSES)
         return rerror_set(e, "restir: %d spatial passes (0..%d)", o->spatial_passes, RESTIR_MAX_SPATIAL_PASSES);
-    if (o->mis < 0 || o->mis >= MIS_FAMILY_COUNT) return rerror_set(e, "restir: unknown MIS family %d", o->mis);
+    if (o->mis < 0 || o->mis > RESTIR_MIS_STOCHASTIC_PAIRWISE) return rerror_set(e, "restir: unknown MIS family %d", o->mis);
+    if (o->stochastic_n < 1 || o->stochastic_n > STOCHASTIC_MAX_PICKS || o->stochastic_nc < 1 ||
+        o->stochastic_nc > STOCHASTIC_MAX_PICKS)
+        return rerror_set(e, "restir: --stochastic-n %d / --stochastic-nc %d outside 1..%d", o->stochastic_n,
+                          o->stochastic_nc, STOCHASTIC_MAX_PICKS);
     if (!(o->radius >= 1) || !(o->radius <= 4096)) return rerror_set(e, "restir: radius %g outside [1, 4096]", o->radius);
     restir_neighbor_options_for(&no, o);
     if (neighbor_options_validate(&no, e)) return -1;
@@ -164,6 +170,35 @@ static void initial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         }
 }
 
+/* stochastic_workspace.vertex: domain i's primary vertex, built on first use. */
+static const path_vertex *lazy_vertex(void *user, int i)
+{
+    worker_state *w = user;
+    if (!w->x1[i]) {
+        primary_vertex(w->lazy_job, (long)w->nbr[i - 1], &w->verts[i]);
+        w->x1[i] = &w->verts[i];
+    }
+    return w->x1[i];
+}
+
+/* The stochastic pairwise step (stochastic_spatial.h) over the domains spatial_pixel set
+ * up. Pick k of pass p draws RNG_RIS vertex 64 + p, slot k; canonical pick k vertex
+ * 80 + p, slot k (passes < 16, so no clash with 32 + p or the temporal vertex 48). */
+static void stochastic_spatial_pixel(frame_job *j, worker_state *w, rng_key key, int m, reservoir *out)
+{
+    stochastic_options so;
+    int k;
+    so.n_picks = j->o->stochastic_n;
+    so.n_canonical_picks = j->o->stochastic_nc;
+    so.confidence_scaling = !j->o->no_confidence_scaling;
+    so.naive_p = j->ctx.ablation == RESTIR_ABLATE_STOCHASTIC_P;
+    for (k = 0; k < so.n_picks; ++k) w->up[k] = rng_u(key, RNG_RIS, 64u + (uint32_t)j->pass, (uint32_t)k);
+    for (k = 0; k < so.n_canonical_picks; ++k) w->uc[k] = rng_u(key, RNG_RIS, 80u + (uint32_t)j->pass, (uint32_t)k);
+    w->sw.vertex = lazy_vertex;
+    w->sw.vertex_user = w;
+    stochastic_pairwise_resample(&j->ctx, &so, m, w->x1, w->in, w->u, w->up, w->uc, out, &w->sw, &w->st.spatial);
+}
+
 /* One pixel of spatial pass j->pass (GRIS §6.3 step 3): its own reservoir (canonical,
  * domain 0) and the accepted neighbours (domains 1..M-1) of the previous pass's output
  * resampled into dst[p] with the chosen MIS family (spatial.h). The neighbours depend only
@@ -179,17 +214,29 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
         return;
     }
     /* capacity is checked by restir_options_validate, so this cannot fail */
-    n = neighbor_select(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, j->max_domains - 1, &w->st.neighbors,
-                        NULL);
-    if (n < 0) n = 0;
+    if (j->o->cells) {
+        /* Stochastic MIS §5.1: a reuse cell; its pixels except p are the domains */
+        int c = reuse_cell_search(&j->cells, &j->g, (float)j->o->normal_cos, j->o->seed, nsample, x, y);
+        n = c >= 0 ? reuse_cell_domains(&j->cells, c, (uint32_t)p, w->nbr) : 0;
+    } else {
+        n = neighbor_select(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, j->max_domains - 1, &w->st.neighbors,
+                            NULL);
+        if (n < 0) n = 0;
+    }
+    w->lazy_job = j;
     for (d = 0; d <= n; ++d) {
         long q = d == 0 ? p : (long)w->nbr[d - 1];
-        if (d > 0) primary_vertex(j, q, &w->verts[d]); /* accepted neighbours have a primary hit */
-        w->x1[d] = &w->verts[d];
+        /* accepted neighbours have a primary hit; the stochastic step builds them on demand */
+        if (d > 0 && j->o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE) primary_vertex(j, q, &w->verts[d]);
+        w->x1[d] = d > 0 && j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE ? NULL : &w->verts[d];
         w->in[d] = &j->src[q];
         /* vertex 32 + p: initial sampling uses vertices 2..16 of RNG_RIS (the key packs
          * vertex < 256 and slot < 65536, so the pass must not go into the slot) */
         w->u[d] = rng_u(key, RNG_RIS, 32u + (uint32_t)j->pass, (uint32_t)d);
+    }
+    if (j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE) {
+        stochastic_spatial_pixel(j, w, key, n + 1, &j->dst[p]);
+        return;
     }
     spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws, &w->st.spatial);
 }
@@ -251,6 +298,7 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
         /* ping-pong: a -> b -> a -> ... */
         j->src = j->pass % 2 == 0 ? a : b;
         j->dst = j->pass % 2 == 0 ? b : a;
+        if (j->o->cells) reuse_cells_build(&j->cells, &j->g, j->src, NULL); /* allocated: cannot fail */
         parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
         final = j->dst;
         times->ms_spatial[j->pass] += frame_lap_ms(t);
@@ -356,6 +404,11 @@ int frame_workers_alloc(frame_job *j, rerror *e)
 {
     int t;
     size_t m = (size_t)j->max_domains;
+    if (j->o->cells) {
+        if (j->max_domains < REUSE_CELL_MAX_PIXELS + 1) j->max_domains = REUSE_CELL_MAX_PIXELS + 1;
+        m = (size_t)j->max_domains;
+        if (reuse_cells_alloc(&j->cells, j->s->width, j->s->height, e)) return -1;
+    }
     j->workers = rcalloc((size_t)j->o->threads, sizeof *j->workers, e);
     if (!j->workers) return -1;
     if (j->o->spatial_passes == 0 && !j->temporal) return 0;
@@ -363,6 +416,8 @@ int frame_workers_alloc(frame_job *j, rerror *e)
         worker_state *w = &j->workers[t];
         /* temporal reuse needs 2 domains */
         if (spatial_workspace_alloc(&w->ws, j->max_domains > 2 ? j->max_domains : 2, e)) return -1;
+        if (j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE && stochastic_workspace_alloc(&w->sw, j->max_domains, e))
+            return -1;
         w->nbr = rmalloc(m, sizeof *w->nbr, e);
         w->x1 = rmalloc(m, sizeof *w->x1, e);
         w->verts = rmalloc(m, sizeof *w->verts, e);
@@ -376,10 +431,12 @@ int frame_workers_alloc(frame_job *j, rerror *e)
 void frame_workers_free(frame_job *j)
 {
     int t;
+    reuse_cells_free(&j->cells);
     if (!j->workers) return;
     for (t = 0; t < j->o->threads; ++t) {
         worker_state *w = &j->workers[t];
         spatial_workspace_free(&w->ws);
+        stochastic_workspace_free(&w->sw);
         free(w->nbr);
         free(w->x1);
         free(w->verts);
@@ -510,6 +567,10 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
             o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads, indent);
+    if (o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE || o->cells) /* issue 14 (only when used) */
+        fprintf(out, "\"stochastic_n\": %d, \"stochastic_nc\": %d, \"confidence_scaling\": %s, \"reuse_cells\": %s,\n%s  ",
+                o->stochastic_n, o->stochastic_nc, o->no_confidence_scaling ? "false" : "true", o->cells ? "true" : "false",
+                indent);
     if (isinf(o->mcap))
         fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"}", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis]);

@@ -1,0 +1,132 @@
+/* One GRIS step with stochastic pairwise MIS (include/restir/stochastic_spatial.h;
+ * docs/stochastic-mis.md). */
+#include "restir/stochastic_spatial.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int stochastic_workspace_alloc(stochastic_workspace *w, int max_domains, rerror *e)
+{
+    size_t m = (size_t)(max_domains > 1 ? max_domains : 1);
+    memset(w, 0, sizeof *w);
+    w->max_domains = (int)m;
+    w->a = rcalloc(m, sizeof *w->a, e);
+    w->P = rcalloc(m, sizeof *w->P, e);
+    w->K = rcalloc(m, sizeof *w->K, e);
+    w->Kc = rcalloc(m, sizeof *w->Kc, e);
+    w->shifted = rcalloc(m, sizeof *w->shifted, e);
+    w->jacobian = rcalloc(m, sizeof *w->jacobian, e);
+    if (!w->a || !w->P || !w->K || !w->Kc || !w->shifted || !w->jacobian) {
+        stochastic_workspace_free(w);
+        return -1;
+    }
+    return 0;
+}
+
+void stochastic_workspace_free(stochastic_workspace *w)
+{
+    free(w->a);
+    free(w->P);
+    free(w->K);
+    free(w->Kc);
+    free(w->shifted);
+    free(w->jacobian);
+    memset(w, 0, sizeof *w);
+}
+
+/* One counted shift; the jacobian ablation drops |dT/dx| as spatial.c does. */
+static enum shift_failure counted_shift(const restir_context *c, const path_vertex *to, const path_sample *x,
+                                        path_sample *y, real *jacobian, spatial_stats *st)
+{
+    enum shift_failure why = shift_path(c, to, x, y, jacobian, NULL);
+    st->shifts++;
+    st->outcome[why]++;
+    if (c->ablation == RESTIR_ABLATE_JACOBIAN && *jacobian > 0) *jacobian = 1;
+    return why;
+}
+
+static int usable(const reservoir *r) { return path_sample_is_valid(&r->y) && r->W > 0; }
+
+/* Eq. 17 over the n = m - 1 non-canonical domains (index i - 1), or the ablation's
+ * uniform choice among the non-zero samples. */
+static void selection(const stochastic_options *so, int n, const reservoir *const *in, stochastic_workspace *w)
+{
+    int i;
+    for (i = 0; i < n; ++i) {
+        const reservoir *r = in[i + 1];
+        real a = usable(r) ? r->confidence * r->y.target * r->W : 0; /* c_i p̂(X_i) W_i */
+        w->a[i] = so->naive_p ? (a > 0 ? 1 : 0) : a;
+    }
+    stochastic_selection_p(w->a, n, w->P);
+}
+
+/* m̃_c (Eqs. 18-19): Ñ_c uniform picks among the n non-canonical domains, one shift of
+ * the canonical sample out into each distinct pick. */
+static real canonical_weight(const restir_context *c, const stochastic_options *so, int n,
+                             const path_vertex *const *x1, const reservoir *const *in, const real *uc, real c_c,
+                             real c_S, real scale, stochastic_workspace *w, spatial_stats *st)
+{
+    real C = c_c + c_S, m_c, p = in[0]->y.target, Pc = (real)1 / (real)n;
+    int k, i;
+    if (n == 0) return 1;
+    if (!(C > 0)) return 1; /* no confidence anywhere: all weight to the canonical side */
+    m_c = c_c / C;          /* the defensive share, exact */
+    memset(w->Kc, 0, (size_t)n * sizeof *w->Kc);
+    for (k = 0; k < so->n_canonical_picks; ++k) {
+        int j = (int)(uc[k] * (real)n);
+        w->Kc[j < n ? j : n - 1]++;
+    }
+    for (i = 0; i < n; ++i) {
+        path_sample back;
+        const path_vertex *xi;
+        real jac, q = 0, c_i = scale * in[i + 1]->confidence;
+        if (!w->Kc[i]) continue;
+        st->mis_shifts++;
+        xi = w->vertex ? w->vertex(w->vertex_user, i + 1) : x1[i + 1];
+        if (counted_shift(c, xi, &in[0]->y, &back, &jac, st) == SHIFT_OK) q = back.target * jac; /* Eq. 10 */
+        /* Eq. 18: K'(i) / (Ñ_c P_c) b_i(Y_c) */
+        m_c += (real)w->Kc[i] / ((real)so->n_canonical_picks * Pc) * stochastic_pairwise_b(c_c, c_S, c_i, q, p);
+    }
+    return m_c;
+}
+
+void stochastic_pairwise_resample(const restir_context *c, const stochastic_options *so, int m,
+                                  const path_vertex *const *x1, const reservoir *const *in, const real *u,
+                                  const real *up, const real *uc, reservoir *out, stochastic_workspace *w,
+                                  spatial_stats *st)
+{
+    int n = m - 1, i, chosen = -1, distinct;
+    real scale = so->confidence_scaling ? stochastic_confidence_scale(so->n_picks, n) : 1;
+    real c_c = in[0]->confidence, c_S = 0;
+    reservoir_init(out);
+    st->pixels++;
+    st->domains += (uint64_t)m;
+    for (i = 1; i < m; ++i) c_S += scale * in[i]->confidence; /* Eq. 12 over the scaled c_i */
+    /* the canonical candidate: identity shift, J = 1 */
+    if (usable(in[0])) {
+        real m_c = canonical_weight(c, so, n, x1, in, uc, c_c, c_S, scale, w, st);
+        if (reservoir_stream(out, &in[0]->y, gris_resampling_weight(m_c, in[0]->y.target, in[0]->W, 1), u[0]))
+            chosen = 0;
+    }
+    /* the Ñ picks (Eq. 16): only these are shifted in */
+    if (n > 0) {
+        selection(so, n, in, w);
+        distinct = stochastic_pick(w->P, n, so->n_picks, up, w->K);
+        (void)distinct;
+        for (i = 0; i < n; ++i) {
+            const reservoir *r = in[i + 1];
+            path_sample *y = &w->shifted[i];
+            real jac, q, mi, P = so->naive_p ? (real)1 / (real)n : w->P[i];
+            if (!w->K[i]) continue;
+            if (counted_shift(c, x1[0], &r->y, y, &jac, st) != SHIFT_OK) continue;
+            q = r->y.target / jac; /* p̂_{<-i}(Y_i) = p̂_i(X_i) / |dT_i/dX_i| (Eq. 10) */
+            mi = stochastic_mis_weight(w->K[i], so->n_picks, P,
+                                       stochastic_pairwise_m(c_c, c_S, scale * r->confidence, q, y->target));
+            /* Eq. 14 */
+            if (reservoir_stream(out, y, gris_resampling_weight(mi, y->target, r->W, jac), u[i + 1])) chosen = i + 1;
+        }
+    }
+    reservoir_add_confidence(out, c_c + c_S);
+    if (chosen > 0) st->selected_neighbor++;
+    reservoir_finalize(out); /* GRIS Eq. 22 */
+}
