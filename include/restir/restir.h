@@ -50,6 +50,8 @@ typedef struct {
     double roughness_threshold; /* lobe roughness for reconnection (default 0.2, GRIS §8.3) */
     double distance_threshold;  /* d_min as a fraction of the scene's bounding-box diagonal
                                    (default 0.02; GRIS §8.3 uses 1-5% of the scene size) */
+    int rc_criterion;           /* enum rc_mode: gris (default) or footprint (Enhanced §4, Eq. 5) */
+    double footprint_c;         /* c of Enhanced Eq. 5 (default 0.02, Enhanced §7.2) */
     int paths;                  /* enum restir_paths */
     int ablation;               /* enum restir_ablation */
     int russian_roulette;       /* the path tracer's roulette in initial sampling only (default 0) */

@@ -85,10 +85,17 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--distance-threshold", OPT_REAL, &o->distance_threshold,
                     "minimum reconnection segment, fraction of the scene's bounding-box diagonal (default 0.02)", NULL,
                     0, 1);
+    rows[n++] = row("--rc-criterion", OPT_CHOICE, &o->rc_criterion,
+                    "reconnection criterion: gris (roughness + distance, default) or footprint (Enhanced Eq. 5)",
+                    rc_mode_names, 0, 0);
+    rows[n++] = row("--footprint-c", OPT_REAL, &o->footprint_c,
+                    "constant c of the footprint criterion (default 0.02; larger postpones reconnection)", NULL, 0,
+                    1e9);
     rows[n++] = row("--paths", OPT_CHOICE, &o->paths, "all (default) or indirect (path length >= 3 only)",
                     restir_paths_names, 0, 0);
     rows[n++] = row("--ablate", OPT_CHOICE, &o->ablation,
-                    "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf)",
+                    "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf), temporal-target, "
+                    "temporal-suffix, footprint-base-only (footprint criterion not tested on the offset)",
                     restir_ablation_names, 0, 0);
     rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
                     "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",

@@ -31,6 +31,8 @@ void restir_options_default(restir_options *o)
     o->max_depth = 10;
     o->roughness_threshold = 0.2;
     o->distance_threshold = 0.02;
+    o->rc_criterion = RC_MODE_GRIS;
+    o->footprint_c = 0.02;
     o->paths = RESTIR_PATHS_ALL;
     o->rr_min_depth = 3;
     o->seed = 1;
@@ -97,6 +99,10 @@ int restir_options_validate(const restir_options *o, rerror *e)
         return rerror_set(e, "restir: max depth %d outside %d..%d", o->max_depth, min_depth, PATH_MAX_LENGTH);
     if (!(o->roughness_threshold >= 0) || !(o->distance_threshold >= 0))
         return rerror_set(e, "restir: negative (or NaN) roughness or distance threshold");
+    if (o->rc_criterion != RC_MODE_GRIS && o->rc_criterion != RC_MODE_FOOTPRINT)
+        return rerror_set(e, "restir: unknown reconnection criterion %d", o->rc_criterion);
+    if (!(o->footprint_c >= 0) || isinf(o->footprint_c))
+        return rerror_set(e, "restir: footprint constant c %g (must be finite and >= 0)", o->footprint_c);
     if (o->paths != RESTIR_PATHS_ALL && o->paths != RESTIR_PATHS_INDIRECT)
         return rerror_set(e, "restir: unknown --paths %d", o->paths);
     if (o->ablation < 0 || o->ablation >= RESTIR_ABLATION_COUNT)
@@ -118,6 +124,8 @@ void restir_context_for(restir_context *c, const scene *s, const light_set *ligh
     c->shift = o->shift;
     c->rc.roughness_threshold = (real)o->roughness_threshold;
     c->rc.min_distance = rc_min_distance_for_scene(s, (real)o->distance_threshold);
+    c->rc.mode = o->rc_criterion;
+    c->rc.footprint_c = (real)o->footprint_c;
     c->ablation = o->ablation;
 }
 
@@ -499,6 +507,7 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
                  "\"roughness_threshold\": %g, \"distance_threshold\": %g, \"paths\": \"%s\", \"ablate\": \"%s\", ",
             o->frames, o->first_frame, o->time_limit, o->max_depth, o->roughness_threshold, o->distance_threshold,
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
+    fprintf(out, "\"rc_criterion\": \"%s\", \"footprint_c\": %g, ", rc_mode_names[o->rc_criterion], o->footprint_c);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
             o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads, indent);
     if (isinf(o->mcap))
