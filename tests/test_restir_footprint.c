@@ -85,7 +85,10 @@ TEST(footprint_eq5_by_hand)
     plane_vertex(&b, &metal, v3(0, 0, d), v3(0, 0, 0));
     b.ng = b.ns = v3(0, 0, -1);
     b.frame = shading_frame_make(b.ns);
-    b.wo_local = shading_frame_to_local(&b.frame, v3(0, 0, -1));
+    /* the vertex's own wo is NOT what the inverse term reads: it uses the direction to the
+     * pair's x_{k-1} (an offset's y_{k-1} differs from the base's x_{k-1}) */
+    b.wo = v3_normalize(v3(-1, 0, -1));
+    b.wo_local = shading_frame_to_local(&b.frame, b.wo);
     pb = rcv(&b, 0, up_b);
     rc_footprints(&pa, &pb, &fwd, &inv);
     {

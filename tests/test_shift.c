@@ -188,7 +188,8 @@ static void print_tally(const char *what, const shift_tally *t)
 
 /* n_paths base paths of the scene shifted with `shift` under criterion rc_mode (and an
  * ablation) into *t. Returns 0 if the scene could not be set up. */
-static int tally_shifts(const char *path, int shift, int rc_mode, int ablation, long n_paths, shift_tally *t)
+static int tally_shifts(const char *path, int shift, int rc_mode, real footprint_c, int ablation, long n_paths,
+                        shift_tally *t)
 {
     scene s;
     light_set lights;
@@ -205,6 +206,7 @@ static int tally_shifts(const char *path, int shift, int rc_mode, int ablation, 
     }
     rt_context(&c, &s, &lights, shift);
     c.rc.mode = rc_mode;
+    if (footprint_c > 0) c.rc.footprint_c = footprint_c;
     c.ablation = ablation;
     memset(&io, 0, sizeof io);
     io.trees = 1;
@@ -212,19 +214,19 @@ static int tally_shifts(const char *path, int shift, int rc_mode, int ablation, 
     memset(t, 0, sizeof *t);
     for (i = 0; t->paths < n_paths && i < 4 * n_paths; ++i)
         one_path(&c, &io, &s, test_seed() * 2654435761u + (uint32_t)shift, i, 6, t);
-    snprintf(what, sizeof what, "%s %s %s %s", path, restir_shift_names[shift], rc_mode_names[rc_mode],
-             restir_ablation_names[ablation]);
+    snprintf(what, sizeof what, "%s %s %s c %g %s", path, restir_shift_names[shift], rc_mode_names[rc_mode],
+             (double)c.rc.footprint_c, restir_ablation_names[ablation]);
     print_tally(what, t);
     lights_free(&lights);
     scene_free(&s);
     return 1;
 }
 
-static void invertibility_under(const char *path, int shift, int rc_mode, long n_paths)
+static void invertibility_under(const char *path, int shift, int rc_mode, real footprint_c, long n_paths)
 {
     shift_tally t;
     const char *what = restir_shift_names[shift];
-    if (!tally_shifts(path, shift, rc_mode, RESTIR_ABLATE_NONE, n_paths, &t)) return;
+    if (!tally_shifts(path, shift, rc_mode, footprint_c, RESTIR_ABLATE_NONE, n_paths, &t)) return;
     CHECKF(t.paths >= n_paths, "%s %s: only %ld paths", path, what, t.paths);
     CHECKF(t.logic_failures == 0, "%s %s %s: %ld logic failures in %ld paths; first: %s", path, what,
            rc_mode_names[rc_mode], t.logic_failures, t.paths, t.first_failure);
@@ -242,7 +244,7 @@ static void invertibility_under(const char *path, int shift, int rc_mode, long n
 
 static void invertibility(const char *path, int shift, long n_paths)
 {
-    invertibility_under(path, shift, RC_MODE_GRIS, n_paths);
+    invertibility_under(path, shift, RC_MODE_GRIS, 0, n_paths);
 }
 
 static void all_shifts(long n)
@@ -263,9 +265,13 @@ TEST_LONG(shift_identity_and_invertibility_1e5) { all_shifts(100000); }
  * every successful T_{a->b} shifts back to x with J J = 1 (zero logic failures). */
 static void footprint_shifts(long n)
 {
-    invertibility_under("scenes/cornell.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, n);
+    invertibility_under("scenes/cornell.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, 0, n);
     if (!test_has_failed())
-        invertibility_under("scenes/cornell-glossy.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, n);
+        invertibility_under("scenes/cornell-glossy.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, 0, n);
+    /* a 100x stricter c (any c must keep T bijective): the footprints, the inverse one
+     * at glossy x_k included, decide far more pairs */
+    if (!test_has_failed())
+        invertibility_under("scenes/cornell-glossy.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, 2, n);
 }
 TEST(shift_footprint_invertibility) { footprint_shifts(6000); }
 TEST_LONG(shift_footprint_invertibility_1e5) { footprint_shifts(100000); }
@@ -275,7 +281,7 @@ TEST_LONG(shift_footprint_invertibility_1e5) { footprint_shifts(100000); }
 TEST(shift_footprint_base_only_not_invertible)
 {
     shift_tally t;
-    if (!tally_shifts("scenes/cornell-glossy.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT,
+    if (!tally_shifts("scenes/cornell-glossy.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, 0,
                       RESTIR_ABLATE_FOOTPRINT_BASE, 6000, &t))
         return;
     CHECKF(t.logic_failures > 0, "footprint-base-only: no logic failure in %ld paths (%ld forward shifts)", t.paths,
