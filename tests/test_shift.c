@@ -201,7 +201,7 @@ static int tally_shifts(const char *path, int shift, int rc_mode, real footprint
     if (rt_load_scene(path, 48, &s)) return 0;
     if (lights_build(&lights, &s, &e)) {
         scene_free(&s);
-        CHECKF(0, "%s", e.msg);
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
         return 0;
     }
     rt_context(&c, &s, &lights, shift);
