@@ -30,7 +30,7 @@
 #define PAIRING_MAX_SIGMA 22.0   /* n_sigma <= 255 (the RNG key's vertex field) */
 #define PAIRING_TEXTURE_SAMPLE 0xFFFF0000u
 #define PAIRING_TRANSFORM_VERTEX 254u
-#define PAIRING_MAX_TEXTURES 64
+#define PAIRING_MAX_TEXTURES 8 /* one per neighbour: sizes 254, 232, ..., 100 */
 
 typedef struct {
     int size;          /* w (even) */
@@ -56,5 +56,15 @@ reuse_transform reuse_transform_draw(const reuse_texture *t, uint32_t seed, uint
 
 /* The screen offset from pixel (x, y) to its partner under placement f (x, y >= 0). */
 void reuse_partner_offset(const reuse_texture *t, const reuse_transform *f, int x, int y, int *dx, int *dy);
+
+/* The standard deviation whose mean partner distance matches the uniform disk of radius
+ * R (mean distance 2R/3; a 2D normal with per-axis sigma has mean distance
+ * sigma sqrt(pi/2)): sigma = 2R / (3 sqrt(pi/2)) = 0.532 R, clamped to [0.8, 22]. */
+double pairing_sigma_for_radius(double radius);
+
+/* The textures of `count` neighbours (1..PAIRING_MAX_TEXTURES), sizes 254 - 22k (k = 0..):
+ * different sizes so their repeats do not line up (§3.2). 0, or -1 with *e (nothing kept). */
+int reuse_textures_build(reuse_texture *tex, int count, double sigma, uint32_t seed, rerror *e);
+void reuse_textures_free(reuse_texture *tex, int count);
 
 #endif

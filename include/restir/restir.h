@@ -28,6 +28,8 @@
 
 enum restir_paths { RESTIR_PATHS_ALL = 0, RESTIR_PATHS_INDIRECT = 1 };
 extern const char *const restir_paths_names[]; /* "all", "indirect" */
+enum restir_pairing { RESTIR_PAIRING_DISK = 0, RESTIR_PAIRING_PAIRED = 1 };
+extern const char *const restir_pairing_names[]; /* "disk", "paired" */
 /* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive" */
 extern const char *const restir_mis_names[];
 
@@ -37,6 +39,7 @@ typedef struct {
     int neighbors;              /* n candidates per pixel and pass (disk patterns; default 6) */
     double radius;              /* neighbour disk radius in pixels (default 10, GRIS §8.3 offline) */
     int pattern;                /* enum neighbor_pattern (default r2) */
+    int pairing;                /* enum restir_pairing: disk (default: `pattern`) or paired (Enhanced §3) */
     int no_reject;              /* 1: no normal/depth rejection of neighbours */
     double normal_cos;          /* reject if dot(n_i, n_j) < this (default 0.5) */
     double depth_ratio;         /* reject if |d_i - d_j| > this * min(d_i, d_j) (default 0.1) */
@@ -94,6 +97,11 @@ int restir_options_validate(const restir_options *o, rerror *e);
  * restir_render uses for scene s; lights must outlive it. */
 void restir_context_for(restir_context *c, const scene *s, const light_set *lights, const restir_options *o);
 void restir_initial_options_for(initial_options *io, const restir_options *o);
+/* --pairing paired: builds no->count reuse textures (sigma from the radius, pairing.h) into
+ * `textures` (PAIRING_MAX_TEXTURES entries) and points no at them; other patterns: no-op.
+ * restir_pairing_free releases them. */
+int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_texture *textures, rerror *e);
+void restir_pairing_free(neighbor_options *no);
 
 /* Renders s (prepared: BVH built). Deterministic for any thread count. On success fills
  * *out (free with restir_result_free); frees everything on failure. */

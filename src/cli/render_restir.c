@@ -59,6 +59,10 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--pattern", OPT_CHOICE, &o->pattern,
                     "neighbour pattern: uniform disk, r2 (low-discrepancy disk, default), box window",
                     neighbor_pattern_names, 0, 0);
+    rows[n++] = row("--pairing", OPT_CHOICE, &o->pairing,
+                    "spatial neighbours: disk (the --pattern, default) or paired (reciprocal pairs from reuse textures, "
+                    "Enhanced 3; sigma = 0.532 radius)",
+                    restir_pairing_names, 0, 0);
     rows[n++] = row("--no-reject", OPT_FLAG, &o->no_reject, "keep neighbours whatever their normal and depth", NULL,
                     0, 0);
     rows[n++] = row("--normal-cos", OPT_REAL, &o->normal_cos,

@@ -97,6 +97,31 @@ int reuse_texture_build(reuse_texture *t, int w, double sigma, uint32_t seed, ui
     return 0;
 }
 
+double pairing_sigma_for_radius(double radius)
+{
+    double sigma = 2 * radius / (3 * sqrt(1.5707963267948966));
+    return sigma < PAIRING_MIN_SIGMA ? PAIRING_MIN_SIGMA : sigma > PAIRING_MAX_SIGMA ? PAIRING_MAX_SIGMA : sigma;
+}
+
+int reuse_textures_build(reuse_texture *tex, int count, double sigma, uint32_t seed, rerror *e)
+{
+    int k;
+    if (count < 1 || count > PAIRING_MAX_TEXTURES)
+        return rerror_set(e, "paired reuse: %d neighbours (1..%d: one reuse texture each)", count, PAIRING_MAX_TEXTURES);
+    for (k = 0; k < count; ++k)
+        if (reuse_texture_build(&tex[k], 254 - 22 * k, sigma, seed, (uint32_t)k, e)) {
+            reuse_textures_free(tex, k);
+            return -1;
+        }
+    return 0;
+}
+
+void reuse_textures_free(reuse_texture *tex, int count)
+{
+    int k;
+    for (k = 0; k < count; ++k) reuse_texture_free(&tex[k]);
+}
+
 void reuse_texture_free(reuse_texture *t)
 {
     free(t->dx);

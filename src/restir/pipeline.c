@@ -283,6 +283,7 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
 {
     pipeline pl;
     frame_job *j = &pl.j;
+    reuse_texture textures[PAIRING_MAX_TEXTURES]; /* --pairing paired */
     size_t pixels;
     int status = 0;
     memset(total, 0, sizeof *total);
@@ -303,6 +304,7 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     pl.prev_ctx = j->ctx;
     restir_initial_options_for(&j->io, o);
     restir_neighbor_options_for(&j->no, o);
+    if (!status && restir_pairing_build(&j->no, o, textures, e)) status = -1;
     j->max_domains = neighbor_candidate_count(&j->no) + 1;
     pixels = (size_t)s->width * (size_t)s->height;
     j->initial = rmalloc(pixels, sizeof *j->initial, e);
@@ -319,6 +321,7 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     gbuffer_free(&j->g);
     gbuffer_free(&pl.prev_g);
     frame_workers_free(j);
+    restir_pairing_free(&j->no);
     lights_free(&pl.lights);
     if (pl.animated) {
         scene_free(&pl.posed[0]);

@@ -13,6 +13,7 @@
 #include "frame_job.h"
 
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
+const char *const restir_pairing_names[] = {"disk", "paired", NULL};
 const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", NULL};
 
 void restir_options_default(restir_options *o)
@@ -52,6 +53,22 @@ void restir_neighbor_options_for(neighbor_options *no, const restir_options *o)
     no->reject_geometry = !o->no_reject;
     no->min_normal_cos = (float)o->normal_cos;
     no->max_relative_depth = (float)o->depth_ratio;
+    if (o->pairing == RESTIR_PAIRING_PAIRED) no->pattern = NEIGHBOR_PAIRED;
+}
+
+int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_texture *textures, rerror *e)
+{
+    no->textures = NULL;
+    if (no->pattern != NEIGHBOR_PAIRED) return 0;
+    if (reuse_textures_build(textures, no->count, pairing_sigma_for_radius(o->radius), o->seed, e)) return -1;
+    no->textures = textures;
+    return 0;
+}
+
+void restir_pairing_free(neighbor_options *no)
+{
+    if (no->textures) reuse_textures_free((reuse_texture *)no->textures, no->count);
+    no->textures = NULL;
 }
 
 void restir_options_preset_gris_offline(restir_options *o)
@@ -99,6 +116,8 @@ int restir_options_validate(const restir_options *o, rerror *e)
         return rerror_set(e, "restir: max depth %d outside %d..%d", o->max_depth, min_depth, PATH_MAX_LENGTH);
     if (!(o->roughness_threshold >= 0) || !(o->distance_threshold >= 0))
         return rerror_set(e, "restir: negative (or NaN) roughness or distance threshold");
+    if (o->pairing != RESTIR_PAIRING_DISK && o->pairing != RESTIR_PAIRING_PAIRED)
+        return rerror_set(e, "restir: unknown pairing %d", o->pairing);
     if (o->rc_criterion != RC_MODE_GRIS && o->rc_criterion != RC_MODE_FOOTPRINT)
         return rerror_set(e, "restir: unknown reconnection criterion %d", o->rc_criterion);
     if (!(o->footprint_c >= 0) || isinf(o->footprint_c))
@@ -390,6 +409,7 @@ void frame_workers_free(frame_job *j)
 
 int restir_render(const scene *s, const restir_options *o, restir_result *out, rerror *e)
 {
+    reuse_texture textures[PAIRING_MAX_TEXTURES];
     frame_job j;
     light_set lights;
     size_t pixels;
@@ -405,6 +425,10 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     restir_context_for(&j.ctx, s, &lights, o);
     restir_initial_options_for(&j.io, o);
     restir_neighbor_options_for(&j.no, o);
+    if (restir_pairing_build(&j.no, o, textures, e)) {
+        lights_free(&lights);
+        return -1;
+    }
     j.max_domains = neighbor_candidate_count(&j.no) + 1;
     pixels = (size_t)s->width * (size_t)s->height;
     j.initial = rmalloc(pixels, sizeof *j.initial, e);
@@ -421,6 +445,7 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     free(j.pong);
     free(j.sum);
     frame_workers_free(&j);
+    restir_pairing_free(&j.no);
     lights_free(&lights);
     if (status) restir_result_free(out);
     return status;
@@ -507,6 +532,7 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
                  "\"roughness_threshold\": %g, \"distance_threshold\": %g, \"paths\": \"%s\", \"ablate\": \"%s\", ",
             o->frames, o->first_frame, o->time_limit, o->max_depth, o->roughness_threshold, o->distance_threshold,
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
+    fprintf(out, "\"pairing\": \"%s\", ", restir_pairing_names[o->pairing]);
     fprintf(out, "\"rc_criterion\": \"%s\", \"footprint_c\": %g, ", rc_mode_names[o->rc_criterion], o->footprint_c);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
             o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads, indent);
