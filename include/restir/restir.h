@@ -28,6 +28,8 @@
 
 enum restir_paths { RESTIR_PATHS_ALL = 0, RESTIR_PATHS_INDIRECT = 1 };
 extern const char *const restir_paths_names[]; /* "all", "indirect" */
+enum restir_shading { RESTIR_SHADING_SCALAR = 0, RESTIR_SHADING_VECTOR = 1 };
+extern const char *const restir_shading_names[]; /* "scalar", "vector" */
 enum restir_pairing { RESTIR_PAIRING_DISK = 0, RESTIR_PAIRING_PAIRED = 1 };
 extern const char *const restir_pairing_names[]; /* "disk", "paired" */
 /* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive" */
@@ -53,6 +55,7 @@ typedef struct {
     double roughness_threshold; /* lobe roughness for reconnection (default 0.2, GRIS §8.3) */
     double distance_threshold;  /* d_min as a fraction of the scene's bounding-box diagonal
                                    (default 0.02; GRIS §8.3 uses 1-5% of the scene size) */
+    int shading;                /* enum restir_shading: scalar F(Y) W_Y (default) or vector (Enhanced §6.3) */
     int rc_criterion;           /* enum rc_mode: gris (default) or footprint (Enhanced §4, Eq. 5) */
     double footprint_c;         /* c of Enhanced Eq. 5 (default 0.02, Enhanced §7.2) */
     int paths;                  /* enum restir_paths */

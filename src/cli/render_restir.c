@@ -89,6 +89,10 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--distance-threshold", OPT_REAL, &o->distance_threshold,
                     "minimum reconnection segment, fraction of the scene's bounding-box diagonal (default 0.02)", NULL,
                     0, 1);
+    rows[n++] = row("--shading", OPT_CHOICE, &o->shading,
+                    "pixel estimate: scalar F(Y) W (default) or vector (Enhanced 6.3: sum of m_i F(Y_i) W_i J_i over the "
+                    "last spatial pass's inputs)",
+                    restir_shading_names, 0, 0);
     rows[n++] = row("--rc-criterion", OPT_CHOICE, &o->rc_criterion,
                     "reconnection criterion: gris (roughness + distance, default) or footprint (Enhanced Eq. 5)",
                     rc_mode_names, 0, 0);

@@ -35,6 +35,8 @@ typedef struct {
     reservoir *dst;
     const reservoir *final;          /* what the frame shades */
     double *sum;                     /* 3 per pixel */
+    rgb *vector_shade;               /* --shading vector: the last spatial pass's Enhanced §6.3
+                                        estimate per pixel (NULL: scalar shading) */
     worker_state *workers;
     int temporal;                    /* real-time pipeline with temporal reuse (workspaces >= 2) */
 } frame_job;

@@ -311,6 +311,9 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     j->pong = rmalloc(pixels, sizeof *j->pong, e);
     pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
     j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
+    if (o->shading == RESTIR_SHADING_VECTOR && o->spatial_passes > 0 &&
+        !(j->vector_shade = rcalloc(pixels, sizeof *j->vector_shade, e)))
+        status = -1;
     if (status || !j->initial || !j->pong || !pl.prev || !j->sum || frame_workers_alloc(j, e)) status = -1;
     if (!status) status = run_sequence(&pl, q, sink, user, total, e);
     if (!status) total->passes = o->spatial_passes;
@@ -318,6 +321,7 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     free(j->pong);
     free(pl.prev);
     free(j->sum);
+    free(j->vector_shade);
     gbuffer_free(&j->g);
     gbuffer_free(&pl.prev_g);
     frame_workers_free(j);

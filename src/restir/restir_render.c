@@ -14,6 +14,7 @@
 
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
 const char *const restir_pairing_names[] = {"disk", "paired", NULL};
+const char *const restir_shading_names[] = {"scalar", "vector", NULL};
 const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", NULL};
 
 void restir_options_default(restir_options *o)
@@ -116,6 +117,8 @@ int restir_options_validate(const restir_options *o, rerror *e)
         return rerror_set(e, "restir: max depth %d outside %d..%d", o->max_depth, min_depth, PATH_MAX_LENGTH);
     if (!(o->roughness_threshold >= 0) || !(o->distance_threshold >= 0))
         return rerror_set(e, "restir: negative (or NaN) roughness or distance threshold");
+    if (o->shading != RESTIR_SHADING_SCALAR && o->shading != RESTIR_SHADING_VECTOR)
+        return rerror_set(e, "restir: unknown shading %d", o->shading);
     if (o->pairing != RESTIR_PAIRING_DISK && o->pairing != RESTIR_PAIRING_PAIRED)
         return rerror_set(e, "restir: unknown pairing %d", o->pairing);
     if (o->rc_criterion != RC_MODE_GRIS && o->rc_criterion != RC_MODE_FOOTPRINT)
@@ -187,6 +190,24 @@ static void initial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         }
 }
 
+/* Enhanced §6.3: sum_i m_i(Y_i) F(Y_i) W_{X_i} |dT_i/dX_i| over the inputs of the GRIS step
+ * just run (their shifts, MIS weights and Jacobians are in the workspace). It is the
+ * expectation of the scalar estimate F(Y) W_Y over the selection among the same inputs
+ * (w_i = m_i p̂(Y_i) W_i J_i selects Y_i with probability w_i / sum w, and W_Y =
+ * sum w / p̂(Y)), so it is unbiased wherever the scalar estimate is. */
+static rgb vector_estimate(const spatial_workspace *ws, const reservoir *const *in, int m)
+{
+    rgb L = rgb_gray(0);
+    int i;
+    for (i = 0; i < m; ++i) {
+        real weight;
+        if (!ws->valid[i]) continue;
+        weight = ws->mis[i] * in[i]->W * ws->jacobian[i];
+        if (weight > 0 && isfinite(weight)) L = rgb_add(L, rgb_scale(ws->shifted[i].F, weight));
+    }
+    return L;
+}
+
 /* One pixel of spatial pass j->pass (GRIS §6.3 step 3): its own reservoir (canonical,
  * domain 0) and the accepted neighbours (domains 1..M-1) of the previous pass's output
  * resampled into dst[p] with the chosen MIS family (spatial.h). The neighbours depend only
@@ -199,6 +220,7 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
     int n, d;
     if (!primary_vertex(j, p, &w->verts[0])) {
         reservoir_init(&j->dst[p]);
+        if (j->vector_shade) j->vector_shade[p] = rgb_gray(0);
         return;
     }
     /* capacity is checked by restir_options_validate, so this cannot fail */
@@ -215,6 +237,8 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
         w->u[d] = rng_u(key, RNG_RIS, 32u + (uint32_t)j->pass, (uint32_t)d);
     }
     spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws, &w->st.spatial);
+    if (j->vector_shade && j->pass == j->o->spatial_passes - 1)
+        j->vector_shade[p] = vector_estimate(&w->ws, w->in, n + 1);
 }
 
 static void spatial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
@@ -237,7 +261,7 @@ static void shade_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             rgb L;
             if (!primary_vertex(j, p, &v)) continue;
             /* Emission at x1 is added, never resampled (DESIGN §3); F(Y) W_Y is GRIS Eq. 3. */
-            L = reservoir_estimate(&j->final[p]);
+            L = j->vector_shade && j->o->spatial_passes > 0 ? j->vector_shade[p] : reservoir_estimate(&j->final[p]);
             if (j->o->paths == RESTIR_PATHS_ALL) L = rgb_add(path_vertex_emitted(&j->ctx.path, &v), L);
             j->sum[3 * p + 0] += (double)L.r;
             j->sum[3 * p + 1] += (double)L.g;
@@ -434,6 +458,9 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     j.initial = rmalloc(pixels, sizeof *j.initial, e);
     j.pong = o->spatial_passes > 0 ? rmalloc(pixels, sizeof *j.pong, e) : NULL;
     j.sum = rcalloc(3 * pixels, sizeof *j.sum, e);
+    if (o->shading == RESTIR_SHADING_VECTOR && o->spatial_passes > 0 &&
+        !(j.vector_shade = rcalloc(pixels, sizeof *j.vector_shade, e)))
+        status = -1;
     if (!j.initial || (o->spatial_passes > 0 && !j.pong) || !j.sum || frame_workers_alloc(&j, e)) status = -1;
     if (!status) status = run_frames(&j, out, t0, e);
     if (!status) {
@@ -444,6 +471,7 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     free(j.initial);
     free(j.pong);
     free(j.sum);
+    free(j.vector_shade);
     frame_workers_free(&j);
     restir_pairing_free(&j.no);
     lights_free(&lights);
@@ -532,7 +560,8 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
                  "\"roughness_threshold\": %g, \"distance_threshold\": %g, \"paths\": \"%s\", \"ablate\": \"%s\", ",
             o->frames, o->first_frame, o->time_limit, o->max_depth, o->roughness_threshold, o->distance_threshold,
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
-    fprintf(out, "\"pairing\": \"%s\", ", restir_pairing_names[o->pairing]);
+    fprintf(out, "\"pairing\": \"%s\", \"shading\": \"%s\", ", restir_pairing_names[o->pairing],
+            restir_shading_names[o->shading]);
     fprintf(out, "\"rc_criterion\": \"%s\", \"footprint_c\": %g, ", rc_mode_names[o->rc_criterion], o->footprint_c);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
             o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads, indent);
