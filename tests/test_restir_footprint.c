@@ -145,6 +145,7 @@ TEST(footprint_eq5_by_hand)
 
 typedef struct {
     int shift, mis, passes, ablation, frames;
+    int force_nee; /* Enhanced §6.2.3 */
 } fp_case;
 
 /* K runs of offline ReSTIR PT with the footprint criterion against the reference pt. */
@@ -170,6 +171,7 @@ static void expect(const scene *s, const check_side *pt, const char *name, const
     o.max_depth = 4;
     o.threads = 2;
     o.rc_criterion = RC_MODE_FOOTPRINT;
+    o.force_nee_reconnection = m->force_nee;
     if (rt_restir_side(s, &o, runs, 4, &a)) return;
     check_options_default(&opt);
     opt.alpha = ALPHA;
@@ -177,8 +179,9 @@ static void expect(const scene *s, const check_side *pt, const char *name, const
     status = check_compare(&a, pt, &opt, &c, &e);
     check_side_free(&a);
     CHECKF(status == 0, "check_compare: %s", e.msg);
-    snprintf(what, sizeof what, "%s footprint shift %s mis %s passes %d ablate %s", name,
-             restir_shift_names[m->shift], restir_mis_names[m->mis], m->passes, restir_ablation_names[m->ablation]);
+    snprintf(what, sizeof what, "%s footprint%s shift %s mis %s passes %d ablate %s", name,
+             m->force_nee ? " forced-nee" : "", restir_shift_names[m->shift], restir_mis_names[m->mis], m->passes,
+             restir_ablation_names[m->ablation]);
     if (getenv("RESTIR_TEST_VERBOSE"))
         fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
                 rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
@@ -191,12 +194,20 @@ static void expect(const scene *s, const check_side *pt, const char *name, const
     check_result_free(&c);
 }
 
-/* path NULL: the spot scene (glossy floor, small light: the footprint test fires there). */
+/* path NULL: the spot scene (glossy floor, small light: the footprint test fires there);
+ * "spot-0.1": its floor at roughness 0.1, below the threshold, so that NEE from the floor
+ * has no connectable pair unless forced (Enhanced §6.2.3). */
 static int open_scene(const char *path, int res, scene *s)
 {
     rerror e;
-    if (path) return rt_load_scene(path, res, s);
+    int glossy = path && !strcmp(path, "spot-0.1");
+    if (path && !glossy) return rt_load_scene(path, res, s);
     if (rt_make_spot(s, res)) return -1;
+    if (glossy) {
+        size_t i;
+        for (i = 0; i < s->material_count; ++i)
+            if (s->materials[i].type == MAT_CONDUCTOR) s->materials[i].roughness = (real)0.1;
+    }
     if (scene_prepare(s, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         scene_free(s);
@@ -224,12 +235,12 @@ static void cases_on(const char *path, const char *name, const fp_case *cases, i
 TEST(restir_footprint_unbiased_subset)
 {
     static const fp_case glossy[] = {
-        {RESTIR_SHIFT_HYBRID, MIS_TALBOT, 3, RESTIR_ABLATE_NONE, 4},
-        {RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, RESTIR_ABLATE_NONE, 4},
+        {RESTIR_SHIFT_HYBRID, MIS_TALBOT, 3, RESTIR_ABLATE_NONE, 4, 0},
+        {RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, RESTIR_ABLATE_NONE, 4, 1}, /* + forced NEE */
     };
-    static const fp_case spot[] = {{RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_UNIFORM, 3, RESTIR_ABLATE_NONE, 8}};
+    static const fp_case spot[] = {{RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_UNIFORM, 3, RESTIR_ABLATE_NONE, 8, 1}};
     cases_on("scenes/cornell-glossy.scene", "cornell-glossy", glossy, 2, 16, 64, 0);
-    if (!test_has_failed()) cases_on(NULL, "spot", spot, 1, 16, 256, 0);
+    if (!test_has_failed()) cases_on("spot-0.1", "spot-0.1", spot, 1, 16, 256, 0);
 }
 
 TEST_LONG(restir_footprint_unbiased_matrix_long)
@@ -246,6 +257,7 @@ TEST_LONG(restir_footprint_unbiased_matrix_long)
             m[i].passes = p ? 3 : 1;
             m[i].ablation = RESTIR_ABLATE_NONE;
             m[i].frames = 4;
+            m[i].force_nee = f == 1; /* pairwise with Enhanced §6.2.3 */
             ++i;
         }
     for (sc = 0; scenes[sc] && !test_has_failed(); ++sc) {
@@ -260,7 +272,7 @@ TEST_LONG(restir_footprint_unbiased_matrix_long)
  * detection is tests/test_shift.c.) */
 TEST_LONG(restir_footprint_base_only_bias_long)
 {
-    static const fp_case spot[] = {{RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_UNIFORM, 3, RESTIR_ABLATE_FOOTPRINT_BASE, 8}};
+    static const fp_case spot[] = {{RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_UNIFORM, 3, RESTIR_ABLATE_FOOTPRINT_BASE, 8, 0}};
     cases_on(NULL, "spot", spot, 1, 24, 256, 1);
 }
 
@@ -268,6 +280,7 @@ TEST_LONG(restir_footprint_base_only_bias_long)
 
 typedef struct {
     int passes, criterion, ablation; /* spatial passes, rc_mode, ablation */
+    int force_nee;                   /* Enhanced §6.2.3 */
 } fp_side;
 
 /* K runs of side a against side b on the same seeds, both hybrid / pairwise-defensive
@@ -299,6 +312,8 @@ static void paired_expect(const char *path, const char *name, const fp_side *sa,
     oa.spatial_passes = sa->passes;
     oa.rc_criterion = sa->criterion;
     oa.ablation = sa->ablation;
+    oa.force_nee_reconnection = sa->force_nee;
+    ob.force_nee_reconnection = sb->force_nee;
     ob.spatial_passes = sb->passes;
     ob.rc_criterion = sb->criterion;
     ob.ablation = sb->ablation;
@@ -312,8 +327,8 @@ static void paired_expect(const char *path, const char *name, const fp_side *sa,
             if (status == 0) {
                 double z = stats_t_to_z(r.global.t, r.global.dof);
                 char what[256];
-                snprintf(what, sizeof what, "%s: %s %d passes%s%s vs %s %d passes", name, rc_mode_names[sa->criterion],
-                         sa->passes, sa->ablation ? " ablate " : "",
+                snprintf(what, sizeof what, "%s: %s%s %d passes%s%s vs %s %d passes", name, rc_mode_names[sa->criterion],
+                         sa->force_nee ? " forced-nee" : "", sa->passes, sa->ablation ? " ablate " : "",
                          sa->ablation ? restir_ablation_names[sa->ablation] : "", rc_mode_names[sb->criterion],
                          sb->passes);
                 if (getenv("RESTIR_TEST_VERBOSE"))
@@ -336,10 +351,12 @@ static void paired_expect(const char *path, const char *name, const fp_side *sa,
 
 TEST(restir_footprint_paired_and_base_only_detected)
 {
-    static const fp_side initial = {0, RC_MODE_FOOTPRINT, RESTIR_ABLATE_NONE};
-    static const fp_side footprint = {3, RC_MODE_FOOTPRINT, RESTIR_ABLATE_NONE};
-    static const fp_side gris = {3, RC_MODE_GRIS, RESTIR_ABLATE_NONE};
-    static const fp_side base_only = {3, RC_MODE_FOOTPRINT, RESTIR_ABLATE_FOOTPRINT_BASE};
+    static const fp_side initial = {0, RC_MODE_FOOTPRINT, RESTIR_ABLATE_NONE, 0};
+    static const fp_side footprint = {3, RC_MODE_FOOTPRINT, RESTIR_ABLATE_NONE, 0};
+    static const fp_side gris = {3, RC_MODE_GRIS, RESTIR_ABLATE_NONE, 0};
+    static const fp_side base_only = {3, RC_MODE_FOOTPRINT, RESTIR_ABLATE_FOOTPRINT_BASE, 0};
+    static const fp_side forced = {3, RC_MODE_GRIS, RESTIR_ABLATE_NONE, 1};
+    static const fp_side gris_initial = {0, RC_MODE_GRIS, RESTIR_ABLATE_NONE, 0};
     const char *glossy = "scenes/cornell-glossy.scene";
     /* footprint against the 0-pass baseline (validated in test_restir_initial.c) */
     paired_expect(glossy, "cornell-glossy", &footprint, &initial, 16, 0);
@@ -348,4 +365,6 @@ TEST(restir_footprint_paired_and_base_only_detected)
     if (!test_has_failed()) paired_expect(glossy, "cornell-glossy", &gris, &footprint, 48, 0);
     /* the criterion on the base path only: E[a - b] is its bias */
     if (!test_has_failed()) paired_expect(glossy, "cornell-glossy", &base_only, &footprint, 48, 1);
+    /* Enhanced §6.2.3 forced NEE reconnection against the 0-pass baseline, where it acts */
+    if (!test_has_failed()) paired_expect("spot-0.1", "spot-0.1", &forced, &gris_initial, 16, 0);
 }

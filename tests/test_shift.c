@@ -188,6 +188,8 @@ static void print_tally(const char *what, const shift_tally *t)
 
 /* n_paths base paths of the scene shifted with `shift` under criterion rc_mode (and an
  * ablation) into *t. Returns 0 if the scene could not be set up. */
+static int force_nee; /* Enhanced §6.2.3 in the next tally_shifts */
+
 static int tally_shifts(const char *path, int shift, int rc_mode, real footprint_c, int ablation, long n_paths,
                         shift_tally *t)
 {
@@ -198,7 +200,19 @@ static int tally_shifts(const char *path, int shift, int rc_mode, real footprint
     rerror e;
     long i;
     char what[256];
-    if (rt_load_scene(path, 48, &s)) return 0;
+    if (path) {
+        if (rt_load_scene(path, 48, &s)) return 0;
+    } else { /* the spot scene with its floor below the roughness threshold (0.1) */
+        size_t mi;
+        if (rt_make_spot(&s, 48)) return 0;
+        for (mi = 0; mi < s.material_count; ++mi)
+            if (s.materials[mi].type == MAT_CONDUCTOR) s.materials[mi].roughness = (real)0.1;
+        if (scene_prepare(&s, &e)) {
+            scene_free(&s);
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            return 0;
+        }
+    }
     if (lights_build(&lights, &s, &e)) {
         scene_free(&s);
         test_fail(__FILE__, __LINE__, "%s", e.msg);
@@ -207,6 +221,7 @@ static int tally_shifts(const char *path, int shift, int rc_mode, real footprint
     rt_context(&c, &s, &lights, shift);
     c.rc.mode = rc_mode;
     if (footprint_c > 0) c.rc.footprint_c = footprint_c;
+    c.rc.force_nee = force_nee;
     c.ablation = ablation;
     memset(&io, 0, sizeof io);
     io.trees = 1;
@@ -214,7 +229,7 @@ static int tally_shifts(const char *path, int shift, int rc_mode, real footprint
     memset(t, 0, sizeof *t);
     for (i = 0; t->paths < n_paths && i < 4 * n_paths; ++i)
         one_path(&c, &io, &s, test_seed() * 2654435761u + (uint32_t)shift, i, 6, t);
-    snprintf(what, sizeof what, "%s %s %s c %g %s", path, restir_shift_names[shift], rc_mode_names[rc_mode],
+    snprintf(what, sizeof what, "%s %s %s c %g %s", path ? path : "spot-0.1", restir_shift_names[shift], rc_mode_names[rc_mode],
              (double)c.rc.footprint_c, restir_ablation_names[ablation]);
     print_tally(what, t);
     lights_free(&lights);
@@ -275,6 +290,32 @@ static void footprint_shifts(long n)
 }
 TEST(shift_footprint_invertibility) { footprint_shifts(6000); }
 TEST_LONG(shift_footprint_invertibility_1e5) { footprint_shifts(100000); }
+
+/* Enhanced §6.2.3 forced NEE light reconnection, under both criteria, on the spot scene
+ * with a 0.1-rough floor (NEE there has no connectable pair unless forced): still a
+ * bijection (the offset's own rc_select forces the same k = d only if no earlier pair
+ * passes), and forcing adds successful reconnections at k = d = 3. */
+TEST(shift_forced_nee_invertibility)
+{
+    shift_tally t, unforced;
+    int mode;
+    for (mode = RC_MODE_GRIS; mode <= RC_MODE_FOOTPRINT && !test_has_failed(); ++mode) {
+        if (!tally_shifts(NULL, RESTIR_SHIFT_HYBRID, mode, 0, RESTIR_ABLATE_NONE, 4000, &unforced)) return;
+        force_nee = 1;
+        if (!tally_shifts(NULL, RESTIR_SHIFT_HYBRID, mode, 0, RESTIR_ABLATE_NONE, 4000, &t)) {
+            force_nee = 0;
+            return;
+        }
+        force_nee = 0;
+        CHECKF(t.logic_failures == 0, "forced NEE (%s): %ld logic failures in %ld paths; first: %s", rc_mode_names[mode],
+               t.logic_failures, t.paths, t.first_failure);
+        CHECKF(t.by_k_ok[3] > unforced.by_k_ok[3], "forced NEE (%s): k = 3 reconnections %ld, unforced %ld",
+               rc_mode_names[mode], t.by_k_ok[3], unforced.by_k_ok[3]);
+        if (getenv("RESTIR_TEST_VERBOSE"))
+            fprintf(stderr, "  forced NEE (%s): successful k = 3 shifts %ld (unforced %ld), no k %ld (unforced %ld)\n",
+                    rc_mode_names[mode], t.by_k_ok[3], unforced.by_k_ok[3], t.by_k_ok[0], unforced.by_k_ok[0]);
+    }
+}
 
 /* --ablate footprint-base-only (the criterion on the base path alone) breaks the
  * bijection: T^-1(T(x)) reconnects elsewhere or fails. Detected as logic failures. */

@@ -51,10 +51,15 @@ int rc_vertex_is_rough(const bsdf *b, unsigned lobe, real roughness_threshold);
 enum shift_failure rc_pair_test(const rc_criterion *c, const rc_vertex *prev, const rc_vertex *cur,
                                 real primary_footprint);
 
+/* Enhanced §6.2.3: with c->force_nee, the pair (x_{d-1}, x_d) of an NEE path (v[d-1].lobe =
+ * PATH_LOBE_NEE) is taken when no earlier pair passes; 1 if k = d is such a forced pair. */
+int rc_forced_nee(const rc_criterion *c, const rc_vertex *v, int k, int d);
+
 /* The reconnection index of a length-d path with vertices v[1..d] (v[0] unused):
  *   reconnection shift: 2 (y_2 = x_2, unconditionally: GRIS §7.4);
  *   random replay:      PATH_RC_NONE;
- *   hybrid:             the first k in [2, d] whose pair passes rc_pair_test, else NONE.
+ *   hybrid:             the first k in [2, d] whose pair passes rc_pair_test, else d for an
+ *                       NEE path with force_nee (rc_forced_nee), else NONE.
  * The footprint criterion reads the primary footprint from v[1].surface. */
 int rc_select(const restir_context *c, const rc_vertex *v, int d);
 

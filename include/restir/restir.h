@@ -56,6 +56,7 @@ typedef struct {
     double distance_threshold;  /* d_min as a fraction of the scene's bounding-box diagonal
                                    (default 0.02; GRIS §8.3 uses 1-5% of the scene size) */
     int shading;                /* enum restir_shading: scalar F(Y) W_Y (default) or vector (Enhanced §6.3) */
+    int force_nee_reconnection; /* Enhanced §6.2.3 forced NEE light reconnection (hybrid; default 0) */
     int rc_criterion;           /* enum rc_mode: gris (default) or footprint (Enhanced §4, Eq. 5) */
     double footprint_c;         /* c of Enhanced Eq. 5 (default 0.02, Enhanced §7.2) */
     int paths;                  /* enum restir_paths */

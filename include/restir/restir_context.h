@@ -83,6 +83,8 @@ typedef struct {
     real min_distance;        /* d_min in scene units (gris only) */
     int mode;                 /* enum rc_mode (default gris) */
     real footprint_c;         /* c of Enhanced Eq. 5 (0.02, Enhanced §7.2) */
+    int force_nee;            /* Enhanced §6.2.3: an NEE path without connectable pair reconnects
+                                 at its light vertex x_d (hybrid shift) */
 } rc_criterion;
 
 typedef struct {

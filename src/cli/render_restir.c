@@ -93,6 +93,9 @@ int render_restir_options(cli_option *rows, restir_options *o)
                     "pixel estimate: scalar F(Y) W (default) or vector (Enhanced 6.3: sum of m_i F(Y_i) W_i J_i over the "
                     "last spatial pass's inputs)",
                     restir_shading_names, 0, 0);
+    rows[n++] = row("--force-nee-reconnection", OPT_FLAG, &o->force_nee_reconnection,
+                    "hybrid shift: an NEE path with no connectable pair reconnects at its light vertex (Enhanced 6.2.3)",
+                    NULL, 0, 0);
     rows[n++] = row("--rc-criterion", OPT_CHOICE, &o->rc_criterion,
                     "reconnection criterion: gris (roughness + distance, default) or footprint (Enhanced Eq. 5)",
                     rc_mode_names, 0, 0);

@@ -31,6 +31,14 @@ enum shift_failure rc_pair_test(const rc_criterion *c, const rc_vertex *prev, co
     return SHIFT_OK;
 }
 
+/* Enhanced §6.2.3 forced NEE light reconnection: "we force reconnection to such vertices
+ * if no earlier reconnection is found" -- the light vertex of an NEE path (x_{d-1} used
+ * ell = NEE), whatever the pair test says. Replay then never re-samples the light. */
+int rc_forced_nee(const rc_criterion *c, const rc_vertex *v, int k, int d)
+{
+    return c->force_nee && k == d && d >= 2 && v[d - 1].lobe == PATH_LOBE_NEE;
+}
+
 int rc_select(const restir_context *c, const rc_vertex *v, int d)
 {
     int k;
@@ -43,6 +51,7 @@ int rc_select(const restir_context *c, const rc_vertex *v, int d)
     primary = c->rc.mode == RC_MODE_FOOTPRINT ? rc_primary_footprint(v[1].surface) : 0;
     for (k = 2; k <= d; ++k)
         if (rc_pair_test(&c->rc, &v[k - 1], &v[k], primary) == SHIFT_OK) return k;
+    if (rc_forced_nee(&c->rc, v, d, d)) return d; /* Enhanced §6.2.3 */
     return PATH_RC_NONE;
 }
 

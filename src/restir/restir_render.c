@@ -148,6 +148,7 @@ void restir_context_for(restir_context *c, const scene *s, const light_set *ligh
     c->rc.min_distance = rc_min_distance_for_scene(s, (real)o->distance_threshold);
     c->rc.mode = o->rc_criterion;
     c->rc.footprint_c = (real)o->footprint_c;
+    c->rc.force_nee = o->force_nee_reconnection != 0;
     c->ablation = o->ablation;
 }
 
@@ -562,6 +563,7 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
     fprintf(out, "\"pairing\": \"%s\", \"shading\": \"%s\", ", restir_pairing_names[o->pairing],
             restir_shading_names[o->shading]);
+    fprintf(out, "\"force_nee_reconnection\": %s, ", o->force_nee_reconnection ? "true" : "false");
     fprintf(out, "\"rc_criterion\": \"%s\", \"footprint_c\": %g, ", rc_mode_names[o->rc_criterion], o->footprint_c);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
             o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads, indent);

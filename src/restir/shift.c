@@ -94,6 +94,7 @@ enum shift_failure hybrid_same_reconnection(const restir_context *c, const path_
     for (j = 2; j < k; ++j)
         if (rc_pair_test(&c->rc, &v[j - 1], &v[j], primary) == SHIFT_OK)
             return j < k - 1 ? SHIFT_FAIL_RC_EARLIER : SHIFT_FAIL_RC_PREV;
+    if (rc_forced_nee(&c->rc, v, k, x->length)) return SHIFT_OK; /* Enhanced §6.2.3, as rc_select */
     return rc_pair_test(&c->rc, &v[k - 1], &v[k], primary);
 }
 
