@@ -252,8 +252,9 @@ static void invertibility_under(const char *path, int shift, int rc_mode, real f
         CHECKF(t.outcome[SHIFT_FAIL_RC_PREV] > 0 && t.outcome[SHIFT_FAIL_RC_EARLIER] > 0 && t.by_k_ok[3] > 0,
                "%s: invertibility checks not exercised (rc_prev %ld, rc_earlier %ld, k = 3 shifts %ld)", path,
                t.outcome[SHIFT_FAIL_RC_PREV], t.outcome[SHIFT_FAIL_RC_EARLIER], t.by_k_ok[3]);
-    /* Enhanced Eq. 5 on the offset path rejects offsets whose own footprint is too small. */
-    if (rc_mode == RC_MODE_FOOTPRINT)
+    /* Enhanced Eq. 5 on the offset path rejects offsets whose own footprint is too small
+     * (at c = 0.02 about once in 6000 paths on cornell: required only of the strict c) */
+    if (rc_mode == RC_MODE_FOOTPRINT && footprint_c >= 1)
         CHECKF(t.outcome[SHIFT_FAIL_RC_FOOTPRINT] > 0, "%s: the offset's footprint test never fired", path);
 }
 
