@@ -274,14 +274,6 @@ TEST_LONG(restir_footprint_unbiased_matrix_long)
     if (!test_has_failed()) cases_on(NULL, "spot", m, 6, 24, 256, 0);
 }
 
-/* Exploratory: is --ablate footprint-base-only visible in the images? (The exact
- * detection is tests/test_shift.c.) */
-TEST_LONG(restir_footprint_base_only_bias_long)
-{
-    static const fp_case spot[] = {{RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_UNIFORM, 3, RESTIR_ABLATE_FOOTPRINT_BASE, 8, 0}};
-    cases_on(NULL, "spot", spot, 1, 24, 256, 1);
-}
-
 /* ---- paired tests on shared seeds (docs/statistics.md "Paired check") ------------------ */
 
 typedef struct {
