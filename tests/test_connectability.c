@@ -62,9 +62,9 @@ TEST(connectability_index_per_shift)
     CHECK(rc_select(&c, v, 4) == PATH_RC_NONE);
     c.shift = RESTIR_SHIFT_HYBRID;
     CHECK(rc_select(&c, v, 4) == 4); /* (x1,x2): x1 glossy; (x2,x3): 0.5 < d_min; (x3,x4) */
-    CHECK(rc_pair_test(&c.rc, &v[1], &v[2]) == SHIFT_FAIL_RC_ROUGHNESS);
-    CHECK(rc_pair_test(&c.rc, &v[2], &v[3]) == SHIFT_FAIL_RC_DISTANCE);
-    CHECK(rc_pair_test(&c.rc, &v[3], &v[4]) == SHIFT_OK);
+    CHECK(rc_pair_test(&c.rc, &v[1], &v[2], 0) == SHIFT_FAIL_RC_ROUGHNESS);
+    CHECK(rc_pair_test(&c.rc, &v[2], &v[3], 0) == SHIFT_FAIL_RC_DISTANCE);
+    CHECK(rc_pair_test(&c.rc, &v[3], &v[4], 0) == SHIFT_OK);
     CHECK(rc_select(&c, v, 3) == PATH_RC_NONE);
     v[1].rough = 1;
     CHECK(rc_select(&c, v, 4) == 2);

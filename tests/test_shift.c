@@ -117,6 +117,36 @@ static int f_close(const restir_context *c, const path_vertex *x1, const path_sa
     return e <= F_RTOL + 8 * f_sensitivity(c, x1, x);
 }
 
+/* The reconnection index the offset path y = T_{a->b}(x) selects under its OWN criterion
+ * (rc_select on y's vertices: its replayed prefix y_1..y_{k-1}, then x_k..x_d of x), computed
+ * independently of the shift's invertibility check. T is a bijection between paths carrying
+ * their own k only if this is y.rc_k (GRIS §7.4; Enhanced §4). -1 if a replay fails. */
+static int own_reconnection_index(const restir_context *c, const path_vertex *xa, const path_sample *x,
+                                  const path_vertex *xb, const path_sample *y)
+{
+    path_trunk tx, ty;
+    path_end ex, ey;
+    rc_vertex v[PATH_MAX_LENGTH + 1], vy[PATH_MAX_LENGTH + 1];
+    int d = x->length, k = y->rc_k, j;
+    if (k == PATH_RC_NONE) { /* y is a full replay: all of it from its own numbers */
+        if (path_replay(&ty, c, xb, y, &ey) != SHIFT_OK) return -1;
+        trunk_rc_vertices(&ty, c, y->lobe, d, &ey, y->technique, v);
+        return rc_select(c, v, d);
+    }
+    if (path_replay(&tx, c, xa, x, &ex) != SHIFT_OK || trunk_replay(&ty, c, xb, y, k - 1) != SHIFT_OK) return -1;
+    trunk_rc_vertices(&tx, c, x->lobe, d, &ex, x->technique, v);
+    for (j = 1; j < k; ++j) { /* the offset prefix, its lobes as T assigned them */
+        vy[j].position = ty.v[j].position;
+        vy[j].rough = rc_vertex_is_rough(&ty.v[j].b, y->lobe[j], c->rc.roughness_threshold);
+        vy[j].ng = ty.v[j].ng;
+        vy[j].surface = &ty.v[j];
+        vy[j].lobe = y->lobe[j];
+        vy[j].wi = j < k - 1 ? ty.b[j].wi : v3_normalize(v3_sub(v[k].position, ty.v[j].position));
+    }
+    for (j = k; j <= d; ++j) vy[j] = v[j];
+    return rc_select(c, vy, d);
+}
+
 static void logic_failure(shift_tally *t, const char *fmt, long i, int reason, double value)
 {
     if (!t->logic_failures)
@@ -264,6 +294,11 @@ static void one_path(const restir_context *c, const initial_options *io, const s
     if (why != SHIFT_OK) return;
     t->forward_ok++;
     t->by_k_ok[r.y.rc_k]++;
+    {
+        int own = own_reconnection_index(c, &xa, &r.y, &xb, &y);
+        if (own >= 0 && own != y.rc_k)
+            logic_failure(t, "path %ld (%s): the offset path selects its own k = %g, not T's", i, SHIFT_OK, own);
+    }
     why = shift_path(c, &xa, &y, &z, &j_ba, NULL);
     if (why != SHIFT_OK) {
         logic_failure(t, "path %ld: the inverse shift failed: %s (J(a->b) = %g)", i, why, (double)j_ab);
@@ -309,41 +344,71 @@ static void print_tally(const char *what, const shift_tally *t)
     fprintf(stderr, "\n");
 }
 
-static void invertibility(const char *path, int shift, long n_paths)
+/* n_paths base paths of the scene shifted with `shift` under criterion rc_mode (and an
+ * ablation) into *t. Returns 0 if the scene could not be set up. */
+static int force_nee; /* Enhanced §6.2.3 in the next tally_shifts */
+
+static int tally_shifts(const char *path, int shift, int rc_mode, real footprint_c, int ablation, long n_paths,
+                        shift_tally *t)
 {
     scene s;
     light_set lights;
     restir_context c;
     initial_options io;
-    shift_tally t;
     rerror e;
     long i;
     char what[256];
-    if (rt_load_scene(path, 48, &s)) return;
+    if (path) {
+        if (rt_load_scene(path, 48, &s)) return 0;
+    } else { /* the spot scene with its floor below the roughness threshold (0.1) */
+        size_t mi;
+        if (rt_make_spot(&s, 48)) return 0;
+        for (mi = 0; mi < s.material_count; ++mi)
+            if (s.materials[mi].type == MAT_CONDUCTOR) s.materials[mi].roughness = (real)0.1;
+        if (scene_prepare(&s, &e)) {
+            scene_free(&s);
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            return 0;
+        }
+    }
     if (lights_build(&lights, &s, &e)) {
         scene_free(&s);
-        CHECKF(0, "%s", e.msg);
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return 0;
     }
     rt_context(&c, &s, &lights, shift);
+    c.rc.mode = rc_mode;
+    if (footprint_c > 0) c.rc.footprint_c = footprint_c;
+    c.rc.force_nee = force_nee;
+    c.ablation = ablation;
     memset(&io, 0, sizeof io);
     io.trees = 1;
     io.max_depth = 8;
-    memset(&t, 0, sizeof t);
-    for (i = 0; t.paths < n_paths && i < 4 * n_paths; ++i)
-        one_path(&c, &io, &s, test_seed() * 2654435761u + (uint32_t)shift, i, 6, &t);
-    snprintf(what, sizeof what, "%s %s", path, restir_shift_names[shift]);
-    print_tally(what, &t);
+    memset(t, 0, sizeof *t);
+    for (i = 0; t->paths < n_paths && i < 4 * n_paths; ++i)
+        one_path(&c, &io, &s, test_seed() * 2654435761u + (uint32_t)shift, i, 6, t);
+    snprintf(what, sizeof what, "%s %s %s c %g %s", path ? path : "spot-0.1", restir_shift_names[shift], rc_mode_names[rc_mode],
+             (double)c.rc.footprint_c, restir_ablation_names[ablation]);
+    print_tally(what, t);
     lights_free(&lights);
     scene_free(&s);
-    CHECKF(t.paths >= n_paths, "%s: only %ld paths", what, t.paths);
-    CHECKF(t.logic_failures == 0, "%s: %ld logic failures in %ld paths; first: %s", what, t.logic_failures, t.paths,
-           t.first_failure);
-    CHECKF(t.forward_ok > n_paths / 10, "%s: only %ld of %ld shifts succeeded", what, t.forward_ok, t.paths);
-    CHECKF(t.identity_ok > n_paths / 2, "%s: only %ld identity shifts succeeded", what, t.identity_ok);
+    return 1;
+}
+
+static void invertibility_under(const char *path, int shift, int rc_mode, real footprint_c, long n_paths)
+{
+    shift_tally t;
+    const char *what = restir_shift_names[shift];
+    if (!tally_shifts(path, shift, rc_mode, footprint_c, RESTIR_ABLATE_NONE, n_paths, &t)) return;
+    CHECKF(t.paths >= n_paths, "%s %s: only %ld paths", path, what, t.paths);
+    CHECKF(t.logic_failures == 0, "%s %s %s: %ld logic failures in %ld paths; first: %s", path, what,
+           rc_mode_names[rc_mode], t.logic_failures, t.paths, t.first_failure);
+    CHECKF(t.forward_ok > n_paths / 10, "%s %s: only %ld of %ld shifts succeeded", path, what, t.forward_ok, t.paths);
+    CHECKF(t.identity_ok > n_paths / 2, "%s %s: only %ld identity shifts succeeded", path, what, t.identity_ok);
     /* The glossy blocks make the hybrid shift's invertibility checks fire: they are exercised. */
     if (shift == RESTIR_SHIFT_HYBRID && strstr(path, "glossy"))
         CHECKF(t.outcome[SHIFT_FAIL_RC_PREV] > 0 && t.outcome[SHIFT_FAIL_RC_EARLIER] > 0 && t.by_k_ok[3] > 0,
-               "%s: invertibility checks not exercised (rc_prev %ld, rc_earlier %ld, k = 3 shifts %ld)", what,
+               "%s: invertibility checks not exercised (rc_prev %ld, rc_earlier %ld, k = 3 shifts %ld)", path,
                t.outcome[SHIFT_FAIL_RC_PREV], t.outcome[SHIFT_FAIL_RC_EARLIER], t.by_k_ok[3]);
     CHECKF(t.chain_ok > n_paths / 50, "%s: only %ld shifts of shifted samples succeeded", what, t.chain_ok);
     if (strstr(path, "glass"))
@@ -360,6 +425,15 @@ static void invertibility(const char *path, int shift, long n_paths)
             CHECKF(late > n_paths / 30 && long_replay > n_paths / 30,
                    "%s: only %ld successful shifts at k >= 5 and %ld with 3+ replayed bounces", what, late, long_replay);
     }
+    /* Enhanced Eq. 5 on the offset path rejects offsets whose own footprint is too small
+     * (at c = 0.02 about once in 6000 paths on cornell: required only of the strict c) */
+    if (rc_mode == RC_MODE_FOOTPRINT && footprint_c >= 1)
+        CHECKF(t.outcome[SHIFT_FAIL_RC_FOOTPRINT] > 0, "%s: the offset's footprint test never fired", path);
+}
+
+static void invertibility(const char *path, int shift, long n_paths)
+{
+    invertibility_under(path, shift, RC_MODE_GRIS, 0, n_paths);
 }
 
 static void all_shifts(long n)
@@ -386,6 +460,63 @@ TEST(shift_identity_and_invertibility) { all_shifts(10000); }
 TEST(shift_invertibility_delta_and_corridor) { coverage_scenes(10000); }
 TEST_LONG(shift_invertibility_delta_and_corridor_1e5) { coverage_scenes(100000); }
 TEST_LONG(shift_identity_and_invertibility_1e5) { all_shifts(100000); }
+
+/* Enhanced §4: the footprint criterion depends on the direction x_{k-1} is seen from and
+ * on the pixel's primary footprint, so it differs between base and offset path; testing
+ * it on the offset too (hybrid_same_reconnection) keeps the hybrid shift a bijection:
+ * every successful T_{a->b} shifts back to x with J J = 1 (zero logic failures). */
+static void footprint_shifts(long n)
+{
+    invertibility_under("scenes/cornell.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, 0, n);
+    if (!test_has_failed())
+        invertibility_under("scenes/cornell-glossy.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, 0, n);
+    /* a 100x stricter c (any c must keep T bijective): the footprints, the inverse one
+     * at glossy x_k included, decide far more pairs */
+    if (!test_has_failed())
+        invertibility_under("scenes/cornell-glossy.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, 2, n);
+}
+TEST(shift_footprint_invertibility) { footprint_shifts(6000); }
+TEST_LONG(shift_footprint_invertibility_1e5) { footprint_shifts(100000); }
+
+/* Enhanced §6.2.3 forced NEE light reconnection, under both criteria, on the spot scene
+ * with a 0.1-rough floor (NEE there has no connectable pair unless forced): still a
+ * bijection (the offset's own rc_select forces the same k = d only if no earlier pair
+ * passes), and forcing adds successful reconnections at k = d = 3. */
+TEST(shift_forced_nee_invertibility)
+{
+    shift_tally t, unforced;
+    int mode;
+    for (mode = RC_MODE_GRIS; mode <= RC_MODE_FOOTPRINT && !test_has_failed(); ++mode) {
+        if (!tally_shifts(NULL, RESTIR_SHIFT_HYBRID, mode, 0, RESTIR_ABLATE_NONE, 4000, &unforced)) return;
+        force_nee = 1;
+        if (!tally_shifts(NULL, RESTIR_SHIFT_HYBRID, mode, 0, RESTIR_ABLATE_NONE, 4000, &t)) {
+            force_nee = 0;
+            return;
+        }
+        force_nee = 0;
+        CHECKF(t.logic_failures == 0, "forced NEE (%s): %ld logic failures in %ld paths; first: %s", rc_mode_names[mode],
+               t.logic_failures, t.paths, t.first_failure);
+        CHECKF(t.by_k_ok[3] > unforced.by_k_ok[3], "forced NEE (%s): k = 3 reconnections %ld, unforced %ld",
+               rc_mode_names[mode], t.by_k_ok[3], unforced.by_k_ok[3]);
+        if (getenv("RESTIR_TEST_VERBOSE"))
+            fprintf(stderr, "  forced NEE (%s): successful k = 3 shifts %ld (unforced %ld), no k %ld (unforced %ld)\n",
+                    rc_mode_names[mode], t.by_k_ok[3], unforced.by_k_ok[3], t.by_k_ok[0], unforced.by_k_ok[0]);
+    }
+}
+
+/* --ablate footprint-base-only (the criterion on the base path alone) breaks the
+ * bijection: T^-1(T(x)) reconnects elsewhere or fails. Detected as logic failures. */
+TEST(shift_footprint_base_only_not_invertible)
+{
+    shift_tally t;
+    if (!tally_shifts("scenes/cornell-glossy.scene", RESTIR_SHIFT_HYBRID, RC_MODE_FOOTPRINT, 0,
+                      RESTIR_ABLATE_FOOTPRINT_BASE, 6000, &t))
+        return;
+    CHECKF(t.logic_failures > 0, "footprint-base-only: no logic failure in %ld paths (%ld forward shifts)", t.paths,
+           t.forward_ok);
+    if (getenv("RESTIR_TEST_VERBOSE")) fprintf(stderr, "  base-only: %ld logic failures in %ld forward shifts\n",
+                                               t.logic_failures, t.forward_ok);
+}
 
 /* Every failure reason has a name (the --stats keys) and the tables are complete. */
 TEST(shift_failure_names_complete)

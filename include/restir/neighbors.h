@@ -17,7 +17,11 @@
  *            uniform pattern's distribution, and the n neighbours of one pixel are
  *            spread more evenly than independent ones;
  *   box      every pixel of the (2r+1) x (2r+1) window, r = floor(R), except i, in
- *            row-major order (no randomness; the fixed windows of GRIS Figs. 7-8).
+ *            row-major order (no randomness; the fixed windows of GRIS Figs. 7-8);
+ *   paired   neighbour k is i's partner in reuse texture k (pairing.h; Enhanced §3), placed
+ *            with that frame and pass's flip/mirror/transpose/offset: j's partner is i, so
+ *            the pairs are reciprocal (--pairing paired). The two-shift pair step of §3
+ *            is not implemented: each pixel still runs its own GRIS step.
  *
  * Random numbers: key (seed, pixel i, sample, RNG_NEIGHBOR, vertex, slot) with
  * sample = neighbor_sample_index(frame, passes, pass): uniform neighbour k uses vertex k,
@@ -28,11 +32,12 @@
 #include <stdint.h>
 #include "restir/error.h"
 #include "restir/gbuffer.h"
+#include "restir/pairing.h"
 #include "restir/rng.h"
 
-enum neighbor_pattern { NEIGHBOR_UNIFORM = 0, NEIGHBOR_R2 = 1, NEIGHBOR_BOX = 2 };
+enum neighbor_pattern { NEIGHBOR_UNIFORM = 0, NEIGHBOR_R2 = 1, NEIGHBOR_BOX = 2, NEIGHBOR_PAIRED = 3 };
 
-/* NULL-terminated, index = enum value: "uniform", "r2", "box". */
+/* NULL-terminated, index = enum value: "uniform", "r2", "box", "paired". */
 extern const char *const neighbor_pattern_names[];
 
 #define NEIGHBOR_MAX_COUNT 255     /* disk patterns: n <= 255 (vertex field of the RNG key) */
@@ -50,6 +55,7 @@ typedef struct {
     int reject_geometry;      /* 1 (default): apply the normal and depth tests */
     float min_normal_cos;     /* accept only if dot(n_i, n_j) >= this */
     float max_relative_depth; /* accept only if |d_i - d_j| <= this * min(d_i, d_j) */
+    const reuse_texture *textures; /* paired: `count` reuse textures (owned by the caller) */
 } neighbor_options;
 
 /* Why a candidate was not accepted (or that it was). */

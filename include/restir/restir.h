@@ -30,6 +30,10 @@
 
 enum restir_paths { RESTIR_PATHS_ALL = 0, RESTIR_PATHS_INDIRECT = 1 };
 extern const char *const restir_paths_names[]; /* "all", "indirect" */
+enum restir_shading { RESTIR_SHADING_SCALAR = 0, RESTIR_SHADING_VECTOR = 1 };
+extern const char *const restir_shading_names[]; /* "scalar", "vector" */
+enum restir_pairing { RESTIR_PAIRING_DISK = 0, RESTIR_PAIRING_PAIRED = 1 };
+extern const char *const restir_pairing_names[]; /* "disk", "paired" */
 /* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive", then
  * "stochastic-pairwise" (spatial passes only; not a mis_family: stochastic_spatial.h) */
 extern const char *const restir_mis_names[];
@@ -41,6 +45,7 @@ typedef struct {
     int neighbors;              /* n candidates per pixel and pass (disk patterns; default 6) */
     double radius;              /* neighbour disk radius in pixels (default 10, GRIS §8.3 offline) */
     int pattern;                /* enum neighbor_pattern (default r2) */
+    int pairing;                /* enum restir_pairing: disk (default: `pattern`) or paired (Enhanced §3) */
     int no_reject;              /* 1: no normal/depth rejection of neighbours */
     double normal_cos;          /* reject if dot(n_i, n_j) < this (default 0.5) */
     double depth_ratio;         /* reject if |d_i - d_j| > this * min(d_i, d_j) (default 0.1) */
@@ -54,6 +59,10 @@ typedef struct {
     double roughness_threshold; /* lobe roughness for reconnection (default 0.2, GRIS §8.3) */
     double distance_threshold;  /* d_min as a fraction of the scene's bounding-box diagonal
                                    (default 0.02; GRIS §8.3 uses 1-5% of the scene size) */
+    int shading;                /* enum restir_shading: scalar F(Y) W_Y (default) or vector (Enhanced §6.3) */
+    int force_nee_reconnection; /* Enhanced §6.2.3 forced NEE light reconnection (hybrid; default 0) */
+    int rc_criterion;           /* enum rc_mode: gris (default) or footprint (Enhanced §4, Eq. 5) */
+    double footprint_c;         /* c of Enhanced Eq. 5 (default 0.02, Enhanced §7.2) */
     int paths;                  /* enum restir_paths */
     int ablation;               /* enum restir_ablation */
     int russian_roulette;       /* the path tracer's roulette in initial sampling only (default 0) */
@@ -102,6 +111,11 @@ int restir_options_validate(const restir_options *o, rerror *e);
  * restir_render uses for scene s; lights must outlive it. */
 void restir_context_for(restir_context *c, const scene *s, const light_set *lights, const restir_options *o);
 void restir_initial_options_for(initial_options *io, const restir_options *o);
+/* --pairing paired: builds no->count reuse textures (sigma from the radius, pairing.h) into
+ * `textures` (PAIRING_MAX_TEXTURES entries) and points no at them; other patterns: no-op.
+ * restir_pairing_free releases them. */
+int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_texture *textures, rerror *e);
+void restir_pairing_free(neighbor_options *no);
 
 /* Renders s (prepared: BVH built). Deterministic for any thread count. On success fills
  * *out (free with restir_result_free); frees everything on failure. */

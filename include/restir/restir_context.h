@@ -43,6 +43,8 @@ enum shift_failure {
                                    direction on opposite sides of a reflecting x_k) */
     SHIFT_FAIL_ZERO,            /* F(y) = 0 otherwise: G = 0 (grazing), no emission towards y_{d-1} */
     SHIFT_FAIL_NONFINITE,       /* F(y) or the Jacobian is not finite */
+    SHIFT_FAIL_RC_FOOTPRINT,    /* Enhanced Eq. 5: a ray footprint of the pair is below c/100 times
+                                   the primary-ray footprint (--rc-criterion footprint) */
     SHIFT_FAILURE_COUNT
 };
 
@@ -66,15 +68,27 @@ enum restir_ablation {
     RESTIR_ABLATE_STOCHASTIC_P = 5 /* "stochastic-p": stochastic pairwise MIS picks its Ñ
                                    candidates uniformly among the non-zero samples but weights
                                    them as if P(i) = 1/M (no P(i) correction; Stochastic MIS §3:
-                                   "naively choosing input pixels based on their samples") */
+                                   "naively choosing input pixels based on their samples") */,
+    RESTIR_ABLATE_FOOTPRINT_BASE = 6 /* "footprint-base-only": with --rc-criterion footprint the
+                                   shift does not test the criterion on the offset path (no
+                                   invertibility check): T is then not a bijection (Enhanced §4) */
 };
-#define RESTIR_ABLATION_COUNT 6
+#define RESTIR_ABLATION_COUNT 7
 
-/* Reconnection criterion (GRIS §7.4-7.5, §8.3; Enhanced §2.3): x_{k-1} and x_k must be
- * rough for their lobes and ||x_k - x_{k-1}|| >= min_distance. */
+/* Reconnection criterion (connectability.h). gris (GRIS §7.4-7.5, §8.3; Enhanced §2.3):
+ * x_{k-1} and x_k must be rough for their lobes and ||x_k - x_{k-1}|| >= min_distance.
+ * footprint (Enhanced §4, Eq. 5): x_{k-1} rough (alpha_min) and the dual ray footprint
+ * threshold with constant footprint_c (src/restir/footprint.c). */
+enum rc_mode { RC_MODE_GRIS = 0, RC_MODE_FOOTPRINT = 1 };
+extern const char *const rc_mode_names[]; /* "gris", "footprint" */
+
 typedef struct {
-    real roughness_threshold; /* on the lobe's linear roughness (GRIS §8.3: 0.2) */
-    real min_distance;        /* d_min in scene units */
+    real roughness_threshold; /* on the lobe's linear roughness (GRIS §8.3: 0.2; Enhanced alpha_min) */
+    real min_distance;        /* d_min in scene units (gris only) */
+    int mode;                 /* enum rc_mode (default gris) */
+    real footprint_c;         /* c of Enhanced Eq. 5 (0.02, Enhanced §7.2) */
+    int force_nee;            /* Enhanced §6.2.3: an NEE path without connectable pair reconnects
+                                 at its light vertex x_d (hybrid shift) */
 } rc_criterion;
 
 typedef struct {

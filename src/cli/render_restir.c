@@ -59,6 +59,10 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--pattern", OPT_CHOICE, &o->pattern,
                     "neighbour pattern: uniform disk, r2 (low-discrepancy disk, default), box window",
                     neighbor_pattern_names, 0, 0);
+    rows[n++] = row("--pairing", OPT_CHOICE, &o->pairing,
+                    "spatial neighbours: disk (the --pattern, default) or paired (reciprocal pairs from reuse textures, "
+                    "Enhanced 3; sigma = 0.532 radius)",
+                    restir_pairing_names, 0, 0);
     rows[n++] = row("--no-reject", OPT_FLAG, &o->no_reject, "keep neighbours whatever their normal and depth", NULL,
                     0, 0);
     rows[n++] = row("--normal-cos", OPT_REAL, &o->normal_cos,
@@ -98,11 +102,25 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--distance-threshold", OPT_REAL, &o->distance_threshold,
                     "minimum reconnection segment, fraction of the scene's bounding-box diagonal (default 0.02)", NULL,
                     0, 1);
+    rows[n++] = row("--shading", OPT_CHOICE, &o->shading,
+                    "pixel estimate: scalar F(Y) W (default) or vector (Enhanced 6.3: sum of m_i F(Y_i) W_i J_i over the "
+                    "last spatial pass's inputs)",
+                    restir_shading_names, 0, 0);
+    rows[n++] = row("--force-nee-reconnection", OPT_FLAG, &o->force_nee_reconnection,
+                    "hybrid shift: an NEE path with no connectable pair reconnects at its light vertex (Enhanced 6.2.3)",
+                    NULL, 0, 0);
+    rows[n++] = row("--rc-criterion", OPT_CHOICE, &o->rc_criterion,
+                    "reconnection criterion: gris (roughness + distance, default) or footprint (Enhanced Eq. 5)",
+                    rc_mode_names, 0, 0);
+    rows[n++] = row("--footprint-c", OPT_REAL, &o->footprint_c,
+                    "constant c of the footprint criterion (default 0.02; larger postpones reconnection)", NULL, 0,
+                    1e9);
     rows[n++] = row("--paths", OPT_CHOICE, &o->paths, "all (default) or indirect (path length >= 3 only)",
                     restir_paths_names, 0, 0);
     rows[n++] = row("--ablate", OPT_CHOICE, &o->ablation,
-                    "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf), "
-                    "stochastic-p (stochastic-pairwise without the P(i) correction)",
+                    "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf), temporal-target, "
+                    "temporal-suffix, stochastic-p (stochastic-pairwise without the P(i) correction), footprint-base-only "
+                    "(footprint criterion not tested on the offset)",
                     restir_ablation_names, 0, 0);
     rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
                     "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",

@@ -39,6 +39,8 @@ typedef struct frame_job_s {
     reservoir *dst;
     const reservoir *final;          /* what the frame shades */
     double *sum;                     /* 3 per pixel */
+    rgb *vector_shade;               /* --shading vector: the last spatial pass's Enhanced §6.3
+                                        estimate per pixel (NULL: scalar shading) */
     worker_state *workers;
     int temporal;                    /* real-time pipeline with temporal reuse (workspaces >= 2) */
     stage_io *sio;                   /* NULL, or stage dumps / restart (stage_dump.h) */

@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-const char *const neighbor_pattern_names[] = {"uniform", "r2", "box", NULL};
+const char *const neighbor_pattern_names[] = {"uniform", "r2", "box", "paired", NULL};
 const char *const neighbor_verdict_names[] = {"accepted", "centre", "outside", "repeat", "no_hit", "normal", "depth", NULL};
 
 /* The R2 sequence (Roberts 2018, "The unreasonable effectiveness of quasirandom
@@ -20,11 +20,13 @@ void neighbor_options_default(neighbor_options *o)
     o->reject_geometry = 1;
     o->min_normal_cos = NEIGHBOR_DEFAULT_MIN_NORMAL_COS;
     o->max_relative_depth = NEIGHBOR_DEFAULT_MAX_RELATIVE_DEPTH;
+    o->textures = NULL;
 }
 
 int neighbor_options_validate(const neighbor_options *o, rerror *e)
 {
-    if (o->pattern != NEIGHBOR_UNIFORM && o->pattern != NEIGHBOR_R2 && o->pattern != NEIGHBOR_BOX)
+    if (o->pattern != NEIGHBOR_UNIFORM && o->pattern != NEIGHBOR_R2 && o->pattern != NEIGHBOR_BOX &&
+        o->pattern != NEIGHBOR_PAIRED)
         return rerror_set(e, "neighbours: unknown pattern %d", (int)o->pattern);
     if (!(o->radius > 0) || !isfinite(o->radius))
         return rerror_set(e, "neighbours: radius must be a positive number of pixels, not %g", o->radius);
@@ -32,6 +34,9 @@ int neighbor_options_validate(const neighbor_options *o, rerror *e)
         return rerror_set(e, "neighbours: box radius floor(%g) must be in [1, %d]", o->radius, NEIGHBOR_MAX_BOX_RADIUS);
     if (o->pattern != NEIGHBOR_BOX && (o->count < 1 || o->count > NEIGHBOR_MAX_COUNT))
         return rerror_set(e, "neighbours: count %d not in [1, %d]", o->count, NEIGHBOR_MAX_COUNT);
+    if (o->pattern == NEIGHBOR_PAIRED && o->count > PAIRING_MAX_TEXTURES)
+        return rerror_set(e, "neighbours: paired reuse takes at most %d neighbours, not %d", PAIRING_MAX_TEXTURES,
+                          o->count);
     if (!(o->min_normal_cos >= -1 && o->min_normal_cos <= 1))
         return rerror_set(e, "neighbours: normal threshold %g not in [-1, 1]", (double)o->min_normal_cos);
     if (!(o->max_relative_depth >= 0) || !isfinite(o->max_relative_depth))
@@ -137,11 +142,17 @@ int neighbor_select(const neighbor_options *o, const gbuffer *g, uint32_t seed, 
     const gbuffer_texel *ti = gbuffer_at(g, x, y);
     if (capacity < candidates)
         return rerror_set(e, "neighbours: room for %d, but %d candidates per pixel", capacity, candidates);
+    if (o->pattern == NEIGHBOR_PAIRED && !o->textures) return rerror_set(e, "neighbours: paired without reuse textures");
     for (k = 0; k < candidates; ++k) {
         enum neighbor_verdict verdict;
         int dx, dy, nx, ny;
         uint32_t pixel;
-        neighbor_offset(o, key, k, &dx, &dy);
+        if (o->pattern == NEIGHBOR_PAIRED) { /* Enhanced §3.2: texture k, this frame's placement */
+            reuse_transform f = reuse_transform_draw(&o->textures[k], seed, sample, (uint32_t)k);
+            reuse_partner_offset(&o->textures[k], &f, x, y, &dx, &dy);
+        } else {
+            neighbor_offset(o, key, k, &dx, &dy);
+        }
         nx = x + dx;
         ny = y + dy;
         pixel = (uint32_t)ny * (uint32_t)g->width + (uint32_t)nx;

@@ -118,7 +118,15 @@ void trunk_rc_vertices(const path_trunk *t, const restir_context *c, const uint8
     for (j = 1; j < d; ++j) {
         v[j].position = t->v[j].position;
         v[j].rough = rc_vertex_is_rough(&t->v[j].b, lobe[j], c->rc.roughness_threshold);
+        v[j].ng = t->v[j].ng;
+        v[j].surface = &t->v[j];
+        v[j].lobe = lobe[j];
+        v[j].wi = lobe[j] == PATH_LOBE_NEE ? end->nee.wi : t->b[j].wi;
     }
     v[d].position = technique == PATH_TECH_NEE ? v3_from_f(end->nee.y.position) : t->v[d].position;
     v[d].rough = rc_vertex_is_rough(NULL, PATH_LOBE_NONE, c->rc.roughness_threshold);
+    v[d].ng = technique == PATH_TECH_NEE ? v3_from_f(end->nee.y.normal) : t->v[d].ng;
+    v[d].surface = NULL; /* emissive: Enhanced footnote 6 */
+    v[d].lobe = PATH_LOBE_NONE;
+    v[d].wi = v3(0, 0, 0);
 }

@@ -288,6 +288,7 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
 {
     pipeline pl;
     frame_job *j = &pl.j;
+    reuse_texture textures[PAIRING_MAX_TEXTURES]; /* --pairing paired */
     size_t pixels;
     int status = 0;
     memset(total, 0, sizeof *total);
@@ -309,12 +310,16 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     pl.prev_ctx = j->ctx;
     restir_initial_options_for(&j->io, o);
     restir_neighbor_options_for(&j->no, o);
+    if (!status && restir_pairing_build(&j->no, o, textures, e)) status = -1;
     j->max_domains = neighbor_candidate_count(&j->no) + 1;
     pixels = (size_t)s->width * (size_t)s->height;
     j->initial = rmalloc(pixels, sizeof *j->initial, e);
     j->pong = rmalloc(pixels, sizeof *j->pong, e);
     pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
     j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
+    if (o->shading == RESTIR_SHADING_VECTOR && o->spatial_passes > 0 &&
+        !(j->vector_shade = rcalloc(pixels, sizeof *j->vector_shade, e)))
+        status = -1;
     if (status || !j->initial || !j->pong || !pl.prev || !j->sum || frame_workers_alloc(j, e)) status = -1;
     if (!status) status = run_sequence(&pl, q, sink, user, total, e);
     if (!status) total->passes = o->spatial_passes;
@@ -322,9 +327,11 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     free(j->pong);
     free(pl.prev);
     free(j->sum);
+    free(j->vector_shade);
     gbuffer_free(&j->g);
     gbuffer_free(&pl.prev_g);
     frame_workers_free(j);
+    restir_pairing_free(&j->no);
     lights_free(&pl.lights);
     if (pl.animated) {
         scene_free(&pl.posed[0]);

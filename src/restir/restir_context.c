@@ -4,7 +4,9 @@
 #include <stddef.h>
 
 const char *const restir_shift_names[] = {"reconnection", "replay", "hybrid", NULL};
-const char *const restir_ablation_names[] = {"none", "jacobian", "light-pdf", "temporal-target", "temporal-suffix", "stochastic-p", NULL};
+const char *const restir_ablation_names[] = {"none", "jacobian", "light-pdf", "temporal-target", "temporal-suffix",
+                                                "stochastic-p", "footprint-base-only", NULL};
+const char *const rc_mode_names[] = {"gris", "footprint", NULL};
 
 /* Index = enum shift_failure. */
 const char *const shift_failure_names[] = {
@@ -28,5 +30,6 @@ const char *const shift_failure_names[] = {
     "bsdf_zero",
     "zero",
     "nonfinite",
+    "rc_footprint",
     NULL,
 };

@@ -13,6 +13,8 @@
 #include "frame_job.h"
 
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
+const char *const restir_pairing_names[] = {"disk", "paired", NULL};
+const char *const restir_shading_names[] = {"scalar", "vector", NULL};
 const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", "stochastic-pairwise", NULL};
 
 void restir_options_default(restir_options *o)
@@ -31,6 +33,8 @@ void restir_options_default(restir_options *o)
     o->max_depth = 10;
     o->roughness_threshold = 0.2;
     o->distance_threshold = 0.02;
+    o->rc_criterion = RC_MODE_GRIS;
+    o->footprint_c = 0.02;
     o->paths = RESTIR_PATHS_ALL;
     o->rr_min_depth = 3;
     o->seed = 1;
@@ -52,6 +56,22 @@ void restir_neighbor_options_for(neighbor_options *no, const restir_options *o)
     no->reject_geometry = !o->no_reject;
     no->min_normal_cos = (float)o->normal_cos;
     no->max_relative_depth = (float)o->depth_ratio;
+    if (o->pairing == RESTIR_PAIRING_PAIRED) no->pattern = NEIGHBOR_PAIRED;
+}
+
+int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_texture *textures, rerror *e)
+{
+    no->textures = NULL;
+    if (no->pattern != NEIGHBOR_PAIRED) return 0;
+    if (reuse_textures_build(textures, no->count, pairing_sigma_for_radius(o->radius), o->seed, e)) return -1;
+    no->textures = textures;
+    return 0;
+}
+
+void restir_pairing_free(neighbor_options *no)
+{
+    if (no->textures) reuse_textures_free((reuse_texture *)no->textures, no->count);
+    no->textures = NULL;
 }
 
 /* GRIS §8.3: "we use defensive pairwise MIS for spatial reuse" (issue 9: the preset kept
@@ -107,6 +127,17 @@ int restir_options_validate(const restir_options *o, rerror *e)
         return rerror_set(e, "restir: max depth %d outside %d..%d", o->max_depth, min_depth, PATH_MAX_LENGTH);
     if (!(o->roughness_threshold >= 0) || !(o->distance_threshold >= 0))
         return rerror_set(e, "restir: negative (or NaN) roughness or distance threshold");
+    if (o->shading != RESTIR_SHADING_SCALAR && o->shading != RESTIR_SHADING_VECTOR)
+        return rerror_set(e, "restir: unknown shading %d", o->shading);
+    if (o->shading == RESTIR_SHADING_VECTOR && o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE)
+        return rerror_set(e, "restir: --shading vector needs a deterministic spatial MIS family (the stochastic "
+                             "pairwise step keeps no per-input weights to sum)");
+    if (o->pairing != RESTIR_PAIRING_DISK && o->pairing != RESTIR_PAIRING_PAIRED)
+        return rerror_set(e, "restir: unknown pairing %d", o->pairing);
+    if (o->rc_criterion != RC_MODE_GRIS && o->rc_criterion != RC_MODE_FOOTPRINT)
+        return rerror_set(e, "restir: unknown reconnection criterion %d", o->rc_criterion);
+    if (!(o->footprint_c >= 0) || isinf(o->footprint_c))
+        return rerror_set(e, "restir: footprint constant c %g (must be finite and >= 0)", o->footprint_c);
     if (o->paths != RESTIR_PATHS_ALL && o->paths != RESTIR_PATHS_INDIRECT)
         return rerror_set(e, "restir: unknown --paths %d", o->paths);
     if (o->ablation < 0 || o->ablation >= RESTIR_ABLATION_COUNT)
@@ -128,6 +159,9 @@ void restir_context_for(restir_context *c, const scene *s, const light_set *ligh
     c->shift = o->shift;
     c->rc.roughness_threshold = (real)o->roughness_threshold;
     c->rc.min_distance = rc_min_distance_for_scene(s, (real)o->distance_threshold);
+    c->rc.mode = o->rc_criterion;
+    c->rc.footprint_c = (real)o->footprint_c;
+    c->rc.force_nee = o->force_nee_reconnection != 0;
     c->ablation = o->ablation;
 }
 
@@ -199,6 +233,24 @@ static void stochastic_spatial_pixel(frame_job *j, worker_state *w, rng_key key,
     stochastic_pairwise_resample(&j->ctx, &so, m, w->x1, w->in, w->u, w->up, w->uc, out, &w->sw, &w->st.spatial);
 }
 
+/* Enhanced §6.3: sum_i m_i(Y_i) F(Y_i) W_{X_i} |dT_i/dX_i| over the inputs of the GRIS step
+ * just run (their shifts, MIS weights and Jacobians are in the workspace). It is the
+ * expectation of the scalar estimate F(Y) W_Y over the selection among the same inputs
+ * (w_i = m_i p̂(Y_i) W_i J_i selects Y_i with probability w_i / sum w, and W_Y =
+ * sum w / p̂(Y)), so it is unbiased wherever the scalar estimate is. */
+static rgb vector_estimate(const spatial_workspace *ws, const reservoir *const *in, int m)
+{
+    rgb L = rgb_gray(0);
+    int i;
+    for (i = 0; i < m; ++i) {
+        real weight;
+        if (!ws->valid[i]) continue;
+        weight = ws->mis[i] * in[i]->W * ws->jacobian[i];
+        if (weight > 0 && isfinite(weight)) L = rgb_add(L, rgb_scale(ws->shifted[i].F, weight));
+    }
+    return L;
+}
+
 /* One pixel of spatial pass j->pass (GRIS §6.3 step 3): its own reservoir (canonical,
  * domain 0) and the accepted neighbours (domains 1..M-1) of the previous pass's output
  * resampled into dst[p] with the chosen MIS family (spatial.h). The neighbours depend only
@@ -211,6 +263,7 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
     int n, d;
     if (!primary_vertex(j, p, &w->verts[0])) {
         reservoir_init(&j->dst[p]);
+        if (j->vector_shade) j->vector_shade[p] = rgb_gray(0);
         return;
     }
     /* capacity is checked by restir_options_validate, so this cannot fail */
@@ -239,6 +292,8 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
         return;
     }
     spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws, &w->st.spatial);
+    if (j->vector_shade && j->pass == j->o->spatial_passes - 1)
+        j->vector_shade[p] = vector_estimate(&w->ws, w->in, n + 1);
 }
 
 static void spatial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
@@ -261,7 +316,7 @@ static void shade_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             rgb L;
             if (!primary_vertex(j, p, &v)) continue;
             /* Emission at x1 is added, never resampled (DESIGN §3); F(Y) W_Y is GRIS Eq. 3. */
-            L = reservoir_estimate(&j->final[p]);
+            L = j->vector_shade && j->o->spatial_passes > 0 ? j->vector_shade[p] : reservoir_estimate(&j->final[p]);
             if (j->o->paths == RESTIR_PATHS_ALL) L = rgb_add(path_vertex_emitted(&j->ctx.path, &v), L);
             j->sum[3 * p + 0] += (double)L.r;
             j->sum[3 * p + 1] += (double)L.g;
@@ -448,6 +503,7 @@ void frame_workers_free(frame_job *j)
 
 int restir_render(const scene *s, const restir_options *o, restir_result *out, rerror *e)
 {
+    reuse_texture textures[PAIRING_MAX_TEXTURES];
     frame_job j;
     light_set lights;
     size_t pixels;
@@ -463,11 +519,18 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     restir_context_for(&j.ctx, s, &lights, o);
     restir_initial_options_for(&j.io, o);
     restir_neighbor_options_for(&j.no, o);
+    if (restir_pairing_build(&j.no, o, textures, e)) {
+        lights_free(&lights);
+        return -1;
+    }
     j.max_domains = neighbor_candidate_count(&j.no) + 1;
     pixels = (size_t)s->width * (size_t)s->height;
     j.initial = rmalloc(pixels, sizeof *j.initial, e);
     j.pong = o->spatial_passes > 0 ? rmalloc(pixels, sizeof *j.pong, e) : NULL;
     j.sum = rcalloc(3 * pixels, sizeof *j.sum, e);
+    if (o->shading == RESTIR_SHADING_VECTOR && o->spatial_passes > 0 &&
+        !(j.vector_shade = rcalloc(pixels, sizeof *j.vector_shade, e)))
+        status = -1;
     if (!j.initial || (o->spatial_passes > 0 && !j.pong) || !j.sum || frame_workers_alloc(&j, e)) status = -1;
     if (!status) status = run_frames(&j, out, t0, e);
     if (!status) {
@@ -478,7 +541,9 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     free(j.initial);
     free(j.pong);
     free(j.sum);
+    free(j.vector_shade);
     frame_workers_free(&j);
+    restir_pairing_free(&j.no);
     lights_free(&lights);
     if (status) restir_result_free(out);
     return status;
@@ -565,6 +630,10 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
                  "\"roughness_threshold\": %g, \"distance_threshold\": %g, \"paths\": \"%s\", \"ablate\": \"%s\", ",
             o->frames, o->first_frame, o->time_limit, o->max_depth, o->roughness_threshold, o->distance_threshold,
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
+    fprintf(out, "\"pairing\": \"%s\", \"shading\": \"%s\", ", restir_pairing_names[o->pairing],
+            restir_shading_names[o->shading]);
+    fprintf(out, "\"force_nee_reconnection\": %s, ", o->force_nee_reconnection ? "true" : "false");
+    fprintf(out, "\"rc_criterion\": \"%s\", \"footprint_c\": %g, ", rc_mode_names[o->rc_criterion], o->footprint_c);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
             o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads, indent);
     if (o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE || o->cells) /* issue 14 (only when used) */

@@ -1,6 +1,8 @@
 /* The shift mappings of ReSTIR PT (include/restir/shift.h, docs/restir-pt.md). */
 #include "restir/shift.h"
 
+#include "restir/footprint.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -31,6 +33,12 @@ static void info_clear(shift_info *info)
     if (info) memset(info, 0, sizeof *info);
 }
 
+/* --ablate footprint-base-only: the footprint criterion tested on the base path alone. */
+static int footprint_base_only(const restir_context *c)
+{
+    return c->rc.mode == RC_MODE_FOOTPRINT && c->ablation == RESTIR_ABLATE_FOOTPRINT_BASE;
+}
+
 /* Full random replay (GRIS §7.2; J = 1 in PSS, GRIS §8.1). With `require_no_reconnection`
  * (the hybrid shift of a base path without k) the offset must not have a connectable
  * pair either, or T^{-1} would reconnect and not return to x. */
@@ -48,7 +56,7 @@ static enum shift_failure replay_whole_path(const restir_context *c, const path_
     if (info) info->replayed = t.n;
     if (why != SHIFT_OK) return fail(y, jacobian, why);
     trunk_lobes(&t, d, x->technique, r.lobe);
-    if (require_no_reconnection) {
+    if (require_no_reconnection && !footprint_base_only(c)) {
         rc_vertex v[PATH_MAX_LENGTH + 1];
         trunk_rc_vertices(&t, c, r.lobe, d, &end, x->technique, v);
         if (rc_select(c, v, d) != PATH_RC_NONE) return fail(y, jacobian, SHIFT_FAIL_RC_OFFSET_RECONNECTS);
@@ -66,26 +74,28 @@ enum shift_failure hybrid_same_reconnection(const restir_context *c, const path_
 {
     const scene *s = c->path.scene;
     rc_vertex v[PATH_MAX_LENGTH + 1];
+    path_vertex xk;
     int k = x->rc_k, j;
-    real threshold = c->rc.roughness_threshold;
+    real threshold = c->rc.roughness_threshold, primary = 0;
     for (j = 1; j < k; ++j) {
         /* y_{k-1} uses the base lobe ell_{k-1} (copied by the reconnection); earlier
          * vertices use the lobes their replayed numbers picked. */
         unsigned lobe = j < k - 1 ? (unsigned)t->b[j].lobe : x->lobe[k - 1];
         v[j].position = t->v[j].position;
         v[j].rough = rc_vertex_is_rough(&t->v[j].b, lobe, threshold);
+        v[j].ng = t->v[j].ng;
+        v[j].surface = &t->v[j];
+        v[j].lobe = lobe;
+        v[j].wi = j < k - 1 ? t->b[j].wi : v3_normalize(v3_sub(v3_from_f(x->rc_position), t->v[j].position));
     }
-    v[k].position = v3_from_f(x->rc_position);
-    if (k == x->length) {
-        v[k].rough = rc_vertex_is_rough(NULL, PATH_LOBE_NONE, threshold);
-    } else {
-        bsdf b = bsdf_from_material(&s->materials[s->triangles[x->rc_triangle].material]);
-        v[k].rough = rc_vertex_is_rough(&b, x->lobe[k], threshold);
-    }
+    /* x_k with its own lobe ell_k and w_k; the footprint test sees it from y_{k-1}. */
+    if (!rc_vertex_of_xk(s, x, threshold, &xk, &v[k])) return SHIFT_FAIL_ZERO;
+    if (c->rc.mode == RC_MODE_FOOTPRINT) primary = rc_primary_footprint(&t->v[1]);
     for (j = 2; j < k; ++j)
-        if (rc_pair_test(&c->rc, &v[j - 1], &v[j]) == SHIFT_OK)
+        if (rc_pair_test(&c->rc, &v[j - 1], &v[j], primary) == SHIFT_OK)
             return j < k - 1 ? SHIFT_FAIL_RC_EARLIER : SHIFT_FAIL_RC_PREV;
-    return rc_pair_test(&c->rc, &v[k - 1], &v[k]);
+    if (rc_forced_nee(&c->rc, v, k, x->length)) return SHIFT_OK; /* Enhanced §6.2.3, as rc_select */
+    return rc_pair_test(&c->rc, &v[k - 1], &v[k], primary);
 }
 
 /* Replays y_1..y_{k-1} with x's numbers and reconnects y_{k-1} to x_k (for k = 2 the
@@ -105,7 +115,7 @@ static enum shift_failure replay_then_reconnect(const restir_context *c, const p
     why = trunk_replay(&t, c, y1, x, k - 1);
     if (info) info->replayed = t.n;
     if (why != SHIFT_OK) return fail(y, jacobian, why);
-    if (check_invertibility && (why = hybrid_same_reconnection(c, &t, x)) != SHIFT_OK)
+    if (check_invertibility && !footprint_base_only(c) && (why = hybrid_same_reconnection(c, &t, x)) != SHIFT_OK)
         return fail(y, jacobian, why);
     why = rc_evaluate(c, &t.v[k - 1], x, &terms);
     if (info) {
