@@ -2,6 +2,9 @@
  * 32-bit unsigned wrap-around arithmetic, which a GPU build can copy. */
 #include "restir/rng.h"
 
+#include <stdio.h>
+#include <stdlib.h>
+
 /* pcg4d, Jarzynski & Olano, "Hash Functions for GPU Rendering", JCGT 9(3), 2020. */
 void rng_pcg4d(uint32_t v[4])
 {
@@ -18,9 +21,22 @@ void rng_pcg4d(uint32_t v[4])
     v[3] += v[1] * v[2];
 }
 
+/* An address whose fields do not fit the key layout would alias another address (a slot
+ * >= 65536 lands in the vertex field: the spatial-selection bug fixed in f5df7f5 made
+ * spatial reuse reuse initial sampling's numbers). Masking it silently would hide such a
+ * collision, so the program stops instead: an oracle must never run on aliased numbers. */
+static void rng_address_overflow(rng_key k)
+{
+    fprintf(stderr, "rng: address out of range (stream %lu < 256, vertex %lu < 256, slot %lu < 65536 required; "
+                    "docs/rng.md)\n",
+            (unsigned long)k.stream, (unsigned long)k.vertex, (unsigned long)k.slot);
+    abort();
+}
+
 /* The four input words of an address (docs/rng.md, "Key layout"). */
 static void rng_words(rng_key k, uint32_t v[4])
 {
+    if (k.stream > 0xffu || k.vertex > 0xffu || k.slot > 0xffffu) rng_address_overflow(k);
     v[0] = k.pixel;
     v[1] = k.sample;
     v[2] = ((k.stream & 0xffu) << 24) | ((k.vertex & 0xffu) << 16) | (k.slot & 0xffffu);
