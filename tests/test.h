@@ -71,6 +71,8 @@ int test_cli(char *out, size_t out_size, const char *fmt, ...)
 
 /* Writes text to a file in the scratch directory; returns its path (static, rotated). */
 const char *test_write_file(const char *name, const char *text);
+/* 1 if both files exist and hold the same bytes. */
+int test_files_equal(const char *a, const char *b);
 int test_file_exists(const char *path);
 
 #endif

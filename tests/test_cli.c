@@ -29,21 +29,6 @@ static const char *write_tiny_scene(void)
     return test_write_file("tiny.scene", tiny_scene);
 }
 
-static int files_equal(const char *a, const char *b)
-{
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
-    int ca, cb, same = fa && fb;
-    while (same) {
-        ca = fgetc(fa);
-        cb = fgetc(fb);
-        if (ca != cb) same = 0;
-        if (ca == EOF) break;
-    }
-    if (fa) fclose(fa);
-    if (fb) fclose(fb);
-    return same;
-}
-
 TEST(cli_version_and_help)
 {
     CHECK(test_cli(out, sizeof out, "--version") == 0);
@@ -169,7 +154,7 @@ TEST(cli_threads_bit_identical)
         snprintf(b, sizeof b, "%s/threads%d.pfm", test_tmpdir(), threads[i]);
         CHECK(test_cli(out, sizeof out, "render %s --threads %d --jitter -o %s --no-png --quiet", path, threads[i],
                        b) == 0);
-        CHECKF(files_equal(a, b), "%d threads differ from 1 thread", threads[i]);
+        CHECKF(test_files_equal(a, b), "%d threads differ from 1 thread", threads[i]);
     }
 }
 

@@ -100,6 +100,21 @@ const char *test_tmp_path(const char *name)
     return p;
 }
 
+int test_files_equal(const char *a, const char *b)
+{
+    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+    int ca, cb, same = fa && fb;
+    while (same) {
+        ca = fgetc(fa);
+        cb = fgetc(fb);
+        if (ca != cb) same = 0;
+        if (ca == EOF) break;
+    }
+    if (fa) fclose(fa);
+    if (fb) fclose(fb);
+    return same;
+}
+
 const char *test_write_file(const char *name, const char *text)
 {
     const char *path = test_tmp_path(name);

@@ -18,21 +18,6 @@ static char out[262144];
                    "--sequence 0..2 --quiet --no-png --threads 2"
 static const char *const kit_stages[] = {"initial", "temporal", "spatial1", "spatial2"};
 
-static int same_file(const char *a, const char *b)
-{
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
-    int ca, cb, same = fa && fb;
-    while (same) {
-        ca = fgetc(fa);
-        cb = fgetc(fb);
-        if (ca != cb) same = 0;
-        if (ca == EOF) break;
-    }
-    if (fa) fclose(fa);
-    if (fb) fclose(fb);
-    return same;
-}
-
 static const char *kit_dir(const char *name)
 {
     static char buf[4][1100];
@@ -123,7 +108,7 @@ TEST(oracle_restart_bit_identical_from_every_stage)
         for (f = 0; f <= 2; ++f) {
             snprintf(fa, sizeof fa, "%s/a.%04d.pfm", test_tmpdir(), f);
             snprintf(fb, sizeof fb, "%s/r.%04d.pfm", test_tmpdir(), f);
-            CHECKF(same_file(fa, fb), "restart from %s: frame %d differs", kit_stages[i], f);
+            CHECKF(test_files_equal(fa, fb), "restart from %s: frame %d differs", kit_stages[i], f);
         }
         CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", a, kit_dir(name)) == 0, "restart from %s:\n%s",
                kit_stages[i], out);
@@ -142,10 +127,10 @@ TEST(oracle_restart_bit_identical_from_every_stage)
            "%s", out);
     snprintf(fa, sizeof fa, "%s/a.0001.pfm", test_tmpdir());
     snprintf(fb, sizeof fb, "%s/p.0001.pfm", test_tmpdir());
-    CHECKF(!same_file(fa, fb), "a W planted in the initial dump did not change the restarted frame 1");
+    CHECKF(!test_files_equal(fa, fb), "a W planted in the initial dump did not change the restarted frame 1");
     snprintf(fa, sizeof fa, "%s/a.0000.pfm", test_tmpdir());
     snprintf(fb, sizeof fb, "%s/p.0000.pfm", test_tmpdir());
-    CHECKF(same_file(fa, fb), "frame 0 changed although the plant is in frame 1");
+    CHECKF(test_files_equal(fa, fb), "frame 0 changed although the plant is in frame 1");
 }
 
 TEST(oracle_diff_dump_self_is_identical)

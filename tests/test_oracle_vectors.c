@@ -12,21 +12,6 @@
 
 static char out[65536];
 
-static int same_file(const char *a, const char *b)
-{
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
-    int ca, cb, same = fa && fb;
-    while (same) {
-        ca = fgetc(fa);
-        cb = fgetc(fb);
-        if (ca != cb) same = 0;
-        if (ca == EOF) break;
-    }
-    if (fa) fclose(fa);
-    if (fb) fclose(fb);
-    return same;
-}
-
 /* Regenerated twice: byte-identical; every file re-evaluates; in the double build the
  * checked-in golden files are reproduced exactly (the float build rounds differently:
  * docs/oracle.md lists its tolerance, and it only checks its own files). */
@@ -45,14 +30,14 @@ TEST(oracle_vectors_reproduce)
         long lines, bad;
         snprintf(fa, sizeof fa, "%s/%s.jsonl", a, fam[i]);
         snprintf(fb, sizeof fb, "%s/%s.jsonl", b, fam[i]);
-        CHECKF(same_file(fa, fb), "%s: two generations differ", fam[i]);
+        CHECKF(test_files_equal(fa, fb), "%s: two generations differ", fam[i]);
         CHECKF(vectors_check_file(fa, &lines, &bad, &e) == 0 && lines > 0, "%s: %ld bad of %ld: %s", fa, bad, lines,
                e.msg);
         snprintf(golden, sizeof golden, "tests/vectors/%s.jsonl", fam[i]);
 #ifndef RESTIR_REAL_FLOAT
         CHECKF(vectors_check_file(golden, &lines, &bad, &e) == 0, "%s: %ld of %ld lines do not reproduce: %s", golden,
                bad, lines, e.msg);
-        CHECKF(same_file(fa, golden), "%s differs from a fresh generation: run `restir vectors -o tests/vectors` "
+        CHECKF(test_files_equal(fa, golden), "%s differs from a fresh generation: run `restir vectors -o tests/vectors` "
                "after a deliberate change", golden);
 #endif
     }

@@ -378,21 +378,6 @@ static const char *write_seq_scene(void)
                                         "size 24 16\n");
 }
 
-static int same_file(const char *a, const char *b)
-{
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
-    int ca, cb, same = fa && fb;
-    while (same) {
-        ca = fgetc(fa);
-        cb = fgetc(fb);
-        if (ca != cb) same = 0;
-        if (ca == EOF) break;
-    }
-    if (fa) fclose(fa);
-    if (fb) fclose(fb);
-    return same;
-}
-
 /* --sequence writes one PFM + PNG per frame with a 4-digit number, the per-frame stats
  * and the effective preset (with an override) in --stats; frames are byte-identical for
  * 1, 2 and 7 threads. */
@@ -419,7 +404,7 @@ TEST(restir_temporal_cli_sequence_files_stats_threads)
         CHECKF(test_file_exists(b), "%s missing", b);
         for (i = 1; i < 3; ++i) {
             snprintf(b, sizeof b, "%s/seq%d.%04d.pfm", test_tmpdir(), threads[i], f);
-            CHECKF(same_file(a, b), "frame %d differs between 1 and %d threads", f, threads[i]);
+            CHECKF(test_files_equal(a, b), "frame %d differs between 1 and %d threads", f, threads[i]);
         }
     }
     snprintf(a, sizeof a, "%s/seq1.0000.pfm", test_tmpdir());
@@ -490,7 +475,7 @@ TEST(restir_temporal_resume_equals_uninterrupted)
     for (f = 0; f <= 3; ++f) {
         snprintf(a, sizeof a, "%s/full.%04d.pfm", test_tmpdir(), f);
         snprintf(b, sizeof b, "%s/part.%04d.pfm", test_tmpdir(), f);
-        CHECKF(same_file(a, b), "frame %d differs after resuming at frame 2", f);
+        CHECKF(test_files_equal(a, b), "frame %d differs after resuming at frame 2", f);
     }
     /* the checkpoint now holds frame 3: nothing is left to render in 0..3 */
     CHECK(test_cli(out, sizeof out, "render %s %s --sequence 0..3 -o %s/part.pfm --resume %s", scene_path, common,
@@ -640,9 +625,9 @@ TEST(restir_temporal_animated_threads_and_resume)
         snprintf(a, sizeof a, "%s/shadow1.%04d.pfm", test_tmpdir(), f);
         for (i = 1; i < 3; ++i) {
             snprintf(b, sizeof b, "%s/shadow%d.%04d.pfm", test_tmpdir(), threads[i], f);
-            CHECKF(same_file(a, b), "frame %d differs between 1 and %d threads", f, threads[i]);
+            CHECKF(test_files_equal(a, b), "frame %d differs between 1 and %d threads", f, threads[i]);
         }
         snprintf(b, sizeof b, "%s/shadowr.%04d.pfm", test_tmpdir(), f);
-        CHECKF(same_file(a, b), "frame %d differs after resuming at frame 2", f);
+        CHECKF(test_files_equal(a, b), "frame %d differs after resuming at frame 2", f);
     }
 }

@@ -69,6 +69,12 @@ void gris_resample(const restir_context *c, const restir_context *away, const do
                    int m, const path_vertex *const *x1, const reservoir *const *in, const real *u, reservoir *out,
                    spatial_workspace *w, spatial_stats *st);
 
+/* One shift of x to the pixel of `to` (shift.h), counted in st by outcome; the jacobian
+ * ablation takes |dT/dx| as 1 wherever it enters (weights and MIS). Shared by every GRIS step
+ * (spatial, temporal, stochastic pairwise). */
+enum shift_failure spatial_counted_shift(const restir_context *c, const path_vertex *to, const path_sample *x,
+                                         path_sample *y, real *jacobian, spatial_stats *st);
+
 void spatial_stats_add(spatial_stats *acc, const spatial_stats *add);
 
 /* The invariants of the GRIS step spatial_resample just computed into out, with its

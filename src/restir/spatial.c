@@ -42,8 +42,8 @@ void spatial_workspace_free(spatial_workspace *w)
 /* One counted shift of x to the pixel of `to`; the jacobian ablation drops |dT/dx|
  * wherever it enters (weights and MIS), as in merge.c. Returns the shifted target times
  * the Jacobian factor the caller asks for (0 on failure). */
-static enum shift_failure counted_shift(const restir_context *c, const path_vertex *to, const path_sample *x,
-                                        path_sample *y, real *jacobian, spatial_stats *st)
+enum shift_failure spatial_counted_shift(const restir_context *c, const path_vertex *to, const path_sample *x,
+                                         path_sample *y, real *jacobian, spatial_stats *st)
 {
     enum shift_failure why = shift_path(c, to, x, y, jacobian, NULL);
     st->shifts++;
@@ -79,7 +79,7 @@ static real ptarget_from(const restir_context *c, const domain_refresh *rf, int 
     real jacobian;
     st->mis_shifts++;
     if (!refreshed(rf, 0, i, y, &tmp, &x, st)) return 0;
-    if (counted_shift(c, xi, x, &back, &jacobian, st) != SHIFT_OK) return 0;
+    if (spatial_counted_shift(c, xi, x, &back, &jacobian, st) != SHIFT_OK) return 0;
     return back.target * jacobian;
 }
 
@@ -113,7 +113,7 @@ static void shift_in(const restir_context *c, const domain_refresh *rf, int m, c
             w->shifted[0] = r->y; /* canonical: identity shift */
             w->jacobian[0] = 1;
         } else if (!refreshed(rf, j, 0, &r->y, &tmp, &x, st) ||
-                   counted_shift(c, x1[0], x, &w->shifted[j], &w->jacobian[j], st) != SHIFT_OK) {
+                   spatial_counted_shift(c, x1[0], x, &w->shifted[j], &w->jacobian[j], st) != SHIFT_OK) {
             w->valid[j] = 0;
             continue;
         } else {

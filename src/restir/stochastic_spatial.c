@@ -34,17 +34,6 @@ void stochastic_workspace_free(stochastic_workspace *w)
     memset(w, 0, sizeof *w);
 }
 
-/* One counted shift; the jacobian ablation drops |dT/dx| as spatial.c does. */
-static enum shift_failure counted_shift(const restir_context *c, const path_vertex *to, const path_sample *x,
-                                        path_sample *y, real *jacobian, spatial_stats *st)
-{
-    enum shift_failure why = shift_path(c, to, x, y, jacobian, NULL);
-    st->shifts++;
-    st->outcome[why]++;
-    if (c->ablation == RESTIR_ABLATE_JACOBIAN && *jacobian > 0) *jacobian = 1;
-    return why;
-}
-
 static int usable(const reservoir *r) { return path_sample_is_valid(&r->y) && r->W > 0; }
 
 /* Eq. 17 over the n = m - 1 non-canonical domains (index i - 1), or the ablation's
@@ -83,7 +72,7 @@ static real canonical_weight(const restir_context *c, const stochastic_options *
         if (!w->Kc[i]) continue;
         st->mis_shifts++;
         xi = w->vertex ? w->vertex(w->vertex_user, i + 1) : x1[i + 1];
-        if (counted_shift(c, xi, &in[0]->y, &back, &jac, st) == SHIFT_OK) q = back.target * jac; /* Eq. 10 */
+        if (spatial_counted_shift(c, xi, &in[0]->y, &back, &jac, st) == SHIFT_OK) q = back.target * jac; /* Eq. 10 */
         /* Eq. 18: K'(i) / (Ñ_c P_c) b_i(Y_c) */
         m_c += (real)w->Kc[i] / ((real)so->n_canonical_picks * Pc) * stochastic_pairwise_b(c_c, c_S, c_i, q, p);
     }
@@ -118,7 +107,7 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
             path_sample *y = &w->shifted[i];
             real jac, q, mi, P = so->naive_p ? (real)1 / (real)n : w->P[i];
             if (!w->K[i]) continue;
-            if (counted_shift(c, x1[0], &r->y, y, &jac, st) != SHIFT_OK) continue;
+            if (spatial_counted_shift(c, x1[0], &r->y, y, &jac, st) != SHIFT_OK) continue;
             q = r->y.target / jac; /* p̂_{<-i}(Y_i) = p̂_i(X_i) / |dT_i/dX_i| (Eq. 10) */
             mi = stochastic_mis_weight(w->K[i], so->n_picks, P,
                                        stochastic_pairwise_m(c_c, c_S, scale * r->confidence, q, y->target));
