@@ -20,6 +20,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/stochastic_spatial.h"
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"
@@ -542,5 +543,84 @@ TEST(restir_debug_invariants_fire)
     b.w.shifted[j].rc_position.y -= 5000;
     CHECK(spatial_check_step(&b.c, MIS_TALBOT, m, x1, in, &out, &b.w, why, sizeof why) != 0 && strstr(why, "occluded"));
     if (verbose()) fprintf(stderr, "  invariant messages, e.g.: %s\n", why);
+    step_bench_close(&b);
+}
+
+/* stochastic_check_step (what `make DEBUG=1` runs after every stochastic pairwise step;
+ * the four tests/mutants/stochastic-* patches each abort the DEBUG suite there) accepts a
+ * real step with Ñ = Ñ_c = 2 of M = 4 and rejects each planted violation: an output
+ * confidence that ignores the §4.3 scaling, a P(i) in m~_i that is not Eq. 17's, an m~_i or
+ * an m~_c that differs from mis.c's pairwise weights, a wrong pick count, and a successful
+ * reconnection whose segment is blocked. */
+TEST(restir_debug_stochastic_invariants_fire)
+{
+    step_bench b;
+    stochastic_workspace sw;
+    stochastic_options so = {2, 2, 1, 0};
+    const path_vertex *x1[STEP_MAX_M];
+    const reservoir *in[STEP_MAX_M];
+    reservoir r[STEP_MAX_M], out, saved;
+    real u[STEP_MAX_M] = {0.5, 0.5, 0.5, 0.5, 0.5}, up[2] = {0.3, 0.8}, uc[2] = {0.1, 0.6};
+    spatial_stats st;
+    restir_options o;
+    initial_options io;
+    initial_stats ist;
+    rerror e;
+    char why[512];
+    int x, y, k, m = 0, j = -1;
+    if (step_bench_open(&b, "scenes/cornell-glossy.scene", 16)) return;
+    CHECKF(stochastic_workspace_alloc(&sw, STEP_MAX_M, &e) == 0, "%s", e.msg);
+    restir_options_default(&o);
+    o.shift = RESTIR_SHIFT_RECONNECTION;
+    restir_context_for(&b.c, &b.s, &b.lights, &o);
+    memset(&io, 0, sizeof io);
+    memset(&ist, 0, sizeof ist);
+    io.trees = 2;
+    io.max_depth = 4;
+    io.rr_min_depth = 3;
+    for (y = 2; y < 14 && j < 0; ++y)
+        for (x = 2; x < 14 && j < 0; ++x) {
+            static const int ox[STEP_MAX_M] = {0, 1, -1, 0, 0}, oy[STEP_MAX_M] = {0, 0, 0, 1, -1};
+            for (k = 0, m = 0; k < STEP_MAX_M; ++k) {
+                long q = (long)(y + oy[k]) * b.s.width + x + ox[k];
+                if (!b.hit[q]) break;
+                initial_sample_pixel(&b.c, &io, &b.x1[q], test_seed(), (uint32_t)q, 0, &r[k], &ist);
+                x1[k] = &b.x1[q];
+                in[k] = &r[k];
+                m++;
+            }
+            if (m < STEP_MAX_M || !(r[0].W > 0)) continue;
+            memset(&st, 0, sizeof st);
+            stochastic_pairwise_resample(&b.c, &so, m, x1, in, u, up, uc, &out, &sw, &st);
+            for (k = 0; k < m - 1 && j < 0; ++k)
+                if (sw.K[k] && sw.jacobian[k] > 0 && sw.shifted[k].rc_k != PATH_RC_NONE) j = k;
+        }
+    CHECKF(j >= 0, "no pixel whose picked neighbour reconnects");
+    if (j < 0) goto done;
+    CHECKF(stochastic_check_step(&b.c, &so, m, x1, in, &out, &sw, why, sizeof why) == 0, "a correct step: %s", why);
+    saved = out;
+    out.confidence = r[0].confidence + r[1].confidence + r[2].confidence + r[3].confidence + r[4].confidence;
+    CHECK(stochastic_check_step(&b.c, &so, m, x1, in, &out, &sw, why, sizeof why) != 0 && strstr(why, "confidence"));
+    out = saved;
+#define PLANT(field, factor, text)                                                                              \
+    do {                                                                                                        \
+        real keep = field;                                                                                      \
+        field *= (real)(factor);                                                                                \
+        CHECKF(stochastic_check_step(&b.c, &so, m, x1, in, &out, &sw, why, sizeof why) != 0 && strstr(why, text), \
+               "%s x %g not caught: %s", #field, (double)(factor), why);                                        \
+        field = keep;                                                                                           \
+    } while (0)
+    PLANT(sw.P_used[j], 0.5, "Eq. 17");
+    PLANT(sw.m_used[j], 1.1, "m~_i used");
+    PLANT(sw.m_c_used, 1.1, "m~_c used");
+#undef PLANT
+    sw.K[j]++;
+    CHECK(stochastic_check_step(&b.c, &so, m, x1, in, &out, &sw, why, sizeof why) != 0 && strstr(why, "picks made"));
+    sw.K[j]--;
+    sw.shifted[j].rc_position.y -= 5000; /* below the floor: the segment from y_{k-1} crosses it */
+    CHECK(stochastic_check_step(&b.c, &so, m, x1, in, &out, &sw, why, sizeof why) != 0 && strstr(why, "occluded"));
+    if (verbose()) fprintf(stderr, "  stochastic invariant messages, e.g.: %s\n", why);
+done:
+    stochastic_workspace_free(&sw);
     step_bench_close(&b);
 }

@@ -2,6 +2,8 @@
  * docs/stochastic-mis.md). */
 #include "restir/stochastic_spatial.h"
 
+#include "restir/invariant.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -16,7 +18,13 @@ int stochastic_workspace_alloc(stochastic_workspace *w, int max_domains, rerror 
     w->Kc = rcalloc(m, sizeof *w->Kc, e);
     w->shifted = rcalloc(m, sizeof *w->shifted, e);
     w->jacobian = rcalloc(m, sizeof *w->jacobian, e);
-    if (!w->a || !w->P || !w->K || !w->Kc || !w->shifted || !w->jacobian) {
+    w->P_used = rcalloc(m, sizeof *w->P_used, e);
+    w->m_used = rcalloc(m, sizeof *w->m_used, e);
+    w->q_back = rcalloc(m, sizeof *w->q_back, e);
+    w->check_conf = rcalloc(m, sizeof *w->check_conf, e);
+    w->check_ptarget = rcalloc(m * m, sizeof *w->check_ptarget, e);
+    if (!w->a || !w->P || !w->K || !w->Kc || !w->shifted || !w->jacobian || !w->P_used || !w->m_used || !w->q_back ||
+        !w->check_conf || !w->check_ptarget) {
         stochastic_workspace_free(w);
         return -1;
     }
@@ -31,6 +39,11 @@ void stochastic_workspace_free(stochastic_workspace *w)
     free(w->Kc);
     free(w->shifted);
     free(w->jacobian);
+    free(w->P_used);
+    free(w->m_used);
+    free(w->q_back);
+    free(w->check_conf);
+    free(w->check_ptarget);
     memset(w, 0, sizeof *w);
 }
 
@@ -73,10 +86,11 @@ static real canonical_weight(const restir_context *c, const stochastic_options *
         st->mis_shifts++;
         xi = w->vertex ? w->vertex(w->vertex_user, i + 1) : x1[i + 1];
         if (spatial_counted_shift(c, xi, &in[0]->y, &back, &jac, st) == SHIFT_OK) q = back.target * jac; /* Eq. 10 */
+        w->q_back[i] = q;
         /* Eq. 18: K'(i) / (Ñ_c P_c) b_i(Y_c) */
         m_c += (real)w->Kc[i] / ((real)so->n_canonical_picks * Pc) * stochastic_pairwise_b(c_c, c_S, c_i, q, p);
     }
-    return m_c;
+    return w->m_c_used = m_c;
 }
 
 void stochastic_pairwise_resample(const restir_context *c, const stochastic_options *so, int m,
@@ -90,6 +104,13 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
     reservoir_init(out);
     st->pixels++;
     st->domains += (uint64_t)m;
+    if (n > 0) {
+        memset(w->jacobian, 0, (size_t)n * sizeof *w->jacobian);
+        memset(w->m_used, 0, (size_t)n * sizeof *w->m_used);
+        memset(w->q_back, 0, (size_t)n * sizeof *w->q_back);
+        memset(w->P_used, 0, (size_t)n * sizeof *w->P_used);
+    }
+    w->m_c_used = 0;
     for (i = 1; i < m; ++i) c_S += scale * in[i]->confidence; /* Eq. 12 over the scaled c_i */
     /* the canonical candidate: identity shift, J = 1 */
     if (usable(in[0])) {
@@ -107,10 +128,13 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
             path_sample *y = &w->shifted[i];
             real jac, q, mi, P = so->naive_p ? (real)1 / (real)n : w->P[i];
             if (!w->K[i]) continue;
+            w->P_used[i] = P;
             if (spatial_counted_shift(c, x1[0], &r->y, y, &jac, st) != SHIFT_OK) continue;
             q = r->y.target / jac; /* p̂_{<-i}(Y_i) = p̂_i(X_i) / |dT_i/dX_i| (Eq. 10) */
             mi = stochastic_mis_weight(w->K[i], so->n_picks, P,
                                        stochastic_pairwise_m(c_c, c_S, scale * r->confidence, q, y->target));
+            w->jacobian[i] = jac;
+            w->m_used[i] = mi;
             /* Eq. 14 */
             if (reservoir_stream(out, y, gris_resampling_weight(mi, y->target, r->W, jac), u[i + 1])) chosen = i + 1;
         }
@@ -118,4 +142,9 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
     reservoir_add_confidence(out, c_c + c_S);
     if (chosen > 0) st->selected_neighbor++;
     reservoir_finalize(out); /* GRIS Eq. 22 */
+    if (RESTIR_DEBUG_ENABLED) {
+        char why[512];
+        if (stochastic_check_step(c, so, m, x1, in, out, w, why, sizeof why))
+            restir_invariant_failed(__FILE__, __LINE__, why);
+    }
 }
