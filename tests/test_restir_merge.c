@@ -25,7 +25,19 @@ typedef struct {
     int shift, ablation, paths, max_depth, frames, block;
     uint32_t pt_spp;
     double radius;
+    uint32_t salt; /* per scene: the scenes' comparisons use independent seeds */
 } merge_case;
+
+/* FNV-1a of the scene path. Without it cornell and cornell-glossy (nearly the same
+ * geometry) ran on the same seeds, so one unlucky seed failed both (seed 9: hybrid
+ * indirect, mean z -3.6 and -4.3; at 512 runs the same cases agree with the path tracer
+ * to -0.09% +- 0.08%, docs/statistics.md, "Followed up (session 9)"). */
+static uint32_t scene_salt(const char *path)
+{
+    uint32_t h = 2166136261u;
+    for (; *path; ++path) h = (h ^ (unsigned char)*path) * 16777619u;
+    return h;
+}
 
 static void report(const char *what, const check_result *c)
 {
@@ -37,7 +49,7 @@ static void report(const char *what, const check_result *c)
 /* The path tracer's side of the comparisons of one scene and case (K = 16 runs). */
 static int reference(const scene *s, const merge_case *m, check_side *pt)
 {
-    return rt_pt_side(s, test_seed() * 7919u + 3, runs, m->pt_spp, m->max_depth, m->paths == RESTIR_PATHS_INDIRECT,
+    return rt_pt_side(s, test_seed() * 7919u + 3 + m->salt, runs, m->pt_spp, m->max_depth, m->paths == RESTIR_PATHS_INDIRECT,
                       m->block, pt);
 }
 
@@ -52,7 +64,7 @@ static void expect(const scene *s, const char *name, const merge_case *m, const 
     char what[256];
     int status;
     restir_options_default(&o);
-    o.seed = test_seed() * 613u + 7u * (uint32_t)m->shift + 1;
+    o.seed = test_seed() * 613u + 7u * (uint32_t)m->shift + 1 + m->salt;
     o.shift = m->shift;
     o.ablation = m->ablation;
     o.paths = m->paths;
@@ -92,36 +104,40 @@ static void every_shift_case(const scene *s, const char *path, merge_case m)
 }
 
 /* All paths and indirect paths alone (GRIS's figures measure indirect light). */
-static void every_shift_at(const char *path, int res, int scale)
+static void every_shift_at(const char *path, int res, int scale, int frames_factor)
 {
     scene s;
-    merge_case all = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 4, 4, 8, 64, 6};
+    merge_case all = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 4, 4, 8, 64, 6, 0};
     /* Indirect light through the glossy boxes is heavy-tailed: with 8 frames per run the
      * Welch test on 16 runs rejected a correct hybrid shift for 2 of 40 seeds (always with
      * z < 0, the skewness signature; the 32x larger TEST_LONG version shows mean z -0.45 +-
      * 0.37 over 9 seeds). 16 frames per run: 0 of 40. */
-    merge_case indirect = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_INDIRECT, 4, 16, 8, 128, 6};
-    all.frames *= scale;
-    indirect.frames *= scale;
+    merge_case indirect = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_INDIRECT, 4, 16, 8, 128, 6, 0};
+    all.frames *= scale * frames_factor;
+    indirect.frames *= scale * frames_factor;
     all.max_depth = indirect.max_depth = scale > 1 ? 6 : 4;
     all.radius = indirect.radius = 6.0 * res / 16;
+    all.salt = indirect.salt = scene_salt(path);
     if (rt_load_scene(path, res, &s)) return;
     every_shift_case(&s, path, all);
     if (!test_has_failed()) every_shift_case(&s, path, indirect);
     scene_free(&s);
 }
 
-static void every_shift(const char *path) { every_shift_at(path, 16, 1); }
+TEST(restir_merge_unbiased_every_shift_cornell) { every_shift_at("scenes/cornell.scene", 16, 1, 1); }
 
-TEST(restir_merge_unbiased_every_shift_cornell) { every_shift("scenes/cornell.scene"); }
-TEST(restir_merge_unbiased_every_shift_cornell_glossy) { every_shift("scenes/cornell-glossy.scene"); }
+/* Twice the frames: the glossy boxes make the per-run block means right-skewed (image
+ * mean skewness 0.8 at 16 frames, hybrid, indirect), and with the frames of the diffuse
+ * box the block tests rejected a correct shift at block z -4.2 and -4.4 for 2 of the first
+ * 23 salted seeds (2 and 22), always on the dark side, the skewness signature. */
+TEST(restir_merge_unbiased_every_shift_cornell_glossy) { every_shift_at("scenes/cornell-glossy.scene", 16, 1, 2); }
 
 /* 32 x 32, paths up to d = 6, 32 runs of 16 (all) or 32 (indirect) frames. */
 TEST_LONG(restir_merge_unbiased_every_shift_long)
 {
     runs = 32;
-    every_shift_at("scenes/cornell.scene", 32, 4);
-    if (!test_has_failed()) every_shift_at("scenes/cornell-glossy.scene", 32, 4);
+    every_shift_at("scenes/cornell.scene", 32, 4, 1);
+    if (!test_has_failed()) every_shift_at("scenes/cornell-glossy.scene", 32, 4, 1);
     runs = 16;
 }
 
@@ -131,7 +147,7 @@ static void spot_case(int res, int scale)
 {
     scene s;
     check_side pt;
-    merge_case m = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 3, 16, 4, 256, 4};
+    merge_case m = {0, RESTIR_ABLATE_NONE, RESTIR_PATHS_ALL, 3, 16, 4, 256, 4, 0};
     m.frames *= scale;
     m.radius = 4.0 * res / 16;
     if (rt_make_spot(&s, res) || test_scene_prepare(&s)) return;
