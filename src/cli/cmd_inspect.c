@@ -19,7 +19,7 @@ int cmd_inspect(int argc, char **argv)
     scene_overrides overrides;
     cli_option options[48];
     const char *positional[1], *pixel = NULL, *neighbor = NULL;
-    int n, count, status, xy[2], nxy[2];
+    int n, count, status, xy[2], nxy[2], json = 0;
     double load, prepare;
     scene s;
     rerror e;
@@ -32,6 +32,8 @@ int cmd_inspect(int argc, char **argv)
              NULL},
             {"--seed", OPT_UINT32, &o.seed, "run seed of the addressed RNG (default 1)", NULL, 0, 0, NULL},
             {"--jitter", OPT_FLAG, &o.jitter, "jittered primary rays", NULL, 0, 0, NULL},
+            {"--json", OPT_FLAG, &json, "one JSON object with every number at 17 digits (docs/tour.md)", NULL, 0, 0,
+             NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
     }
@@ -56,7 +58,7 @@ int cmd_inspect(int argc, char **argv)
     }
     status = load_scene_for_command("inspect", positional[0], &overrides, &s, &load, &prepare);
     if (status) return status;
-    if (restir_inspect(stdout, &s, &o, xy[0], xy[1], nxy[0], nxy[1], &e)) {
+    if (restir_inspect(stdout, &s, &o, xy[0], xy[1], nxy[0], nxy[1], json, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         status = 2;
     }

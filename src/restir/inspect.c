@@ -5,6 +5,10 @@
 #include <string.h>
 #include "restir/camera.h"
 #include "restir/gbuffer.h"
+#include "restir/dump_diff.h"
+#include "restir/json_text.h"
+#include "restir/rng.h"
+#include "restir/spatial.h"
 
 static const char *const lobe_kind_names[] = {"diffuse", "glossy reflection", "glossy transmission",
                                               "delta reflection", "delta transmission"};
@@ -121,14 +125,240 @@ static void print_shift(FILE *out, const restir_context *c, const path_vertex *x
             (double)(j_ab * j_ba), x->target > 0 ? (double)(back.target / x->target) : 0.0);
 }
 
-int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, int y, int nx, int ny, rerror *e)
+/* One spatial GRIS step at pixel p with two domains (GRIS §6.3, Alg. 2 for M = 2):
+ * domain 0 = p's initial reservoir (canonical), domain 1 = the neighbour's, with the
+ * selection numbers of spatial pass 1 (restir_render.c spatial_pixel). The workspace keeps
+ * everything the tour's hand computation needs: ptarget (GRIS Eq. 35), J, m_j (Eqs. 36-38),
+ * and out->wsum, out->W (Eqs. 19, 22). */
+typedef struct {
+    int shown;            /* 0: --mis stochastic-pairwise (no 2-domain dispatch to show) */
+    real u[2], w[2];      /* selection numbers, resampling weights w_j (GRIS Eq. 19) */
+    int selected;         /* j of the selected candidate, -1 if none */
+    reservoir in[2], out; /* the inputs and the step's output */
+    spatial_workspace ws;
+} inspect_step;
+
+static int gris_step_of(const restir_context *c, const restir_options *o, const initial_options *io,
+                        const path_vertex *xa, const path_vertex *xb, const reservoir *ra, const reservoir *rb,
+                        uint32_t p, inspect_step *g, rerror *e)
+{
+    const path_vertex *x1[2];
+    const reservoir *in[2];
+    spatial_stats st;
+    rng_key key = rng_key_make(o->seed, p, initial_tree_sample(io, (uint32_t)o->first_frame, 0));
+    int j;
+    memset(g, 0, sizeof *g);
+    g->selected = -1;
+    if (o->mis >= MIS_FAMILY_COUNT) return 0;
+    if (spatial_workspace_alloc(&g->ws, 2, e)) return -1;
+    g->shown = 1;
+    g->in[0] = *ra;
+    g->in[1] = *rb;
+    x1[0] = xa;
+    x1[1] = xb;
+    in[0] = &g->in[0];
+    in[1] = &g->in[1];
+    for (j = 0; j < 2; ++j) g->u[j] = rng_u(key, RNG_RIS, 32u, (uint32_t)j);
+    memset(&st, 0, sizeof st);
+    spatial_resample(c, (mis_family)o->mis, 2, x1, in, g->u, &g->out, &g->ws, &st);
+    for (j = 0; j < 2; ++j) {
+        g->w[j] = g->ws.valid[j] ? gris_resampling_weight(g->ws.mis[j], g->ws.ptarget[j], g->in[j].W, g->ws.jacobian[j])
+                                 : 0;
+        if (g->ws.valid[j] && dump_same_sample(&g->ws.shifted[j], &g->out.y)) g->selected = j;
+    }
+    return 0;
+}
+
+static void print_step_text(FILE *out, const restir_options *o, int nx, int ny, const inspect_step *g)
+{
+    const real *P = g->ws.ptarget;
+    int j;
+    fprintf(out, "one GRIS step (spatial, M = 2, MIS %s): domain 0 = this pixel's reservoir (canonical), domain 1 = "
+                 "pixel (%d, %d)'s\n",
+            o->mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)o->mis) : "stochastic-pairwise", nx, ny);
+    if (!g->shown) {
+        fprintf(out, "  (not shown for --mis stochastic-pairwise: docs/stochastic-mis.md)\n");
+        return;
+    }
+    for (j = 0; j < 2; ++j) {
+        const reservoir *r = &g->in[j];
+        fprintf(out, "  X_%d: c %.17g, W %.17g, p^_%d(X_%d) %.17g, %s\n", j, (double)r->confidence, (double)r->W, j, j,
+                (double)r->y.target, g->ws.valid[j] ? "valid" : "no sample or failed shift: w = 0");
+        if (path_sample_is_valid(&r->y))
+            fprintf(out, "    (pixel %u's sample %u: d = %d, %s, k = %d)\n", r->y.pixel, r->y.sample, r->y.length,
+                    r->y.technique == PATH_TECH_NEE ? "NEE" : "BSDF", r->y.rc_k == PATH_RC_NONE ? -1 : (int)r->y.rc_k);
+        fprintf(out, "    y_%d = T_%d(X_%d): J %.17g, p^(y_%d) = p^_{<-0}(y_%d) %.17g, p^_{<-1}(y_%d) %.17g\n", j, j, j,
+                (double)g->ws.jacobian[j], j, j, (double)P[j], j, (double)P[2 + j]);
+        fprintf(out, "    m_%d(y_%d) %.17g, w_%d = m p^ W J = %.17g, u_%d %.17g\n", j, j, (double)g->ws.mis[j], j,
+                (double)g->w[j], j, (double)g->u[j]);
+    }
+    fprintf(out, "  wsum %.17g, selected y_%d (p^(Y) %.17g), W = wsum / p^(Y) = %.17g, confidence %.17g\n",
+            (double)g->out.wsum, g->selected, (double)g->out.y.target, (double)g->out.W, (double)g->out.confidence);
+}
+
+static void json_num(FILE *out, const char *name, double v)
+{
+    fprintf(out, "\"%s\": ", name);
+    json_put_number(out, v);
+}
+
+static void json_rgb(FILE *out, const char *name, rgb c)
+{
+    fprintf(out, "\"%s\": [", name);
+    json_put_number(out, (double)c.r);
+    fprintf(out, ", ");
+    json_put_number(out, (double)c.g);
+    fprintf(out, ", ");
+    json_put_number(out, (double)c.b);
+    fprintf(out, "]");
+}
+
+static void json_reservoir(FILE *out, const char *name, const reservoir *r)
+{
+    fprintf(out, "\"%s\": {", name);
+    json_num(out, "wsum", (double)r->wsum);
+    fprintf(out, ", ");
+    json_num(out, "W", (double)r->W);
+    fprintf(out, ", ");
+    json_num(out, "confidence", (double)r->confidence);
+    fprintf(out, ", \"valid\": %d, \"pixel\": %u, \"sample\": %u, \"d\": %d, \"technique\": \"%s\", \"k\": %d, ",
+            path_sample_is_valid(&r->y), r->y.pixel, r->y.sample, r->y.length,
+            r->y.technique == PATH_TECH_NEE ? "NEE" : "BSDF", r->y.rc_k == PATH_RC_NONE ? -1 : (int)r->y.rc_k);
+    json_rgb(out, "F", r->y.F);
+    fprintf(out, ", ");
+    json_num(out, "target", (double)r->y.target);
+    fprintf(out, "}");
+}
+
+/* The vertices of the selected sample (as print_path, positions only). */
+static void json_vertices(FILE *out, const restir_context *c, const path_vertex *x1, const path_sample *x)
+{
+    path_trunk t;
+    path_end end;
+    int j, d = x->length;
+    fprintf(out, "\"vertices\": [");
+    if (path_replay(&t, c, x1, x, &end) == SHIFT_OK)
+        for (j = 1; j <= d; ++j) {
+            vec3 q = t.v[j].position;
+            if (j == d && x->technique == PATH_TECH_NEE) q = v3_from_f(end.nee.y.position);
+            fprintf(out, "%s[", j > 1 ? ", " : "");
+            json_put_number(out, (double)q.x);
+            fprintf(out, ", ");
+            json_put_number(out, (double)q.y);
+            fprintf(out, ", ");
+            json_put_number(out, (double)q.z);
+            fprintf(out, "]");
+        }
+    fprintf(out, "]");
+}
+
+static void json_shift(FILE *out, const restir_context *c, const path_vertex *xb, const path_sample *x)
+{
+    path_sample y;
+    shift_info info;
+    real j_ab;
+    enum shift_failure why = shift_path(c, xb, x, &y, &j_ab, &info);
+    fprintf(out, "\"shift\": {\"mapping\": \"%s\", \"result\": \"%s\", ", restir_shift_names[c->shift],
+            shift_failure_names[why]);
+    json_num(out, "J", (double)j_ab);
+    fprintf(out, ", ");
+    json_num(out, "target", (double)y.target);
+    fprintf(out, ", ");
+    json_num(out, "target_times_J", (double)(y.target * j_ab));
+    fprintf(out, ", ");
+    json_rgb(out, "F", y.F);
+    if (info.reconnected) {
+        fprintf(out, ", \"destination_terms\": {");
+        json_num(out, "pdf_prev", (double)info.terms.pdf_prev);
+        fprintf(out, ", ");
+        json_num(out, "geom", (double)info.terms.geom);
+        fprintf(out, ", ");
+        json_num(out, "pdf_k", (double)info.terms.pdf_k);
+        fprintf(out, "}, \"source_terms\": {");
+        json_num(out, "pdf_prev", (double)x->rc_pdf_prev);
+        fprintf(out, ", ");
+        json_num(out, "geom", (double)x->rc_geom);
+        fprintf(out, ", ");
+        json_num(out, "pdf_k", (double)x->rc_pdf);
+        fprintf(out, "}");
+    }
+    fprintf(out, "}");
+}
+
+static void json_step(FILE *out, const restir_options *o, const inspect_step *g)
+{
+    int j;
+    fprintf(out, "\"gris_step\": {\"mis\": \"%s\"",
+            o->mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)o->mis) : "stochastic-pairwise");
+    if (g->shown) {
+        fprintf(out, ", \"domains\": [");
+        for (j = 0; j < 2; ++j) {
+            fprintf(out, "%s{", j ? ", " : "");
+            json_num(out, "c", (double)g->in[j].confidence);
+            fprintf(out, ", ");
+            json_num(out, "W", (double)g->in[j].W);
+            fprintf(out, ", ");
+            json_num(out, "target_X", (double)g->in[j].y.target);
+            fprintf(out, ", \"valid\": %d, ", g->ws.valid[j]);
+            json_num(out, "J", (double)g->ws.jacobian[j]);
+            fprintf(out, ", ");
+            json_num(out, "target_y", (double)g->ws.ptarget[j]);
+            fprintf(out, ", ");
+            json_num(out, "target_from_1_y", (double)g->ws.ptarget[2 + j]);
+            fprintf(out, ", ");
+            json_num(out, "m", (double)g->ws.mis[j]);
+            fprintf(out, ", ");
+            json_num(out, "w", (double)g->w[j]);
+            fprintf(out, ", ");
+            json_num(out, "u", (double)g->u[j]);
+            fprintf(out, "}");
+        }
+        fprintf(out, "], \"selected\": %d, ", g->selected);
+        json_num(out, "wsum", (double)g->out.wsum);
+        fprintf(out, ", ");
+        json_num(out, "target_Y", (double)g->out.y.target);
+        fprintf(out, ", ");
+        json_num(out, "W", (double)g->out.W);
+        fprintf(out, ", ");
+        json_num(out, "confidence", (double)g->out.confidence);
+    }
+    fprintf(out, "}");
+}
+
+static void print_json(FILE *out, const restir_context *c, const restir_options *o, int x, int y, int nx, int ny,
+                       const path_vertex *xa, const path_vertex *xb, const reservoir *r, const inspect_step *g)
+{
+    fprintf(out, "{\"pixel\": [%d, %d], \"neighbor\": [%d, %d], \"frame\": %d, \"seed\": %u, \"shift_mapping\": \"%s\", ", x,
+            y, nx, ny, o->first_frame, o->seed, restir_shift_names[o->shift]);
+    json_reservoir(out, "initial", r);
+    if (xa && path_sample_is_valid(&r->y)) {
+        fprintf(out, ", ");
+        json_vertices(out, c, xa, &r->y);
+        if (xb) {
+            fprintf(out, ", ");
+            json_shift(out, c, xb, &r->y);
+        }
+    }
+    if (g) {
+        fprintf(out, ", ");
+        json_reservoir(out, "neighbor_initial", &g->in[1]);
+        fprintf(out, ", ");
+        json_step(out, o, g);
+    }
+    fprintf(out, "}\n");
+}
+
+int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, int y, int nx, int ny, int json,
+                   rerror *e)
 {
     light_set lights;
     restir_context c;
     initial_options io;
     initial_stats st;
     path_vertex xa, xb;
-    reservoir r;
+    reservoir r, rn;
+    inspect_step g;
+    int has_a, has_b, status = 0;
     if (restir_options_validate(o, e)) return -1;
     if (x < 0 || y < 0 || x >= s->width || y >= s->height || nx < 0 || ny < 0 || nx >= s->width || ny >= s->height)
         return rerror_set(e, "inspect: pixel (%d, %d) or neighbour (%d, %d) outside the %dx%d image", x, y, nx, ny,
@@ -137,29 +367,50 @@ int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, in
     restir_context_for(&c, s, &lights, o);
     restir_initial_options_for(&io, o);
     memset(&st, 0, sizeof st);
+    reservoir_init(&r);
+    has_a = primary_vertex_of(s, o, &io, x, y, &xa);
+    has_b = primary_vertex_of(s, o, &io, nx, ny, &xb);
+    if (has_a)
+        initial_sample_pixel(&c, &io, &xa, o->seed, (uint32_t)(y * s->width + x), (uint32_t)o->first_frame, &r, &st);
+    memset(&g, 0, sizeof g);
+    if (has_a && has_b) {
+        initial_stats stn;
+        memset(&stn, 0, sizeof stn);
+        initial_sample_pixel(&c, &io, &xb, o->seed, (uint32_t)(ny * s->width + nx), (uint32_t)o->first_frame, &rn,
+                             &stn);
+        status = gris_step_of(&c, o, &io, &xa, &xb, &r, &rn, (uint32_t)(y * s->width + x), &g, e);
+    }
+    if (status) {
+        lights_free(&lights);
+        return -1;
+    }
+    if (json) {
+        print_json(out, &c, o, x, y, nx, ny, has_a ? &xa : NULL, has_b ? &xb : NULL, &r, has_a && has_b ? &g : NULL);
+        goto done;
+    }
     fprintf(out, "pixel (%d, %d), frame %d, %d path tree(s), shift %s, d_min %.6g, roughness threshold %.3g\n", x, y,
             o->first_frame, o->candidates, restir_shift_names[o->shift], (double)c.rc.min_distance,
             (double)c.rc.roughness_threshold);
-    if (!primary_vertex_of(s, o, &io, x, y, &xa)) {
+    if (!has_a) {
         fprintf(out, "  the primary ray leaves the scene\n");
-        lights_free(&lights);
-        return 0;
+        goto done;
     }
-    initial_sample_pixel(&c, &io, &xa, o->seed, (uint32_t)(y * s->width + x), (uint32_t)o->first_frame, &r, &st);
     fprintf(out, "initial reservoir: %llu candidates, wsum %.6g, W %.6g, confidence %.6g; ",
             (unsigned long long)st.candidates, (double)r.wsum, (double)r.W, (double)r.confidence);
     print_rgb(out, "estimate F W", reservoir_estimate(&r));
     fprintf(out, "\n");
     if (!path_sample_is_valid(&r.y)) {
         fprintf(out, "  no path selected\n");
-        lights_free(&lights);
-        return 0;
+    } else {
+        print_sample(out, &r.y);
+        print_path(out, &c, &xa, &r.y);
+        fprintf(out, "shift to pixel (%d, %d):\n", nx, ny);
+        if (!has_b) fprintf(out, "  the neighbour's primary ray leaves the scene\n");
+        else print_shift(out, &c, &xa, &xb, &r.y);
     }
-    print_sample(out, &r.y);
-    print_path(out, &c, &xa, &r.y);
-    fprintf(out, "shift to pixel (%d, %d):\n", nx, ny);
-    if (!primary_vertex_of(s, o, &io, nx, ny, &xb)) fprintf(out, "  the neighbour's primary ray leaves the scene\n");
-    else print_shift(out, &c, &xa, &xb, &r.y);
+    if (has_b) print_step_text(out, o, nx, ny, &g);
+done:
+    spatial_workspace_free(&g.ws);
     lights_free(&lights);
     return 0;
 }
