@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "args.h"
+#include "restir/animation.h"
 #include "render_restir.h"
 #include "scene_args.h"
 
@@ -58,6 +59,12 @@ int cmd_inspect(int argc, char **argv)
     }
     status = load_scene_for_command("inspect", positional[0], &overrides, &s, &load, &prepare);
     if (status) return status;
+    /* an animated scene as frame --first-frame of a sequence sees it (diff-dump's reproduce lines) */
+    if (scene_is_animated(&s) && scene_pose_at(&s, o.first_frame, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        scene_free(&s);
+        return 2;
+    }
     if (restir_inspect(stdout, &s, &o, xy[0], xy[1], nxy[0], nxy[1], json, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         status = 2;

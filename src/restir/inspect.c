@@ -88,7 +88,7 @@ static int primary_vertex_of(const scene *s, const restir_options *o, const init
     camera cam;
     surface_hit h;
     ray r;
-    camera_init(&cam, scene_camera_at(s, 0), s->width, s->height);
+    camera_init(&cam, scene_camera_at(s, o->first_frame), s->width, s->height); /* the frame's camera */
     r = primary_ray(&cam, x, y, o->seed, initial_tree_sample(io, (uint32_t)o->first_frame, 0), o->jitter);
     if (!scene_intersect(s, &r, &h)) return 0;
     path_vertex_make(v, s, &h, v3_from_f(r.dir));
