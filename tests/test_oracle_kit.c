@@ -345,3 +345,17 @@ TEST(oracle_diff_dump_reproduce_arguments_reproduce)
     CHECKF(w_i == w_a && t_i == t_a, "inspect %s: W %.17g p^ %.17g, the dump has W %.17g p^ %.17g", args, w_i, t_i, w_a,
            t_a);
 }
+
+/* The statistical mode also compares the mean confidence and the non-empty fraction: a build
+ * with another RNG and a wrong M-cap (2 instead of the preset's 20) has the same image means
+ * of luminance(F) W (|z| < 1) but is found at a temporal stage (mean c: z = +4.1 in frame 1,
+ * +14.9 in frame 2), which the F W test alone passes. */
+TEST(oracle_diff_dump_stat_finds_wrong_mcap)
+{
+    const char *a = reference_dump();
+    CHECKF(test_cli(out, sizeof out, "render " KIT_COMMON " --seed 2 --mcap 2 -o %s/m2.pfm --dump-dir %s", test_tmpdir(),
+                    kit_dir("M2")) == 0,
+           "%s", out);
+    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s --stat", a, kit_dir("M2")) == 1, "%s", out);
+    CHECKF(strstr(out, "first difference: frame ") && strstr(out, ", stage temporal\n"), "%s", out);
+}

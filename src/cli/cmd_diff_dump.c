@@ -67,8 +67,9 @@ static void put_q(const char *name, const double *q)
 static int report_row(const diff_args *a, const stage_manifest *m, long frame, const char *stage, const dump_diff_result *r,
                       const dump_diff_tolerance *t, int *first_row)
 {
-    double same = (double)r->same / (double)r->pixels, z = dump_diff_mean_z(r);
-    int pass = a->stat ? fabs(z) <= a->z : dump_diff_pass(r, t), i;
+    double same = (double)r->same / (double)r->pixels, z = dump_diff_mean_z(r), zc = dump_diff_confidence_z(r),
+           zn = dump_diff_nonempty_z(r);
+    int pass = a->stat ? fabs(z) <= a->z && fabs(zc) <= a->z && fabs(zn) <= a->z : dump_diff_pass(r, t), i;
     if (a->json) {
         printf("%s\n  {\"frame\": %ld, \"stage\": ", *first_row ? "" : ",", frame);
         json_put_string(stdout, stage);
@@ -88,6 +89,18 @@ static int report_row(const diff_args *a, const stage_manifest *m, long frame, c
         json_put_number(stdout, r->mean_fw[1]);
         printf("], \"z\": ");
         json_put_number(stdout, z);
+        printf(", \"mean_confidence\": [");
+        json_put_number(stdout, r->mean_c[0]);
+        printf(", ");
+        json_put_number(stdout, r->mean_c[1]);
+        printf("], \"z_confidence\": ");
+        json_put_number(stdout, zc);
+        printf(", \"nonempty\": [");
+        json_put_number(stdout, r->mean_full[0]);
+        printf(", ");
+        json_put_number(stdout, r->mean_full[1]);
+        printf("], \"z_nonempty\": ");
+        json_put_number(stdout, zn);
         printf(", \"pass\": %s, \"first_differing\": [", pass ? "true" : "false");
         for (i = 0; i < r->n_first; ++i) {
             if (i) printf(", ");
@@ -99,7 +112,10 @@ static int report_row(const diff_args *a, const stage_manifest *m, long frame, c
                "mean F*W %.6g | %.6g (z %+.2f)  %s\n",
                frame, stage, same, r->q_w[0], r->q_w[2], r->q_w[3], r->q_target[3], r->q_conf[3], r->mean_fw[0],
                r->mean_fw[1], z, pass ? "ok" : "DIFFERS");
-        if (!a->stat)
+        if (a->stat)
+            printf("    mean c %.6g | %.6g (z %+.2f)  non-empty %.6f | %.6f (z %+.2f)\n", r->mean_c[0], r->mean_c[1], zc,
+                   r->mean_full[0], r->mean_full[1], zn);
+        else
             for (i = 0; i < r->n_first; ++i) print_pixel_text(m, &r->firsts[i], frame);
     }
     *first_row = 0;
@@ -169,7 +185,7 @@ int cmd_diff_dump(int argc, char **argv)
             {"--max-rel-confidence", OPT_REAL, &a.max_rel_conf, "relative error of the confidence c (default 0)", NULL, 0, 1e300, NULL},
             {"--min-same", OPT_REAL, &a.min_same, "fraction of pixels that must hold the same sample (default 1)", NULL, 0, 1, NULL},
             {"--first", OPT_INT, &a.first, "differing pixels listed per stage (default 5, at most 32)", NULL, 0, DUMP_DIFF_MAX_FIRST, NULL},
-            {"--stat", OPT_FLAG, &a.stat, "statistical mode for builds with another RNG: compare the image means of luminance(F) W per stage", NULL, 0, 0, NULL},
+            {"--stat", OPT_FLAG, &a.stat, "statistical mode for builds with another RNG: compare the image means of luminance(F) W, of c and of the non-empty fraction per stage", NULL, 0, 0, NULL},
             {"--z", OPT_REAL, &a.z, "with --stat: largest |z| that passes (default 4)", NULL, 0, 1e300, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
