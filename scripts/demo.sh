@@ -38,10 +38,13 @@ else
     "$BIN" render $SCENE --size "$SIZE" --method pt --spp "${DEMO_REF_SPP:-1024}" --seed 1000 -o "$REF" --quiet
 fi
 
-echo "== equal time, $SECS s each at $SIZE: offline ReSTIR PT (gris-offline) and the path tracer"
+echo "== equal time at $SIZE: offline ReSTIR PT (gris-offline) for whole frames until $SECS s, then the path tracer as long"
 "$BIN" render $SCENE --size "$SIZE" --method restir --preset gris-offline --time-limit "$SECS" \
     -o "$OUT/cornell-restir.pfm" --stats "$OUT/cornell-restir.stats.json" --quiet
-"$BIN" render $SCENE --size "$SIZE" --method pt --spp 0 --time-limit "$SECS" \
+# ReSTIR stops after the whole frame that crosses the limit: the path tracer gets the time
+# ReSTIR actually took, so the comparison is at equal time
+PT_SECS=$(render_seconds "$OUT/cornell-restir.stats.json")
+"$BIN" render $SCENE --size "$SIZE" --method pt --spp 0 --time-limit "$PT_SECS" \
     -o "$OUT/cornell-pt.pfm" --stats "$OUT/cornell-pt.stats.json" --quiet
 for m in restir pt; do
     "$BIN" compare "$OUT/cornell-$m.pfm" "$REF" --json "$OUT/cornell-$m.compare.json" \

@@ -49,7 +49,14 @@ static double json_after(const char **from, const char *key)
     return strtod(p, NULL);
 }
 
-static int near(double a, double b) { return fabs(a - b) <= 1e-13 * fmax(fabs(a), fabs(b)); }
+/* The printed numbers are the estimator's reals to 17 digits: the hand computation in double
+ * agrees to rounding (binary32 build: to its rounding). */
+#ifdef RESTIR_REAL_FLOAT
+#define HAND_TOL 1e-5
+#else
+#define HAND_TOL 1e-13
+#endif
+static int near(double a, double b) { return fabs(a - b) <= HAND_TOL * fmax(fabs(a), fabs(b)); }
 
 typedef struct {
     double c, W, target_X, J, target_y, target_from_1_y, m, w, u;
@@ -126,7 +133,8 @@ TEST(tour_worked_example_by_hand)
 }
 
 /* docs/tour.md shows the text output between its inspect-example markers verbatim
- * (regenerate with scripts/tour_example.sh). */
+ * (regenerate with scripts/tour_example.sh). The numbers are the double build's: the
+ * binary32 build only checks that the command runs. */
 TEST(tour_example_matches_inspect)
 {
     static char doc[131072];
@@ -138,6 +146,10 @@ TEST(tour_example_matches_inspect)
     CHECKF(status == 0, "exit %d: %s", status, out);
     CHECK(f != NULL);
     if (!f || status) return;
+#ifdef RESTIR_REAL_FLOAT
+    fclose(f);
+    return;
+#endif
     n = fread(doc, 1, sizeof doc - 1, f);
     fclose(f);
     doc[n] = '\0';
