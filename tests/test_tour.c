@@ -77,59 +77,81 @@ static void read_domain(const char **p, tour_domain *d)
     d->u = json_after(p, "u");
 }
 
-TEST(tour_worked_example_by_hand)
+/* The arithmetic of a two-domain Talbot GRIS step from its printed inputs (the object at p:
+ * "domains", then selected, wsum, target_Y, W, confidence). */
+static void check_step_by_hand(const char *p, const char *what)
 {
-    const char *p;
     tour_domain d[2];
-    double shifted_target_J, wsum, target_Y, W, conf, m0, m1, w0, w1, sum;
+    double wsum, target_Y, W, conf, m0, m1, w0, w1, sum = 0;
     int selected, j, hand_selected = -1;
-    int status = test_cli(out, sizeof out, TOUR_ARGS " --json");
-    CHECKF(status == 0, "exit %d: %s", status, out);
-    if (test_has_failed()) return;
-    CHECKF(strstr(out, "\"mis\": \"talbot\"") != NULL, "the example is a Talbot step: %s", out);
-    p = strstr(out, "\"shift\": ");
-    CHECKF(p != NULL, "%s", out);
-    if (!p) return;
-    shifted_target_J = json_after(&p, "target_times_J");
-    p = strstr(out, "\"domains\": ");
-    CHECKF(p != NULL, "%s", out);
-    if (!p) return;
     for (j = 0; j < 2; ++j) read_domain(&p, &d[j]);
     selected = (int)json_after(&p, "selected");
     wsum = json_after(&p, "wsum");
     target_Y = json_after(&p, "target_Y");
     W = json_after(&p, "W");
     conf = json_after(&p, "confidence");
-    CHECKF(d[0].valid && d[1].valid, "both candidates must be valid for the example: %s", out);
-
+    CHECKF(d[0].valid && d[1].valid, "%s: both candidates must be valid for the example", what);
     /* the canonical domain: identity shift, p̂(y_0) is the pixel's own target */
-    CHECK(d[0].J == 1 && d[0].target_y == d[0].target_X);
-    /* p̂_{<-1}(y_0) is the pixel's sample shifted to the neighbour times J: the shift section */
-    CHECKF(near(d[0].target_from_1_y, shifted_target_J), "%.17g vs %.17g", d[0].target_from_1_y, shifted_target_J);
+    CHECKF(d[0].J == 1 && d[0].target_y == d[0].target_X, "%s", what);
     /* p̂_{<-1}(y_1) = p̂_1(X_1) / |dT_1/dX_1| (mis.h, the diagonal) */
-    CHECKF(near(d[1].target_from_1_y, d[1].target_X / d[1].J), "%.17g", d[1].target_from_1_y);
-
+    CHECKF(near(d[1].target_from_1_y, d[1].target_X / d[1].J), "%s: %.17g", what, d[1].target_from_1_y);
     /* GRIS Eq. 36 with confidences: m_i(y) = c_i p̂_{<-i}(y) / sum_k c_k p̂_{<-k}(y) */
     m0 = d[0].c * d[0].target_y / (d[0].c * d[0].target_y + d[1].c * d[0].target_from_1_y);
     m1 = d[1].c * d[1].target_from_1_y / (d[0].c * d[1].target_y + d[1].c * d[1].target_from_1_y);
-    CHECKF(near(m0, d[0].m) && near(m1, d[1].m), "m %.17g %.17g vs printed %.17g %.17g", m0, m1, d[0].m, d[1].m);
+    CHECKF(near(m0, d[0].m) && near(m1, d[1].m), "%s: m %.17g %.17g vs printed %.17g %.17g", what, m0, m1, d[0].m,
+           d[1].m);
     /* GRIS Eq. 19: w_j = m_j(y_j) p̂(y_j) W_j |dT_j/dX_j| */
     w0 = m0 * d[0].target_y * d[0].W * d[0].J;
     w1 = m1 * d[1].target_y * d[1].W * d[1].J;
-    CHECKF(near(w0, d[0].w) && near(w1, d[1].w), "w %.17g %.17g vs printed %.17g %.17g", w0, w1, d[0].w, d[1].w);
+    CHECKF(near(w0, d[0].w) && near(w1, d[1].w), "%s: w %.17g %.17g vs printed %.17g %.17g", what, w0, w1, d[0].w,
+           d[1].w);
     /* weighted reservoir sampling: candidate j replaces the selection if u_j < w_j / (w_0 + .. + w_j) */
-    sum = 0;
     for (j = 0; j < 2; ++j) {
         double wj = j ? w1 : w0;
         sum += wj;
         if (wj > 0 && d[j].u < wj / sum) hand_selected = j;
     }
-    CHECKF(near(sum, wsum), "wsum %.17g vs %.17g", sum, wsum);
-    CHECKF(hand_selected == selected, "selected %d by hand, %d printed", hand_selected, selected);
+    CHECKF(near(sum, wsum), "%s: wsum %.17g vs %.17g", what, sum, wsum);
+    CHECKF(hand_selected == selected, "%s: selected %d by hand, %d printed", what, hand_selected, selected);
+    if (selected < 0) return;
     /* GRIS Eq. 22: W = wsum / p̂(Y); the confidence is the sum of the inputs' (GRIS §6.2) */
-    CHECK(selected >= 0 && near(target_Y, d[selected].target_y));
-    CHECKF(near(W, sum / d[selected].target_y), "W %.17g vs %.17g by hand", W, sum / d[selected].target_y);
-    CHECK(conf == d[0].c + d[1].c);
+    CHECKF(near(target_Y, d[selected].target_y), "%s", what);
+    CHECKF(near(W, sum / d[selected].target_y), "%s: W %.17g vs %.17g by hand", what, W, sum / d[selected].target_y);
+    CHECKF(conf == d[0].c + d[1].c, "%s", what);
+}
+
+TEST(tour_worked_example_by_hand)
+{
+    const char *p, *q;
+    double shifted_target_J;
+    int status = test_cli(out, sizeof out, TOUR_ARGS " --json");
+    CHECKF(status == 0, "exit %d: %s", status, out);
+    if (test_has_failed()) return;
+    CHECKF(strstr(out, "\"mis\": \"talbot\"") != NULL, "the example is a Talbot step: %s", out);
+    p = strstr(out, "\"shift\": ");
+    q = strstr(out, "\"gris_step\": ");
+    CHECKF(p && q, "%s", out);
+    if (!p || !q) return;
+    shifted_target_J = json_after(&p, "target_times_J");
+    /* p̂_{<-1}(y_0) is the pixel's sample shifted to the neighbour times J: the shift section */
+    p = q;
+    CHECKF(near(json_after(&p, "target_from_1_y"), shifted_target_J), "p^_{<-1}(y_0) is not the shift's p^(y) J");
+    check_step_by_hand(q, "spatial step");
+}
+
+/* The temporal step (--temporal, frame 1 against frame 0) redoes by hand the same way. */
+TEST(tour_temporal_step_by_hand)
+{
+    const char *q;
+    int status = test_cli(out, sizeof out, TOUR_ARGS " --first-frame 1 --temporal --json");
+    CHECKF(status == 0, "exit %d: %s", status, out);
+    if (test_has_failed()) return;
+    q = strstr(out, "\"temporal_step\": ");
+    CHECKF(q != NULL, "%s", out);
+    if (!q) return;
+    check_step_by_hand(q, "temporal step");
+    status = test_cli(out, sizeof out, TOUR_ARGS " --temporal");
+    CHECKF(status == 2 && strstr(out, "--first-frame >= 1"), "exit %d: %s", status, out);
 }
 
 /* docs/tour.md shows the text output between its inspect-example markers verbatim

@@ -18,9 +18,9 @@ int cmd_inspect(int argc, char **argv)
 {
     restir_options o;
     scene_overrides overrides;
-    cli_option options[48];
+    cli_option options[52];
     const char *positional[1], *pixel = NULL, *neighbor = NULL;
-    int n, count, status, xy[2], nxy[2], json = 0;
+    int n, count, status, xy[2], nxy[2], json = 0, temporal = 0;
     double load, prepare;
     scene s;
     rerror e;
@@ -35,6 +35,11 @@ int cmd_inspect(int argc, char **argv)
             {"--jitter", OPT_FLAG, &o.jitter, "jittered primary rays", NULL, 0, 0, NULL},
             {"--json", OPT_FLAG, &json, "one JSON object with every number at 17 digits (docs/tour.md)", NULL, 0, 0,
              NULL},
+            {"--temporal", OPT_FLAG, &temporal,
+             "also the temporal step against the pixel's initial reservoir of frame --first-frame - 1 (static scenes)",
+             NULL, 0, 0, NULL},
+            {"--mcap", OPT_REAL, &o.mcap, "with --temporal: the previous confidence is capped at C x the current one (default 20)",
+             NULL, 1e-300, 1e300, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
     }
@@ -65,7 +70,7 @@ int cmd_inspect(int argc, char **argv)
         scene_free(&s);
         return 2;
     }
-    if (restir_inspect(stdout, &s, &o, xy[0], xy[1], nxy[0], nxy[1], json, &e)) {
+    if (restir_inspect(stdout, &s, &o, xy[0], xy[1], nxy[0], nxy[1], json, temporal, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         status = 2;
     }

@@ -9,6 +9,8 @@
 #include "restir/json_text.h"
 #include "restir/rng.h"
 #include "restir/spatial.h"
+#include "restir/temporal.h"
+#include "restir/animation.h"
 
 static const char *const lobe_kind_names[] = {"diffuse", "glossy reflection", "glossy transmission",
                                               "delta reflection", "delta transmission"};
@@ -82,17 +84,23 @@ static void print_sample(FILE *out, const path_sample *x)
     }
 }
 
-static int primary_vertex_of(const scene *s, const restir_options *o, const initial_options *io, int x, int y,
-                             path_vertex *v)
+static int primary_vertex_at(const scene *s, const restir_options *o, const initial_options *io, int frame, int x,
+                             int y, path_vertex *v)
 {
     camera cam;
     surface_hit h;
     ray r;
-    camera_init(&cam, scene_camera_at(s, o->first_frame), s->width, s->height); /* the frame's camera */
-    r = primary_ray(&cam, x, y, o->seed, initial_tree_sample(io, (uint32_t)o->first_frame, 0), o->jitter);
+    camera_init(&cam, scene_camera_at(s, frame), s->width, s->height); /* the frame's camera */
+    r = primary_ray(&cam, x, y, o->seed, initial_tree_sample(io, (uint32_t)frame, 0), o->jitter);
     if (!scene_intersect(s, &r, &h)) return 0;
     path_vertex_make(v, s, &h, v3_from_f(r.dir));
     return 1;
+}
+
+static int primary_vertex_of(const scene *s, const restir_options *o, const initial_options *io, int x, int y,
+                             path_vertex *v)
+{
+    return primary_vertex_at(s, o, io, o->first_frame, x, y, v);
 }
 
 static void print_shift(FILE *out, const restir_context *c, const path_vertex *xa, const path_vertex *xb,
@@ -131,6 +139,7 @@ static void print_shift(FILE *out, const restir_context *c, const path_vertex *x
  * everything the tour's hand computation needs: ptarget (GRIS Eq. 35), J, m_j (Eqs. 36-38),
  * and out->wsum, out->W (Eqs. 19, 22). */
 typedef struct {
+    int temporal;         /* 0: the spatial step, 1: the temporal step (domain 1 = frame f - 1) */
     int shown;            /* 0: --mis stochastic-pairwise (no 2-domain dispatch to show) */
     real u[2], w[2];      /* selection numbers, resampling weights w_j (GRIS Eq. 19) */
     int selected;         /* j of the selected candidate, -1 if none */
@@ -169,20 +178,60 @@ static int gris_step_of(const restir_context *c, const restir_options *o, const 
     return 0;
 }
 
+/* The temporal GRIS step of pixel p (GRIS §6.3 step 2, temporal.h) in a static scene:
+ * domain 0 = p's initial reservoir of frame f, domain 1 = p's initial reservoir of frame
+ * f - 1 (the real-time pipeline feeds the previous frame's FINAL reservoir, after its
+ * spatial passes, at the motion-reprojected pixel: the same arithmetic on other inputs),
+ * capped at --mcap times the current confidence, --temporal-mis, the selection numbers of
+ * RNG_RIS vertex 48 (pipeline.c temporal_pixel). */
+static int temporal_step_of(const restir_context *c, const restir_options *o, const initial_options *io,
+                            const path_vertex *xa, const path_vertex *xprev, const reservoir *ra, const reservoir *rprev,
+                            uint32_t p, inspect_step *g, rerror *e)
+{
+    temporal_stats st;
+    rng_key key = rng_key_make(o->seed, p, initial_tree_sample(io, (uint32_t)o->first_frame, 0));
+    int j;
+    memset(g, 0, sizeof *g);
+    g->temporal = 1;
+    g->selected = -1;
+    if (o->temporal_mis >= MIS_FAMILY_COUNT) return 0;
+    if (spatial_workspace_alloc(&g->ws, 2, e)) return -1;
+    g->shown = 1;
+    g->in[0] = *ra;
+    g->in[1] = *rprev;
+    for (j = 0; j < 2; ++j) g->u[j] = rng_u(key, RNG_RIS, 48u, (uint32_t)j);
+    memset(&st, 0, sizeof st);
+    temporal_resample(c, c, NULL, (mis_family)o->temporal_mis, xa, xprev, &g->in[0], &g->in[1], (real)o->mcap, g->u,
+                      &g->out, &g->ws, &st);
+    for (j = 0; j < 2; ++j) {
+        g->w[j] = g->ws.valid[j] ? gris_resampling_weight(g->ws.mis[j], g->ws.ptarget[j], g->in[j].W, g->ws.jacobian[j])
+                                 : 0;
+        if (g->ws.valid[j] && dump_same_sample(&g->ws.shifted[j], &g->out.y)) g->selected = j;
+    }
+    return 0;
+}
+
 static void print_step_text(FILE *out, const restir_options *o, int nx, int ny, const inspect_step *g)
 {
     const real *P = g->ws.ptarget;
     int j;
-    fprintf(out, "one GRIS step (spatial, M = 2, MIS %s): domain 0 = this pixel's reservoir (canonical), domain 1 = "
-                 "pixel (%d, %d)'s\n",
-            o->mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)o->mis) : "stochastic-pairwise", nx, ny);
+    int mis = g->temporal ? o->temporal_mis : o->mis;
+    if (g->temporal)
+        fprintf(out, "temporal GRIS step (M = 2, MIS %s, M-cap %g): domain 0 = this pixel's reservoir of frame %d "
+                     "(canonical), domain 1 = its initial reservoir of frame %d\n",
+                mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)mis) : "stochastic-pairwise", o->mcap,
+                o->first_frame, o->first_frame - 1);
+    else
+        fprintf(out, "one GRIS step (spatial, M = 2, MIS %s): domain 0 = this pixel's reservoir (canonical), domain 1 = "
+                     "pixel (%d, %d)'s\n",
+                mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)mis) : "stochastic-pairwise", nx, ny);
     if (!g->shown) {
         fprintf(out, "  (not shown for --mis stochastic-pairwise: docs/stochastic-mis.md)\n");
         return;
     }
     for (j = 0; j < 2; ++j) {
         const reservoir *r = &g->in[j];
-        fprintf(out, "  X_%d: c %.17g, W %.17g, p^_%d(X_%d) %.17g, %s\n", j, (double)r->confidence, (double)r->W, j, j,
+        fprintf(out, "  X_%d: c %.17g, W %.17g, p^_%d(X_%d) %.17g, %s\n", j, (double)g->ws.confidence[j], (double)r->W, j, j,
                 (double)r->y.target, g->ws.valid[j] ? "valid" : "no sample or failed shift: w = 0");
         if (path_sample_is_valid(&r->y))
             fprintf(out, "    (pixel %u's sample %u: d = %d, %s, k = %d)\n", r->y.pixel, r->y.sample, r->y.length,
@@ -287,14 +336,14 @@ static void json_shift(FILE *out, const restir_context *c, const path_vertex *xb
 
 static void json_step(FILE *out, const restir_options *o, const inspect_step *g)
 {
-    int j;
-    fprintf(out, "\"gris_step\": {\"mis\": \"%s\"",
-            o->mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)o->mis) : "stochastic-pairwise");
+    int j, mis = g->temporal ? o->temporal_mis : o->mis;
+    fprintf(out, "\"%s\": {\"mis\": \"%s\"", g->temporal ? "temporal_step" : "gris_step",
+            mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)mis) : "stochastic-pairwise");
     if (g->shown) {
         fprintf(out, ", \"domains\": [");
         for (j = 0; j < 2; ++j) {
             fprintf(out, "%s{", j ? ", " : "");
-            json_num(out, "c", (double)g->in[j].confidence);
+            json_num(out, "c", (double)g->ws.confidence[j]);
             fprintf(out, ", ");
             json_num(out, "W", (double)g->in[j].W);
             fprintf(out, ", ");
@@ -326,7 +375,8 @@ static void json_step(FILE *out, const restir_options *o, const inspect_step *g)
 }
 
 static void print_json(FILE *out, const restir_context *c, const restir_options *o, int x, int y, int nx, int ny,
-                       const path_vertex *xa, const path_vertex *xb, const reservoir *r, const inspect_step *g)
+                       const path_vertex *xa, const path_vertex *xb, const reservoir *r, const inspect_step *g,
+                       const inspect_step *tg)
 {
     fprintf(out, "{\"pixel\": [%d, %d], \"neighbor\": [%d, %d], \"frame\": %d, \"seed\": %u, \"shift_mapping\": \"%s\", ", x,
             y, nx, ny, o->first_frame, o->seed, restir_shift_names[o->shift]);
@@ -345,11 +395,17 @@ static void print_json(FILE *out, const restir_context *c, const restir_options 
         fprintf(out, ", ");
         json_step(out, o, g);
     }
+    if (tg) {
+        fprintf(out, ", ");
+        json_reservoir(out, "previous_initial", &tg->in[1]);
+        fprintf(out, ", ");
+        json_step(out, o, tg);
+    }
     fprintf(out, "}\n");
 }
 
 int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, int y, int nx, int ny, int json,
-                   rerror *e)
+                   int temporal, rerror *e)
 {
     light_set lights;
     restir_context c;
@@ -357,9 +413,12 @@ int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, in
     initial_stats st;
     path_vertex xa, xb;
     reservoir r, rn;
-    inspect_step g;
+    inspect_step g, tg;
     int has_a, has_b, status = 0;
     if (restir_options_validate(o, e)) return -1;
+    if (temporal && (o->first_frame < 1 || scene_is_animated(s)))
+        return rerror_set(e, "inspect --temporal: needs --first-frame >= 1 and a static scene (this one %s)",
+                          o->first_frame < 1 ? "is at frame 0" : "is animated");
     if (x < 0 || y < 0 || x >= s->width || y >= s->height || nx < 0 || ny < 0 || nx >= s->width || ny >= s->height)
         return rerror_set(e, "inspect: pixel (%d, %d) or neighbour (%d, %d) outside the %dx%d image", x, y, nx, ny,
                           s->width, s->height);
@@ -380,12 +439,27 @@ int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, in
                              &stn);
         status = gris_step_of(&c, o, &io, &xa, &xb, &r, &rn, (uint32_t)(y * s->width + x), &g, e);
     }
+    memset(&tg, 0, sizeof tg);
+    if (!status && has_a && temporal) {
+        path_vertex xp;
+        reservoir rp;
+        initial_stats stp;
+        memset(&stp, 0, sizeof stp);
+        reservoir_init(&rp);
+        /* a static scene: frame f - 1's primary hit of the same pixel (jitter: its own ray) */
+        if (primary_vertex_at(s, o, &io, o->first_frame - 1, x, y, &xp))
+            initial_sample_pixel(&c, &io, &xp, o->seed, (uint32_t)(y * s->width + x), (uint32_t)(o->first_frame - 1),
+                                 &rp, &stp);
+        status = temporal_step_of(&c, o, &io, &xa, &xp, &r, &rp, (uint32_t)(y * s->width + x), &tg, e);
+    }
     if (status) {
+        spatial_workspace_free(&g.ws);
         lights_free(&lights);
         return -1;
     }
     if (json) {
-        print_json(out, &c, o, x, y, nx, ny, has_a ? &xa : NULL, has_b ? &xb : NULL, &r, has_a && has_b ? &g : NULL);
+        print_json(out, &c, o, x, y, nx, ny, has_a ? &xa : NULL, has_b ? &xb : NULL, &r, has_a && has_b ? &g : NULL,
+                   has_a && temporal ? &tg : NULL);
         goto done;
     }
     fprintf(out, "pixel (%d, %d), frame %d, %d path tree(s), shift %s, d_min %.6g, roughness threshold %.3g\n", x, y,
@@ -409,8 +483,10 @@ int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, in
         else print_shift(out, &c, &xa, &xb, &r.y);
     }
     if (has_b) print_step_text(out, o, nx, ny, &g);
+    if (temporal) print_step_text(out, o, nx, ny, &tg);
 done:
     spatial_workspace_free(&g.ws);
+    spatial_workspace_free(&tg.ws);
     lights_free(&lights);
     return 0;
 }
