@@ -63,6 +63,17 @@ static void put_q(const char *name, const double *q)
     printf("]");
 }
 
+/* ", "name": [a, b], "zname": z */
+static void put_means(const char *name, const double *v, const char *zname, double z)
+{
+    printf(", \"%s\": [", name);
+    json_put_number(stdout, v[0]);
+    printf(", ");
+    json_put_number(stdout, v[1]);
+    printf("], \"%s\": ", zname);
+    json_put_number(stdout, z);
+}
+
 /* One (frame, stage) row; returns 1 if it passes. */
 static int report_row(const diff_args *a, const stage_manifest *m, long frame, const char *stage, const dump_diff_result *r,
                       const dump_diff_tolerance *t, int *first_row)
@@ -83,24 +94,9 @@ static int report_row(const diff_args *a, const stage_manifest *m, long frame, c
         put_q("rel_err_target", r->q_target);
         printf(", ");
         put_q("rel_err_confidence", r->q_conf);
-        printf(", \"mean_FW\": [");
-        json_put_number(stdout, r->mean_fw[0]);
-        printf(", ");
-        json_put_number(stdout, r->mean_fw[1]);
-        printf("], \"z\": ");
-        json_put_number(stdout, z);
-        printf(", \"mean_confidence\": [");
-        json_put_number(stdout, r->mean_c[0]);
-        printf(", ");
-        json_put_number(stdout, r->mean_c[1]);
-        printf("], \"z_confidence\": ");
-        json_put_number(stdout, zc);
-        printf(", \"nonempty\": [");
-        json_put_number(stdout, r->mean_full[0]);
-        printf(", ");
-        json_put_number(stdout, r->mean_full[1]);
-        printf("], \"z_nonempty\": ");
-        json_put_number(stdout, zn);
+        put_means("mean_FW", r->mean_fw, "z", z);
+        put_means("mean_confidence", r->mean_c, "z_confidence", zc);
+        put_means("nonempty", r->mean_full, "z_nonempty", zn);
         printf(", \"pass\": %s, \"first_differing\": [", pass ? "true" : "false");
         for (i = 0; i < r->n_first; ++i) {
             if (i) printf(", ");

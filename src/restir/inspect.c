@@ -147,6 +147,35 @@ typedef struct {
     spatial_workspace ws;
 } inspect_step;
 
+/* The common set-up: g cleared, the two inputs, the selection numbers (RNG_RIS, `vertex`);
+ * g->shown = 0 (and nothing else) for a family without a two-domain form. */
+static int step_begin(inspect_step *g, int temporal, int mis, const reservoir *ra, const reservoir *rb, rng_key key,
+                      uint32_t vertex, rerror *e)
+{
+    int j;
+    memset(g, 0, sizeof *g);
+    g->temporal = temporal;
+    g->selected = -1;
+    if (mis >= MIS_FAMILY_COUNT) return 0;
+    if (spatial_workspace_alloc(&g->ws, 2, e)) return -1;
+    g->shown = 1;
+    g->in[0] = *ra;
+    g->in[1] = *rb;
+    for (j = 0; j < 2; ++j) g->u[j] = rng_u(key, RNG_RIS, vertex, (uint32_t)j);
+    return 0;
+}
+
+/* After the step: the resampling weights w_j (GRIS Eq. 19) and the selected candidate. */
+static void step_end(inspect_step *g)
+{
+    int j;
+    for (j = 0; j < 2; ++j) {
+        g->w[j] = g->ws.valid[j] ? gris_resampling_weight(g->ws.mis[j], g->ws.ptarget[j], g->in[j].W, g->ws.jacobian[j])
+                                 : 0;
+        if (g->ws.valid[j] && dump_same_sample(&g->ws.shifted[j], &g->out.y)) g->selected = j;
+    }
+}
+
 static int gris_step_of(const restir_context *c, const restir_options *o, const initial_options *io,
                         const path_vertex *xa, const path_vertex *xb, const reservoir *ra, const reservoir *rb,
                         uint32_t p, inspect_step *g, rerror *e)
@@ -155,26 +184,15 @@ static int gris_step_of(const restir_context *c, const restir_options *o, const 
     const reservoir *in[2];
     spatial_stats st;
     rng_key key = rng_key_make(o->seed, p, initial_tree_sample(io, (uint32_t)o->first_frame, 0));
-    int j;
-    memset(g, 0, sizeof *g);
-    g->selected = -1;
-    if (o->mis >= MIS_FAMILY_COUNT) return 0;
-    if (spatial_workspace_alloc(&g->ws, 2, e)) return -1;
-    g->shown = 1;
-    g->in[0] = *ra;
-    g->in[1] = *rb;
+    if (step_begin(g, 0, o->mis, ra, rb, key, 32u, e)) return -1; /* spatial pass 1: vertex 32 */
+    if (!g->shown) return 0;
     x1[0] = xa;
     x1[1] = xb;
     in[0] = &g->in[0];
     in[1] = &g->in[1];
-    for (j = 0; j < 2; ++j) g->u[j] = rng_u(key, RNG_RIS, 32u, (uint32_t)j);
     memset(&st, 0, sizeof st);
     spatial_resample(c, (mis_family)o->mis, 2, x1, in, g->u, &g->out, &g->ws, &st);
-    for (j = 0; j < 2; ++j) {
-        g->w[j] = g->ws.valid[j] ? gris_resampling_weight(g->ws.mis[j], g->ws.ptarget[j], g->in[j].W, g->ws.jacobian[j])
-                                 : 0;
-        if (g->ws.valid[j] && dump_same_sample(&g->ws.shifted[j], &g->out.y)) g->selected = j;
-    }
+    step_end(g);
     return 0;
 }
 
@@ -190,24 +208,12 @@ static int temporal_step_of(const restir_context *c, const restir_options *o, co
 {
     temporal_stats st;
     rng_key key = rng_key_make(o->seed, p, initial_tree_sample(io, (uint32_t)o->first_frame, 0));
-    int j;
-    memset(g, 0, sizeof *g);
-    g->temporal = 1;
-    g->selected = -1;
-    if (o->temporal_mis >= MIS_FAMILY_COUNT) return 0;
-    if (spatial_workspace_alloc(&g->ws, 2, e)) return -1;
-    g->shown = 1;
-    g->in[0] = *ra;
-    g->in[1] = *rprev;
-    for (j = 0; j < 2; ++j) g->u[j] = rng_u(key, RNG_RIS, 48u, (uint32_t)j);
+    if (step_begin(g, 1, o->temporal_mis, ra, rprev, key, 48u, e)) return -1;
+    if (!g->shown) return 0;
     memset(&st, 0, sizeof st);
     temporal_resample(c, c, NULL, (mis_family)o->temporal_mis, xa, xprev, &g->in[0], &g->in[1], (real)o->mcap, g->u,
                       &g->out, &g->ws, &st);
-    for (j = 0; j < 2; ++j) {
-        g->w[j] = g->ws.valid[j] ? gris_resampling_weight(g->ws.mis[j], g->ws.ptarget[j], g->in[j].W, g->ws.jacobian[j])
-                                 : 0;
-        if (g->ws.valid[j] && dump_same_sample(&g->ws.shifted[j], &g->out.y)) g->selected = j;
-    }
+    step_end(g);
     return 0;
 }
 
@@ -251,15 +257,22 @@ static void json_num(FILE *out, const char *name, double v)
     json_put_number(out, v);
 }
 
+/* [a, b, c] */
+static void json_triple(FILE *out, double a, double b, double c)
+{
+    fprintf(out, "[");
+    json_put_number(out, a);
+    fprintf(out, ", ");
+    json_put_number(out, b);
+    fprintf(out, ", ");
+    json_put_number(out, c);
+    fprintf(out, "]");
+}
+
 static void json_rgb(FILE *out, const char *name, rgb c)
 {
-    fprintf(out, "\"%s\": [", name);
-    json_put_number(out, (double)c.r);
-    fprintf(out, ", ");
-    json_put_number(out, (double)c.g);
-    fprintf(out, ", ");
-    json_put_number(out, (double)c.b);
-    fprintf(out, "]");
+    fprintf(out, "\"%s\": ", name);
+    json_triple(out, (double)c.r, (double)c.g, (double)c.b);
 }
 
 static void json_reservoir(FILE *out, const char *name, const reservoir *r)
@@ -290,13 +303,8 @@ static void json_vertices(FILE *out, const restir_context *c, const path_vertex 
         for (j = 1; j <= d; ++j) {
             vec3 q = t.v[j].position;
             if (j == d && x->technique == PATH_TECH_NEE) q = v3_from_f(end.nee.y.position);
-            fprintf(out, "%s[", j > 1 ? ", " : "");
-            json_put_number(out, (double)q.x);
-            fprintf(out, ", ");
-            json_put_number(out, (double)q.y);
-            fprintf(out, ", ");
-            json_put_number(out, (double)q.z);
-            fprintf(out, "]");
+            if (j > 1) fprintf(out, ", ");
+            json_triple(out, (double)q.x, (double)q.y, (double)q.z);
         }
     fprintf(out, "]");
 }
