@@ -70,11 +70,10 @@ typedef struct {
 /* Reads DIR/manifest.json ("format" must be "restir-stage-dump"; other keys are skipped). */
 int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e);
 
-/* Restart: 1 if stage `name` of every frame is not computed because the dump's stage order
- * (its manifest) puts it at or before --from-stage S: S's output is read from the dump, and
- * so is each earlier stage's whose file the dump has (the data flow and this run's own
- * dumps are then those of the uninterrupted run); an earlier stage without a file is
- * neither computed nor dumped (nothing after S reads it). */
+/* Restart: 1 if stage `name` of the current frame is not computed. The dump's stage order
+ * (its manifest) decides: S = --from-stage is read from the dump; an earlier stage is read
+ * from the dump if it has the file, else computed only if this run dumps it (so that its
+ * own dump is complete; nothing after S reads it); later stages run. */
 int stage_io_skips(const stage_io *io, const char *name);
 
 /* Parses a comma-separated stage list ("initial,spatial1") into io->want. */

@@ -85,13 +85,14 @@ static int from_index(const stage_io *io, const char *name)
     return -1;
 }
 
-int stage_io_skips(const stage_io *io, const char *name)
+static int wanted(const stage_io *io, const char *name)
 {
-    int n, s;
-    if (!io || !io->from_dir) return 0;
-    n = from_index(io, name);
-    s = from_index(io, io->from_stage);
-    return n >= 0 && s >= 0 && n <= s;
+    int i;
+    if (!io->dump_dir) return 0;
+    if (io->n_want == 0) return 1;
+    for (i = 0; i < io->n_want; ++i)
+        if (!strcmp(io->want[i], name)) return 1;
+    return 0;
 }
 
 static int file_exists(const char *path)
@@ -100,6 +101,21 @@ static int file_exists(const char *path)
     if (!f) return 0;
     fclose(f);
     return 1;
+}
+
+int stage_io_skips(const stage_io *io, const char *name)
+{
+    char path[4200];
+    int n, s;
+    if (!io || !io->from_dir) return 0;
+    n = from_index(io, name);
+    s = from_index(io, io->from_stage);
+    if (n < 0 || s < 0 || n > s) return 0;
+    if (n == s) return 1;
+    /* an earlier stage: read from the dump if it has the file; else computed only if this
+     * run dumps it (nothing after S reads it) */
+    stage_dump_path(path, sizeof path, io->from_dir, io->frame, name, "resv");
+    return file_exists(path) || !wanted(io, name);
 }
 
 void stage_io_frame_begin(stage_io *io, uint32_t frame)
@@ -111,15 +127,6 @@ void stage_io_frame_begin(stage_io *io, uint32_t frame)
     if (make_dir(dir, &io->err)) io->failed = 1;
 }
 
-static int wanted(const stage_io *io, const char *name)
-{
-    int i;
-    if (!io->dump_dir) return 0;
-    if (io->n_want == 0) return 1;
-    for (i = 0; i < io->n_want; ++i)
-        if (!strcmp(io->want[i], name)) return 1;
-    return 0;
-}
 
 static void note_order(stage_io *io, const char *name)
 {
@@ -159,10 +166,10 @@ void stage_io_reservoirs(stage_io *io, const char *name, reservoir *rs, int widt
     io->height = height;
     note_order(io, name);
     if (stage_io_skips(io, name)) {
-        /* not computed: S's output must come from the dump, an earlier stage's may */
+        /* not computed: S's output comes from the dump, an earlier stage's where it has it */
         if (strcmp(name, io->from_stage)) {
             stage_dump_path(path, sizeof path, io->from_dir, io->frame, name, "resv");
-            if (!file_exists(path)) return;
+            if (!file_exists(path)) return; /* not dumped either (stage_io_skips) */
         }
         if (restart_load(io, name, rs, width, height)) {
             io->failed = 1;
