@@ -255,3 +255,107 @@ TEST(oracle_dump_diff_unit)
     CHECK(dump_diff(a, b, 2, 1, &t, &r, &e) == 0 && dump_diff_pass(&r, &t));
     CHECK(dump_rel_error(0, 0) == 0 && dump_rel_error(1, 0) == 1 && dump_rel_error(2, 1) == 0.5);
 }
+
+/* Restart starts after S for real: the stages at or before S are not computed (the --stats
+ * counters of initial and temporal stay 0 when restarting from spatial1), and a dump that
+ * holds only S's files and the manifest (what a GPU build that dumps one pass hands over)
+ * restarts bit-identically too. */
+TEST(oracle_restart_skips_earlier_stages)
+{
+    const char *a = reference_dump();
+    char cmd[4000], fa[1200], fb[1200], stats[1200];
+    static char json[262144];
+    FILE *f;
+    size_t n;
+    int fr;
+    snprintf(stats, sizeof stats, "%s/skip.json", test_tmpdir());
+    CHECKF(test_cli(out, sizeof out, "render " KIT_COMMON " -o %s/s.pfm --from-dump %s --from-stage spatial1 --stats %s",
+                    test_tmpdir(), a, stats) == 0,
+           "%s", out);
+    f = fopen(stats, "rb");
+    CHECK(f != NULL);
+    if (!f) return;
+    n = fread(json, 1, sizeof json - 1, f);
+    fclose(f);
+    json[n] = '\0';
+    CHECKF(strstr(json, "\"initial\": {\"pixels\": 0,") && strstr(json, "\"temporal\": {\"pixels\": 0,"),
+           "initial or temporal ran although the restart is from spatial1:\n%.2000s", json);
+    /* only spatial1 and the manifest */
+    snprintf(cmd, sizeof cmd, "rm -rf %s && mkdir -p %s && cp %s/manifest.json %s/", kit_dir("only1"), kit_dir("only1"),
+             a, kit_dir("only1"));
+    CHECK(system(cmd) == 0);
+    for (fr = 0; fr <= 2; ++fr) {
+        snprintf(cmd, sizeof cmd, "mkdir -p %s/frame_%04d && cp %s/frame_%04d/spatial1.resv %s/frame_%04d/",
+                 kit_dir("only1"), fr, a, fr, kit_dir("only1"), fr);
+        CHECK(system(cmd) == 0);
+    }
+    CHECKF(test_cli(out, sizeof out, "render " KIT_COMMON " -o %s/o.pfm --from-dump %s --from-stage spatial1",
+                    test_tmpdir(), kit_dir("only1")) == 0,
+           "%s", out);
+    for (fr = 0; fr <= 2; ++fr) {
+        snprintf(fa, sizeof fa, "%s/a.%04d.pfm", test_tmpdir(), fr);
+        snprintf(fb, sizeof fb, "%s/o.%04d.pfm", test_tmpdir(), fr);
+        CHECKF(test_files_equal(fa, fb), "restart from a dump of spatial1 alone: frame %d differs", fr);
+    }
+    /* a dump without the manifest cannot be restarted from (its stage order is unknown) */
+    snprintf(cmd, sizeof cmd, "rm %s/manifest.json", kit_dir("only1"));
+    CHECK(system(cmd) == 0);
+    CHECK(test_cli(out, sizeof out, "render " KIT_COMMON " -o %s/o.pfm --from-dump %s --from-stage spatial1",
+                   test_tmpdir(), kit_dir("only1")) == 2);
+    CHECKF(strstr(out, "manifest.json") != NULL, "%s", out);
+}
+
+/* The `reproduce:` arguments diff-dump lists for a differing pixel of an `initial` stage
+ * make `restir inspect` print exactly that pixel's reservoir from A (W and p̂ to 17 digits),
+ * also in a later frame of the animated scene (its camera and pose at --first-frame). */
+TEST(oracle_diff_dump_reproduce_arguments_reproduce)
+{
+    const char *a = reference_dump();
+    static char diff[262144];
+    char args[2048], *p, *q;
+    double w_a, t_a, w_i, t_i;
+    CHECKF(test_cli(out, sizeof out, "render " KIT_COMMON " --seed 3 -o %s/s3.pfm --dump-dir %s", test_tmpdir(),
+                    kit_dir("S3")) == 0,
+           "%s", out);
+    CHECK(test_cli(diff, sizeof diff, "diff-dump %s %s --json --first 1", a, kit_dir("S3")) == 1);
+    p = strstr(diff, "{\"frame\": 2, \"stage\": \"initial\"");
+    CHECKF(p != NULL, "%.3000s", diff);
+    if (!p) return;
+    p = strstr(p, "\"first_differing\": [{");
+    CHECK(p != NULL);
+    if (!p) return;
+    w_a = strtod(strstr(p, "\"W\": [") + 6, NULL);
+    t_a = strtod(strstr(p, "\"target\": [") + 11, NULL);
+    p = strstr(p, "\"inspect_args\": \"");
+    CHECK(p != NULL);
+    if (!p) return;
+    p += strlen("\"inspect_args\": \"");
+    q = strchr(p, '"');
+    CHECK(q != NULL && (size_t)(q - p) < sizeof args);
+    if (!q || (size_t)(q - p) >= sizeof args) return;
+    memcpy(args, p, (size_t)(q - p));
+    args[q - p] = '\0';
+    CHECKF(strstr(args, "--first-frame 2") && strstr(args, "--size 40x28"), "%s", args);
+    CHECKF(test_cli(out, sizeof out, "inspect %s --json", args) == 0, "%s\n%s", args, out);
+    p = strstr(out, "\"initial\": {");
+    CHECKF(p != NULL, "%s", out);
+    if (!p) return;
+    w_i = strtod(strstr(p, "\"W\": ") + 5, NULL);
+    t_i = strtod(strstr(p, "\"target\": ") + 10, NULL);
+    CHECKF(w_i == w_a && t_i == t_a, "inspect %s: W %.17g p^ %.17g, the dump has W %.17g p^ %.17g", args, w_i, t_i, w_a,
+           t_a);
+}
+
+/* The statistical mode also compares the mean confidence and the non-empty fraction: a build
+ * with another RNG and a wrong M-cap (2 instead of the preset's 20) has the same image means
+ * of luminance(F) W (|z| < 1) but is found at a temporal stage (mean c: z = +4.1 in frame 1,
+ * +14.9 in frame 2), which the F W test alone passes. */
+TEST(oracle_diff_dump_stat_finds_wrong_mcap)
+{
+    const char *a = reference_dump();
+    CHECKF(test_cli(out, sizeof out, "render " KIT_COMMON " --seed 2 --mcap 2 -o %s/m2.pfm --dump-dir %s", test_tmpdir(),
+                    kit_dir("M2")) == 0,
+           "%s", out);
+    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s --stat", a, kit_dir("M2")) == 1, "%s", out);
+    CHECKF(strstr(out, "first difference: frame ") && strstr(out, ", stage temporal\n"), "%s", out);
+}

@@ -33,6 +33,8 @@ typedef struct {
     double q_w[4], q_target[4], q_conf[4]; /* relative-error quantiles 0.5, 0.9, 0.99, max
                                              over pixels with the same sample */
     double mean_fw[2], se_fw[2];        /* image mean of luminance(F) W and its standard error */
+    double mean_c[2], se_c[2];          /* image mean of the confidence c and its standard error */
+    double mean_full[2], se_full[2];    /* fraction of non-empty reservoirs (W > 0) and its s.e. */
     int n_first;
     dump_diff_pixel firsts[DUMP_DIFF_MAX_FIRST];
 } dump_diff_result;
@@ -50,5 +52,10 @@ int dump_diff_pass(const dump_diff_result *r, const dump_diff_tolerance *t);
 /* Two-sample z of the image means of luminance(F) W (the statistical mode; pixels are
  * treated as independent, which spatial reuse makes optimistic: docs/oracle.md). */
 double dump_diff_mean_z(const dump_diff_result *r);
+/* The same two-sample z for the mean confidence and for the fraction of non-empty
+ * reservoirs: a build that gets W right on average but the confidences (an M-cap, a
+ * confidence sum) or the support (a shift that fails too often) wrong. */
+double dump_diff_confidence_z(const dump_diff_result *r);
+double dump_diff_nonempty_z(const dump_diff_result *r);
 
 #endif

@@ -166,10 +166,15 @@ typedef struct {
 int restir_render_sequence(const scene *s, const restir_options *o, const restir_sequence *seq,
                            restir_frame_sink sink, void *user, restir_stats *total, rerror *e);
 
-/* One pixel, for `restir inspect` (docs/restir-pt.md): prints the selected path of pixel
- * (x, y) in frame o->first_frame (vertices, lobes, k, technique, F, W), then shifts it to
+/* One pixel, for `restir inspect` (docs/restir-pt.md, docs/tour.md): prints the selected path
+ * of pixel (x, y) in frame o->first_frame (vertices, lobes, k, technique, F, W), shifts it to
  * pixel (nx, ny) with o->shift (failure reason, or J with its factors, F(y) and the round
- * trip back). */
-int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, int y, int nx, int ny, rerror *e);
+ * trip back), then one spatial GRIS step with M = 2 (the pixel's and the neighbour's initial
+ * reservoirs, o->mis): every p̂, J, m_j, w_j and the resulting W. temporal (static scenes,
+ * first_frame >= 1): also the temporal step with the pixel's initial reservoir of frame
+ * first_frame - 1 as the previous domain (o->temporal_mis, o->mcap). json: one JSON object
+ * with the same numbers at 17 significant digits instead of the text. */
+int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, int y, int nx, int ny, int json,
+                   int temporal, rerror *e);
 
 #endif

@@ -13,8 +13,9 @@
  * paired spatial, ...) plugs into dumps, restart and diff-dump with that one line. The
  * stage order in the manifest is the order of those calls in the first frame.
  *
- * Restart (--from-dump DIR --from-stage S): when stage S of frame f completes, its output
- * is replaced by DIR/frame_f/S.resv, so every later stage runs on the dumped reservoirs.
+ * Restart (--from-dump DIR --from-stage S): stage S and the stages before it (in DIR's
+ * manifest order) are not computed (stage_io_skips); S's output is DIR/frame_f/S.resv, so
+ * every later stage runs on the dumped reservoirs.
  * All RNG is addressed (docs/rng.md), so restarting from our own dump is bit-identical to
  * the uninterrupted run; a GPU build hands its pass-S output to the oracle the same way. */
 #ifndef RESTIR_STAGE_DUMP_H
@@ -40,6 +41,8 @@ typedef struct stage_io_s {
     int n_want;
     const char *from_dir;                  /* NULL: no restart */
     char from_stage[STAGE_NAME_SIZE];
+    char from_order[STAGE_MAX][STAGE_NAME_SIZE]; /* the stage order of from_dir's manifest */
+    int n_from_order;
     const char *scene_path;                /* for the manifest (hashed) */
     int argc;                              /* the command line, for the manifest (argv may be NULL) */
     char **argv;
@@ -51,6 +54,27 @@ typedef struct stage_io_s {
     int failed;
     rerror err;                            /* the first failure (sticky) */
 } stage_io;
+
+/* What restart and diff-dump read of a dump's manifest.json. */
+typedef struct {
+    char order[STAGE_MAX][STAGE_NAME_SIZE]; /* "stage_order" */
+    int n_order;
+    long first, last, seed;                 /* "frames" {first, last}, "seed" */
+    char scene[4096];                       /* "scene" {path} ("" if absent) */
+    long width, height;                     /* "image" (0 if absent) */
+    char inspect_args[1024];                /* " --size WxH --shift hybrid --mis ...": what
+                                               `restir inspect` needs besides --pixel, --seed
+                                               and --first-frame to print a pixel's initial sample */
+} stage_manifest;
+
+/* Reads DIR/manifest.json ("format" must be "restir-stage-dump"; other keys are skipped). */
+int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e);
+
+/* Restart: 1 if stage `name` of the current frame is not computed. The dump's stage order
+ * (its manifest) decides: S = --from-stage is read from the dump; an earlier stage is read
+ * from the dump if it has the file, else computed only if this run dumps it (so that its
+ * own dump is complete; nothing after S reads it); later stages run. */
+int stage_io_skips(const stage_io *io, const char *name);
 
 /* Parses a comma-separated stage list ("initial,spatial1") into io->want. */
 int stage_io_set_stages(stage_io *io, const char *list, rerror *e);

@@ -46,4 +46,13 @@ real stochastic_pairwise_b(real c_c, real c_S, real c_i, real q_i, real p);
  * pairwise MIS (the paper: "naturally degrading to deterministic pairwise MIS"). */
 real stochastic_confidence_scale(int n_picks, int m_noncanonical);
 
+/* Stochastic MIS §4.2: the Ñ_c uniform picks (P_c = 1/n) among the n non-canonical domains
+ * for the canonical weight, the k-th at floor(uc[k] n); Kc[i] = multiplicity of i. */
+void stochastic_canonical_picks(int n, int n_picks, const real *uc, int *Kc);
+
+/* Stochastic MIS Eq. 18, one term of the sum over the picked domains i:
+ *     K'(i) / (Ñ_c P_c) b_i(Y_c),   P_c = 1/n,   b_i of Eq. 19 with q_i = p̂_{<-i}(Y_c);
+ * m̃_c = c_c / C + the sum of these terms (C = c_c + c_S > 0, n >= 1). */
+real stochastic_canonical_term(int kc, int n_picks, int n, real c_c, real c_S, real c_i, real q_i, real p);
+
 #endif

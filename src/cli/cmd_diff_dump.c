@@ -12,95 +12,12 @@
 #include "restir/stage_dump.h"
 
 typedef struct {
-    char order[STAGE_MAX][STAGE_NAME_SIZE];
-    int n_order;
-    long first, last, seed;
-    char scene[4096];
-} manifest;
-
-static int read_long(json_reader *r, long *v)
-{
-    double d;
-    if (json_read_number(r, &d)) return -1;
-    *v = (long)d;
-    return 0;
-}
-
-static int read_order(json_reader *r, manifest *m)
-{
-    if (json_expect(r, '[')) return -1;
-    if (json_peek(r) == ']') return json_expect(r, ']');
-    for (;;) {
-        if (m->n_order >= STAGE_MAX) return rerror_at(r->e, r->path, r->line, "more than %d stages", STAGE_MAX);
-        if (json_read_string(r, m->order[m->n_order++], STAGE_NAME_SIZE)) return -1;
-        if (json_peek(r) != ',') break;
-        r->pos++;
-    }
-    return json_expect(r, ']');
-}
-
-/* An object's members: frames {first, last} or scene {path}; other keys skipped. */
-static int read_object(json_reader *r, manifest *m, const char *outer)
-{
-    if (json_expect(r, '{')) return -1;
-    if (json_peek(r) == '}') return json_expect(r, '}');
-    for (;;) {
-        char key[64];
-        int status;
-        if (json_read_string(r, key, sizeof key) || json_expect(r, ':')) return -1;
-        if (!strcmp(outer, "frames") && !strcmp(key, "first")) status = read_long(r, &m->first);
-        else if (!strcmp(outer, "frames") && !strcmp(key, "last")) status = read_long(r, &m->last);
-        else if (!strcmp(outer, "scene") && !strcmp(key, "path") && json_peek(r) == '"')
-            status = json_read_string(r, m->scene, sizeof m->scene);
-        else status = json_skip_value(r);
-        if (status) return -1;
-        if (json_peek(r) != ',') break;
-        r->pos++;
-    }
-    return json_expect(r, '}');
-}
-
-static int read_manifest(const char *dir, manifest *m, rerror *e)
-{
-    char path[4200], format[64] = "";
-    json_reader r;
-    memset(m, 0, sizeof *m);
-    m->first = m->last = -1;
-    snprintf(path, sizeof path, "%s/manifest.json", dir);
-    if (json_reader_open(&r, path, e)) return -1;
-    if (json_expect(&r, '{')) goto fail;
-    for (;;) {
-        char key[64];
-        int status;
-        if (json_read_string(&r, key, sizeof key) || json_expect(&r, ':')) goto fail;
-        if (!strcmp(key, "format")) status = json_read_string(&r, format, sizeof format);
-        else if (!strcmp(key, "stage_order")) status = read_order(&r, m);
-        else if (!strcmp(key, "seed")) status = read_long(&r, &m->seed);
-        else if (!strcmp(key, "frames") || !strcmp(key, "scene")) status = read_object(&r, m, key);
-        else status = json_skip_value(&r);
-        if (status) goto fail;
-        if (json_peek(&r) != ',') break;
-        r.pos++;
-    }
-    if (json_expect(&r, '}') || json_expect_end(&r)) goto fail;
-    json_reader_close(&r);
-    if (strcmp(format, "restir-stage-dump"))
-        return rerror_at(e, path, 0, "\"format\" must be \"restir-stage-dump\"");
-    if (m->first < 0 || m->last < m->first || m->n_order == 0)
-        return rerror_at(e, path, 0, "missing \"frames\" {first, last} or \"stage_order\"");
-    return 0;
-fail:
-    json_reader_close(&r);
-    return -1;
-}
-
-typedef struct {
     const char *a, *b;
     int json, stat, first;
     double max_rel_w, max_rel_target, max_rel_conf, min_same, z;
 } diff_args;
 
-static void print_pixel_text(const manifest *m, const dump_diff_pixel *d, long frame)
+static void print_pixel_text(const stage_manifest *m, const dump_diff_pixel *d, long frame)
 {
     printf("    pixel %ld,%ld: %s  W %.17g | %.17g  p^ %.17g | %.17g  c %.17g | %.17g\n", d->x, d->y,
            d->same_sample ? "same sample" : "OTHER SAMPLE", d->w[0], d->w[1], d->target[0], d->target[1], d->conf[0],
@@ -109,13 +26,13 @@ static void print_pixel_text(const manifest *m, const dump_diff_pixel *d, long f
         printf("      ids (pixel %u, sample %u, d %d, tech %d) | (pixel %u, sample %u, d %d, tech %d)\n", d->id_pixel[0],
                d->id_sample[0], d->length[0], d->technique[0], d->id_pixel[1], d->id_sample[1], d->length[1],
                d->technique[1]);
-    printf("      reproduce: restir inspect %s --pixel %ld,%ld --seed %ld --first-frame %ld\n",
-           m->scene[0] ? m->scene : "SCENE", d->x, d->y, m->seed, frame);
+    printf("      reproduce: restir inspect %s --pixel %ld,%ld --seed %ld --first-frame %ld%s\n",
+           m->scene[0] ? m->scene : "SCENE", d->x, d->y, m->seed, frame, m->inspect_args);
 }
 
-static void print_pixel_json(const manifest *m, const dump_diff_pixel *d, long frame)
+static void print_pixel_json(const stage_manifest *m, const dump_diff_pixel *d, long frame)
 {
-    char cmd[4400];
+    char cmd[5300];
     printf("{\"x\": %ld, \"y\": %ld, \"same_sample\": %s, \"W\": [", d->x, d->y, d->same_sample ? "true" : "false");
     json_put_number(stdout, d->w[0]);
     printf(", ");
@@ -128,8 +45,8 @@ static void print_pixel_json(const manifest *m, const dump_diff_pixel *d, long f
     json_put_number(stdout, d->conf[0]);
     printf(", ");
     json_put_number(stdout, d->conf[1]);
-    snprintf(cmd, sizeof cmd, "%s --pixel %ld,%ld --seed %ld --first-frame %ld", m->scene[0] ? m->scene : "SCENE",
-             d->x, d->y, m->seed, frame);
+    snprintf(cmd, sizeof cmd, "%s --pixel %ld,%ld --seed %ld --first-frame %ld%s", m->scene[0] ? m->scene : "SCENE",
+             d->x, d->y, m->seed, frame, m->inspect_args);
     printf("], \"inspect_args\": ");
     json_put_string(stdout, cmd);
     printf("}");
@@ -146,12 +63,24 @@ static void put_q(const char *name, const double *q)
     printf("]");
 }
 
+/* ", "name": [a, b], "zname": z */
+static void put_means(const char *name, const double *v, const char *zname, double z)
+{
+    printf(", \"%s\": [", name);
+    json_put_number(stdout, v[0]);
+    printf(", ");
+    json_put_number(stdout, v[1]);
+    printf("], \"%s\": ", zname);
+    json_put_number(stdout, z);
+}
+
 /* One (frame, stage) row; returns 1 if it passes. */
-static int report_row(const diff_args *a, const manifest *m, long frame, const char *stage, const dump_diff_result *r,
+static int report_row(const diff_args *a, const stage_manifest *m, long frame, const char *stage, const dump_diff_result *r,
                       const dump_diff_tolerance *t, int *first_row)
 {
-    double same = (double)r->same / (double)r->pixels, z = dump_diff_mean_z(r);
-    int pass = a->stat ? fabs(z) <= a->z : dump_diff_pass(r, t), i;
+    double same = (double)r->same / (double)r->pixels, z = dump_diff_mean_z(r), zc = dump_diff_confidence_z(r),
+           zn = dump_diff_nonempty_z(r);
+    int pass = a->stat ? fabs(z) <= a->z && fabs(zc) <= a->z && fabs(zn) <= a->z : dump_diff_pass(r, t), i;
     if (a->json) {
         printf("%s\n  {\"frame\": %ld, \"stage\": ", *first_row ? "" : ",", frame);
         json_put_string(stdout, stage);
@@ -165,12 +94,9 @@ static int report_row(const diff_args *a, const manifest *m, long frame, const c
         put_q("rel_err_target", r->q_target);
         printf(", ");
         put_q("rel_err_confidence", r->q_conf);
-        printf(", \"mean_FW\": [");
-        json_put_number(stdout, r->mean_fw[0]);
-        printf(", ");
-        json_put_number(stdout, r->mean_fw[1]);
-        printf("], \"z\": ");
-        json_put_number(stdout, z);
+        put_means("mean_FW", r->mean_fw, "z", z);
+        put_means("mean_confidence", r->mean_c, "z_confidence", zc);
+        put_means("nonempty", r->mean_full, "z_nonempty", zn);
         printf(", \"pass\": %s, \"first_differing\": [", pass ? "true" : "false");
         for (i = 0; i < r->n_first; ++i) {
             if (i) printf(", ");
@@ -182,14 +108,17 @@ static int report_row(const diff_args *a, const manifest *m, long frame, const c
                "mean F*W %.6g | %.6g (z %+.2f)  %s\n",
                frame, stage, same, r->q_w[0], r->q_w[2], r->q_w[3], r->q_target[3], r->q_conf[3], r->mean_fw[0],
                r->mean_fw[1], z, pass ? "ok" : "DIFFERS");
-        if (!a->stat)
+        if (a->stat)
+            printf("    mean c %.6g | %.6g (z %+.2f)  non-empty %.6f | %.6f (z %+.2f)\n", r->mean_c[0], r->mean_c[1], zc,
+                   r->mean_full[0], r->mean_full[1], zn);
+        else
             for (i = 0; i < r->n_first; ++i) print_pixel_text(m, &r->firsts[i], frame);
     }
     *first_row = 0;
     return pass;
 }
 
-static int diff_stage(const diff_args *a, const manifest *m, long frame, const char *stage,
+static int diff_stage(const diff_args *a, const stage_manifest *m, long frame, const char *stage,
                       const dump_diff_tolerance *t, int *first_row, int *first_fail_reported, rerror *e)
 {
     char pa[4200], pb[4200];
@@ -236,7 +165,7 @@ int cmd_diff_dump(int argc, char **argv)
     const char *positional[2];
     int count, status, n, i, all_pass = 1, first_row = 1, reported = 0;
     long f;
-    manifest m;
+    stage_manifest m;
     dump_diff_tolerance t;
     rerror e;
     memset(&a, 0, sizeof a);
@@ -252,7 +181,7 @@ int cmd_diff_dump(int argc, char **argv)
             {"--max-rel-confidence", OPT_REAL, &a.max_rel_conf, "relative error of the confidence c (default 0)", NULL, 0, 1e300, NULL},
             {"--min-same", OPT_REAL, &a.min_same, "fraction of pixels that must hold the same sample (default 1)", NULL, 0, 1, NULL},
             {"--first", OPT_INT, &a.first, "differing pixels listed per stage (default 5, at most 32)", NULL, 0, DUMP_DIFF_MAX_FIRST, NULL},
-            {"--stat", OPT_FLAG, &a.stat, "statistical mode for builds with another RNG: compare the image means of luminance(F) W per stage", NULL, 0, 0, NULL},
+            {"--stat", OPT_FLAG, &a.stat, "statistical mode for builds with another RNG: compare the image means of luminance(F) W, of c and of the non-empty fraction per stage", NULL, 0, 0, NULL},
             {"--z", OPT_REAL, &a.z, "with --stat: largest |z| that passes (default 4)", NULL, 0, 1e300, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
@@ -275,7 +204,7 @@ int cmd_diff_dump(int argc, char **argv)
     t.max_rel_conf = a.max_rel_conf;
     t.min_same = a.min_same;
     t.first = a.first;
-    if (read_manifest(a.a, &m, &e)) {
+    if (stage_manifest_read(a.a, &m, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }

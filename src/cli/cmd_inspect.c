@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "args.h"
+#include "restir/animation.h"
 #include "render_restir.h"
 #include "scene_args.h"
 
@@ -17,9 +18,9 @@ int cmd_inspect(int argc, char **argv)
 {
     restir_options o;
     scene_overrides overrides;
-    cli_option options[48];
+    cli_option options[52];
     const char *positional[1], *pixel = NULL, *neighbor = NULL;
-    int n, count, status, xy[2], nxy[2];
+    int n, count, status, xy[2], nxy[2], json = 0, temporal = 0;
     double load, prepare;
     scene s;
     rerror e;
@@ -32,6 +33,13 @@ int cmd_inspect(int argc, char **argv)
              NULL},
             {"--seed", OPT_UINT32, &o.seed, "run seed of the addressed RNG (default 1)", NULL, 0, 0, NULL},
             {"--jitter", OPT_FLAG, &o.jitter, "jittered primary rays", NULL, 0, 0, NULL},
+            {"--json", OPT_FLAG, &json, "one JSON object with every number at 17 digits (docs/tour.md)", NULL, 0, 0,
+             NULL},
+            {"--temporal", OPT_FLAG, &temporal,
+             "also the temporal step against the pixel's initial reservoir of frame --first-frame - 1 (static scenes)",
+             NULL, 0, 0, NULL},
+            {"--mcap", OPT_REAL, &o.mcap, "with --temporal: the previous confidence is capped at C x the current one (default 20)",
+             NULL, 1e-300, 1e300, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
     }
@@ -56,7 +64,13 @@ int cmd_inspect(int argc, char **argv)
     }
     status = load_scene_for_command("inspect", positional[0], &overrides, &s, &load, &prepare);
     if (status) return status;
-    if (restir_inspect(stdout, &s, &o, xy[0], xy[1], nxy[0], nxy[1], &e)) {
+    /* an animated scene as frame --first-frame of a sequence sees it (diff-dump's reproduce lines) */
+    if (scene_is_animated(&s) && scene_pose_at(&s, o.first_frame, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        scene_free(&s);
+        return 2;
+    }
+    if (restir_inspect(stdout, &s, &o, xy[0], xy[1], nxy[0], nxy[1], json, temporal, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         status = 2;
     }

@@ -77,13 +77,23 @@ static void note_pixel(dump_diff_result *r, const dump_diff_tolerance *t, const 
     d->technique[1] = b->y.technique;
 }
 
-/* Mean and standard error of luminance(F) W over the image. */
-static void image_mean(const reservoir *rs, long n, double *mean, double *se)
+/* One per-pixel quantity of the statistical mode. */
+enum image_quantity { Q_FW, Q_CONFIDENCE, Q_NONEMPTY };
+
+static double quantity(const reservoir *r, enum image_quantity q)
+{
+    if (q == Q_CONFIDENCE) return (double)r->confidence;
+    if (q == Q_NONEMPTY) return r->W > 0 ? 1.0 : 0.0;
+    return (double)r->y.target * (double)r->W; /* p̂ = luminance(F) */
+}
+
+/* Mean and standard error of a quantity over the image. */
+static void image_mean(const reservoir *rs, long n, enum image_quantity q, double *mean, double *se)
 {
     double s = 0, s2 = 0;
     long p;
     for (p = 0; p < n; ++p) {
-        double v = (double)rs[p].y.target * (double)rs[p].W; /* p̂ = luminance(F) */
+        double v = quantity(&rs[p], q);
         s += v;
         s2 += v * v;
     }
@@ -125,8 +135,12 @@ int dump_diff(const reservoir *a, const reservoir *b, long width, long height, c
     quantiles(ew, k, r->q_w);
     quantiles(et, k, r->q_target);
     quantiles(ec, k, r->q_conf);
-    image_mean(a, n, &r->mean_fw[0], &r->se_fw[0]);
-    image_mean(b, n, &r->mean_fw[1], &r->se_fw[1]);
+    image_mean(a, n, Q_FW, &r->mean_fw[0], &r->se_fw[0]);
+    image_mean(b, n, Q_FW, &r->mean_fw[1], &r->se_fw[1]);
+    image_mean(a, n, Q_CONFIDENCE, &r->mean_c[0], &r->se_c[0]);
+    image_mean(b, n, Q_CONFIDENCE, &r->mean_c[1], &r->se_c[1]);
+    image_mean(a, n, Q_NONEMPTY, &r->mean_full[0], &r->se_full[0]);
+    image_mean(b, n, Q_NONEMPTY, &r->mean_full[1], &r->se_full[1]);
     free(ew);
     free(et);
     free(ec);
@@ -140,9 +154,13 @@ int dump_diff_pass(const dump_diff_result *r, const dump_diff_tolerance *t)
            r->q_conf[3] <= t->max_rel_conf;
 }
 
-double dump_diff_mean_z(const dump_diff_result *r)
+static double two_sample_z(const double *mean, const double *se)
 {
-    double se = sqrt(r->se_fw[0] * r->se_fw[0] + r->se_fw[1] * r->se_fw[1]);
-    if (se == 0) return r->mean_fw[0] == r->mean_fw[1] ? 0 : INFINITY;
-    return (r->mean_fw[0] - r->mean_fw[1]) / se;
+    double s = sqrt(se[0] * se[0] + se[1] * se[1]);
+    if (s == 0) return mean[0] == mean[1] ? 0 : INFINITY;
+    return (mean[0] - mean[1]) / s;
 }
+
+double dump_diff_mean_z(const dump_diff_result *r) { return two_sample_z(r->mean_fw, r->se_fw); }
+double dump_diff_confidence_z(const dump_diff_result *r) { return two_sample_z(r->mean_c, r->se_c); }
+double dump_diff_nonempty_z(const dump_diff_result *r) { return two_sample_z(r->mean_full, r->se_full); }

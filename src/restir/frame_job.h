@@ -51,6 +51,11 @@ typedef struct frame_job_s {
  * dumps them and/or replaces them by a dump (restart), as j->sio says (stage_dump.h).
  * A new stage plugs into the golden-oracle kit with this one line. */
 void pipeline_stage_done(frame_job *j, const char *name, reservoir *rs);
+/* Restart from a dump (--from-stage S): 1 if stage `name` is not computed in this frame
+ * (S, or an earlier stage the dump holds or nobody needs: stage_io_skips), so that the stage
+ * skips its computation (pipeline_stage_done then reads its output from the dump). Every
+ * stage runs as `if (!pipeline_stage_skipped(j, "name")) compute;` then pipeline_stage_done. */
+int pipeline_stage_skipped(const frame_job *j, const char *name);
 
 /* The neighbour selection options of o (neighbors.h). */
 void restir_neighbor_options_for(neighbor_options *no, const restir_options *o);

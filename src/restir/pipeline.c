@@ -161,10 +161,10 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
         return -1;
     times->ms_motion += frame_lap_ms(&t);
     if (j->sio) stage_io_gbuffer(j->sio, &j->g);
-    frame_stage_initial(j, times, &t);
+    if (!pipeline_stage_skipped(j, "initial")) frame_stage_initial(j, times, &t);
     pipeline_stage_done(j, "initial", j->initial);
     if (j->o->temporal) {
-        stage_temporal(pl, j->initial, j->pong, times, &t);
+        if (!pipeline_stage_skipped(j, "temporal")) stage_temporal(pl, j->initial, j->pong, times, &t);
         pipeline_stage_done(j, "temporal", j->pong);
         final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
     } else
@@ -261,6 +261,9 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
     int f, status = 0, start = q->first;
     if (q->resume && (start = checkpoint_resume(pl, q, e) + 1) < 1) return -1;
     if (j->sio && stage_io_begin(j->sio, start, q->last, e)) return -1;
+    if (j->sio && j->sio->from_dir && j->o->shading == RESTIR_SHADING_VECTOR)
+        return rerror_set(e, "--from-dump: not with --shading vector (it needs the last spatial pass's inputs, "
+                             "which a restart does not compute)");
     progress_begin(&bar, "restir", j->o->quiet);
     for (f = start; f <= q->last && !status; ++f) {
         restir_stats st;

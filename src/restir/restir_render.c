@@ -350,18 +350,18 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
 {
     reservoir *final = a;
     for (j->pass = 0; j->pass < j->o->spatial_passes; ++j->pass) {
+        char name[32];
+        snprintf(name, sizeof name, "spatial%d", j->pass + 1);
         /* ping-pong: a -> b -> a -> ... */
         j->src = j->pass % 2 == 0 ? a : b;
         j->dst = j->pass % 2 == 0 ? b : a;
-        if (j->o->cells) reuse_cells_build(&j->cells, &j->g, j->src, NULL); /* allocated: cannot fail */
-        parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
+        if (!pipeline_stage_skipped(j, name)) {
+            if (j->o->cells) reuse_cells_build(&j->cells, &j->g, j->src, NULL); /* allocated: cannot fail */
+            parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
+        }
         final = j->dst;
         times->ms_spatial[j->pass] += frame_lap_ms(t);
-        if (j->sio) {
-            char name[32];
-            snprintf(name, sizeof name, "spatial%d", j->pass + 1);
-            pipeline_stage_done(j, name, j->dst);
-        }
+        pipeline_stage_done(j, name, j->dst);
     }
     return final;
 }

@@ -65,17 +65,24 @@ int stage_io_begin(stage_io *io, int first, int last, rerror *e)
     io->n_order = io->frames_done = io->failed = io->restarted = 0;
     if (io->from_dir && !valid_name(io->from_stage))
         return rerror_set(e, "--from-stage: '%s' is not a stage name", io->from_stage);
+    if (io->from_dir) {
+        stage_manifest m;
+        int i;
+        if (stage_manifest_read(io->from_dir, &m, e)) return -1;
+        for (i = 0; i < m.n_order; ++i) strcpy(io->from_order[i], m.order[i]);
+        io->n_from_order = m.n_order;
+    }
     if (io->dump_dir && make_dir(io->dump_dir, e)) return -1;
     return 0;
 }
 
-void stage_io_frame_begin(stage_io *io, uint32_t frame)
+/* Index of name in the restart dump's stage order, -1 if absent. */
+static int from_index(const stage_io *io, const char *name)
 {
-    char dir[4200];
-    io->frame = frame;
-    if (!io->dump_dir || io->failed) return;
-    snprintf(dir, sizeof dir, "%s/frame_%04u", io->dump_dir, (unsigned)frame);
-    if (make_dir(dir, &io->err)) io->failed = 1;
+    int i;
+    for (i = 0; i < io->n_from_order; ++i)
+        if (!strcmp(io->from_order[i], name)) return i;
+    return -1;
 }
 
 static int wanted(const stage_io *io, const char *name)
@@ -87,6 +94,39 @@ static int wanted(const stage_io *io, const char *name)
         if (!strcmp(io->want[i], name)) return 1;
     return 0;
 }
+
+static int file_exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return 0;
+    fclose(f);
+    return 1;
+}
+
+int stage_io_skips(const stage_io *io, const char *name)
+{
+    char path[4200];
+    int n, s;
+    if (!io || !io->from_dir) return 0;
+    n = from_index(io, name);
+    s = from_index(io, io->from_stage);
+    if (n < 0 || s < 0 || n > s) return 0;
+    if (n == s) return 1;
+    /* an earlier stage: read from the dump if it has the file; else computed only if this
+     * run dumps it (nothing after S reads it) */
+    stage_dump_path(path, sizeof path, io->from_dir, io->frame, name, "resv");
+    return file_exists(path) || !wanted(io, name);
+}
+
+void stage_io_frame_begin(stage_io *io, uint32_t frame)
+{
+    char dir[4200];
+    io->frame = frame;
+    if (!io->dump_dir || io->failed) return;
+    snprintf(dir, sizeof dir, "%s/frame_%04u", io->dump_dir, (unsigned)frame);
+    if (make_dir(dir, &io->err)) io->failed = 1;
+}
+
 
 static void note_order(stage_io *io, const char *name)
 {
@@ -125,8 +165,18 @@ void stage_io_reservoirs(stage_io *io, const char *name, reservoir *rs, int widt
     io->width = width;
     io->height = height;
     note_order(io, name);
-    if (io->from_dir && !strcmp(name, io->from_stage) && restart_load(io, name, rs, width, height)) {
-        io->failed = 1;
+    if (stage_io_skips(io, name)) {
+        /* not computed: S's output comes from the dump, an earlier stage's where it has it */
+        if (strcmp(name, io->from_stage)) {
+            stage_dump_path(path, sizeof path, io->from_dir, io->frame, name, "resv");
+            if (!file_exists(path)) return; /* not dumped either (stage_io_skips) */
+        }
+        if (restart_load(io, name, rs, width, height)) {
+            io->failed = 1;
+            return;
+        }
+    } else if (io->from_dir && !strcmp(name, io->from_stage) && restart_load(io, name, rs, width, height)) {
+        io->failed = 1; /* S is not in the dump's manifest order: computed, then replaced */
         return;
     }
     if (!wanted(io, name)) return;
@@ -262,6 +312,133 @@ int stage_io_frame_end(stage_io *io, const void *restir_opts, rerror *e)
     io->frames_done++;
     if (io->dump_dir) return write_manifest(io, (const restir_options *)restir_opts, e);
     return 0;
+}
+
+/* ---- reading a manifest (diff-dump, restart) ----------------------------------------- */
+
+static int read_long(json_reader *r, long *v)
+{
+    double d;
+    if (json_read_number(r, &d)) return -1;
+    *v = (long)d;
+    return 0;
+}
+
+static int read_order(json_reader *r, stage_manifest *m)
+{
+    if (json_expect(r, '[')) return -1;
+    if (json_peek(r) == ']') return json_expect(r, ']');
+    for (;;) {
+        if (m->n_order >= STAGE_MAX) return rerror_at(r->e, r->path, r->line, "more than %d stages", STAGE_MAX);
+        if (json_read_string(r, m->order[m->n_order++], STAGE_NAME_SIZE)) return -1;
+        if (json_peek(r) != ',') break;
+        r->pos++;
+    }
+    return json_expect(r, ']');
+}
+
+/* The options `restir inspect` needs to reproduce a pixel's initial sample: manifest key
+ * -> command-line option (booleans: the flag when true). */
+static const char *const inspect_options[][2] = {
+    {"shift", "--shift"},         {"mis", "--mis"},
+    {"candidates", "--candidates"}, {"max_depth", "--max-depth"},
+    {"roughness_threshold", "--roughness-threshold"}, {"distance_threshold", "--distance-threshold"},
+    {"paths", "--paths"},         {"rc_criterion", "--rc-criterion"},
+    {"footprint_c", "--footprint-c"}, {"force_nee_reconnection", "--force-nee-reconnection"},
+    {"russian_roulette", "--russian-roulette"}, {"jitter", "--jitter"}};
+
+/* One member of "options": appended to m->inspect_args if inspect needs it. */
+static int read_inspect_option(json_reader *r, stage_manifest *m, const char *key)
+{
+    size_t i, n = strlen(m->inspect_args);
+    char value[64];
+    for (i = 0; i < sizeof inspect_options / sizeof inspect_options[0]; ++i)
+        if (!strcmp(key, inspect_options[i][0])) break;
+    if (i == sizeof inspect_options / sizeof inspect_options[0]) return json_skip_value(r);
+    if (json_peek(r) == '"') {
+        if (json_read_string(r, value, sizeof value)) return -1;
+    } else if (json_peek(r) == 't' || json_peek(r) == 'f') {
+        int on = json_peek(r) == 't';
+        if (json_skip_value(r)) return -1;
+        if (on) snprintf(m->inspect_args + n, sizeof m->inspect_args - n, " %s", inspect_options[i][1]);
+        return 0;
+    } else {
+        double d;
+        if (json_read_number(r, &d)) return -1;
+        snprintf(value, sizeof value, "%.15g", d); /* the shortest that reads back exactly */
+        if (strtod(value, NULL) != d) snprintf(value, sizeof value, "%.17g", d);
+    }
+    snprintf(m->inspect_args + n, sizeof m->inspect_args - n, " %s %s", inspect_options[i][1], value);
+    return 0;
+}
+
+/* An object's members: frames {first, last}, scene {path}, image {width, height} or the
+ * options inspect needs; other keys skipped. */
+static int read_object(json_reader *r, stage_manifest *m, const char *outer)
+{
+    if (json_expect(r, '{')) return -1;
+    if (json_peek(r) == '}') return json_expect(r, '}');
+    for (;;) {
+        char key[64];
+        int status;
+        if (json_read_string(r, key, sizeof key) || json_expect(r, ':')) return -1;
+        if (!strcmp(outer, "frames") && !strcmp(key, "first")) status = read_long(r, &m->first);
+        else if (!strcmp(outer, "frames") && !strcmp(key, "last")) status = read_long(r, &m->last);
+        else if (!strcmp(outer, "scene") && !strcmp(key, "path") && json_peek(r) == '"')
+            status = json_read_string(r, m->scene, sizeof m->scene);
+        else if (!strcmp(outer, "image") && !strcmp(key, "width")) status = read_long(r, &m->width);
+        else if (!strcmp(outer, "image") && !strcmp(key, "height")) status = read_long(r, &m->height);
+        else if (!strcmp(outer, "options")) status = read_inspect_option(r, m, key);
+        else status = json_skip_value(r);
+        if (status) return -1;
+        if (json_peek(r) != ',') break;
+        r->pos++;
+    }
+    return json_expect(r, '}');
+}
+
+int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e)
+{
+    char path[4200], format[64] = "";
+    json_reader r;
+    memset(m, 0, sizeof *m);
+    m->first = m->last = -1;
+    snprintf(path, sizeof path, "%s/manifest.json", dir);
+    if (json_reader_open(&r, path, e)) return -1;
+    if (json_expect(&r, '{')) goto fail;
+    for (;;) {
+        char key[64];
+        int status;
+        if (json_read_string(&r, key, sizeof key) || json_expect(&r, ':')) goto fail;
+        if (!strcmp(key, "format")) status = json_read_string(&r, format, sizeof format);
+        else if (!strcmp(key, "stage_order")) status = read_order(&r, m);
+        else if (!strcmp(key, "seed")) status = read_long(&r, &m->seed);
+        else if (!strcmp(key, "frames") || !strcmp(key, "scene") || !strcmp(key, "image") || !strcmp(key, "options"))
+            status = read_object(&r, m, key);
+        else status = json_skip_value(&r);
+        if (status) goto fail;
+        if (json_peek(&r) != ',') break;
+        r.pos++;
+    }
+    if (json_expect(&r, '}') || json_expect_end(&r)) goto fail;
+    json_reader_close(&r);
+    if (strcmp(format, "restir-stage-dump"))
+        return rerror_at(e, path, 0, "\"format\" must be \"restir-stage-dump\"");
+    if (m->first < 0 || m->last < m->first || m->n_order == 0)
+        return rerror_at(e, path, 0, "missing \"frames\" {first, last} or \"stage_order\"");
+    if (m->width > 0 && m->height > 0) { /* --size first: inspect's pixel is in this image */
+        char size[64];
+        size_t n = (size_t)snprintf(size, sizeof size, " --size %ldx%ld", m->width, m->height),
+               len = strlen(m->inspect_args);
+        if (len + n < sizeof m->inspect_args) {
+            memmove(m->inspect_args + n, m->inspect_args, len + 1);
+            memcpy(m->inspect_args, size, n);
+        }
+    }
+    return 0;
+fail:
+    json_reader_close(&r);
+    return -1;
 }
 
 /* ---- G-buffer dump: little-endian, docs/formats.md "G-buffer dump" ---- */
@@ -432,6 +609,8 @@ int gbuffer_dump_read(const char *path, gbuffer *g, uint32_t *frame, rerror *e)
 }
 
 /* ---- the hook (frame_job.h) ---- */
+
+int pipeline_stage_skipped(const frame_job *j, const char *name) { return stage_io_skips(j->sio, name); }
 
 void pipeline_stage_done(frame_job *j, const char *name, reservoir *rs)
 {

@@ -77,3 +77,20 @@ real stochastic_confidence_scale(int n_picks, int m_noncanonical)
     if (m_noncanonical <= 0 || n_picks >= m_noncanonical) return 1;
     return (real)n_picks / (real)m_noncanonical;
 }
+
+void stochastic_canonical_picks(int n, int n_picks, const real *uc, int *Kc)
+{
+    int k;
+    for (k = 0; k < n; ++k) Kc[k] = 0;
+    for (k = 0; k < n_picks; ++k) {
+        int j = (int)(uc[k] * (real)n);
+        Kc[j < n ? j : n - 1]++;
+    }
+}
+
+/* Eq. 18: K'(i) / (Ñ_c P_c) b_i(Y_c) */
+real stochastic_canonical_term(int kc, int n_picks, int n, real c_c, real c_S, real c_i, real q_i, real p)
+{
+    real Pc = (real)1 / (real)n;
+    return (real)kc / ((real)n_picks * Pc) * stochastic_pairwise_b(c_c, c_S, c_i, q_i, p);
+}

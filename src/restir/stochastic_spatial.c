@@ -68,16 +68,12 @@ static real canonical_weight(const restir_context *c, const stochastic_options *
                              const path_vertex *const *x1, const reservoir *const *in, const real *uc, real c_c,
                              real c_S, real scale, stochastic_workspace *w, spatial_stats *st)
 {
-    real C = c_c + c_S, m_c, p = in[0]->y.target, Pc = (real)1 / (real)n;
-    int k, i;
+    real C = c_c + c_S, m_c, p = in[0]->y.target;
+    int i;
     if (n == 0) return 1;
     if (!(C > 0)) return 1; /* no confidence anywhere: all weight to the canonical side */
     m_c = c_c / C;          /* the defensive share, exact */
-    memset(w->Kc, 0, (size_t)n * sizeof *w->Kc);
-    for (k = 0; k < so->n_canonical_picks; ++k) {
-        int j = (int)(uc[k] * (real)n);
-        w->Kc[j < n ? j : n - 1]++;
-    }
+    stochastic_canonical_picks(n, so->n_canonical_picks, uc, w->Kc);
     for (i = 0; i < n; ++i) {
         path_sample back;
         const path_vertex *xi;
@@ -87,8 +83,7 @@ static real canonical_weight(const restir_context *c, const stochastic_options *
         xi = w->vertex ? w->vertex(w->vertex_user, i + 1) : x1[i + 1];
         if (spatial_counted_shift(c, xi, &in[0]->y, &back, &jac, st) == SHIFT_OK) q = back.target * jac; /* Eq. 10 */
         w->q_back[i] = q;
-        /* Eq. 18: K'(i) / (Ñ_c P_c) b_i(Y_c) */
-        m_c += (real)w->Kc[i] / ((real)so->n_canonical_picks * Pc) * stochastic_pairwise_b(c_c, c_S, c_i, q, p);
+        m_c += stochastic_canonical_term(w->Kc[i], so->n_canonical_picks, n, c_c, c_S, c_i, q, p); /* Eq. 18 */
     }
     return w->m_c_used = m_c;
 }

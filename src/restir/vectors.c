@@ -16,11 +16,14 @@
 #include "restir/bsdf.h"
 #include "restir/json_text.h"
 #include "restir/lights.h"
+#include "restir/footprint.h"
 #include "restir/microfacet.h"
 #include "restir/mis.h"
+#include "restir/pairing.h"
 #include "restir/reconnection.h"
 #include "restir/reservoir.h"
 #include "restir/rng.h"
+#include "restir/stochastic_mis.h"
 #include "restir/warp.h"
 #include "frame_job.h"
 
@@ -429,6 +432,227 @@ static int e_rc_jacobian(const double *in, int n_in, double *out)
     return 1;
 }
 
+/* ---- stochastic pairwise MIS (Stochastic MIS §3-§4; docs/stochastic-mis.md) ------------ */
+
+/* m, Ñ, P[m], u[Ñ] -> K[m], distinct */
+static int e_stoch_pick(const double *in, int n_in, double *out)
+{
+    real P[16], u[16];
+    int K[16], m, n, i;
+    if (n_in < 2) return -1;
+    m = (int)in[0];
+    n = (int)in[1];
+    if (m < 1 || m > 16 || n < 1 || n > 16 || n_in != 2 + m + n) return -1;
+    for (i = 0; i < m; ++i) P[i] = (real)in[2 + i];
+    for (i = 0; i < n; ++i) u[i] = (real)in[2 + m + i];
+    out[m] = stochastic_pick(P, m, n, u, K);
+    for (i = 0; i < m; ++i) out[i] = K[i];
+    return m + 1;
+}
+static int e_stoch_weight(const double *in, int n_in, double *out)
+{
+    NEED(4);
+    out[0] = (double)stochastic_mis_weight((int)in[0], (int)in[1], (real)in[2], (real)in[3]);
+    return 1;
+}
+/* m, a[m] -> P[m], sum */
+static int e_stoch_p(const double *in, int n_in, double *out)
+{
+    real a[16], P[16];
+    int m = n_in > 0 ? (int)in[0] : 0, i;
+    if (m < 1 || m > 16 || n_in != 1 + m) return -1;
+    for (i = 0; i < m; ++i) a[i] = (real)in[1 + i];
+    out[m] = (double)stochastic_selection_p(a, m, P);
+    for (i = 0; i < m; ++i) out[i] = (double)P[i];
+    return m + 1;
+}
+static int e_stoch_m(const double *in, int n_in, double *out)
+{
+    NEED(5);
+    out[0] = (double)stochastic_pairwise_m((real)in[0], (real)in[1], (real)in[2], (real)in[3], (real)in[4]);
+    return 1;
+}
+static int e_stoch_b(const double *in, int n_in, double *out)
+{
+    NEED(5);
+    out[0] = (double)stochastic_pairwise_b((real)in[0], (real)in[1], (real)in[2], (real)in[3], (real)in[4]);
+    return 1;
+}
+static int e_stoch_scale(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    out[0] = (double)stochastic_confidence_scale((int)in[0], (int)in[1]);
+    return 1;
+}
+
+/* The weights of one stochastic pairwise GRIS step with the shifts' results given as
+ * numbers: the fixed composition stochastic_pairwise_resample (stochastic_spatial.c) makes
+ * of stochastic_confidence_scale (§4.3), stochastic_canonical_picks and
+ * stochastic_canonical_term (Eqs. 18-19), stochastic_selection_p (Eq. 17), stochastic_pick,
+ * stochastic_pairwise_m and stochastic_mis_weight (Eqs. 15-16) and gris_resampling_weight
+ * (Eq. 14). Inputs: n (non-canonical domains), Ñ, Ñ_c, scaling (0/1), c_c, p̂(Y_c), W_c,
+ * then per domain i = 1..n: c_i, p̂_i(X_i), W_i, J_i = |dT_i/dX_i| (0: the shift in
+ * fails), p̂(Y_i), q_i = p̂_{<-i}(Y_c) (the canonical sample shifted out, times J); then
+ * up[Ñ] (Eq. 17 picks), uc[Ñ_c] (canonical picks). Outputs: m̃_c, w̃_c, then per i: K(i),
+ * m̃_i, w̃_i. */
+#define STOCH_MAX_N 8
+static int e_stoch_step(const double *in, int n_in, double *out)
+{
+    real a[STOCH_MAX_N], P[STOCH_MAX_N], up[16], uc[16], scale, c_c, c_S = 0, C, p_c, m_c = 1;
+    int K[STOCH_MAX_N], Kc[STOCH_MAX_N], n, np, nc, i, o = 2;
+    const double *d;
+    if (n_in < 7) return -1;
+    n = (int)in[0];
+    np = (int)in[1];
+    nc = (int)in[2];
+    if (n < 1 || n > STOCH_MAX_N || np < 1 || np > 16 || nc < 1 || nc > 16 || n_in != 7 + 6 * n + np + nc) return -1;
+    d = in + 7;
+    for (i = 0; i < np; ++i) up[i] = (real)in[7 + 6 * n + i];
+    for (i = 0; i < nc; ++i) uc[i] = (real)in[7 + 6 * n + np + i];
+    scale = in[3] != 0 ? stochastic_confidence_scale(np, n) : 1;
+    c_c = (real)in[4];
+    p_c = (real)in[5];
+    for (i = 0; i < n; ++i) c_S += scale * (real)d[6 * i]; /* Eq. 12 over the scaled c_i */
+    C = c_c + c_S;
+    if (C > 0) {
+        m_c = c_c / C;
+        stochastic_canonical_picks(n, nc, uc, Kc);
+        for (i = 0; i < n; ++i)
+            if (Kc[i])
+                m_c += stochastic_canonical_term(Kc[i], nc, n, c_c, c_S, scale * (real)d[6 * i], (real)d[6 * i + 5], p_c);
+    }
+    out[0] = (double)m_c;
+    out[1] = (double)gris_resampling_weight(m_c, p_c, (real)in[6], 1);
+    for (i = 0; i < n; ++i) {
+        real c_i = (real)d[6 * i], t = (real)d[6 * i + 1], W = (real)d[6 * i + 2];
+        a[i] = t > 0 && W > 0 ? c_i * t * W : 0; /* c_i p̂(X_i) W_i of a usable input */
+    }
+    stochastic_selection_p(a, n, P);
+    stochastic_pick(P, n, np, up, K);
+    for (i = 0; i < n; ++i) {
+        real jac = (real)d[6 * i + 3], ty = (real)d[6 * i + 4], mi = 0, wi = 0;
+        if (K[i] && jac > 0) {
+            real q = (real)d[6 * i + 1] / jac; /* p̂_{<-i}(Y_i) = p̂_i(X_i) / J_i (Eq. 10) */
+            mi = stochastic_mis_weight(K[i], np, P[i], stochastic_pairwise_m(c_c, c_S, scale * (real)d[6 * i], q, ty));
+            wi = gris_resampling_weight(mi, ty, (real)d[6 * i + 2], jac); /* Eq. 14 */
+        }
+        out[o++] = K[i];
+        out[o++] = (double)mi;
+        out[o++] = (double)wi;
+    }
+    return o;
+}
+
+/* ---- paired reuse textures (Enhanced §3, Eq. 3; docs/enhanced.md §2) -------------------- */
+
+static int e_shuffle_count(const double *in, int n_in, double *out)
+{
+    NEED(1);
+    out[0] = pairing_shuffle_count(in[0]);
+    return 1;
+}
+/* w, sigma, seed, id, then either 5 numbers of a placement (flip, mirror, transpose, ox, oy)
+ * and a pixel x, y -> dx, dy, n_sigma; the partner of the partner is checked by the caller */
+static int e_partner(const double *in, int n_in, double *out)
+{
+    reuse_texture t;
+    reuse_transform f;
+    rerror e;
+    int dx, dy;
+    NEED(11);
+    if (reuse_texture_build(&t, (int)in[0], in[1], (uint32_t)in[2], (uint32_t)in[3], &e)) return -1;
+    f.flip = (int)in[4];
+    f.mirror = (int)in[5];
+    f.transpose = (int)in[6];
+    f.ox = (int)in[7];
+    f.oy = (int)in[8];
+    reuse_partner_offset(&t, &f, (int)in[9], (int)in[10], &dx, &dy);
+    out[0] = dx;
+    out[1] = dy;
+    out[2] = t.shuffles;
+    reuse_texture_free(&t);
+    return 3;
+}
+/* w, sigma, seed, id, sample -> flip, mirror, transpose, ox, oy */
+static int e_placement(const double *in, int n_in, double *out)
+{
+    reuse_texture t;
+    reuse_transform f;
+    rerror e;
+    NEED(5);
+    if (reuse_texture_build(&t, (int)in[0], in[1], (uint32_t)in[2], (uint32_t)in[3], &e)) return -1;
+    f = reuse_transform_draw(&t, (uint32_t)in[2], (uint32_t)in[4], (uint32_t)in[3]);
+    out[0] = f.flip;
+    out[1] = f.mirror;
+    out[2] = f.transpose;
+    out[3] = f.ox;
+    out[4] = f.oy;
+    reuse_texture_free(&t);
+    return 5;
+}
+
+/* ---- the footprint reconnection criterion (Enhanced §4, Eq. 5; docs/enhanced.md §1) ---- */
+
+/* A vertex with material in[0..8] at position in[9..11], normal (geometric = shading)
+ * in[12..14], direction towards its predecessor in[15..17]. */
+static void in_vertex(const double *in, path_vertex *v)
+{
+    memset(v, 0, sizeof *v);
+    v->position = in3(in + 9);
+    v->ng = v->ns = v3_normalize(in3(in + 12));
+    v->wo = v3_normalize(in3(in + 15));
+    v->frame = shading_frame_make(v->ns);
+    v->wo_local = shading_frame_to_local(&v->frame, v->wo);
+    v->b = in_bsdf(in);
+}
+static unsigned in_lobe(double l) { return l == -1 ? PATH_LOBE_NEE : l == -2 ? PATH_LOBE_NONE : (unsigned)l; }
+
+/* x_{k-1}: vertex (18), lobe; x_k: light (0/1), vertex (18), lobe, w_k (3); roughness
+ * threshold, c, primary footprint -> forward, inverse, result (enum shift_failure) */
+static int e_footprint(const double *in, int n_in, double *out)
+{
+    path_vertex a, b;
+    rc_vertex pa, pb;
+    rc_criterion crit;
+    real fwd, inv;
+    NEED(45);
+    in_vertex(in, &a);
+    in_vertex(in + 20, &b);
+    memset(&crit, 0, sizeof crit);
+    crit.mode = RC_MODE_FOOTPRINT;
+    crit.roughness_threshold = (real)in[42];
+    crit.footprint_c = (real)in[43];
+    pa.position = a.position;
+    pa.ng = a.ng;
+    pa.surface = &a;
+    pa.lobe = in_lobe(in[18]);
+    pa.wi = v3_normalize(v3_sub(b.position, a.position));
+    pa.rough = rc_vertex_is_rough(&a.b, pa.lobe, crit.roughness_threshold);
+    pb.position = b.position;
+    pb.ng = b.ng;
+    pb.surface = in[19] != 0 ? NULL : &b;
+    pb.lobe = in[19] != 0 ? PATH_LOBE_NONE : in_lobe(in[38]);
+    pb.wi = v3_normalize(in3(in + 39));
+    pb.rough = rc_vertex_is_rough(pb.surface ? &b.b : NULL, pb.lobe, crit.roughness_threshold);
+    rc_footprints(&pa, &pb, &fwd, &inv);
+    out[0] = (double)fwd;
+    out[1] = (double)inv;
+    out[2] = (double)rc_footprint_test(&crit, &pa, &pb, (real)in[44]);
+    return 3;
+}
+/* t = ||x_0 - x_1||, n_g, w_o (towards the camera) -> ||x_0 - x_1||^2 / (|<n_g, w_o>| / 4 pi) */
+static int e_primary_footprint(const double *in, int n_in, double *out)
+{
+    path_vertex v;
+    NEED(7);
+    memset(&v, 0, sizeof v);
+    v.hit.t = (float)in[0];
+    v.ng = v3_normalize(in3(in + 1));
+    v.wo = v3_normalize(in3(in + 4));
+    out[0] = (double)rc_primary_footprint(&v);
+    return 1;
+}
+
 /* ---- scene-level shifts: scenes/cornell.scene at 24 x 18, frame 0, pixel centres ------- */
 
 #define SHIFT_SCENE "scenes/cornell.scene"
@@ -566,13 +790,29 @@ static const vector_fn table[] = {
      "base_target,failure,J,d,k,F.r,F.g,F.b,target",
      e_shift},
     {"reconnection", "rc_jacobian", "pdf_prev_y,geom_y,pdf_k_y,pdf_prev_x,geom_x,pdf_k_x -> J", e_rc_jacobian},
+    {"stochastic", "stochastic_pick", "m,N~,P[m],u[N~] -> K[m],distinct", e_stoch_pick},
+    {"stochastic", "stochastic_mis_weight", "K,N~,P,m -> m~", e_stoch_weight},
+    {"stochastic", "stochastic_selection_p", "m,a[m] (a_i = c_i p^_i(X_i) W_i) -> P[m],sum", e_stoch_p},
+    {"stochastic", "stochastic_pairwise_m", "c_c,c_S,c_i,q_i,p -> m_i", e_stoch_m},
+    {"stochastic", "stochastic_pairwise_b", "c_c,c_S,c_i,q_i,p -> b_i", e_stoch_b},
+    {"stochastic", "stochastic_confidence_scale", "N~,M -> scale", e_stoch_scale},
+    {"stochastic", "stochastic_pairwise_weights",
+     "n,N~,N~_c,scaling,c_c,p^(Y_c),W_c,(c_i,p^_i(X_i),W_i,J_i,p^(Y_i),q_i=p^_{<-i}(Y_c)) x n,up[N~],uc[N~_c] -> "
+     "m~_c,w~_c,(K_i,m~_i,w~_i) x n",
+     e_stoch_step},
+    {"pairing", "pairing_shuffle_count", "sigma -> n_sigma", e_shuffle_count},
+    {"pairing", "reuse_partner_offset",
+     "w,sigma,seed,id,flip,mirror,transpose,ox,oy,x,y -> dx,dy,n_sigma (texture from reuse_texture_build)", e_partner},
+    {"pairing", "reuse_transform_draw", "w,sigma,seed,id,sample -> flip,mirror,transpose,ox,oy", e_placement},
+    {"footprint", "rc_footprint_test",
+     MAT ",x,y,z,n.x,n.y,n.z,wo.x,wo.y,wo.z,lobe (x_{k-1}; lobe -1 = NEE),light (1: x_k is the light vertex x_d),"
+     MAT ",x,y,z,n.x,n.y,n.z,wo.x,wo.y,wo.z,lobe,w_k.x,w_k.y,w_k.z (x_k),roughness_threshold,c,primary_footprint -> "
+     "forward,inverse,result (enum shift_failure)",
+     e_footprint},
+    {"footprint", "rc_primary_footprint", "t,ng.x,ng.y,ng.z,wo.x,wo.y,wo.z -> footprint", e_primary_footprint},
     {NULL, NULL, NULL, NULL}};
 
-static const char *const family_names[] = {"rng", "warp", "microfacet", "bsdf", "light", "wrs", "mis",
-                                           "reconnection", "shift", NULL};
-
 const vector_fn *vectors_functions(void) { return table; }
-const char *const *vectors_families(void) { return family_names; }
 
 static const vector_fn *find_fn(const char *fn)
 {
@@ -902,18 +1142,151 @@ static void gen_shift(gen *g)
             }
 }
 
-static void generate(gen *g, const char *family)
+static void gen_stochastic(gen *g)
 {
-    g->family = family;
-    if (!strcmp(family, "rng")) gen_rng(g);
-    else if (!strcmp(family, "warp")) gen_warp(g);
-    else if (!strcmp(family, "microfacet")) gen_microfacet(g);
-    else if (!strcmp(family, "bsdf")) gen_bsdf(g);
-    else if (!strcmp(family, "light")) gen_light(g);
-    else if (!strcmp(family, "wrs")) gen_wrs(g);
-    else if (!strcmp(family, "mis")) gen_mis(g);
-    else if (!strcmp(family, "reconnection")) gen_reconnection(g);
-    else if (!strcmp(family, "shift")) gen_shift(g);
+    static const char e15[] = "Stochastic MIS 15", e17[] = "Stochastic MIS 17", e19[] = "Stochastic MIS 19";
+    static const char e16[] = "Stochastic MIS 11a;Stochastic MIS 16";
+    static const char step[] = "Stochastic MIS 14;Stochastic MIS 15;Stochastic MIS 16;Stochastic MIS 17;"
+                               "Stochastic MIS 18;Stochastic MIS 19";
+    EMIT("stochastic_pick", e15, "3 domains, 4 picks", 3, 4, 0.5, 0.3, 0.2, 0.1, 0.45, 0.7, 0.95);
+    EMIT("stochastic_pick", e15, "u on a CDF boundary (0.5, 0.8)", 3, 2, 0.5, 0.3, 0.2, 0.5, 0.8);
+    EMIT("stochastic_pick", e15, "u = 0 and u just below 1", 3, 2, 0.5, 0.3, 0.2, 0, 0.99999999999999989);
+    EMIT("stochastic_pick", e15, "a zero-probability domain is never picked", 3, 3, 0.6, 0, 0.4, 0.6, 0.59999999999999998,
+         0.6000000000000001);
+    EMIT("stochastic_pick", e15, "all P = 0: no pick", 2, 2, 0, 0, 0.3, 0.7);
+    EMIT("stochastic_mis_weight", e15, "K = 2 of 4 picks, P = 0.25", 2, 4, 0.25, 0.3);
+    EMIT("stochastic_mis_weight", e15, "not picked", 0, 4, 0.25, 0.3);
+    EMIT("stochastic_mis_weight", e15, "P = 0", 0, 4, 0, 0.3);
+    EMIT("stochastic_mis_weight", e15, "one pick, P = 1: m~ = m", 1, 1, 1, 0.3);
+    EMIT("stochastic_mis_weight", e15, "tiny P (large m~)", 1, 1, 1e-12, 0.5);
+    EMIT("stochastic_selection_p", e17, "3 domains", 3, 1, 2, 3);
+    EMIT("stochastic_selection_p", e17, "negative and NaN count as 0", 4, 1, -1, NAN, 2);
+    EMIT("stochastic_selection_p", e17, "infinite weight counts as 0", 3, 1, INFINITY, 1);
+    EMIT("stochastic_selection_p", e17, "all zero", 2, 0, 0);
+    EMIT("stochastic_selection_p", e17, "extreme range", 3, 1e-30, 1, 1e30);
+    EMIT("stochastic_pairwise_m", e16, "c_c 1, c_S 3", 1, 3, 1, 0.4, 0.7);
+    EMIT("stochastic_pairwise_m", e16, "zero target at the pixel", 1, 3, 1, 0.4, 0);
+    EMIT("stochastic_pairwise_m", e16, "empty pair (q = p = 0)", 1, 3, 1, 0, 0);
+    EMIT("stochastic_pairwise_m", e16, "C = 0", 0, 0, 0, 0.4, 0.7);
+    EMIT("stochastic_pairwise_m", e16, "temporal-like confidence 20", 1, 20, 20, 0.4, 0.7);
+    EMIT("stochastic_pairwise_b", e19, "c_c 1, c_S 3", 1, 3, 1, 0.4, 0.7);
+    EMIT("stochastic_pairwise_b", e19, "failed reverse shift (q = 0)", 1, 3, 1, 0, 0.7);
+    EMIT("stochastic_pairwise_b", e19, "empty pair (q = p = 0)", 1, 3, 1, 0, 0);
+    EMIT("stochastic_pairwise_b", e19, "C = 0", 0, 0, 0, 0.4, 0.7);
+    EMIT("stochastic_confidence_scale", "", "N~ = 1 of M = 4", 1, 4);
+    EMIT("stochastic_confidence_scale", "", "N~ = M: deterministic pairwise", 4, 4);
+    EMIT("stochastic_confidence_scale", "", "N~ > M", 8, 4);
+    EMIT("stochastic_confidence_scale", "", "no neighbour", 1, 0);
+    /* whole steps: n, N~, N~_c, scaling, c_c, p(Y_c), W_c, (c, p(X), W, J, p(Y), q) x n, up, uc */
+    EMIT("stochastic_pairwise_weights", step, "3 neighbours, N~ = N~_c = 1, scaled confidences", 3, 1, 1, 1, 1, 0.5,
+         2.0, 1, 0.3, 3.0, 0.9, 0.35, 0.45, 1, 0.8, 1.5, 1.1, 0.6, 0.2, 1, 0.1, 4.0, 1.0, 0.12, 0.3, 0.55, 0.4);
+    EMIT("stochastic_pairwise_weights", step, "3 neighbours, N~ = N~_c = 2, no scaling", 3, 2, 2, 0, 1, 0.5, 2.0, 1,
+         0.3, 3.0, 0.9, 0.35, 0.45, 1, 0.8, 1.5, 1.1, 0.6, 0.2, 1, 0.1, 4.0, 1.0, 0.12, 0.3, 0.1, 0.9, 0.2, 0.7);
+    EMIT("stochastic_pairwise_weights", step, "the picked neighbour's shift fails (J = 0)", 2, 1, 1, 1, 1, 0.5, 2.0, 1,
+         0.3, 3.0, 0, 0, 0.45, 1, 0.8, 1.5, 1.1, 0.6, 0.2, 0.2, 0.7);
+    EMIT("stochastic_pairwise_weights", step, "zero confidence everywhere", 2, 1, 1, 1, 0, 0.5, 2.0, 0, 0.3, 3.0, 0.9,
+         0.35, 0.45, 0, 0.8, 1.5, 1.1, 0.6, 0.2, 0.5, 0.5);
+    EMIT("stochastic_pairwise_weights", step, "one neighbour, temporal-like confidence 20", 1, 1, 1, 1, 1, 0.5, 2.0, 20,
+         0.3, 3.0, 0.9, 0.35, 0.45, 0.5, 0.5);
+    EMIT("stochastic_pairwise_weights", step, "empty neighbour (W = 0) is never picked", 2, 1, 1, 1, 1, 0.5, 2.0, 1,
+         0.3, 0, 0.9, 0.35, 0.45, 1, 0.8, 1.5, 1.1, 0.6, 0.2, 0.01, 0.5);
+}
+
+static void gen_pairing(gen *g)
+{
+    static const char eq[] = "Enhanced 3";
+    static const double sig[] = {0.8, 1, 1.5, 2, 5.32, 10.64, 22};
+    size_t i;
+    char label[64];
+    for (i = 0; i < sizeof sig / sizeof sig[0]; ++i) {
+        snprintf(label, sizeof label, "sigma %g%s", sig[i], i == 0 ? " (the smallest: one pass)" : "");
+        EMIT("pairing_shuffle_count", eq, label, sig[i]);
+    }
+    EMIT("reuse_partner_offset", eq, "w 32, sigma 5.32 (radius 10), identity placement", 32, 5.32, 1, 0, 0, 0, 0, 0, 0,
+         5, 7);
+    EMIT("reuse_partner_offset", eq, "the same texel wrapped (x + w)", 32, 5.32, 1, 0, 0, 0, 0, 0, 0, 37, 7);
+    EMIT("reuse_partner_offset", eq, "flip, mirror, transpose and offset", 32, 5.32, 1, 0, 1, 1, 1, 9, 30, 5, 7);
+    EMIT("reuse_partner_offset", eq, "texture id 3, smallest sigma", 16, 0.8, 2, 3, 0, 1, 0, 3, 0, 15, 15);
+    EMIT("reuse_partner_offset", eq, "largest sigma", 64, 22, 1, 1, 1, 0, 1, 63, 0, 100, 200);
+    for (i = 0; i < 3; ++i) EMIT("reuse_transform_draw", eq, "per-frame placement", 32, 5.32, 1, 0, (double)i);
+    EMIT("reuse_transform_draw", eq, "texture id 7", 32, 5.32, 1, 7, 0);
+}
+
+/* x_{k-1} = a material on z = 0 at the origin seen from (1, 0, 1); x_k mostly on a ceiling
+ * at height 2 facing down. */
+#define FP_LAMBERT 0, 0.5, 0.5, 0.5, 0, 0, 0, 1, 1
+#define FP_METAL(r) 1, 0, 0, 0, 0.9, 0.9, 0.9, r, 1
+#define FP_MIRROR 3, 0, 0, 0, 0, 0, 0, 0, 1.5
+#define FP_PREV(mat, lobe) mat, 0, 0, 0, 0, 0, 1, 1, 0, 1, lobe
+#define FP_CEIL(mat, z, lobe) mat, 0, 0, z, 0, 0, -1, 0, 0, -1, lobe, 1, 0, -1
+static void gen_footprint(gen *g)
+{
+    static const char eq[] = "Enhanced 5";
+    EMIT("rc_footprint_test", eq, "Lambert -> Lambert: forward pi d^2, inverse skipped", FP_PREV(FP_LAMBERT, 0), 0,
+         FP_CEIL(FP_LAMBERT, 2, 0), 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "glossy x_k (roughness 0.4): both footprints", FP_PREV(FP_LAMBERT, 0), 0,
+         FP_CEIL(FP_METAL(0.4), 2, 0), 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "roughness 1e-4 at x_k: tiny inverse footprint", FP_PREV(FP_LAMBERT, 0), 0,
+         FP_CEIL(FP_METAL(1e-4), 2, 0), 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "mirror x_k: zero footprint, never connectable", FP_PREV(FP_LAMBERT, 0), 0,
+         FP_CEIL(FP_MIRROR, 2, 0), 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "x_k sampled by NEE at x_{k-1}, light vertex: both skipped",
+         FP_PREV(FP_LAMBERT, -1), 1, FP_CEIL(FP_LAMBERT, 2, -2), 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "NEE direction at x_k: inverse skipped", FP_PREV(FP_LAMBERT, 0), 0,
+         FP_CEIL(FP_METAL(0.4), 2, -1), 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "x_{k-1} not rough (roughness 1e-4)", FP_PREV(FP_METAL(1e-4), 0), 0,
+         FP_CEIL(FP_LAMBERT, 2, 0), 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "nearly coincident vertices", FP_PREV(FP_LAMBERT, 0), 0,
+         FP_CEIL(FP_LAMBERT, 1e-6, 0), 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "coincident vertices: zero footprint", FP_PREV(FP_LAMBERT, 0), 0,
+         FP_CEIL(FP_LAMBERT, 0, 0), 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "grazing x_k (far along the floor)", FP_PREV(FP_LAMBERT, 0), 0, FP_LAMBERT, 50, 0,
+         1e-3, 0, 0, -1, 0, 0, -1, 0, 1, 0, -1, 0.2, 0.02, 1000);
+    EMIT("rc_footprint_test", eq, "large primary footprint: threshold not met", FP_PREV(FP_LAMBERT, 0), 0,
+         FP_CEIL(FP_LAMBERT, 2, 0), 0.2, 0.02, 1e6);
+    EMIT("rc_footprint_test", eq, "c = 2 (postponed reconnection)", FP_PREV(FP_LAMBERT, 0), 0,
+         FP_CEIL(FP_LAMBERT, 2, 0), 0.2, 2, 1000);
+    EMIT("rc_primary_footprint", eq, "distance 5, cos 0.8", 5, 0, 0, 1, 0, 0.6, 0.8);
+    EMIT("rc_primary_footprint", eq, "head-on", 1, 0, 0, 1, 0, 0, 1);
+    EMIT("rc_primary_footprint", eq, "grazing: infinite", 3, 0, 0, 1, 1, 0, 0);
+}
+
+/* The families in file order with their generators: a new family is one row here (its
+ * evaluators are rows of `table` above). */
+typedef struct {
+    const char *name;
+    void (*generate)(gen *g);
+} vector_family;
+
+static const vector_family families[] = {
+    {"rng", gen_rng},
+    {"warp", gen_warp},
+    {"microfacet", gen_microfacet},
+    {"bsdf", gen_bsdf},
+    {"light", gen_light},
+    {"wrs", gen_wrs},
+    {"mis", gen_mis},
+    {"reconnection", gen_reconnection},
+    {"shift", gen_shift},
+    {"stochastic", gen_stochastic},
+    {"pairing", gen_pairing},
+    {"footprint", gen_footprint},
+};
+#define FAMILY_COUNT ((int)(sizeof families / sizeof families[0]))
+
+const char *const *vectors_families(void)
+{
+    static const char *names[FAMILY_COUNT + 1];
+    int i;
+    for (i = 0; i < FAMILY_COUNT; ++i) names[i] = families[i].name;
+    names[FAMILY_COUNT] = NULL;
+    return names;
+}
+
+static void generate(gen *g, const vector_family *f)
+{
+    g->family = f->name;
+    f->generate(g);
 }
 
 int vectors_cover(const char *eq)
@@ -922,7 +1295,7 @@ int vectors_cover(const char *eq)
     int i;
     memset(&g, 0, sizeof g);
     g.want_eq = eq;
-    for (i = 0; family_names[i]; ++i) generate(&g, family_names[i]);
+    for (i = 0; i < FAMILY_COUNT; ++i) generate(&g, &families[i]);
     return g.found;
 }
 
@@ -936,14 +1309,14 @@ int vectors_write(const char *dir, rerror *e)
     if (shift_scene_load())
         return rerror_set(e, "%s: cannot load it for the shift vectors (run `restir vectors` from the repository root)",
                           SHIFT_SCENE);
-    for (i = 0; family_names[i]; ++i) {
+    for (i = 0; i < FAMILY_COUNT; ++i) {
         atomic_file f;
         gen g;
         memset(&g, 0, sizeof g);
-        snprintf(path, sizeof path, "%s/%s.jsonl", dir, family_names[i]);
+        snprintf(path, sizeof path, "%s/%s.jsonl", dir, families[i].name);
         if (atomic_file_open(&f, path, e)) return -1;
         g.fp = f.fp;
-        generate(&g, family_names[i]);
+        generate(&g, &families[i]);
         if (atomic_file_commit(&f, e)) return -1;
     }
     return 0;
