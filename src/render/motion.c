@@ -131,3 +131,48 @@ int gbuffer_build_with_motion(gbuffer *g, const scene *s, int frame, uint32_t se
     if (status) gbuffer_free(g);
     return status;
 }
+
+/* ---- dual motion vectors (Enhanced §6.4; Zeng et al. 2021; docs/correlation.md) --------- */
+
+/* The rule, from Enhanced §6.4 ("an alternative motion vector that assumes consistent
+ * relative motion between occluding and disoccluded surfaces"): a disoccluded pixel p
+ * (sample position c_p) reprojects by its own motion to a previous texel o that shows the
+ * occluder. The occluder's point there (sample position c_o in frame t-1) moves with its
+ * object to frame t and projects to z_o: the occluder's screen motion is v = z_o - c_o.
+ * Assuming p's surface kept its position RELATIVE to the occluder, p was at c_p - v in
+ * frame t-1; the dual source pixel is floor(c_p - v), accepted when that previous texel
+ * is valid, shows p's object, and its geometric normal agrees with p's (carried to its
+ * previous pose) within the disocclusion thresholds' normal cosine. No depth test: the
+ * dual vector is an approximation that lands near, not on, p's point. The choice depends
+ * on G-buffers alone, never on reservoirs, so temporal reuse from it stays unbiased. */
+int gbuffer_dual_previous_pixel(const gbuffer_texel *t, const scene *s, int frame, const camera *cam, int prev_frame,
+                                const gbuffer *prev, int *x, int *y)
+{
+    motion_thresholds th;
+    const gbuffer_texel *o, *q;
+    vec3 zo, np;
+    real zx, zy, dx, dy;
+    int ox, oy;
+    if (!t->valid || t->prev_valid) return 0;
+    gbuffer_previous_pixel(t, &ox, &oy);
+    if (ox < 0 || oy < 0 || ox >= prev->width || oy >= prev->height) return 0;
+    o = gbuffer_at(prev, ox, oy);
+    if (!o->valid || o->hit.object == t->hit.object) return 0; /* not an occluder: nothing to follow */
+    zo = motion_previous_position(s, o->hit.object, prev_frame, frame, v3_from_f(o->hit.position));
+    if (!camera_project(cam, zo, &zx, &zy)) return 0;
+    dx = (real)t->pixel[0] - (zx - (real)o->pixel[0]);
+    dy = (real)t->pixel[1] - (zy - (real)o->pixel[1]);
+    if (!(dx >= 0 && dy >= 0 && dx < (real)prev->width && dy < (real)prev->height)) return 0;
+    *x = (int)floor((double)dx);
+    *y = (int)floor((double)dy);
+    q = gbuffer_at(prev, *x, *y);
+    if (!q->valid || q->hit.object != t->hit.object) return 0;
+    {
+        vec3 p0 = v3_from_f(t->hit.position);
+        vec3 p1 = motion_previous_position(s, t->hit.object, frame, prev_frame, p0);
+        vec3 p2 = motion_previous_position(s, t->hit.object, frame, prev_frame, v3_add(p0, v3_from_f(t->hit.ng)));
+        np = v3_normalize(v3_sub(p2, p1));
+    }
+    motion_thresholds_default(&th);
+    return v3_dot(v3_from_f(q->hit.ng), np) >= th.min_normal_cos;
+}

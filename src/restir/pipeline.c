@@ -7,9 +7,14 @@
  *                 initial resampling -> A                          step 1
  *                 temporal reuse (A, previous final P) -> B        step 2 (temporal.h; in
  *                                                                  animated scenes samples
- *                                                                  crossing frames are re-traced)
+ *                                                                  crossing frames are re-traced;
+ *                                                                  cap lowered by P's duplication
+ *                                                                  map with --dedup, Enhanced §5;
+ *                                                                  dual MVs, Enhanced §6.4)
+ *                 boiling filter on B (--boiling-filter: RTXDI, biased)
  *                 K spatial passes B -> A -> B ...                 step 3 (spatial.h)
  *                 shading of the last output                       step 4
+ *                 duplication map of the last output (Enhanced §5 step 1; docs/correlation.md)
  *                 the last output becomes P, the G-buffer, camera and scene of t are kept
  *
  * The previous frame's state (reservoirs P, G-buffer, camera, restir_context of its posed
@@ -20,6 +25,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/animation.h"
+#include "restir/boiling_filter.h"
+#include "restir/duplication.h"
 #include "restir/progress.h"
 #include "restir/reservoir_dump.h"
 #include "restir/threads.h"
@@ -37,6 +44,7 @@ typedef struct {
     int animated, cur_copy;  /* cur_copy: the copy posed at frame t (the other one holds t-1) */
     const reservoir *cur;   /* temporal stage input: the initial reservoirs */
     reservoir *out;         /* temporal stage output */
+    uint16_t *dup;          /* duplicate counts of P (Enhanced §5 step 1; duplication.h) */
 } pipeline;
 
 /* ---- reprojection ---------------------------------------------------------------------- */
@@ -45,11 +53,31 @@ typedef struct {
  * disocclusion by the previous G-buffer's object, depth and normal), or -1. Which pixel
  * is chosen depends on G-buffers only, never on reservoirs, so any choice keeps the GRIS
  * step unbiased (it only changes how much the history helps). */
-static long reproject(const pipeline *pl, long p)
+static long reproject(const pipeline *pl, long p, int *dual)
 {
+    const gbuffer_texel *t = &pl->j.g.texels[p];
     int x, y, w = pl->j.g.width, h = pl->j.g.height;
-    if (!gbuffer_previous_pixel(&pl->j.g.texels[p], &x, &y) || x < 0 || y < 0 || x >= w || y >= h) return -1;
-    return pl->prev_g.texels[(long)y * w + x].valid ? (long)y * w + x : -1;
+    *dual = 0;
+    if (gbuffer_previous_pixel(t, &x, &y) && x >= 0 && y >= 0 && x < w && y < h)
+        return pl->prev_g.texels[(long)y * w + x].valid ? (long)y * w + x : -1;
+    /* --motion-vectors dual (Enhanced §6.4): a disoccluded pixel follows its occluder */
+    if (pl->j.o->motion_vectors != RESTIR_MV_DUAL ||
+        !gbuffer_dual_previous_pixel(t, pl->j.s, (int)pl->j.frame, &pl->cam, pl->prev_frame, &pl->prev_g, &x, &y))
+        return -1;
+    *dual = 1;
+    return (long)y * w + x;
+}
+
+/* The temporal cap at the source pixel q: --mcap, or with --dedup Enhanced §5 step 3,
+ * lerp(mcap, c_cap_min, D(q)^alpha) with q's duplication score in frame t-1 (BIASED). */
+static real temporal_cap(const pipeline *pl, long q, temporal_stats *st)
+{
+    const restir_options *o = pl->j.o;
+    double cap;
+    if (!o->dedup || q < 0) return (real)o->mcap;
+    cap = duplication_cap(o->mcap, o->dedup_min, duplication_score(pl->dup[q], DUPLICATION_RADIUS), o->dedup_alpha);
+    if (cap < o->mcap) st->dedup_lowered++;
+    return (real)cap;
 }
 
 /* ---- temporal stage -------------------------------------------------------------------- */
@@ -63,12 +91,14 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     rng_key key = rng_key_make(o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
     path_vertex *v = w->verts;
     long q = -1;
+    int dual = 0;
     real u[2];
     if (!frame_primary_vertex(j->s, &j->g, p, &v[0])) {
         reservoir_init(&pl->out[p]);
         return;
     }
-    if (pl->has_prev) q = reproject(pl, p);
+    if (pl->has_prev) q = reproject(pl, p, &dual);
+    w->st.temporal.dual += (uint64_t)dual;
     if (q >= 0 && o->ablation == RESTIR_ABLATE_TEMPORAL_TARGET) {
         /* ablation: the previous pixel's x1 seen with the CURRENT camera in the current scene */
         back = &j->ctx;
@@ -84,7 +114,8 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     tf.frame[1] = back == &j->ctx ? (int)j->frame : pl->prev_frame;
     temporal_resample(&j->ctx, back, pl->animated && o->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX ? &tf : NULL,
                       (mis_family)o->temporal_mis, &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
-                      q >= 0 ? &pl->prev[q] : NULL, (real)o->mcap, u, &pl->out[p], &w->ws, &w->st.temporal);
+                      q >= 0 ? &pl->prev[q] : NULL, temporal_cap(pl, q, &w->st.temporal), u, &pl->out[p], &w->ws,
+                      &w->st.temporal);
 }
 
 static void temporal_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
@@ -102,6 +133,30 @@ static void stage_temporal(pipeline *pl, const reservoir *cur, reservoir *out, r
     pl->out = out;
     parallel_tiles(pl->j.s->width, pl->j.s->height, 16, pl->j.o->threads, temporal_tile, pl, NULL, NULL);
     times->ms_temporal += frame_lap_ms(t);
+}
+
+/* ---- correlation stages (docs/correlation.md) ------------------------------------------ */
+
+/* --boiling-filter S (RTXDI, Enhanced §7.4 Fig. 9; biased): on the temporal output. */
+static void stage_boiling(pipeline *pl, reservoir *rs, restir_stats *times, double *t)
+{
+    frame_job *j = &pl->j;
+    if (!(j->o->boiling_filter > 0)) return;
+    times->boiling_cleared += boiling_filter(rs, j->s->width, j->s->height, BOILING_GROUP, j->o->boiling_filter);
+    pipeline_stage_done(j, "boiling", rs);
+    times->ms_correlation += frame_lap_ms(t);
+}
+
+/* Enhanced §5 step 1: the duplication map of the frame's final reservoirs (read by the
+ * next frame's temporal cap with --dedup) and its summary (--stats "correlation"). */
+static void stage_duplication(pipeline *pl, const reservoir *final, restir_stats *times, double *t)
+{
+    duplication_summary sum;
+    long n = (long)pl->j.s->width * pl->j.s->height;
+    duplication_counts(final, pl->j.s->width, pl->j.s->height, DUPLICATION_RADIUS, pl->dup);
+    duplication_summarize(pl->dup, n, &sum);
+    duplication_summary_add(&times->correlation, &sum);
+    times->ms_correlation += frame_lap_ms(t);
 }
 
 /* ---- the frame ------------------------------------------------------------------------- */
@@ -166,10 +221,14 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     if (j->o->temporal) {
         stage_temporal(pl, j->initial, j->pong, times, &t);
         pipeline_stage_done(j, "temporal", j->pong);
+        stage_boiling(pl, j->pong, times, &t);
         final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
-    } else
+    } else {
+        stage_boiling(pl, j->initial, times, &t);
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
+    }
     frame_stage_shade(j, final, times, &t);
+    stage_duplication(pl, final, times, &t);
     keep_as_previous(pl, final);
     return 0;
 }
@@ -202,6 +261,15 @@ static int frame_image(const frame_job *j, double n, image *img, rerror *e)
     size_t i, count = 3 * (size_t)j->s->width * (size_t)j->s->height;
     if (image_alloc(img, j->s->width, j->s->height, e)) return -1;
     for (i = 0; i < count; ++i) img->px[i] = (float)(j->sum[i] / n);
+    return 0;
+}
+
+/* --aov duplicates: the frame's duplicate counts (0..288) in all three channels. */
+static int duplicates_image(const pipeline *pl, image *img, rerror *e)
+{
+    size_t i, pixels = (size_t)pl->j.s->width * (size_t)pl->j.s->height;
+    if (image_alloc(img, pl->j.s->width, pl->j.s->height, e)) return -1;
+    for (i = 0; i < 3 * pixels; ++i) img->px[i] = (float)pl->dup[i / 3];
     return 0;
 }
 
@@ -240,6 +308,7 @@ static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
     }
     memcpy(pl->prev, rs, pixels * sizeof *rs);
     free(rs);
+    duplication_counts(pl->prev, j->s->width, j->s->height, DUPLICATION_RADIUS, pl->dup); /* --dedup reads it */
     j->frame = (uint32_t)k;
     if (pose_frame(pl, k, e)) return -1;
     camera_init(&pl->prev_cam, scene_camera_at(j->s, k), j->s->width, j->s->height);
@@ -273,7 +342,9 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
         st.frames = 1;
         st.passes = j->o->spatial_passes;
         restir_stats_add(total, &st);
-        if (frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e)) return -1;
+        if (j->o->output_duplicates ? duplicates_image(pl, &img, e)
+                                    : frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e))
+            return -1;
         if (sink) status = sink(user, f, &img, &st, e);
         image_free(&img);
         if (!status && q->checkpoint && checkpoint_write(pl, q->checkpoint, f, e)) status = -1;
@@ -317,16 +388,18 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     j->pong = rmalloc(pixels, sizeof *j->pong, e);
     pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
     j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
+    pl.dup = rcalloc(pixels, sizeof *pl.dup, e);
     if (o->shading == RESTIR_SHADING_VECTOR && o->spatial_passes > 0 &&
         !(j->vector_shade = rcalloc(pixels, sizeof *j->vector_shade, e)))
         status = -1;
-    if (status || !j->initial || !j->pong || !pl.prev || !j->sum || frame_workers_alloc(j, e)) status = -1;
+    if (status || !j->initial || !j->pong || !pl.prev || !j->sum || !pl.dup || frame_workers_alloc(j, e)) status = -1;
     if (!status) status = run_sequence(&pl, q, sink, user, total, e);
     if (!status) total->passes = o->spatial_passes;
     free(j->initial);
     free(j->pong);
     free(pl.prev);
     free(j->sum);
+    free(pl.dup);
     free(j->vector_shade);
     gbuffer_free(&j->g);
     gbuffer_free(&pl.prev_g);
