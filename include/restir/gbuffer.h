@@ -79,8 +79,9 @@ vec3 motion_previous_position(const scene *s, uint32_t object, int frame, int pr
  * and docs/correlation.md): for a texel t of frame `frame` (scene s, camera cam) whose
  * reprojection failed (valid, !prev_valid) onto a previous texel of another object (the
  * occluder), the previous pixel obtained by moving t's sample position against the
- * occluder's own screen motion. Returns 1 and (x, y) when that previous texel shows t's
- * object with an agreeing normal, else 0. */
+ * occluder's own screen motion (one pixel further if that texel still shows the
+ * occluder). Returns 1 and (x, y) when that previous texel shows t's object with an
+ * agreeing normal, else 0. */
 int gbuffer_dual_previous_pixel(const gbuffer_texel *t, const scene *s, int frame, const camera *cam, int prev_frame,
                                 const gbuffer *prev, int *x, int *y);
 

@@ -120,7 +120,8 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--ablate", OPT_CHOICE, &o->ablation,
                     "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf), temporal-target, "
                     "temporal-suffix, stochastic-p (stochastic-pairwise without the P(i) correction), footprint-base-only "
-                    "(footprint criterion not tested on the offset)",
+                    "(footprint criterion not tested on the offset), dual-mv-vertex (dual-MV history with the occluder "
+                    "pixel's x1)",
                     restir_ablation_names, 0, 0);
     rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
                     "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",

@@ -53,18 +53,17 @@ typedef struct {
  * disocclusion by the previous G-buffer's object, depth and normal), or -1. Which pixel
  * is chosen depends on G-buffers only, never on reservoirs, so any choice keeps the GRIS
  * step unbiased (it only changes how much the history helps). */
-static long reproject(const pipeline *pl, long p, int *dual)
+static long reproject(const pipeline *pl, long p, long *standard)
 {
     const gbuffer_texel *t = &pl->j.g.texels[p];
     int x, y, w = pl->j.g.width, h = pl->j.g.height;
-    *dual = 0;
-    if (gbuffer_previous_pixel(t, &x, &y) && x >= 0 && y >= 0 && x < w && y < h)
-        return pl->prev_g.texels[(long)y * w + x].valid ? (long)y * w + x : -1;
+    int ok = gbuffer_previous_pixel(t, &x, &y);
+    *standard = x >= 0 && y >= 0 && x < w && y < h ? (long)y * w + x : -1; /* even if disoccluded */
+    if (ok && *standard >= 0) return pl->prev_g.texels[*standard].valid ? *standard : -1;
     /* --motion-vectors dual (Enhanced §6.4): a disoccluded pixel follows its occluder */
     if (pl->j.o->motion_vectors != RESTIR_MV_DUAL ||
         !gbuffer_dual_previous_pixel(t, pl->j.s, (int)pl->j.frame, &pl->cam, pl->prev_frame, &pl->prev_g, &x, &y))
         return -1;
-    *dual = 1;
     return (long)y * w + x;
 }
 
@@ -90,19 +89,23 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     temporal_frames tf;
     rng_key key = rng_key_make(o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
     path_vertex *v = w->verts;
-    long q = -1;
-    int dual = 0;
+    long q = -1, standard = -1;
+    int dual;
     real u[2];
     if (!frame_primary_vertex(j->s, &j->g, p, &v[0])) {
         reservoir_init(&pl->out[p]);
         return;
     }
-    if (pl->has_prev) q = reproject(pl, p, &dual);
+    if (pl->has_prev) q = reproject(pl, p, &standard);
+    dual = q >= 0 && q != standard;
     w->st.temporal.dual += (uint64_t)dual;
     if (q >= 0 && o->ablation == RESTIR_ABLATE_TEMPORAL_TARGET) {
         /* ablation: the previous pixel's x1 seen with the CURRENT camera in the current scene */
         back = &j->ctx;
         if (!frame_primary_vertex(j->s, &j->g, q, &v[1])) q = -1;
+    } else if (dual && o->ablation == RESTIR_ABLATE_DUAL_MV_VERTEX) {
+        /* ablation: the dual source's reservoir with the occluder pixel's x1 */
+        if (!frame_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, standard, &v[1])) q = -1;
     } else if (q >= 0)
         frame_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, q, &v[1]); /* valid: reproject checked */
     /* RNG_RIS vertex 48: spatial passes use 32..47, initial sampling 2..16 (docs/rng.md) */
