@@ -309,6 +309,8 @@ TEST(correlation_cli_biased_labels_and_duplicates_aov)
     CHECK(test_cli(out, sizeof out, "render scenes/pillars.scene --size 16x16 --method aov --aov duplicates -o %s.pfm",
                    prefix) == 2);
     CHECK(strstr(out, "--aov duplicates needs --method restir") != NULL);
+    CHECK(test_cli(out, sizeof out, "render scenes/pillars.scene --size 16x16 --method restir --aov age -o %s.pfm",
+                   prefix) == 2);
     CHECK(test_cli(out, sizeof out,
                    "render scenes/pillars.scene --size 16x16 --method restir --sequence 0..1 --dedup --mcap inf -o %s.pfm",
                    prefix) == 2);

@@ -36,6 +36,10 @@ extern const char *const restir_shading_names[]; /* "scalar", "vector" */
 enum restir_pairing { RESTIR_PAIRING_DISK = 0, RESTIR_PAIRING_PAIRED = 1 };
 extern const char *const restir_pairing_names[]; /* "disk", "paired" */
 enum restir_motion_vectors { RESTIR_MV_SINGLE = 0, RESTIR_MV_DUAL = 1 };
+/* The frame images: radiance (default), the duplicate count per pixel (Enhanced §5), or the
+ * temporal history age per pixel (frames since its chain of temporal sources began: 0 = no
+ * history this frame; sequences only) */
+enum restir_output { RESTIR_OUTPUT_RADIANCE = 0, RESTIR_OUTPUT_DUPLICATES = 1, RESTIR_OUTPUT_AGE = 2 };
 extern const char *const restir_motion_vector_names[]; /* "single", "dual" */
 /* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive", then
  * "stochastic-pairwise" (spatial passes only; not a mis_family: stochastic_spatial.h) */
@@ -91,7 +95,7 @@ typedef struct {
     double dedup_alpha;         /* alpha of lerp(mcap, c_cap_min, D^alpha) (default 0.1) */
     int motion_vectors;         /* enum restir_motion_vectors (default single; dual: Enhanced §6.4) */
     double boiling_filter;      /* RTXDI boiling filter strength s in (0, 1], 0 = off: BIASED */
-    int output_duplicates;      /* frame images hold the duplicate count per pixel (--aov duplicates) */
+    int output_aov;             /* enum restir_output: what the frame images hold (--aov duplicates|age) */
 } restir_options;
 
 typedef struct {

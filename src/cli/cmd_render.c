@@ -23,8 +23,9 @@ enum render_method { METHOD_AOV, METHOD_PT, METHOD_RESTIR };
 static const char *const method_names[] = {"aov", "pt", "restir", NULL};
 /* "duplicates" is no G-buffer channel: with --method restir the image holds each pixel's
  * duplicate count (Enhanced §5; docs/correlation.md) */
-static const char *const aov_choices[] = {"normal", "albedo", "depth", "object", "motion", "duplicates", NULL};
+static const char *const aov_choices[] = {"normal", "albedo", "depth", "object", "motion", "duplicates", "age", NULL};
 #define AOV_CHOICE_DUPLICATES 5
+#define AOV_CHOICE_AGE 6 /* --method restir --sequence: temporal history age per pixel */
 
 typedef struct {
     int method, aov, aov_given;
@@ -124,7 +125,7 @@ static int render_aov_image(const render_args *a, const scene *s, image *img)
 /* The image files: a duplicate-count image gets its heat map as PNG (output.h). */
 static int write_image(const render_args *a, const image *img, const char *pfm, const char *png)
 {
-    if (a->restir.output_duplicates) return write_duplicates_outputs(img, pfm, png);
+    if (a->restir.output_aov == RESTIR_OUTPUT_DUPLICATES) return write_duplicates_outputs(img, pfm, png);
     return write_outputs(img, pfm, png, a->exposure);
 }
 
@@ -155,12 +156,12 @@ static int render_restir_image(const render_args *a, const scene *s, uint32_t se
     o.jitter = a->jitter;
     o.threads = a->threads;
     o.quiet = a->quiet;
-    o.keep_reservoirs |= o.output_duplicates;
+    o.keep_reservoirs |= o.output_aov == RESTIR_OUTPUT_DUPLICATES;
     if (restir_render(s, &o, &r, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
-    if (o.output_duplicates) {
+    if (o.output_aov == RESTIR_OUTPUT_DUPLICATES) {
         if (duplicates_of(&r, img)) {
             restir_result_free(&r);
             return 2;
@@ -468,19 +469,24 @@ static int apply_sequence_options(render_args *a)
     return 0;
 }
 
-/* --aov duplicates (issue 12): reservoirs exist only with --method restir. */
+/* --aov duplicates|age (issue 12): reservoirs exist only with --method restir, a temporal
+ * history only in sequences. */
 static int apply_aov_options(render_args *a)
 {
-    if (a->aov != AOV_CHOICE_DUPLICATES) return 0;
+    if (a->aov != AOV_CHOICE_DUPLICATES && a->aov != AOV_CHOICE_AGE) return 0;
     if (a->method != METHOD_RESTIR) {
-        fprintf(stderr, "restir render: --aov duplicates needs --method restir (it counts copies of reservoir samples)\n");
+        fprintf(stderr, "restir render: --aov %s needs --method restir (it reads reservoirs)\n", aov_choices[a->aov]);
+        return 2;
+    }
+    if (a->aov == AOV_CHOICE_AGE && !a->sequence) {
+        fprintf(stderr, "restir render: --aov age needs --sequence A..B\n");
         return 2;
     }
     if (a->runs > 0) {
         fprintf(stderr, "restir render: --aov duplicates cannot be combined with --runs\n");
         return 2;
     }
-    a->restir.output_duplicates = 1;
+    a->restir.output_aov = a->aov == AOV_CHOICE_AGE ? RESTIR_OUTPUT_AGE : RESTIR_OUTPUT_DUPLICATES;
     return 0;
 }
 
@@ -528,7 +534,7 @@ int cmd_render(int argc, char **argv)
             {"--no-png", OPT_FLAG, &a.no_png, "do not write the PNG preview", NULL, 0, 0, NULL},
             {"--exposure", OPT_REAL, &a.exposure, "preview exposure in stops (default 0)", NULL, -64, 64, NULL},
             {"--method", OPT_CHOICE, &a.method, "rendering method", method_names, 0, 0, NULL},
-            {"--aov", OPT_CHOICE, &a.aov, "G-buffer channel for --method aov; duplicates (--method restir): per pixel, the copies of its sample in its 17x17 window (PNG: heat map, black 0 .. red >= 20%)", aov_choices, 0, 0, &a.aov_given},
+            {"--aov", OPT_CHOICE, &a.aov, "G-buffer channel for --method aov; duplicates (--method restir): per pixel, the copies of its sample in its 17x17 window (PNG: heat map, black 0 .. red >= 20%); age (--method restir --sequence): frames of temporal history per pixel (0: none)", aov_choices, 0, 0, &a.aov_given},
             {"--seed", OPT_UINT32, &a.seed, "run seed of the addressed RNG (default 1)", NULL, 0, 0, NULL},
             {"--threads", OPT_INT, &a.threads, "worker threads (default: online cores; 1 = no threads)", NULL, 1, 256,
              NULL},

@@ -45,6 +45,7 @@ typedef struct {
     const reservoir *cur;   /* temporal stage input: the initial reservoirs */
     reservoir *out;         /* temporal stage output */
     uint16_t *dup;          /* duplicate counts of P (Enhanced §5 step 1; duplication.h) */
+    uint16_t *age, *prev_age; /* temporal history age of frame t and of P (--aov age) */
 } pipeline;
 
 /* ---- reprojection ---------------------------------------------------------------------- */
@@ -92,6 +93,7 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     long q = -1, standard = -1;
     int dual;
     real u[2];
+    pl->age[p] = 0;
     if (!frame_primary_vertex(j->s, &j->g, p, &v[0])) {
         reservoir_init(&pl->out[p]);
         return;
@@ -99,6 +101,7 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     if (pl->has_prev) q = reproject(pl, p, &standard);
     dual = q >= 0 && q != standard;
     w->st.temporal.dual += (uint64_t)dual;
+    pl->age[p] = (uint16_t)(q < 0 ? 0 : pl->prev_age[q] < UINT16_MAX ? pl->prev_age[q] + 1 : UINT16_MAX);
     if (q >= 0 && o->ablation == RESTIR_ABLATE_TEMPORAL_TARGET) {
         /* ablation: the previous pixel's x1 seen with the CURRENT camera in the current scene */
         back = &j->ctx;
@@ -177,6 +180,12 @@ static void keep_as_previous(pipeline *pl, const reservoir *final)
     frame_job *j = &pl->j;
     if (final == j->initial) swap_reservoirs(&j->initial, &pl->prev);
     else swap_reservoirs(&j->pong, &pl->prev);
+    {
+        uint16_t *t = pl->age; /* this frame's ages become P's */
+        pl->age = pl->prev_age;
+        pl->prev_age = t;
+    }
+    if (!j->o->temporal) memset(pl->prev_age, 0, (size_t)j->s->width * (size_t)j->s->height * sizeof *pl->prev_age);
     gbuffer_free(&pl->prev_g);
     pl->prev_g = j->g;
     memset(&j->g, 0, sizeof j->g);
@@ -267,12 +276,13 @@ static int frame_image(const frame_job *j, double n, image *img, rerror *e)
     return 0;
 }
 
-/* --aov duplicates: the frame's duplicate counts (0..288) in all three channels. */
-static int duplicates_image(const pipeline *pl, image *img, rerror *e)
+/* --aov duplicates|age: the frame's duplicate counts (0..288) or history ages (P's: the
+ * frame just rendered) in all three channels. */
+static int count_image(const pipeline *pl, const uint16_t *v, image *img, rerror *e)
 {
     size_t i, pixels = (size_t)pl->j.s->width * (size_t)pl->j.s->height;
     if (image_alloc(img, pl->j.s->width, pl->j.s->height, e)) return -1;
-    for (i = 0; i < 3 * pixels; ++i) img->px[i] = (float)pl->dup[i / 3];
+    for (i = 0; i < 3 * pixels; ++i) img->px[i] = (float)v[i / 3];
     return 0;
 }
 
@@ -345,8 +355,8 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
         st.frames = 1;
         st.passes = j->o->spatial_passes;
         restir_stats_add(total, &st);
-        if (j->o->output_duplicates ? duplicates_image(pl, &img, e)
-                                    : frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e))
+        if (j->o->output_aov ? count_image(pl, j->o->output_aov == RESTIR_OUTPUT_AGE ? pl->prev_age : pl->dup, &img, e)
+                             : frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e))
             return -1;
         if (sink) status = sink(user, f, &img, &st, e);
         image_free(&img);
@@ -392,10 +402,12 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
     j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
     pl.dup = rcalloc(pixels, sizeof *pl.dup, e);
+    pl.age = rcalloc(pixels, sizeof *pl.age, e);
+    pl.prev_age = rcalloc(pixels, sizeof *pl.prev_age, e);
     if (o->shading == RESTIR_SHADING_VECTOR && o->spatial_passes > 0 &&
         !(j->vector_shade = rcalloc(pixels, sizeof *j->vector_shade, e)))
         status = -1;
-    if (status || !j->initial || !j->pong || !pl.prev || !j->sum || !pl.dup || frame_workers_alloc(j, e)) status = -1;
+    if (status || !j->initial || !j->pong || !pl.prev || !j->sum || !pl.dup || !pl.age || !pl.prev_age || frame_workers_alloc(j, e)) status = -1;
     if (!status) status = run_sequence(&pl, q, sink, user, total, e);
     if (!status) total->passes = o->spatial_passes;
     free(j->initial);
@@ -403,6 +415,8 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     free(pl.prev);
     free(j->sum);
     free(pl.dup);
+    free(pl.age);
+    free(pl.prev_age);
     free(j->vector_shade);
     gbuffer_free(&j->g);
     gbuffer_free(&pl.prev_g);
