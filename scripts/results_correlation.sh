@@ -47,12 +47,13 @@ mean_ci() {
 pct() { awk -v x="$1" 'BEGIN { printf "%.2f", 100 * x }'; }
 
 # configurations: name and options (the baseline is unbiased real-time ReSTIR PT)
-CONFIGS="base dedup boil02 boil1 dual"
+CONFIGS="base dedup boil02 boil05 boil1 dual"
 opts() {
     case $1 in
     base) echo "" ;;
     dedup) echo "--dedup" ;;
     boil02) echo "--boiling-filter 0.2" ;;
+    boil05) echo "--boiling-filter 0.5" ;;
     boil1) echo "--boiling-filter 1" ;;
     dual) echo "--motion-vectors dual" ;;
     esac
@@ -61,7 +62,8 @@ label() {
     case $1 in
     base) echo "unbiased (single MVs)" ;;
     dedup) echo "--dedup (c_min 1, alpha 0.1; biased)" ;;
-    boil02) echo "--boiling-filter 0.2 (a = 41; biased)" ;;
+    boil02) echo "--boiling-filter 0.2 (a = 41, RTXDI default; biased)" ;;
+    boil05) echo "--boiling-filter 0.5 (a = 11; biased)" ;;
     boil1) echo "--boiling-filter 1 (a = 1; biased)" ;;
     dual) echo "--motion-vectors dual" ;;
     esac
@@ -104,7 +106,7 @@ echo
 echo "### (a) Bias over K = $K runs"
 echo
 echo "rel_bias: signed relative bias of the image mean (95% t interval). mean(\|bias\|/ref): over"
-echo "${BLOCK}×${BLOCK} blocks (95% bootstrap interval); its noise floor is what an unbiased estimator"
+echo "${BLOCK}×${BLOCK} blocks (95% basic bootstrap interval over the runs); its noise floor is what an unbiased estimator"
 echo "with the same spread measures (E\|N(0, s²/K)\|/ref), so a configuration is biased where the"
 echo "value clearly exceeds the floor. Glossy: the bars (albedo luminance 0.01–0.2); diffuse: the rest."
 echo

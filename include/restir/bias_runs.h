@@ -5,7 +5,7 @@
  *   rel_bias        (mean_k I_k - R) / R of the whole (masked) image, 95% t interval over
  *                   the runs: the signed test "consistent with 0";
  *   mean_abs_rel    mean_j |mean_k b_kj - r_j| / r_j over blocks j with r_j > 0, and its
- *                   95% bootstrap interval (runs resampled with replacement);
+ *                   95% basic bootstrap interval (runs resampled with replacement);
  *   noise_floor     the value mean_abs_rel takes in expectation for an UNBIASED estimator
  *                   with the same per-block spread: mean_j sqrt(2/pi) s_j / sqrt(K) / r_j
  *                   (E|N(0, s^2/K)|); an unbiased configuration measures mean_abs_rel close

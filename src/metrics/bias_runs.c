@@ -112,9 +112,14 @@ int bias_measure(const double *run_block, const double *ref_block, const double 
         }
         draws[b] = mean_abs_rel(run_block, ref_block, weight, runs, blocks, pick);
     }
+    /* The basic (reverse-percentile) bootstrap interval [2v - q97.5, 2v - q2.5]: a resample
+     * repeats runs, so its block means are noisier and |.| of them is biased upwards; the
+     * percentile interval would inherit that shift, the basic interval reflects it away. */
     qsort(draws, (size_t)resamples, sizeof *draws, cmp_double);
-    r->mean_abs_rel.lo = draws[(int)(0.025 * resamples)];
-    r->mean_abs_rel.hi = draws[(int)(0.975 * resamples) < resamples ? (int)(0.975 * resamples) : resamples - 1];
+    r->mean_abs_rel.lo = 2 * r->mean_abs_rel.value -
+                         draws[(int)(0.975 * resamples) < resamples ? (int)(0.975 * resamples) : resamples - 1];
+    r->mean_abs_rel.hi = 2 * r->mean_abs_rel.value - draws[(int)(0.025 * resamples)];
+    if (r->mean_abs_rel.lo < 0) r->mean_abs_rel.lo = 0;
     free(pick);
     free(draws);
     return 0;
