@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/animation.h"
+#include "restir/bias_runs.h"
 #include "restir/boiling_filter.h"
 #include "restir/duplication.h"
 #include "restir/gbuffer.h"
@@ -317,4 +318,44 @@ TEST(correlation_cli_biased_labels_and_duplicates_aov)
     CHECK(test_cli(out, sizeof out,
                    "render scenes/pillars.scene --size 16x16 --method restir --sequence 0..1 --boiling-filter 2 -o %s.pfm",
                    prefix) == 2);
+}
+
+/* compare --bias's statistics (bias_runs.h) on synthetic runs: unbiased noise measures
+ * mean(|bias|/ref) at its noise floor and a rel_bias interval containing 0; a planted +3%
+ * is measured as 3% with an interval that excludes 0 and lies above the floor. */
+TEST(correlation_bias_over_runs_planted)
+{
+    enum { K = 256, B = 64 };
+    double *runs = malloc(sizeof(double) * K * B), ref[B], weight[B];
+    bias_result r;
+    rerror e;
+    int k, j, planted;
+    CHECK(runs != NULL);
+    if (!runs) return;
+    for (planted = 0; planted < 2; ++planted) {
+        for (j = 0; j < B; ++j) {
+            ref[j] = 1 + j % 5;
+            weight[j] = 16;
+            for (k = 0; k < K; ++k) {
+                rng_key key = rng_key_make(test_seed(), (uint32_t)j, (uint32_t)k);
+                double u = rng_u(key, 0, 0, 0) + rng_u(key, 0, 0, 1) + rng_u(key, 0, 0, 2) - 1.5; /* sd 0.5 */
+                runs[k * B + j] = ref[j] * ((planted ? 1.03 : 1.0) + 0.4 * u);
+            }
+        }
+        CHECKF(!bias_measure(runs, ref, weight, K, B, 200, 5, &r, &e), "%s", e.msg);
+        if (getenv("RESTIR_TEST_VERBOSE"))
+            fprintf(stderr, "  planted %d: rel_bias %.4f [%.4f, %.4f], mean_abs_rel %.4f [%.4f, %.4f], floor %.4f\n",
+                    planted, r.rel_bias.value, r.rel_bias.lo, r.rel_bias.hi, r.mean_abs_rel.value, r.mean_abs_rel.lo,
+                    r.mean_abs_rel.hi, r.noise_floor);
+        CHECK(r.runs == K && r.blocks == B);
+        CHECK_NEAR(r.noise_floor, sqrt(2 / PI_R) * 0.2 / sqrt((double)K), 0.0015);
+        if (!planted) {
+            CHECK(r.rel_bias.lo < 0 && r.rel_bias.hi > 0);
+            CHECK_NEAR(r.mean_abs_rel.value, r.noise_floor, 0.004);
+        } else {
+            CHECK(r.rel_bias.lo > 0.02 && r.rel_bias.hi < 0.04);
+            CHECK(r.mean_abs_rel.lo > 0.02 && r.mean_abs_rel.hi < 0.04 && r.mean_abs_rel.lo > 2 * r.noise_floor);
+        }
+    }
+    free(runs);
 }
