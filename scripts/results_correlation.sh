@@ -21,7 +21,7 @@
 set -eu
 OUT=${1:-out/results-correlation}
 R=${2:-build}/restir
-SIZE=${SIZE:-64}
+SIZE=${SIZE:-48}
 K=${K:-256}
 LAST=${LAST:-16}
 BLOCK=${BLOCK:-4}
@@ -100,7 +100,7 @@ echo "(the camera pans behind five glossy plastic bars, roughness 0.3: disocclus
 echo "\`--preset gris-realtime\` (1 path tree, temporal Talbot cap 20, one pairwise-defensive spatial"
 echo "pass); **K = $K** independent runs (seeds 1..$K) per configuration; frame $LAST is captured in every"
 echo "run and compared with a $REF_SPP-spp path-traced reference of frame $LAST (taken as exact). Definitions:"
-echo "docs/correlation.md \"Measuring\". Differences from Enhanced's setup: a 64² toy scene, not Kitchen"
+echo "docs/correlation.md \"Measuring\". Differences from Enhanced's setup: a ${SIZE}² toy scene, not Kitchen"
 echo "at 1080p; our cap is relative (C × the current confidence; identical with 1 path tree)."
 echo
 echo "### (a) Bias over K = $K runs"
