@@ -124,7 +124,7 @@ TEST(correlation_boiling_filter_threshold)
     /* v = 11.4: threshold 11.4317 > 11.4: kept */
     holder(&rs[9 * W + 9], 0, 0, 11.4);
     cleared = boiling_filter(rs, W, H, BOILING_GROUP, 0.5);
-    CHECK(cleared == 0 && rs[9 * W + 9].W == 11.4);
+    CHECK(cleared == 0 && rs[9 * W + 9].W == (real)11.4);
     /* the 4 x 16 group at the right edge: v > 11 (63 + v) / 64 iff v > 13.0755 */
     holder(&rs[5 * W + 18], 0, 0, 13.05);
     CHECK(boiling_filter(rs, W, H, BOILING_GROUP, 0.5) == 0);
@@ -307,6 +307,13 @@ TEST(correlation_cli_biased_labels_and_duplicates_aov)
         if (fp) fclose(fp);
         CHECK(strstr(out, "\"biased\": true") && strstr(out, "\"correlation\"") && strstr(out, "\"dual_mv\""));
     }
+    /* compare --bias reads runs and a reference (here: count images, only its mechanics) */
+    CHECKF(test_cli(out, sizeof out, "compare --bias %s.0001.pfm %s.0002.pfm --ref %s.0002.pfm --block 2", prefix, prefix,
+                    prefix) == 0,
+           "%s", out);
+    CHECK(strstr(out, "mean_abs_rel") && strstr(out, "noise_floor") && strstr(out, "runs 2"));
+    CHECK(test_cli(out, sizeof out, "compare --bias %s.0001.pfm %s.0002.pfm", prefix, prefix) == 2 &&
+          strstr(out, "--ref"));
     CHECK(test_cli(out, sizeof out, "render scenes/pillars.scene --size 16x16 --method aov --aov duplicates -o %s.pfm",
                    prefix) == 2);
     CHECK(strstr(out, "--aov duplicates needs --method restir") != NULL);
