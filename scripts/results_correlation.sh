@@ -105,28 +105,42 @@ echo "at 1080p; our cap is relative (C × the current confidence; identical with
 echo
 echo "### (a) Bias over K = $K runs"
 echo
-echo "rel_bias: signed relative bias of the image mean (95% t interval). mean(\|bias\|/ref): over"
-echo "${BLOCK}×${BLOCK} blocks (95% basic bootstrap interval over the runs); its noise floor is what an unbiased estimator"
-echo "with the same spread measures (E\|N(0, s²/K)\|/ref), so a configuration is biased where the"
-echo "value clearly exceeds the floor. Glossy: the bars (albedo luminance 0.01–0.2); diffuse: the rest."
+echo "rel_bias: signed relative bias of the image mean against the reference (95% t interval over the runs)."
+echo "Paired vs unbiased: \`restir check --paired\` of the configuration against the unbiased one on the same"
+echo "seeds (paired t of the per-run image-mean differences; relative difference with its 99% interval)."
+echo "mean(\|bias\|/ref) over ${BLOCK}×${BLOCK} blocks: raw (includes the noise of a K-run mean), the noise floor"
+echo "(what an unbiased estimator with the same spread measures raw, E\|N(0, s²/K)\|/ref), and the bootstrap's"
+echo "noise-corrected value with its 95% basic interval (an unbiased estimator gives about 0.6 × the floor"
+echo "here, docs/correlation.md §5; a configuration is biased where this interval lies above the floor)."
+echo "Glossy: the bars (albedo luminance 0.01–0.2); diffuse: the rest."
 echo
-echo "| configuration | rel_bias % | mean(\|bias\|/ref) % | noise floor % | glossy: mean(\|bias\|/ref) % (floor) | glossy rel_bias % | diffuse: mean(\|bias\|/ref) % (floor) |"
+echo "| configuration | rel_bias % | paired vs unbiased: t, relative % [99%] | mean(\|bias\|/ref) % raw / floor | corrected % [95%] | glossy: raw / floor, rel_bias % | diffuse: raw / floor, corrected % |"
 echo "| --- | --- | --- | --- | --- | --- | --- |"
 } > "$SEC"
-bias_row() { # name -> one table row
-    set -- $("$R" compare --bias $(runs "$1") --ref "$REF" --block "$BLOCK" | awk '
-        $1 == "rel_bias" { gsub(/[\[\],]/, ""); rb = $2; rl = $3; rh = $4 }
-        $1 == "mean_abs_rel" { gsub(/[\[\],]/, ""); m = $2; ml = $3; mh = $4 }
-        $1 == "noise_floor" { f = $2 } END { print rb, rl, rh, m, ml, mh, f }')
-    all="| $(label "$c") | $(pct "$1") [$(pct "$2"), $(pct "$3")] | $(pct "$4") [$(pct "$5"), $(pct "$6")] | $(pct "$7") |"
-    set -- $("$R" compare --bias $(runs "$c") --ref "$REF" --block "$BLOCK" --mask "$TMP/albedo.pfm" --mask-range 0.01,0.2 | awk '
-        $1 == "rel_bias" { gsub(/[\[\],]/, ""); rb = $2; rl = $3; rh = $4 }
-        $1 == "mean_abs_rel" { gsub(/[\[\],]/, ""); m = $2 }
-        $1 == "noise_floor" { f = $2 } END { print rb, rl, rh, m, f }')
-    gl=" $(pct "$4") ($(pct "$5")) | $(pct "$1") [$(pct "$2"), $(pct "$3")] |"
-    set -- $("$R" compare --bias $(runs "$c") --ref "$REF" --block "$BLOCK" --mask "$TMP/albedo.pfm" --mask-range 0.3,1e30 | awk '
-        $1 == "mean_abs_rel" { gsub(/[\[\],]/, ""); m = $2 } $1 == "noise_floor" { f = $2 } END { print m, f }')
-    echo "$all$gl $(pct "$1") ($(pct "$2")) |"
+bias_fields() { # runs of configuration $1, extra compare options -> "rb lo hi raw corr clo chi floor"
+    c=$1; shift
+    "$R" compare --bias $(runs "$c") --ref "$REF" --block "$BLOCK" "$@" | awk '
+        { gsub(/[\[\],]/, "") }
+        $1 == "rel_bias" { rb = $2; rl = $3; rh = $4 } $1 == "mean_abs_rel" { m = $2 }
+        $1 == "mean_abs_rel_corrected" { c = $2; cl = $3; ch = $4 } $1 == "noise_floor" { f = $2 }
+        END { print rb, rl, rh, m, c, cl, ch, f }'
+}
+paired() { # configuration $1 against base, same seeds
+    [ "$1" = base ] && { echo "—"; return; }
+    files_a=$(runs "$1"); files_b=$(runs base)
+    "$R" check --paired --a $files_a --b $files_b 2>/dev/null | awk '
+        /paired t =/ { t = $4; sub(/,/, "", t) }
+        /relative bias A\/B - 1/ { r = $6; lo = $9; hi = $10; gsub(/[\[\]%,]/, "", lo); gsub(/[\[\]%,]/, "", hi); sub(/%/, "", r) }
+        /^verdict/ { v = $2 }
+        END { printf "t %s, %s [%s, %s] (%s)", t, r, lo, hi, v }'
+}
+bias_row() {
+    set -- $(bias_fields "$1")
+    all="| $(label "$c") | $(pct "$1") [$(pct "$2"), $(pct "$3")] | $(paired "$c") | $(pct "$4") / $(pct "$8") | $(pct "$5") [$(pct "$6"), $(pct "$7")] |"
+    set -- $(bias_fields "$c" --mask "$TMP/albedo.pfm" --mask-range 0.01,0.2)
+    gl=" $(pct "$4") / $(pct "$8"), $(pct "$1") [$(pct "$2"), $(pct "$3")] |"
+    set -- $(bias_fields "$c" --mask "$TMP/albedo.pfm" --mask-range 0.3,1e30)
+    echo "$all$gl $(pct "$4") / $(pct "$8"), $(pct "$5") [$(pct "$6"), $(pct "$7")] |"
 }
 for c in $CONFIGS; do bias_row "$c" >> "$SEC"; done
 
@@ -165,6 +179,7 @@ spf() { # seconds per captured frame of configuration $1 (mean over runs of rend
     for k in $(seq 1 "$K"); do grep -o '"render": [0-9.e+-]*' "$TMP/$1.$k.json" | awk -v f=$((LAST + 1)) '{ print $2 / f }'; done |
         awk '{ s += $1 } END { print s / NR }'
 }
+for c in $CONFIGS; do spf "$c" > "$TMP/spf.$c"; done
 n=1
 MSE_ROWS=""
 while [ "$n" -le "$K" ]; do
@@ -174,7 +189,7 @@ while [ "$n" -le "$K" ]; do
         "$R" merge -o "$TMP/avg.pfm" $(runs "$c" "$n") --counts "$counts" --quiet --no-png
         set -- $("$R" compare "$TMP/avg.pfm" "$REF" | awk '$1 == "mse" { m = $2 } $1 == "flip_hdr" { f = $2 } END { print m, f }')
         row="$row,$1"
-        x=$(awk -v s="$(spf "$c")" -v n="$n" 'BEGIN { printf "%.4g", s * n }')
+        x=$(awk -v s="$(cat "$TMP/spf.$c")" -v n="$n" 'BEGIN { printf "%.4g", s * n }')
         line="$x"; for d in $CONFIGS; do [ "$d" = "$c" ] && line="$line,$2" || line="$line,"; done
         echo "$line" >> "$csv_flip"
     done

@@ -351,17 +351,19 @@ TEST(correlation_bias_over_runs_planted)
         }
         CHECKF(!bias_measure(runs, ref, weight, K, B, 200, 5, &r, &e), "%s", e.msg);
         if (getenv("RESTIR_TEST_VERBOSE"))
-            fprintf(stderr, "  planted %d: rel_bias %.4f [%.4f, %.4f], mean_abs_rel %.4f [%.4f, %.4f], floor %.4f\n",
-                    planted, r.rel_bias.value, r.rel_bias.lo, r.rel_bias.hi, r.mean_abs_rel.value, r.mean_abs_rel.lo,
-                    r.mean_abs_rel.hi, r.noise_floor);
+            fprintf(stderr, "  planted %d: rel_bias %.4f [%.4f, %.4f], mean_abs_rel %.4f corrected %.4f [%.4f, %.4f], floor %.4f\n",
+                    planted, r.rel_bias.value, r.rel_bias.lo, r.rel_bias.hi, r.mean_abs_rel.value, r.corrected,
+                    r.mean_abs_rel.lo, r.mean_abs_rel.hi, r.noise_floor);
         CHECK(r.runs == K && r.blocks == B);
         CHECK_NEAR(r.noise_floor, sqrt(2 / PI_R) * 0.2 / sqrt((double)K), 0.0015);
         if (!planted) {
             CHECK(r.rel_bias.lo < 0 && r.rel_bias.hi > 0);
             CHECK_NEAR(r.mean_abs_rel.value, r.noise_floor, 0.004);
+            CHECK(r.corrected < r.noise_floor); /* the noise's share is taken out */
         } else {
             CHECK(r.rel_bias.lo > 0.02 && r.rel_bias.hi < 0.04);
             CHECK(r.mean_abs_rel.lo > 0.02 && r.mean_abs_rel.hi < 0.04 && r.mean_abs_rel.lo > 2 * r.noise_floor);
+            CHECK_NEAR(r.corrected, 0.03, 0.004);
         }
     }
     free(runs);

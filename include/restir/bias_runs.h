@@ -6,6 +6,10 @@
  *                   the runs: the signed test "consistent with 0";
  *   mean_abs_rel    mean_j |mean_k b_kj - r_j| / r_j over blocks j with r_j > 0, and its
  *                   95% basic bootstrap interval (runs resampled with replacement);
+ *   corrected       2 mean_abs_rel - mean(bootstrap draws): the bootstrap's estimate of
+ *                   mean_abs_rel with the noise's inflation of |.| removed (a resample
+ *                   repeats runs, inflating it once more by about as much); the basic
+ *                   interval [2v - q97.5, 2v - q2.5] is an interval for this quantity;
  *   noise_floor     the value mean_abs_rel takes in expectation for an UNBIASED estimator
  *                   with the same per-block spread: mean_j sqrt(2/pi) s_j / sqrt(K) / r_j
  *                   (E|N(0, s^2/K)|); an unbiased configuration measures mean_abs_rel close
@@ -24,7 +28,8 @@ typedef struct {
     int runs;
     long blocks;            /* blocks with r_j > 0 */
     bias_interval rel_bias;
-    bias_interval mean_abs_rel;
+    bias_interval mean_abs_rel; /* value: raw; lo, hi: basic bootstrap interval (of the corrected value) */
+    double corrected;
     double noise_floor;
 } bias_result;
 

@@ -115,6 +115,9 @@ int bias_measure(const double *run_block, const double *ref_block, const double 
     /* The basic (reverse-percentile) bootstrap interval [2v - q97.5, 2v - q2.5]: a resample
      * repeats runs, so its block means are noisier and |.| of them is biased upwards; the
      * percentile interval would inherit that shift, the basic interval reflects it away. */
+    r->corrected = 0;
+    for (b = 0; b < resamples; ++b) r->corrected += draws[b] / resamples;
+    r->corrected = 2 * r->mean_abs_rel.value - r->corrected;
     qsort(draws, (size_t)resamples, sizeof *draws, cmp_double);
     r->mean_abs_rel.lo = 2 * r->mean_abs_rel.value -
                          draws[(int)(0.975 * resamples) < resamples ? (int)(0.975 * resamples) : resamples - 1];
