@@ -47,7 +47,7 @@ mean_ci() {
 pct() { awk -v x="$1" 'BEGIN { printf "%.2f", 100 * x }'; }
 
 # configurations: name and options (the baseline is unbiased real-time ReSTIR PT)
-CONFIGS="base dedup boil02 boil05 boil1 dual"
+CONFIGS="base dedup boil02 boil05 boil1 dual dualdedup"
 opts() {
     case $1 in
     base) echo "" ;;
@@ -56,6 +56,7 @@ opts() {
     boil05) echo "--boiling-filter 0.5" ;;
     boil1) echo "--boiling-filter 1" ;;
     dual) echo "--motion-vectors dual" ;;
+    dualdedup) echo "--motion-vectors dual --dedup" ;;
     esac
 }
 label() {
@@ -66,6 +67,7 @@ label() {
     boil05) echo "--boiling-filter 0.5 (a = 11; biased)" ;;
     boil1) echo "--boiling-filter 1 (a = 1; biased)" ;;
     dual) echo "--motion-vectors dual" ;;
+    dualdedup) echo "--motion-vectors dual --dedup (biased)" ;;
     esac
 }
 
@@ -225,8 +227,8 @@ echo "nmse (Σ(run − ref)² / Σ ref² of luminance, mean ± 95% interval over
 echo "whose single-MV temporal history is a frames old (--aov age: a = 0 was disoccluded this frame),"
 echo "and the same estimator's rel_bias there (dual MVs must not add bias)."
 echo
-echo "| history age a | pixels | nmse single | nmse dual | rel_bias % single | rel_bias % dual |"
-echo "| --- | --- | --- | --- | --- | --- |"
+echo "| history age a | pixels | nmse single | nmse dual | nmse dual + dedup | rel_bias % single | rel_bias % dual |"
+echo "| --- | --- | --- | --- | --- | --- | --- |"
 } >> "$SEC"
 for a in 0 1 2 3 4-16; do
     lo=${a%-*}; hi=${a#*-}
@@ -234,7 +236,7 @@ for a in 0 1 2 3 4-16; do
     row="| $a |"
     px=$("$R" compare --bias $(runs base 2) --ref "$REF" --block 1 --mask "$AGE" --mask-range "$range" | awk '$1 == "blocks" { print $2 }')
     row="$row $px |"
-    for c in base dual; do
+    for c in base dual dualdedup; do
         set -- $("$R" compare --bias $(runs "$c") --ref "$REF" --block "$BLOCK" --mask "$AGE" --mask-range "$range" | awk '
             $1 == "nmse" { gsub(/[\[\],]/, ""); print $2, $3, $4 }')
         eval "n_$c=\"$(awk -v m="$1" -v l="$2" 'BEGIN { printf "%.4g ± %.2g", m, m - l }')\""
@@ -242,7 +244,7 @@ for a in 0 1 2 3 4-16; do
             $1 == "rel_bias" { gsub(/[\[\],]/, ""); print $2, $3, $4 }')
         eval "b_$c=\"$(pct "$1") [$(pct "$2"), $(pct "$3")]\""
     done
-    echo "$row $n_base | $n_dual | $b_base | $b_dual |" >> "$SEC"
+    echo "$row $n_base | $n_dual | $n_dualdedup | $b_base | $b_dual |" >> "$SEC"
 done
 
 # ---- (e) heat maps ---------------------------------------------------------------------------
