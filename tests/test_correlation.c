@@ -135,37 +135,39 @@ TEST(correlation_boiling_filter_threshold)
 
 /* ---- dual motion vectors on a constructed scene ------------------------------------------ */
 
-/* A wall at z = -5 and a 1 x 1 card at z = -2 (both facing +z) that slides +x by 0.3 per
- * frame; a still camera at the origin looking down -z (fov 60, 48 x 32 pixels). */
+/* A wall at z = -5 and a 1 x 1 card at z = -2 (both facing +z) that slides +x by `speed`
+ * per frame; a still camera at the origin looking down -z (fov 60, 48 x 32 pixels). */
 static const char *dual_obj = "mtllib dual.mtl\n"
                               "o wall\nusemtl white\nv -20 -20 -5\nv 20 -20 -5\nv 20 20 -5\nv -20 20 -5\nf 1 2 3 4\n"
                               "o card\nusemtl white\nv -0.5 -0.5 -2\nv 0.5 -0.5 -2\nv 0.5 0.5 -2\nv -0.5 0.5 -2\nf 5 6 7 8\n"
                               "o light\nusemtl glow\nv -1 4 -1\nv 1 4 -1\nv 1 4 -3\nf 9 10 11\n";
 static const char *dual_mtl = "newmtl white\nKd 0.7 0.7 0.7\nnewmtl glow\nKd 0 0 0\nKe 5 5 5\n";
-static const char *dual_scene = "mesh dual.obj\nsize 48 32\n"
-                                "camera eye 0 0 0 target 0 0 -1 up 0 1 0 fov 60\n"
-                                "animate card 0 pivot 0 0 -2\n"
-                                "animate card 10 translate 3 0 0\n";
 
 /* Every disoccluded wall pixel whose reprojection lands on the card: the dual source is
- * the texel containing c - v, v = (0.3 f / 2, 0) the card's analytic screen motion (or the
- * next texel along -v if that one still shows the card), and it is accepted there. */
-TEST(correlation_dual_mv_source_pixel_constructed)
+ * the texel containing c - v, v = (speed f / 2, 0) the card's analytic screen motion (or
+ * the next texel along -v if that one still shows the card: *fallbacks counts those), and
+ * it is accepted there. *checked: the number of pixels checked. */
+static void dual_case(double speed, int *checked, int *fallbacks)
 {
     scene s;
     rerror e;
     gbuffer prev, cur;
     camera pc, cc;
-    char path[1024];
-    int frame = 4, x, y, checked = 0;
+    char path[1024], text[512];
+    int frame = 4, x, y;
     double f, v;
+    *checked = 0;
     test_write_file("dual.obj", dual_obj);
     test_write_file("dual.mtl", dual_mtl);
-    snprintf(path, sizeof path, "%s", test_write_file("dual.scene", dual_scene));
+    snprintf(text, sizeof text,
+             "mesh dual.obj\nsize 48 32\ncamera eye 0 0 0 target 0 0 -1 up 0 1 0 fov 60\n"
+             "animate card 0 pivot 0 0 -2\nanimate card 10 translate %g 0 0\n",
+             10 * speed);
+    snprintf(path, sizeof path, "%s", test_write_file("dual.scene", text));
     CHECKF(!scene_load(&s, path, &e), "%s", e.msg);
     if (test_has_failed()) return;
     f = 0.5 * s.height / tan(30 * PI_R / 180);
-    v = 0.3 * f / 2; /* the card's screen motion per frame, pixels (+x) */
+    v = speed * f / 2; /* the card's screen motion per frame, pixels (+x) */
     CHECKF(!scene_prepare(&s, &e) && !scene_pose_at(&s, frame - 1, &e), "%s", e.msg);
     camera_init(&pc, scene_camera_at(&s, frame - 1), s.width, s.height);
     CHECKF(!gbuffer_build(&prev, &s, &pc, 3, (uint32_t)frame - 1, 0, 1, &e), "%s", e.msg);
@@ -190,16 +192,34 @@ TEST(correlation_dual_mv_source_pixel_constructed)
             px = t->pixel[0] - v;
             wx = (int)floor(px);
             wy = (int)floor(t->pixel[1]);
-            if (!strcmp(s.object_names[gbuffer_at(&prev, wx, wy)->hit.object], "card")) wx = (int)floor(px - 1);
-            CHECKF(ok && dx == wx && dy == wy, "pixel (%d, %d): dual source %s(%d, %d), want (%d, %d)", x, y,
-                   ok ? "" : "refused ", dx, dy, wx, wy);
+            if (!strcmp(s.object_names[gbuffer_at(&prev, wx, wy)->hit.object], "card")) {
+                wx = (int)floor(px - 1);
+                ++*fallbacks;
+            }
+            CHECKF(ok && dx == wx && dy == wy, "speed %g, pixel (%d, %d): dual source %s(%d, %d), want (%d, %d)",
+                   speed, x, y, ok ? "" : "refused ", dx, dy, wx, wy);
             CHECK(!strcmp(s.object_names[gbuffer_at(&prev, dx, dy)->hit.object], "wall"));
-            checked++;
+            ++*checked;
         }
-    CHECKF(checked >= 20, "only %d disoccluded pixels", checked); /* 3.1 columns x ~9 rows */
     gbuffer_free(&prev);
     gbuffer_free(&cur);
     scene_free(&s);
+}
+
+/* A fast card (3.1 pixels per frame: c - v lands past the edge) and a slow one (1.4 pixels:
+ * c - v often lands in the edge texel, the one-pixel step of the rule is exercised). */
+TEST(correlation_dual_mv_source_pixel_constructed)
+{
+    int fast_fallbacks = 0, slow_fallbacks = 0, fast, slow;
+    dual_case(0.3, &fast, &fast_fallbacks);
+    if (test_has_failed()) return;
+    dual_case(0.1, &slow, &slow_fallbacks);
+    if (test_has_failed()) return;
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  fast: %d pixels (%d steps), slow: %d pixels (%d steps)\n", fast, fast_fallbacks, slow,
+                slow_fallbacks);
+    CHECKF(fast >= 20 && slow >= 8, "only %d / %d disoccluded pixels", fast, slow);
+    CHECKF(slow_fallbacks > 0, "the slow card never exercised the one-pixel step (%d pixels)", slow);
 }
 
 /* ---- dual motion vectors add no bias: paired against single ----------------------------- */
