@@ -52,7 +52,7 @@ LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/*.c))
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-.PHONY: all run test test-long test-data bench clean results results-temporal results-stochastic mutation-score
+.PHONY: all run test test-long test-data bench clean results results-temporal results-stochastic results-correlation mutation-score
 all: $(BUILD)/restir
 
 $(BUILD)/%.o: %.c
@@ -117,3 +117,6 @@ mutation-score:
 
 results-stochastic: $(BUILD)/restir
 	sh scripts/results_stochastic.sh out/results-stochastic $(BUILD)
+
+results-correlation: $(BUILD)/restir
+	sh scripts/results_correlation.sh out/results-correlation $(BUILD)

@@ -160,6 +160,7 @@ typedef struct {
                        heavy-tailed: K = 48 one-sample images gave false block rejections) */
     double alpha;   /* per-comparison level: ALPHA; the long matrix (162 comparisons) 1e-4 */
     const char *name;
+    int motion_vectors; /* enum restir_motion_vectors of every case (default single) */
 } temporal_bench;
 
 static void bench_close(temporal_bench *b);
@@ -224,6 +225,7 @@ static void case_options(const temporal_bench *b, const temporal_case *m, restir
     o->radius = 4.0 * b->res / 16;
     o->ablation = m->ablation;
     o->mcap = m->mcap;
+    o->motion_vectors = b->motion_vectors;
     o->candidates = b->candidates;
     o->max_depth = 4;
     o->threads = 2;
@@ -254,9 +256,9 @@ static void expect(temporal_bench *b, const temporal_case *m, int biased)
         status = check_compare(&q.side[i], &b->pt[i], &opt, &c, &e);
         CHECKF(status == 0, "check_compare: %s", e.msg);
         if (status) continue;
-        snprintf(what, sizeof what, "%s frame %d shift %s temporal %s spatial %d ablate %s mcap %g", b->name,
+        snprintf(what, sizeof what, "%s frame %d shift %s temporal %s spatial %d ablate %s mcap %g mv %s", b->name,
                  b->times[i], restir_shift_names[m->shift], restir_mis_names[m->temporal_mis], m->passes,
-                 restir_ablation_names[m->ablation], m->mcap);
+                 restir_ablation_names[m->ablation], m->mcap, restir_motion_vector_names[b->motion_vectors]);
         if (getenv("RESTIR_TEST_VERBOSE"))
             fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
                     rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
@@ -630,4 +632,22 @@ TEST(restir_temporal_animated_threads_and_resume)
         snprintf(b, sizeof b, "%s/shadowr.%04d.pfm", test_tmpdir(), f);
         CHECKF(test_files_equal(a, b), "frame %d differs after resuming at frame 2", f);
     }
+}
+
+/* Dual motion vectors (issue 12, Enhanced §6.4): the pillars' disoccluded pixels reuse the
+ * history the dual vector finds; every frame stays consistent with the path tracer
+ * (the paired test against single vectors, with its ablation, is in test_correlation.c). */
+TEST(restir_temporal_dual_motion_vectors_unbiased)
+{
+    temporal_bench b;
+    static const int times[] = {2, 5};
+    temporal_case dual[] = {
+        {RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, MIS_TALBOT, 1, RESTIR_ABLATE_NONE, 20},
+        {RESTIR_SHIFT_RECONNECTION, MIS_TALBOT, MIS_PAIRWISE_DEFENSIVE, 0, RESTIR_ABLATE_NONE, 20},
+    };
+    size_t i;
+    if (bench_open(&b, "pillars", -4, 16, 16, 64, times, 2)) return;
+    b.motion_vectors = RESTIR_MV_DUAL;
+    for (i = 0; i < sizeof dual / sizeof dual[0] && !test_has_failed(); ++i) expect(&b, &dual[i], 0);
+    bench_close(&b);
 }

@@ -75,6 +75,16 @@ int gbuffer_build_with_motion(gbuffer *g, const scene *s, int frame, uint32_t se
  * between the two frames' object transforms), in double. */
 vec3 motion_previous_position(const scene *s, uint32_t object, int frame, int prev_frame, vec3 p);
 
+/* Dual motion vectors (Enhanced §6.4, Zeng et al. 2021; the rule is in src/render/motion.c
+ * and docs/correlation.md): for a texel t of frame `frame` (scene s, camera cam) whose
+ * reprojection failed (valid, !prev_valid) onto a previous texel of another object (the
+ * occluder), the previous pixel obtained by moving t's sample position against the
+ * occluder's own screen motion (one pixel further if that texel still shows the
+ * occluder). Returns 1 and (x, y) when that previous texel shows t's object with an
+ * agreeing normal, else 0. */
+int gbuffer_dual_previous_pixel(const gbuffer_texel *t, const scene *s, int frame, const camera *cam, int prev_frame,
+                                const gbuffer *prev, int *x, int *y);
+
 static inline const gbuffer_texel *gbuffer_at(const gbuffer *g, int x, int y)
 {
     return &g->texels[(long)y * g->width + x];

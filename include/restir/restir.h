@@ -15,6 +15,7 @@
 #define RESTIR_RESTIR_H
 
 #include <stdio.h>
+#include "restir/duplication.h"
 #include "restir/image.h"
 #include "restir/initial.h"
 #include "restir/merge.h"
@@ -34,6 +35,12 @@ enum restir_shading { RESTIR_SHADING_SCALAR = 0, RESTIR_SHADING_VECTOR = 1 };
 extern const char *const restir_shading_names[]; /* "scalar", "vector" */
 enum restir_pairing { RESTIR_PAIRING_DISK = 0, RESTIR_PAIRING_PAIRED = 1 };
 extern const char *const restir_pairing_names[]; /* "disk", "paired" */
+enum restir_motion_vectors { RESTIR_MV_SINGLE = 0, RESTIR_MV_DUAL = 1 };
+/* The frame images: radiance (default), the duplicate count per pixel (Enhanced §5), or the
+ * temporal history age per pixel (frames since its chain of temporal sources began: 0 = no
+ * history this frame; sequences only) */
+enum restir_output { RESTIR_OUTPUT_RADIANCE = 0, RESTIR_OUTPUT_DUPLICATES = 1, RESTIR_OUTPUT_AGE = 2 };
+extern const char *const restir_motion_vector_names[]; /* "single", "dual" */
 /* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive", then
  * "stochastic-pairwise" (spatial passes only; not a mis_family: stochastic_spatial.h) */
 extern const char *const restir_mis_names[];
@@ -82,6 +89,13 @@ typedef struct {
     int no_confidence_scaling;  /* 1: no c_i <- c_i min(1, Ñ/M) (Stochastic MIS §4.3) */
     int cells;                  /* spatial domains = a reuse cell found by the §5.1 search
                                    (reuse_cells.h) instead of neighbor_select; any --mis */
+    /* correlation under motion (issue 12, docs/correlation.md; real-time pipeline only): */
+    int dedup;                  /* duplication-map adaptive cap (Enhanced §5): BIASED */
+    double dedup_min;           /* c_cap_min (default 1) */
+    double dedup_alpha;         /* alpha of lerp(mcap, c_cap_min, D^alpha) (default 0.1) */
+    int motion_vectors;         /* enum restir_motion_vectors (default single; dual: Enhanced §6.4) */
+    double boiling_filter;      /* RTXDI boiling filter strength s in (0, 1], 0 = off: BIASED */
+    int output_aov;             /* enum restir_output: what the frame images hold (--aov duplicates|age) */
 } restir_options;
 
 typedef struct {
@@ -95,6 +109,11 @@ typedef struct {
     double ms_temporal;                          /* temporal step incl. reprojection (sequences) */
     double ms_pose, ms_motion;                   /* posing + BVH rebuild; motion vectors (sequences) */
     double ms_spatial[RESTIR_MAX_SPATIAL_PASSES]; /* pass p, summed over frames */
+    /* correlation (sequences; docs/correlation.md): the duplication map of every frame's
+     * final reservoirs, summed over frames; reservoirs the boiling filter cleared */
+    duplication_summary correlation;
+    uint64_t boiling_cleared;
+    double ms_correlation;                       /* duplication map + boiling filter */
 } restir_stats;
 
 typedef struct {
@@ -105,6 +124,9 @@ typedef struct {
 } restir_result;
 
 void restir_options_default(restir_options *o);
+/* 1 if o turns on a feature that is biased by design (--dedup, --boiling-filter): the
+ * estimator is then no longer unbiased (docs/correlation.md); --stats says "biased". */
+int restir_options_biased(const restir_options *o);
 int restir_options_validate(const restir_options *o, rerror *e);
 
 /* The context (shift, criterion with d_min in scene units, ablation, MIS strategy) that

@@ -31,6 +31,8 @@ typedef struct {
     uint64_t pixels;            /* pixels with a primary hit in frame t */
     uint64_t no_history;        /* ... whose reprojection failed (off screen, disoccluded, first frame) */
     uint64_t capped;            /* previous confidences lowered by the cap */
+    uint64_t dual;              /* histories found by the dual motion vector (Enhanced §6.4) */
+    uint64_t dedup_lowered;     /* steps whose cap the duplication map lowered (Enhanced §5) */
     spatial_stats step;         /* the GRIS steps: shifts by outcome (forward and reverse);
                                    step.selected_neighbor = outputs taken from frame t-1 */
 } temporal_stats;

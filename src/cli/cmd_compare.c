@@ -265,14 +265,16 @@ static int fail(const rerror *e)
 }
 
 int cmd_compare_covariance(int argc, char **argv);
+int cmd_compare_bias(int argc, char **argv);
 
-/* `compare --covariance FILES...` is a different measurement (Mutations Eq. 21 over K
- * images), with its own options: hand the whole command line to it. */
-static int wants_covariance(int argc, char **argv)
+/* `compare --covariance FILES...` (Mutations Eq. 21 over K images) and `compare --bias
+ * RUNS... --ref REF` (issue 12) are different measurements with their own options: the
+ * whole command line goes to them. */
+static int has_flag(int argc, char **argv, const char *flag)
 {
     int i;
     for (i = 1; i < argc; ++i)
-        if (!strcmp(argv[i], "--covariance")) return 1;
+        if (!strcmp(argv[i], flag)) return 1;
     return 0;
 }
 
@@ -283,7 +285,8 @@ int cmd_compare(int argc, char **argv)
     image test, ref;
     rerror e;
     int status = 2, parsed;
-    if (wants_covariance(argc, argv)) return cmd_compare_covariance(argc, argv);
+    if (has_flag(argc, argv, "--covariance")) return cmd_compare_covariance(argc, argv);
+    if (has_flag(argc, argv, "--bias")) return cmd_compare_bias(argc, argv);
     parsed = parse_args(argc, argv, &o);
     if (parsed) return parsed == 1 ? 0 : 2;
     memset(&res, 0, sizeof res);

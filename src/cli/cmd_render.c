@@ -21,10 +21,14 @@
 
 enum render_method { METHOD_AOV, METHOD_PT, METHOD_RESTIR };
 static const char *const method_names[] = {"aov", "pt", "restir", NULL};
-static const char *const aov_choices[] = {"normal", "albedo", "depth", "object", "motion", NULL};
+/* "duplicates" is no G-buffer channel: with --method restir the image holds each pixel's
+ * duplicate count (Enhanced §5; docs/correlation.md) */
+static const char *const aov_choices[] = {"normal", "albedo", "depth", "object", "motion", "duplicates", "age", NULL};
+#define AOV_CHOICE_DUPLICATES 5
+#define AOV_CHOICE_AGE 6 /* --method restir --sequence: temporal history age per pixel */
 
 typedef struct {
-    int method, aov;
+    int method, aov, aov_given;
     const char *output, *png, *stats;
     int no_png, quiet, jitter, threads, frame;
     int runs; /* --runs K: K independent renders -> mean, variance and count (restir check) */
@@ -118,6 +122,30 @@ static int render_aov_image(const render_args *a, const scene *s, image *img)
     return 0;
 }
 
+/* The image files: a duplicate-count image gets its heat map as PNG (output.h). */
+static int write_image(const render_args *a, const image *img, const char *pfm, const char *png)
+{
+    if (a->restir.output_aov == RESTIR_OUTPUT_DUPLICATES) return write_duplicates_outputs(img, pfm, png);
+    return write_outputs(img, pfm, png, a->exposure);
+}
+
+/* --aov duplicates without --sequence: the counts of the last frame's final reservoirs. */
+static int duplicates_of(const restir_result *r, image *img)
+{
+    rerror e;
+    size_t i, n = (size_t)r->mean.width * (size_t)r->mean.height;
+    uint16_t *count = malloc(n * sizeof *count);
+    if (!count || image_alloc(img, r->mean.width, r->mean.height, &e)) {
+        fprintf(stderr, "out of memory\n");
+        free(count);
+        return 2;
+    }
+    duplication_counts(r->reservoirs, r->mean.width, r->mean.height, DUPLICATION_RADIUS, count);
+    for (i = 0; i < 3 * n; ++i) img->px[i] = (float)count[i / 3];
+    free(count);
+    return 0;
+}
+
 /* ReSTIR PT (docs/restir-pt.md): the render command's seed, jitter and threads go in. */
 static int render_restir_image(const render_args *a, const scene *s, uint32_t seed, image *img, render_timings *t)
 {
@@ -128,12 +156,20 @@ static int render_restir_image(const render_args *a, const scene *s, uint32_t se
     o.jitter = a->jitter;
     o.threads = a->threads;
     o.quiet = a->quiet;
+    o.keep_reservoirs |= o.output_aov == RESTIR_OUTPUT_DUPLICATES;
     if (restir_render(s, &o, &r, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
-    *img = r.mean;
-    r.mean.px = NULL;
+    if (o.output_aov == RESTIR_OUTPUT_DUPLICATES) {
+        if (duplicates_of(&r, img)) {
+            restir_result_free(&r);
+            return 2;
+        }
+    } else {
+        *img = r.mean;
+        r.mean.px = NULL;
+    }
     t->restir = r.stats;
     t->restir_seconds = r.seconds;
     restir_result_free(&r);
@@ -243,7 +279,7 @@ static int write_frame(void *user, int frame, const image *img, const restir_sta
     grown[k->t->frame_count++] = *st;
     snprintf(pfm, sizeof pfm, "%s.%04d.pfm", k->prefix, frame);
     snprintf(png, sizeof png, "%s.%04d.png", k->prefix, frame);
-    if (write_outputs(img, pfm, k->a->no_png ? NULL : png, k->a->exposure))
+    if (write_image(k->a, img, pfm, k->a->no_png ? NULL : png))
         return rerror_set(e, "%s: not written", pfm);
     return 0;
 }
@@ -302,7 +338,7 @@ static int render_and_write(const render_args *a, scene *s, render_timings *t)
     else if (a->png) snprintf(png, sizeof png, "%s", a->png);
     else preview_path(png, sizeof png, out);
     t0 = now_seconds();
-    if (!status) status = write_outputs(&img, out, png, a->exposure);
+    if (!status) status = write_image(a, &img, out, png);
     t->write = now_seconds() - t0;
     if (!status && !a->quiet) fprintf(stderr, "wrote %s%s%s\n", out, png[0] ? " and " : "", png);
     image_free(&img);
@@ -433,9 +469,30 @@ static int apply_sequence_options(render_args *a)
     return 0;
 }
 
+/* --aov duplicates|age (issue 12): reservoirs exist only with --method restir, a temporal
+ * history only in sequences. */
+static int apply_aov_options(render_args *a)
+{
+    if (a->aov != AOV_CHOICE_DUPLICATES && a->aov != AOV_CHOICE_AGE) return 0;
+    if (a->method != METHOD_RESTIR) {
+        fprintf(stderr, "restir render: --aov %s needs --method restir (it reads reservoirs)\n", aov_choices[a->aov]);
+        return 2;
+    }
+    if (a->aov == AOV_CHOICE_AGE && !a->sequence) {
+        fprintf(stderr, "restir render: --aov age needs --sequence A..B\n");
+        return 2;
+    }
+    if (a->runs > 0) {
+        fprintf(stderr, "restir render: --aov duplicates cannot be combined with --runs\n");
+        return 2;
+    }
+    a->restir.output_aov = a->aov == AOV_CHOICE_AGE ? RESTIR_OUTPUT_AGE : RESTIR_OUTPUT_DUPLICATES;
+    return 0;
+}
+
 static int apply_shared_options(render_args *a)
 {
-    if (apply_sequence_options(a) || apply_stage_options(a)) return 2;
+    if (apply_sequence_options(a) || apply_stage_options(a) || apply_aov_options(a)) return 2;
     if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.time_limit; /* --time-limit */
     if (a->method == METHOD_RESTIR && a->max_depth_given) {
         if (a->pt.max_depth < 2 || a->pt.max_depth > PATH_MAX_LENGTH) {
@@ -477,7 +534,7 @@ int cmd_render(int argc, char **argv)
             {"--no-png", OPT_FLAG, &a.no_png, "do not write the PNG preview", NULL, 0, 0, NULL},
             {"--exposure", OPT_REAL, &a.exposure, "preview exposure in stops (default 0)", NULL, -64, 64, NULL},
             {"--method", OPT_CHOICE, &a.method, "rendering method", method_names, 0, 0, NULL},
-            {"--aov", OPT_CHOICE, &a.aov, "G-buffer channel for --method aov", aov_choices, 0, 0, NULL},
+            {"--aov", OPT_CHOICE, &a.aov, "G-buffer channel for --method aov; duplicates (--method restir): per pixel, the copies of its sample in its 17x17 window (PNG: heat map, black 0 .. red >= 20%); age (--method restir --sequence): frames of temporal history per pixel (0: none)", aov_choices, 0, 0, &a.aov_given},
             {"--seed", OPT_UINT32, &a.seed, "run seed of the addressed RNG (default 1)", NULL, 0, 0, NULL},
             {"--threads", OPT_INT, &a.threads, "worker threads (default: online cores; 1 = no threads)", NULL, 1, 256,
              NULL},

@@ -120,12 +120,30 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--ablate", OPT_CHOICE, &o->ablation,
                     "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf), temporal-target, "
                     "temporal-suffix, stochastic-p (stochastic-pairwise without the P(i) correction), footprint-base-only "
-                    "(footprint criterion not tested on the offset)",
+                    "(footprint criterion not tested on the offset), dual-mv-vertex (dual-MV history with the occluder "
+                    "pixel's x1)",
                     restir_ablation_names, 0, 0);
     rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
                     "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",
                     restir_mis_names, 0, 0);
     rows[n++] = row("--russian-roulette", OPT_FLAG, &o->russian_roulette,
                     "Russian roulette in initial sampling (in the source pdf only)", NULL, 0, 0);
+    /* correlation under motion (issue 12, docs/correlation.md) */
+    rows[n++] = row("--dedup", OPT_FLAG, &o->dedup,
+                    "BIASED. --sequence: duplication-map temporal cap, lerp(--mcap, --dedup-min, D^--dedup-alpha) with D "
+                    "the duplicate share of the source pixel's 17x17 window (Enhanced 5)",
+                    NULL, 0, 0);
+    rows[n++] = row("--dedup-min", OPT_REAL, &o->dedup_min, "--dedup: c_cap_min, the cap at D = 1 (default 1)", NULL,
+                    1e-9, 1e9);
+    rows[n++] = row("--dedup-alpha", OPT_REAL, &o->dedup_alpha,
+                    "--dedup: sensitivity alpha (default 0.1; 1 = linear, near 0 = quick reduction)", NULL, 1e-9, 1e9);
+    rows[n++] = row("--motion-vectors", OPT_CHOICE, &o->motion_vectors,
+                    "--sequence: temporal source of disoccluded pixels: single (none, default) or dual (follow the "
+                    "occluder's motion, Enhanced 6.4 / Zeng et al. 2021; unbiased)",
+                    restir_motion_vector_names, 0, 0);
+    rows[n++] = row("--boiling-filter", OPT_REAL, &o->boiling_filter,
+                    "BIASED. --sequence: RTXDI boiling filter of strength S in (0,1] after temporal reuse: clears "
+                    "reservoirs with weight > (10/S - 9) x their 16x16 group's mean (0 = off, default)",
+                    NULL, 0, 1);
     return n;
 }

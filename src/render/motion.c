@@ -131,3 +131,70 @@ int gbuffer_build_with_motion(gbuffer *g, const scene *s, int frame, uint32_t se
     if (status) gbuffer_free(g);
     return status;
 }
+
+/* ---- dual motion vectors (Enhanced §6.4; Zeng et al. 2021; docs/correlation.md) --------- */
+
+/* The rule, from Enhanced §6.4 ("an alternative motion vector that assumes consistent
+ * relative motion between occluding and disoccluded surfaces"): a disoccluded pixel p
+ * (sample position c_p) reprojects by its own motion to a previous texel o that shows the
+ * occluder. The occluder's point there (sample position c_o in frame t-1) moves with its
+ * object to frame t and projects to z_o: the occluder's screen motion is v = z_o - c_o.
+ * Assuming p's surface kept its position RELATIVE to the occluder, p was at c_p - v in
+ * frame t-1. The dual source pixel is the previous texel containing c_p - v; if that
+ * texel still shows the occluder (the occluder's edge runs through it: the disoccluded
+ * strip is only |v| wide, so this is common for motions of a pixel or two), the texel one
+ * pixel further along -v (the step rounded to the pixel grid). It is accepted when it is
+ * valid, shows p's object, and its geometric normal agrees with p's (carried to its
+ * previous pose) within the disocclusion thresholds' normal cosine. No depth test: the
+ * dual vector is an approximation that lands near, not on, p's point. The choice depends
+ * on G-buffers alone, never on reservoirs, so temporal reuse from it stays unbiased. */
+
+/* The previous texel containing (px, py), or NULL off screen. */
+static const gbuffer_texel *previous_texel_at(const gbuffer *prev, real px, real py, int *x, int *y)
+{
+    if (!(px >= 0 && py >= 0 && px < (real)prev->width && py < (real)prev->height)) return NULL;
+    *x = (int)floor((double)px);
+    *y = (int)floor((double)py);
+    return gbuffer_at(prev, *x, *y);
+}
+
+/* 1 if previous texel q can stand for t's surface (object and normal). */
+static int dual_texel_accepted(const gbuffer_texel *q, const gbuffer_texel *t, const scene *s, int frame,
+                               int prev_frame)
+{
+    motion_thresholds th;
+    vec3 p0, p1, p2;
+    if (!q || !q->valid || q->hit.object != t->hit.object) return 0;
+    p0 = v3_from_f(t->hit.position);
+    p1 = motion_previous_position(s, t->hit.object, frame, prev_frame, p0);
+    p2 = motion_previous_position(s, t->hit.object, frame, prev_frame, v3_add(p0, v3_from_f(t->hit.ng)));
+    motion_thresholds_default(&th);
+    return v3_dot(v3_from_f(q->hit.ng), v3_normalize(v3_sub(p2, p1))) >= th.min_normal_cos;
+}
+
+int gbuffer_dual_previous_pixel(const gbuffer_texel *t, const scene *s, int frame, const camera *cam, int prev_frame,
+                                const gbuffer *prev, int *x, int *y)
+{
+    const gbuffer_texel *o, *q;
+    vec3 zo;
+    real zx, zy, vx, vy, dx, dy, len;
+    int ox, oy;
+    if (!t->valid || t->prev_valid) return 0;
+    gbuffer_previous_pixel(t, &ox, &oy);
+    if (ox < 0 || oy < 0 || ox >= prev->width || oy >= prev->height) return 0;
+    o = gbuffer_at(prev, ox, oy);
+    if (!o->valid || o->hit.object == t->hit.object) return 0; /* not an occluder: nothing to follow */
+    zo = motion_previous_position(s, o->hit.object, prev_frame, frame, v3_from_f(o->hit.position));
+    if (!camera_project(cam, zo, &zx, &zy)) return 0;
+    vx = zx - (real)o->pixel[0]; /* the occluder's screen motion t-1 -> t */
+    vy = zy - (real)o->pixel[1];
+    dx = (real)t->pixel[0] - vx;
+    dy = (real)t->pixel[1] - vy;
+    q = previous_texel_at(prev, dx, dy, x, y);
+    if (q && q->valid && q->hit.object == o->hit.object) {
+        len = (real)sqrt((double)(vx * vx + vy * vy));
+        if (!(len > 0)) return 0;
+        q = previous_texel_at(prev, dx - vx / len, dy - vy / len, x, y);
+    }
+    return dual_texel_accepted(q, t, s, frame, prev_frame);
+}

@@ -7,9 +7,14 @@
  *                 initial resampling -> A                          step 1
  *                 temporal reuse (A, previous final P) -> B        step 2 (temporal.h; in
  *                                                                  animated scenes samples
- *                                                                  crossing frames are re-traced)
+ *                                                                  crossing frames are re-traced;
+ *                                                                  cap lowered by P's duplication
+ *                                                                  map with --dedup, Enhanced §5;
+ *                                                                  dual MVs, Enhanced §6.4)
+ *                 boiling filter on B (--boiling-filter: RTXDI, biased)
  *                 K spatial passes B -> A -> B ...                 step 3 (spatial.h)
  *                 shading of the last output                       step 4
+ *                 duplication map of the last output (Enhanced §5 step 1; docs/correlation.md)
  *                 the last output becomes P, the G-buffer, camera and scene of t are kept
  *
  * The previous frame's state (reservoirs P, G-buffer, camera, restir_context of its posed
@@ -20,6 +25,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/animation.h"
+#include "restir/boiling_filter.h"
+#include "restir/duplication.h"
 #include "restir/progress.h"
 #include "restir/reservoir_dump.h"
 #include "restir/threads.h"
@@ -37,6 +44,8 @@ typedef struct {
     int animated, cur_copy;  /* cur_copy: the copy posed at frame t (the other one holds t-1) */
     const reservoir *cur;   /* temporal stage input: the initial reservoirs */
     reservoir *out;         /* temporal stage output */
+    uint16_t *dup;          /* duplicate counts of P (Enhanced §5 step 1; duplication.h) */
+    uint16_t *age, *prev_age; /* temporal history age of frame t and of P (--aov age) */
 } pipeline;
 
 /* ---- reprojection ---------------------------------------------------------------------- */
@@ -45,11 +54,30 @@ typedef struct {
  * disocclusion by the previous G-buffer's object, depth and normal), or -1. Which pixel
  * is chosen depends on G-buffers only, never on reservoirs, so any choice keeps the GRIS
  * step unbiased (it only changes how much the history helps). */
-static long reproject(const pipeline *pl, long p)
+static long reproject(const pipeline *pl, long p, long *standard)
 {
+    const gbuffer_texel *t = &pl->j.g.texels[p];
     int x, y, w = pl->j.g.width, h = pl->j.g.height;
-    if (!gbuffer_previous_pixel(&pl->j.g.texels[p], &x, &y) || x < 0 || y < 0 || x >= w || y >= h) return -1;
-    return pl->prev_g.texels[(long)y * w + x].valid ? (long)y * w + x : -1;
+    int ok = gbuffer_previous_pixel(t, &x, &y);
+    *standard = x >= 0 && y >= 0 && x < w && y < h ? (long)y * w + x : -1; /* even if disoccluded */
+    if (ok && *standard >= 0) return pl->prev_g.texels[*standard].valid ? *standard : -1;
+    /* --motion-vectors dual (Enhanced §6.4): a disoccluded pixel follows its occluder */
+    if (pl->j.o->motion_vectors != RESTIR_MV_DUAL ||
+        !gbuffer_dual_previous_pixel(t, pl->j.s, (int)pl->j.frame, &pl->cam, pl->prev_frame, &pl->prev_g, &x, &y))
+        return -1;
+    return (long)y * w + x;
+}
+
+/* The temporal cap at the source pixel q: --mcap, or with --dedup Enhanced §5 step 3,
+ * lerp(mcap, c_cap_min, D(q)^alpha) with q's duplication score in frame t-1 (BIASED). */
+static real temporal_cap(const pipeline *pl, long q, temporal_stats *st)
+{
+    const restir_options *o = pl->j.o;
+    double cap;
+    if (!o->dedup || q < 0) return (real)o->mcap;
+    cap = duplication_cap(o->mcap, o->dedup_min, duplication_score(pl->dup[q], DUPLICATION_RADIUS), o->dedup_alpha);
+    if (cap < o->mcap) st->dedup_lowered++;
+    return (real)cap;
 }
 
 /* ---- temporal stage -------------------------------------------------------------------- */
@@ -62,17 +90,25 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     temporal_frames tf;
     rng_key key = rng_key_make(o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
     path_vertex *v = w->verts;
-    long q = -1;
+    long q = -1, standard = -1;
+    int dual;
     real u[2];
+    pl->age[p] = 0;
     if (!frame_primary_vertex(j->s, &j->g, p, &v[0])) {
         reservoir_init(&pl->out[p]);
         return;
     }
-    if (pl->has_prev) q = reproject(pl, p);
+    if (pl->has_prev) q = reproject(pl, p, &standard);
+    dual = q >= 0 && q != standard;
+    w->st.temporal.dual += (uint64_t)dual;
+    pl->age[p] = (uint16_t)(q < 0 ? 0 : pl->prev_age[q] < UINT16_MAX ? pl->prev_age[q] + 1 : UINT16_MAX);
     if (q >= 0 && o->ablation == RESTIR_ABLATE_TEMPORAL_TARGET) {
         /* ablation: the previous pixel's x1 seen with the CURRENT camera in the current scene */
         back = &j->ctx;
         if (!frame_primary_vertex(j->s, &j->g, q, &v[1])) q = -1;
+    } else if (dual && o->ablation == RESTIR_ABLATE_DUAL_MV_VERTEX) {
+        /* ablation: the dual source's reservoir with the occluder pixel's x1 */
+        if (!frame_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, standard, &v[1])) q = -1;
     } else if (q >= 0)
         frame_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, q, &v[1]); /* valid: reproject checked */
     /* RNG_RIS vertex 48: spatial passes use 32..47, initial sampling 2..16 (docs/rng.md) */
@@ -84,7 +120,8 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     tf.frame[1] = back == &j->ctx ? (int)j->frame : pl->prev_frame;
     temporal_resample(&j->ctx, back, pl->animated && o->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX ? &tf : NULL,
                       (mis_family)o->temporal_mis, &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
-                      q >= 0 ? &pl->prev[q] : NULL, (real)o->mcap, u, &pl->out[p], &w->ws, &w->st.temporal);
+                      q >= 0 ? &pl->prev[q] : NULL, temporal_cap(pl, q, &w->st.temporal), u, &pl->out[p], &w->ws,
+                      &w->st.temporal);
 }
 
 static void temporal_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
@@ -104,6 +141,30 @@ static void stage_temporal(pipeline *pl, const reservoir *cur, reservoir *out, r
     times->ms_temporal += frame_lap_ms(t);
 }
 
+/* ---- correlation stages (docs/correlation.md) ------------------------------------------ */
+
+/* --boiling-filter S (RTXDI, Enhanced §7.4 Fig. 9; biased): on the temporal output. */
+static void stage_boiling(pipeline *pl, reservoir *rs, restir_stats *times, double *t)
+{
+    frame_job *j = &pl->j;
+    if (!(j->o->boiling_filter > 0)) return;
+    times->boiling_cleared += boiling_filter(rs, j->s->width, j->s->height, BOILING_GROUP, j->o->boiling_filter);
+    pipeline_stage_done(j, "boiling", rs);
+    times->ms_correlation += frame_lap_ms(t);
+}
+
+/* Enhanced §5 step 1: the duplication map of the frame's final reservoirs (read by the
+ * next frame's temporal cap with --dedup) and its summary (--stats "correlation"). */
+static void stage_duplication(pipeline *pl, const reservoir *final, restir_stats *times, double *t)
+{
+    duplication_summary sum;
+    long n = (long)pl->j.s->width * pl->j.s->height;
+    duplication_counts(final, pl->j.s->width, pl->j.s->height, DUPLICATION_RADIUS, pl->dup);
+    duplication_summarize(pl->dup, n, &sum);
+    duplication_summary_add(&times->correlation, &sum);
+    times->ms_correlation += frame_lap_ms(t);
+}
+
 /* ---- the frame ------------------------------------------------------------------------- */
 
 static void swap_reservoirs(reservoir **a, reservoir **b)
@@ -119,6 +180,12 @@ static void keep_as_previous(pipeline *pl, const reservoir *final)
     frame_job *j = &pl->j;
     if (final == j->initial) swap_reservoirs(&j->initial, &pl->prev);
     else swap_reservoirs(&j->pong, &pl->prev);
+    {
+        uint16_t *t = pl->age; /* this frame's ages become P's */
+        pl->age = pl->prev_age;
+        pl->prev_age = t;
+    }
+    if (!j->o->temporal) memset(pl->prev_age, 0, (size_t)j->s->width * (size_t)j->s->height * sizeof *pl->prev_age);
     gbuffer_free(&pl->prev_g);
     pl->prev_g = j->g;
     memset(&j->g, 0, sizeof j->g);
@@ -166,10 +233,14 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     if (j->o->temporal) {
         if (!pipeline_stage_skipped(j, "temporal")) stage_temporal(pl, j->initial, j->pong, times, &t);
         pipeline_stage_done(j, "temporal", j->pong);
+        stage_boiling(pl, j->pong, times, &t);
         final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
-    } else
+    } else {
+        stage_boiling(pl, j->initial, times, &t);
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
+    }
     frame_stage_shade(j, final, times, &t);
+    stage_duplication(pl, final, times, &t);
     keep_as_previous(pl, final);
     return 0;
 }
@@ -202,6 +273,16 @@ static int frame_image(const frame_job *j, double n, image *img, rerror *e)
     size_t i, count = 3 * (size_t)j->s->width * (size_t)j->s->height;
     if (image_alloc(img, j->s->width, j->s->height, e)) return -1;
     for (i = 0; i < count; ++i) img->px[i] = (float)(j->sum[i] / n);
+    return 0;
+}
+
+/* --aov duplicates|age: the frame's duplicate counts (0..288) or history ages (P's: the
+ * frame just rendered) in all three channels. */
+static int count_image(const pipeline *pl, const uint16_t *v, image *img, rerror *e)
+{
+    size_t i, pixels = (size_t)pl->j.s->width * (size_t)pl->j.s->height;
+    if (image_alloc(img, pl->j.s->width, pl->j.s->height, e)) return -1;
+    for (i = 0; i < 3 * pixels; ++i) img->px[i] = (float)v[i / 3];
     return 0;
 }
 
@@ -240,6 +321,7 @@ static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
     }
     memcpy(pl->prev, rs, pixels * sizeof *rs);
     free(rs);
+    duplication_counts(pl->prev, j->s->width, j->s->height, DUPLICATION_RADIUS, pl->dup); /* --dedup reads it */
     j->frame = (uint32_t)k;
     if (pose_frame(pl, k, e)) return -1;
     camera_init(&pl->prev_cam, scene_camera_at(j->s, k), j->s->width, j->s->height);
@@ -276,7 +358,9 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
         st.frames = 1;
         st.passes = j->o->spatial_passes;
         restir_stats_add(total, &st);
-        if (frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e)) return -1;
+        if (j->o->output_aov ? count_image(pl, j->o->output_aov == RESTIR_OUTPUT_AGE ? pl->prev_age : pl->dup, &img, e)
+                             : frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e))
+            return -1;
         if (sink) status = sink(user, f, &img, &st, e);
         image_free(&img);
         if (!status && q->checkpoint && checkpoint_write(pl, q->checkpoint, f, e)) status = -1;
@@ -320,16 +404,22 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     j->pong = rmalloc(pixels, sizeof *j->pong, e);
     pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
     j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
+    pl.dup = rcalloc(pixels, sizeof *pl.dup, e);
+    pl.age = rcalloc(pixels, sizeof *pl.age, e);
+    pl.prev_age = rcalloc(pixels, sizeof *pl.prev_age, e);
     if (o->shading == RESTIR_SHADING_VECTOR && o->spatial_passes > 0 &&
         !(j->vector_shade = rcalloc(pixels, sizeof *j->vector_shade, e)))
         status = -1;
-    if (status || !j->initial || !j->pong || !pl.prev || !j->sum || frame_workers_alloc(j, e)) status = -1;
+    if (status || !j->initial || !j->pong || !pl.prev || !j->sum || !pl.dup || !pl.age || !pl.prev_age || frame_workers_alloc(j, e)) status = -1;
     if (!status) status = run_sequence(&pl, q, sink, user, total, e);
     if (!status) total->passes = o->spatial_passes;
     free(j->initial);
     free(j->pong);
     free(pl.prev);
     free(j->sum);
+    free(pl.dup);
+    free(pl.age);
+    free(pl.prev_age);
     free(j->vector_shade);
     gbuffer_free(&j->g);
     gbuffer_free(&pl.prev_g);

@@ -14,6 +14,7 @@
 
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
 const char *const restir_pairing_names[] = {"disk", "paired", NULL};
+const char *const restir_motion_vector_names[] = {"single", "dual", NULL};
 const char *const restir_shading_names[] = {"scalar", "vector", NULL};
 const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", "stochastic-pairwise", NULL};
 
@@ -45,6 +46,8 @@ void restir_options_default(restir_options *o)
     o->mcap = 20;
     o->stochastic_n = 1;
     o->stochastic_nc = 1;
+    o->dedup_min = 1;    /* Enhanced §5: c_cap_min = 1, alpha = 0.1 */
+    o->dedup_alpha = 0.1;
 }
 
 void restir_neighbor_options_for(neighbor_options *no, const restir_options *o)
@@ -98,6 +101,23 @@ void restir_options_preset_gris_realtime(restir_options *o)
     o->mis = MIS_PAIRWISE_DEFENSIVE;
 }
 
+int restir_options_biased(const restir_options *o) { return o->dedup || o->boiling_filter > 0; }
+
+/* Issue 12 (docs/correlation.md): --dedup, --motion-vectors, --boiling-filter. */
+static int correlation_options_validate(const restir_options *o, rerror *e)
+{
+    if (o->dedup && (isinf(o->mcap) || !(o->dedup_min > 0) || isinf(o->dedup_min)))
+        return rerror_set(e, "restir: --dedup needs a finite --mcap and c_cap_min > 0 (got mcap %g, min %g)", o->mcap,
+                          o->dedup_min);
+    if (o->dedup && (!(o->dedup_alpha > 0) || isinf(o->dedup_alpha)))
+        return rerror_set(e, "restir: --dedup-alpha %g (must be finite and > 0)", o->dedup_alpha);
+    if (o->motion_vectors != RESTIR_MV_SINGLE && o->motion_vectors != RESTIR_MV_DUAL)
+        return rerror_set(e, "restir: unknown motion vectors %d", o->motion_vectors);
+    if (!(o->boiling_filter >= 0 && o->boiling_filter <= 1))
+        return rerror_set(e, "restir: --boiling-filter %g (strength in (0, 1], 0 = off)", o->boiling_filter);
+    return 0;
+}
+
 int restir_options_validate(const restir_options *o, rerror *e)
 {
     int min_depth = o->paths == RESTIR_PATHS_INDIRECT ? 3 : 2;
@@ -146,7 +166,7 @@ int restir_options_validate(const restir_options *o, rerror *e)
     if (o->temporal_mis < 0 || o->temporal_mis >= MIS_FAMILY_COUNT)
         return rerror_set(e, "restir: unknown temporal MIS family %d", o->temporal_mis);
     if (!(o->mcap > 0)) return rerror_set(e, "restir: M-cap %g (must be > 0, or inf)", o->mcap);
-    return 0;
+    return correlation_options_validate(o, e);
 }
 
 void restir_context_for(restir_context *c, const scene *s, const light_set *lights, const restir_options *o)
@@ -401,6 +421,9 @@ void restir_stats_add(restir_stats *st, const restir_stats *w)
     st->ms_motion += w->ms_motion;
     st->ms_shade += w->ms_shade;
     for (i = 0; i < RESTIR_MAX_SPATIAL_PASSES; ++i) st->ms_spatial[i] += w->ms_spatial[i];
+    duplication_summary_add(&st->correlation, &w->correlation);
+    st->boiling_cleared += w->boiling_cleared;
+    st->ms_correlation += w->ms_correlation;
 }
 
 void frame_sum_stats(const frame_job *j, restir_stats *st)
@@ -566,16 +589,34 @@ static void temporal_stats_write_json(FILE *out, const temporal_stats *t, const 
     double steps = t->pixels > 0 ? (double)t->pixels : 1;
     int i;
     fprintf(out, "%s  \"temporal\": {\"pixels\": %llu, \"no_history\": %llu, \"capped\": %llu, "
-                 "\"selected_previous\": %llu, \"shifts\": %llu, \"mis_shifts\": %llu, ",
+                 "\"selected_previous\": %llu, \"shifts\": %llu, \"mis_shifts\": %llu, \"dual_mv\": %llu, "
+                 "\"dedup_lowered\": %llu, ",
             indent, (unsigned long long)t->pixels, (unsigned long long)t->no_history, (unsigned long long)t->capped,
             (unsigned long long)t->step.selected_neighbor, (unsigned long long)t->step.shifts,
-            (unsigned long long)t->step.mis_shifts);
+            (unsigned long long)t->step.mis_shifts, (unsigned long long)t->dual,
+            (unsigned long long)t->dedup_lowered);
     fprintf(out, "\"history_rate\": %.6f, \"shifts_per_pixel\": %.3f, \"shift_success_rate\": %.6f,\n%s    \"shift_outcomes\": {",
             (double)(t->pixels - t->no_history) / steps, (double)t->step.shifts / steps,
             t->step.shifts > 0 ? (double)t->step.outcome[SHIFT_OK] / (double)t->step.shifts : 0.0, indent);
     for (i = 0; i < SHIFT_FAILURE_COUNT; ++i)
         fprintf(out, "%s\"%s\": %llu", i ? ", " : "", shift_failure_names[i], (unsigned long long)t->step.outcome[i]);
     fprintf(out, "}}");
+}
+
+/* "correlation" (sequences; docs/correlation.md): the duplication maps of the final
+ * reservoirs summed over frames (mean duplicate count per pixel, share of pixels holding a
+ * duplicated sample, the largest count) and the boiling filter's clears. */
+static void correlation_stats_write_json(FILE *out, const restir_stats *st, const char *indent)
+{
+    const duplication_summary *c = &st->correlation;
+    double px = c->pixels > 0 ? (double)c->pixels : 1;
+    fprintf(out, ",\n%s  \"correlation\": {\"pixels\": %llu, \"duplicated_pixels\": %llu, \"duplicates\": %llu, "
+                 "\"mean_duplicates\": %.6f, \"mean_duplication_score\": %.8f, \"duplicated_fraction\": %.6f, "
+                 "\"max_duplicates\": %u, \"boiling_cleared\": %llu, \"milliseconds\": %.3f}",
+            indent, (unsigned long long)c->pixels, (unsigned long long)c->duplicated,
+            (unsigned long long)c->count_sum, (double)c->count_sum / px,
+            (double)c->count_sum / px / duplication_score_denominator(DUPLICATION_RADIUS),
+            (double)c->duplicated / px, c->count_max, (unsigned long long)st->boiling_cleared, st->ms_correlation);
 }
 
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent)
@@ -615,6 +656,7 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
                 (unsigned long long)st->neighbors.verdict[i]);
     fprintf(out, "}},\n");
     temporal_stats_write_json(out, &st->temporal, indent);
+    correlation_stats_write_json(out, st, indent);
     fprintf(out, "\n%s}", indent);
 }
 
@@ -640,6 +682,11 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
         fprintf(out, "\"stochastic_n\": %d, \"stochastic_nc\": %d, \"confidence_scaling\": %s, \"reuse_cells\": %s,\n%s  ",
                 o->stochastic_n, o->stochastic_nc, o->no_confidence_scaling ? "false" : "true", o->cells ? "true" : "false",
                 indent);
+    if (o->dedup || o->motion_vectors || o->boiling_filter > 0) /* issue 12 (only when used) */
+        fprintf(out, "\"dedup\": %s, \"dedup_min\": %g, \"dedup_alpha\": %g, \"motion_vectors\": \"%s\", "
+                     "\"boiling_filter\": %g, \"biased\": %s,\n%s  ",
+                o->dedup ? "true" : "false", o->dedup_min, o->dedup_alpha, restir_motion_vector_names[o->motion_vectors],
+                o->boiling_filter, restir_options_biased(o) ? "true" : "false", indent);
     if (isinf(o->mcap))
         fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"}", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis]);

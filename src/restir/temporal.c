@@ -69,5 +69,7 @@ void temporal_stats_add(temporal_stats *acc, const temporal_stats *add)
     acc->pixels += add->pixels;
     acc->no_history += add->no_history;
     acc->capped += add->capped;
+    acc->dual += add->dual;
+    acc->dedup_lowered += add->dedup_lowered;
     spatial_stats_add(&acc->step, &add->step);
 }
