@@ -29,4 +29,9 @@ void bench_rays_default_options(bench_rays_options *o);
  * once to time the build. Writes one JSON object to json_out. */
 int bench_rays(const scene *s, const bench_rays_options *o, FILE *json_out, rerror *e);
 
+/* Renders s with the path tracer, `spp` samples per pixel on `threads` threads (MIS,
+ * default options otherwise) and writes one JSON object to out: samples/s, rays/s,
+ * seconds, counts (src/bench/pt_bench.c). */
+int bench_pt(FILE *out, const scene *s, const char *name, uint32_t spp, int threads, rerror *e);
+
 #endif

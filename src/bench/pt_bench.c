@@ -1,4 +1,5 @@
-/* Path-tracer benchmark: samples/s and rays/s as one JSON object (DESIGN §5b). */
+/* Path-tracer benchmark: samples/s and rays/s as one JSON object (restir/bench.h). */
+#include "restir/bench.h"
 #include "restir/pt.h"
 
 #include <string.h>
