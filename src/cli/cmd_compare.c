@@ -9,6 +9,7 @@
 #include "restir/error_map.h"
 #include "restir/flip.h"
 #include "restir/image.h"
+#include "restir/json_text.h"
 #include "restir/metrics.h"
 
 static const char usage_text[] =
@@ -173,25 +174,6 @@ static void print_table(const compare_options *o, const image *ref, const compar
 
 /* ---- JSON ---- */
 
-static void json_string(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; ++s) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
-        else if (c < 0x20) fprintf(f, "\\u%04x", c);
-        else fputc(c, f);
-    }
-    fputc('"', f);
-}
-
-/* JSON has no inf/NaN: those are written as null. */
-static void json_number(FILE *f, double v)
-{
-    if (isfinite(v)) fprintf(f, "%.17g", v);
-    else fputs("null", f);
-}
-
 static int write_json(const compare_options *o, const image *ref, const compare_results *res, rerror *e)
 {
     atomic_file af;
@@ -200,23 +182,23 @@ static int write_json(const compare_options *o, const image *ref, const compare_
     if (atomic_file_open(&af, o->json_path, e)) return -1;
     f = af.fp;
     fputs("{\n  \"test\": ", f);
-    json_string(f, o->test_path);
+    json_put_string(f, o->test_path);
     fputs(",\n  \"reference\": ", f);
-    json_string(f, o->ref_path);
+    json_put_string(f, o->ref_path);
     fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n", ref->width, ref->height);
     fprintf(f, "  \"crop\": [%d, %d, %d, %d],\n  \"pixels\": %ld,\n  \"eps\": ", o->crop.x, o->crop.y, o->crop.w,
             o->crop.h, res->m.pixels);
-    json_number(f, res->m.eps);
+    json_put_number(f, res->m.eps);
     fputs(",\n  \"metrics\": {\n", f);
     for (i = 0; i < METRIC_COUNT; ++i) {
         fprintf(f, "    \"%s\": ", metric_name(i));
-        json_number(f, res->m.value[i]);
+        json_put_number(f, res->m.value[i]);
         fputs(i + 1 < METRIC_COUNT ? ",\n" : "\n", f);
     }
     fprintf(f, "  },\n  \"flip\": {\"ppd\": %.17g, \"start_exposure\": ", o->flip.ppd);
-    json_number(f, res->flip_start);
+    json_put_number(f, res->flip_start);
     fputs(", \"stop_exposure\": ", f);
-    json_number(f, res->flip_stop);
+    json_put_number(f, res->flip_stop);
     fprintf(f, ", \"exposures\": %d}\n}\n", res->flip_count);
     return atomic_file_commit(&af, e);
 }
