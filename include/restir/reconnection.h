@@ -63,7 +63,7 @@ enum shift_failure path_record(const restir_context *c, const path_vertex *x1, p
 /* The reconnection segment of sample y of the pixel with primary hit y1, traced again:
  * y_1..y_{k-1} replayed with y's numbers, then the shadow ray y_{k-1} -> x_k. 1 if visible
  * (or y has no reconnection vertex), 0 if blocked or the replay fails. For the debug
- * build's invariants (spatial_check_step, merge_two_domains): every successful shift must
+ * build's invariants (spatial_check_step): every successful shift must
  * pass it. */
 int rc_segment_visible(const restir_context *c, const path_vertex *y1, const path_sample *y);
 

@@ -17,7 +17,6 @@
 #include <stdio.h>
 #include "restir/image.h"
 #include "restir/initial.h"
-#include "restir/merge.h"
 #include "restir/mis.h"
 #include "restir/neighbors.h"
 #include "restir/spatial.h"

@@ -40,7 +40,7 @@ void spatial_workspace_free(spatial_workspace *w)
 }
 
 /* One counted shift of x to the pixel of `to`; the jacobian ablation drops |dT/dx|
- * wherever it enters (weights and MIS), as in merge.c. Returns the shifted target times
+ * wherever it enters (weights and MIS). Returns the shifted target times
  * the Jacobian factor the caller asks for (0 on failure). */
 enum shift_failure spatial_counted_shift(const restir_context *c, const path_vertex *to, const path_sample *x,
                                          path_sample *y, real *jacobian, spatial_stats *st)
