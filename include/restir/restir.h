@@ -14,6 +14,7 @@
 #ifndef RESTIR_RESTIR_H
 #define RESTIR_RESTIR_H
 
+#include <signal.h>
 #include <stdio.h>
 #include "restir/image.h"
 #include "restir/initial.h"
@@ -81,6 +82,8 @@ typedef struct {
     int no_confidence_scaling;  /* 1: no c_i <- c_i min(1, Ñ/M) (Stochastic MIS §4.3) */
     int cells;                  /* spatial domains = a reuse cell found by the §5.1 search
                                    (reuse_cells.h) instead of neighbor_select; any --mis */
+    volatile sig_atomic_t *stop_flag; /* checked between frames (NULL: never): nonzero ends the
+                                         render after at least one frame (the CLI's SIGINT/SIGTERM) */
 } restir_options;
 
 typedef struct {

@@ -262,7 +262,7 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
     if (q->resume && (start = checkpoint_resume(pl, q, e) + 1) < 1) return -1;
     if (j->sio && stage_io_begin(j->sio, start, q->last, e)) return -1;
     progress_begin(&bar, "restir", j->o->quiet);
-    for (f = start; f <= q->last && !status; ++f) {
+    for (f = start; f <= q->last && !status && !(f > start && j->o->stop_flag && *j->o->stop_flag); ++f) {
         restir_stats st;
         image img;
         memset(&st, 0, sizeof st);

@@ -417,7 +417,8 @@ void restir_result_free(restir_result *r)
 }
 
 /* Frames f = first_frame, first_frame + 1, ...: `frames` of them, or (time_limit > 0)
- * until the time is up. Returns the number rendered, -1 on failure. */
+ * until the time is up; a set stop_flag ends it after the current frame (at least one).
+ * Returns the number rendered, -1 on failure. */
 static long render_frames(frame_job *j, restir_stats *times, double t0, rerror *e)
 {
     const restir_options *o = j->o;
@@ -429,7 +430,7 @@ static long render_frames(frame_job *j, restir_stats *times, double t0, rerror *
     progress_begin(&bar, "restir", o->quiet || o->time_limit > 0);
     for (f = 0;; ++f) {
         if (o->time_limit > 0 ? (f > 0 && now_seconds() - t0 >= o->time_limit) : f >= o->frames) break;
-        if ((uint64_t)f >= max_frames) break;
+        if ((uint64_t)f >= max_frames || (f > 0 && o->stop_flag && *o->stop_flag)) break;
         j->frame = (uint32_t)(o->first_frame + f);
         if (render_frame(j, &cam, times, e)) return -1;
         if (o->time_limit <= 0) progress_update(&bar, (int)f + 1, o->frames);
