@@ -455,9 +455,9 @@ static int check_method_options(const render_args *a, const cli_option *options,
             const char *hint = "see restir render --help";
             int shared = 0;
             if (!given[i]) continue;
-            for (h = 0; h < 4 && a->method == METHOD_RESTIR && rows[r].method == METHOD_PT; ++h)
+            for (h = 0; h < 4 && rows[r].method == METHOD_PT; ++h)
                 shared |= !strcmp(options[i].name, pt_rows_restir_shares[h]);
-            if (shared) continue;
+            if (shared) continue; /* restir takes them; aov: checked below */
             for (h = 0; h < (int)(sizeof hints / sizeof hints[0]); ++h)
                 if (!strcmp(hints[h][0], options[i].name)) hint = hints[h][1];
             fprintf(stderr, "restir render: %s applies to --method %s, not --method %s (%s)\n", options[i].name,
