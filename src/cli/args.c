@@ -112,10 +112,24 @@ static int set_value(const char *command, const cli_option *o, const char *value
         return 0;
     case OPT_CHOICE:
         return set_choice(command, o, value);
+    case OPT_LIST: {
+        cli_list *l = o->dest;
+        if (l->count >= l->max) {
+            fprintf(stderr, "restir %s: %s: more than %d values\n", command, o->name, l->max);
+            return 2;
+        }
+        l->items[l->count++] = value;
+        return 0;
+    }
     case OPT_FLAG:
         break;
     }
     return 0;
+}
+
+static int is_option(const char *arg)
+{
+    return arg[0] == '-' && arg[1] != '\0';
 }
 
 static const cli_option *find_option(const cli_option *options, const char *name)
@@ -146,7 +160,7 @@ int cli_parse(const char *command, int argc, char **argv, const cli_option *opti
         const char *arg = argv[i], *inline_value;
         char name[64];
         const cli_option *o;
-        if (arg[0] != '-' || arg[1] == '\0') {
+        if (!is_option(arg)) {
             if (*positional_count >= max_positional) {
                 fprintf(stderr, "restir %s: unexpected argument '%s'\n", command, arg);
                 return 2;
@@ -178,6 +192,8 @@ int cli_parse(const char *command, int argc, char **argv, const cli_option *opti
             return 2;
         }
         status = set_value(command, o, inline_value ? inline_value : argv[++i]);
+        while (!status && o->type == OPT_LIST && i + 1 < argc && !is_option(argv[i + 1]))
+            status = set_value(command, o, argv[++i]);
         if (status) return status;
     }
     return 0;
@@ -194,6 +210,7 @@ static size_t value_size(enum cli_option_type type)
     case OPT_STRING: return sizeof(const char *);
     case OPT_VEC3: return 3 * sizeof(double);
     case OPT_SIZE: return 2 * sizeof(int);
+    case OPT_LIST: return sizeof(cli_list);
     }
     return 0;
 }
@@ -237,6 +254,7 @@ static const char *type_hint(const cli_option *o)
     case OPT_VEC3: return " x,y,z";
     case OPT_SIZE: return " WxH";
     case OPT_CHOICE: return " CHOICE";
+    case OPT_LIST: return " FILE...";
     }
     return "";
 }

@@ -15,8 +15,15 @@ enum cli_option_type {
     OPT_STRING, /* const char * */
     OPT_VEC3,   /* double[3] from "x,y,z" */
     OPT_SIZE,   /* int[2] from "WxH" */
-    OPT_CHOICE  /* int index into `choices` (NULL-terminated) */
+    OPT_CHOICE, /* int index into `choices` (NULL-terminated) */
+    OPT_LIST    /* cli_list: the value and the arguments after it up to the next option */
 };
+
+/* Destination of an OPT_LIST row: items[0..count) point into argv; at most max. */
+typedef struct {
+    const char **items;
+    int count, max;
+} cli_list;
 
 typedef struct {
     const char *name; /* "--spp" */
