@@ -121,10 +121,10 @@ int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_b
 
 /* ---- MIS (GRIS Eq. 49, balance heuristic) ---- */
 /* p_this / (p_this + p_other); 0 if both are 0. */
-real mis_balance(real p_this, real p_other);
+real path_mis_balance(real p_this, real p_other);
 /* Weight of an NEE sample with light pdf p_light and all-lobe BSDF pdf p_bsdf. */
-real mis_weight_nee(const path_context *c, real p_light, real p_bsdf);
+real path_mis_weight_nee(const path_context *c, real p_light, real p_bsdf);
 /* Weight of a BSDF-sampled emitter hit after bounce b, whose light pdf is p_light. */
-real mis_weight_bsdf_hit(const path_context *c, const bsdf_bounce *b, real p_light);
+real path_mis_weight_bsdf_hit(const path_context *c, const bsdf_bounce *b, real p_light);
 
 #endif
