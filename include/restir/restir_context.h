@@ -85,7 +85,7 @@ extern const char *const rc_mode_names[]; /* "gris", "footprint" */
 typedef struct {
     real roughness_threshold; /* on the lobe's linear roughness (GRIS §8.3: 0.2; Enhanced alpha_min) */
     real min_distance;        /* d_min in scene units (gris only) */
-    int mode;                 /* enum rc_mode (default gris) */
+    enum rc_mode mode;        /* enum rc_mode (default gris) */
     real footprint_c;         /* c of Enhanced Eq. 5 (0.02, Enhanced §7.2) */
     int force_nee;            /* Enhanced §6.2.3: an NEE path without connectable pair reconnects
                                  at its light vertex x_d (hybrid shift) */
@@ -93,9 +93,9 @@ typedef struct {
 
 typedef struct {
     path_context path; /* scene, lights, MIS: the reference path tracer's per-vertex steps */
-    int shift;         /* enum restir_shift */
+    enum restir_shift shift; /* enum restir_shift */
     rc_criterion rc;
-    int ablation;      /* enum restir_ablation */
+    enum restir_ablation ablation; /* enum restir_ablation */
 } restir_context;
 
 /* NULL-terminated name tables (index = enum value): "reconnection", "replay", "hybrid";

@@ -549,8 +549,10 @@ static int apply_shared_options(render_args *a, const cli_option *options, const
     }
     if (!a->ablate) return 0;
     if (a->method == METHOD_PT && render_pt_set_ablation(&a->pt, a->ablate) == 0) return 0;
-    if (a->method == METHOD_RESTIR && (a->restir.ablation = ablation_index(restir_ablation_names, a->ablate)) >= 0)
+    if (a->method == METHOD_RESTIR && ablation_index(restir_ablation_names, a->ablate) >= 0) {
+        a->restir.ablation = (enum restir_ablation)ablation_index(restir_ablation_names, a->ablate);
         return 0;
+    }
     fprintf(stderr, "restir render: --ablate: '%s' is not an ablation of --method %s\n", a->ablate,
             method_names[a->method]);
     return 2;

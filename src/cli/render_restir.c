@@ -30,6 +30,18 @@ void render_restir_apply_preset(const cli_option *options, const int *given, int
     cli_take_unset(options, given, o, &p, sizeof *o);
 }
 
+/* OPT_CHOICE writes an int: every enum a row chooses must be one (C leaves an enum's
+ * size to the compiler; gcc and clang make these int-sized). */
+#define CHOICE_IS_INT(T, name) typedef char name[sizeof(T) == sizeof(int) ? 1 : -1]
+CHOICE_IS_INT(enum restir_shift, shift_is_int);
+CHOICE_IS_INT(enum neighbor_pattern, pattern_is_int);
+CHOICE_IS_INT(enum restir_pairing, pairing_is_int);
+CHOICE_IS_INT(mis_family, mis_is_int);
+CHOICE_IS_INT(enum restir_shading, shading_is_int);
+CHOICE_IS_INT(enum rc_mode, rc_mode_is_int);
+CHOICE_IS_INT(enum restir_paths, paths_is_int);
+CHOICE_IS_INT(enum restir_ablation, ablation_is_int);
+
 static cli_option row(const char *name, enum cli_option_type type, void *dest, const char *help,
                       const char *const *choices, double min, double max)
 {
