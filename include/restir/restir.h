@@ -34,9 +34,8 @@ enum restir_shading { RESTIR_SHADING_SCALAR = 0, RESTIR_SHADING_VECTOR = 1 };
 extern const char *const restir_shading_names[]; /* "scalar", "vector" */
 enum restir_pairing { RESTIR_PAIRING_DISK = 0, RESTIR_PAIRING_PAIRED = 1 };
 extern const char *const restir_pairing_names[]; /* "disk", "paired" */
-/* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive", then
- * "stochastic-pairwise" (spatial passes only; not a mis_family: stochastic_spatial.h) */
-extern const char *const restir_mis_names[];
+/* --mis stochastic-pairwise: spatial passes only, not a mis_family (stochastic_spatial.h);
+ * its name is restir_mis_names[RESTIR_MIS_STOCHASTIC_PAIRWISE] (mis.h). */
 #define RESTIR_MIS_STOCHASTIC_PAIRWISE MIS_FAMILY_COUNT
 
 typedef struct {

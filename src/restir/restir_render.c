@@ -15,7 +15,6 @@
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
 const char *const restir_pairing_names[] = {"disk", "paired", NULL};
 const char *const restir_shading_names[] = {"scalar", "vector", NULL};
-const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", "stochastic-pairwise", NULL};
 
 void restir_options_default(restir_options *o)
 {
