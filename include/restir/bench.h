@@ -1,4 +1,4 @@
-/* Benchmarks with machine-readable (JSON) output (DESIGN §5b). */
+/* Benchmarks with machine-readable (JSON) output (`make bench`, docs/equal-time.md). */
 #ifndef RESTIR_BENCH_H
 #define RESTIR_BENCH_H
 

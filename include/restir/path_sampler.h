@@ -1,5 +1,5 @@
 /* The per-vertex steps of unidirectional path sampling, shared by the reference path
- * tracer (render/pt) and, later, ReSTIR's initial path sampling (DESIGN §2).
+ * tracer (render/pt) and, later, ReSTIR's initial path sampling (docs/design.md, Layout).
  *
  * Vertex indexing follows GRIS §7.1: x0 is the camera, x1 the primary hit, ...; a path
  * (x0, ..., x_d) has length d = number of segments; d = 2 is direct lighting.
@@ -67,7 +67,7 @@ typedef struct {
 void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir);
 
 /* Radiance leaving x_i towards x_{i-1}: Ke if x_i lies on the front face of a light,
- * 0 otherwise (one-sided emitters, DESIGN §3). */
+ * 0 otherwise (one-sided emitters, docs/design.md, Conventions). */
 rgb path_vertex_emitted(const path_context *c, const path_vertex *v);
 
 /* All-lobe f(wo,wi)|cos| (non-delta lobes) and all-lobe pdf sum_l P(l|wo) pdf_l(wi)

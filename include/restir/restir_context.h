@@ -48,7 +48,7 @@ enum shift_failure {
     SHIFT_FAILURE_COUNT
 };
 
-/* Deliberately broken variants (`--ablate NAME`, DESIGN §5): the merge test must
+/* Deliberately broken variants (`--ablate NAME`, docs/statistics.md): the merge test must
  * reject each of them. */
 enum restir_ablation {
     RESTIR_ABLATE_NONE = 0,
@@ -56,7 +56,7 @@ enum restir_ablation {
     RESTIR_ABLATE_LIGHT_PDF = 2, /* "light-pdf": after a shift that moves x_{d-1} (reconnection
                                    at k = d), the light pdf of the last vertex is not recomputed:
                                    the base path's stale value enters the NEE estimate and the
-                                   NEE/BSDF MIS weight (notes pitfall 6) */
+                                   NEE/BSDF MIS weight (pitfall 6, docs/restir-pt.md §11) */
     RESTIR_ABLATE_TEMPORAL_TARGET = 3, /* "temporal-target": temporal reuse evaluates the reverse
                                    shift (current -> previous pixel) with the CURRENT frame's
                                    camera and scene instead of the previous frame's (notes

@@ -1,4 +1,4 @@
-/* The scene: what the papers' scenes require and nothing more (DESIGN §6).
+/* The scene: what the papers' scenes require and nothing more (docs/scenes.md).
  * Triangles with optional per-vertex shading normals, materials from MTL (or
  * scene-file overrides), object ids from OBJ o/g, a pinhole camera with optional
  * per-frame keyframes, and an image size. */

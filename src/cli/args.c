@@ -1,4 +1,4 @@
-/* Option parsing for the CLI (the only place that parses arguments, DESIGN §2). */
+/* Option parsing for the CLI (the only place that parses arguments, docs/design.md, Layout). */
 #include "args.h"
 
 #include <errno.h>

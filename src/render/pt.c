@@ -107,7 +107,7 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
     ++*rays;
     if (!scene_intersect(j->s, &r, &h)) return rgb_gray(0);
     path_vertex_make(&v, j->s, &h, v3_from_f(r.dir));
-    /* emission at x1 is added directly (DESIGN §3); it is the path of length 1 */
+    /* emission at x1 is added directly (docs/design.md, Conventions); it is the path of length 1 */
     L = o->min_depth <= 1 ? path_vertex_emitted(&j->ctx, &v) : rgb_gray(0);
     /* At x_i, both NEE and the BSDF bounce make paths of length i + 1 <= max_depth; those
      * shorter than min_depth are traced (the walk needs them) but not counted. */

@@ -28,7 +28,7 @@ static enum shift_failure lobe_bounce(const path_vertex *v, unsigned lobe, vec3 
 }
 
 /* The light pdf of the last vertex after the shift moved x_{d-1} to y_{d-1}: it depends
- * on y_{d-1}, so it is recomputed (notes pitfall 6). The light-pdf ablation keeps the base
+ * on y_{d-1}, so it is recomputed (pitfall 6, docs/restir-pt.md §11). The light-pdf ablation keeps the base
  * path's stale value instead, everywhere the offset path needs it (the NEE estimate's
  * 1/p_light and the NEE/BSDF MIS weight). The Jacobian keeps the true pdf: the ablation
  * models a stale cache, not a wrong reconnection. */
@@ -75,7 +75,7 @@ static rgb emitter_from_prev(const restir_context *c, const path_vertex *prev, c
 }
 
 /* The part of the path from x_k on, seen from the new incoming direction -w'_{k-1}:
- * the BSDF at x_k is re-evaluated (notes pitfall 5), and when x_k = x_{d-1} so is the
+ * the BSDF at x_k is re-evaluated (pitfall 5, docs/restir-pt.md §11), and when x_k = x_{d-1} so is the
  * final MIS weight (x_{d-1} stays, so its light pdf is still the stored one). */
 static enum shift_failure suffix_at_xk(const restir_context *c, const path_vertex *xk, const path_sample *x,
                                        rc_terms *t, rgb *suffix)
@@ -177,7 +177,7 @@ enum shift_failure rc_evaluate(const restir_context *c, const path_vertex *prev,
     if (why != SHIFT_OK) return why;
     if (rgb_is_black(t->factor)) return SHIFT_FAIL_ZERO;
     if (!rgb_finite(t->factor) || !isfinite(t->pdf_prev * t->geom * t->pdf_k)) return SHIFT_FAIL_NONFINITE;
-    /* Visibility of every reconnection segment, forward and inverse alike (DESIGN §3). */
+    /* Visibility of every reconnection segment, forward and inverse alike (docs/design.md, Conventions). */
     if (!scene_visible(c->path.scene, prev->hit.position, prev->hit.ng, x->rc_position, &x->rc_normal))
         return SHIFT_FAIL_OCCLUDED;
     return SHIFT_OK;

@@ -314,7 +314,7 @@ static void shade_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             path_vertex v;
             rgb L;
             if (!primary_vertex(j, p, &v)) continue;
-            /* Emission at x1 is added, never resampled (DESIGN §3); F(Y) W_Y is GRIS Eq. 3. */
+            /* Emission at x1 is added, never resampled (docs/design.md, Conventions); F(Y) W_Y is GRIS Eq. 3. */
             L = j->vector_shade && j->o->spatial_passes > 0 ? j->vector_shade[p] : reservoir_estimate(&j->final[p]);
             if (j->o->paths == RESTIR_PATHS_ALL) L = rgb_add(path_vertex_emitted(&j->ctx.path, &v), L);
             j->sum[3 * p + 0] += (double)L.r;
