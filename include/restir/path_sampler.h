@@ -1,5 +1,5 @@
 /* The per-vertex steps of unidirectional path sampling, shared by the reference path
- * tracer (render/pt) and, later, ReSTIR's initial path sampling (docs/design.md, Layout).
+ * tracer (render/pt) and ReSTIR's initial sampling, replay and reconnection (docs/design.md, Layout).
  *
  * Vertex indexing follows GRIS §7.1: x0 is the camera, x1 the primary hit, ...; a path
  * (x0, ..., x_d) has length d = number of segments; d = 2 is direct lighting.
