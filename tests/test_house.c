@@ -16,25 +16,6 @@
 
 /* ---- small text helpers ---- */
 
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    char *s;
-    long n;
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    s = malloc((size_t)n + 1);
-    if (s && fread(s, 1, (size_t)n, f) != (size_t)n) {
-        free(s);
-        s = NULL;
-    }
-    if (s) s[n] = '\0';
-    fclose(f);
-    return s;
-}
-
 typedef struct {
     char (*name)[256];
     int count, cap;
@@ -109,7 +90,7 @@ static void interface_headers(path_list *out, const char *dir)
     for (i = 0; i < files.count; ++i) {
         char *text, inc[256];
         if (files.name[i][strlen(files.name[i]) - 1] != 'c') continue; /* a .c file's interface */
-        text = read_text(files.name[i]);
+        text = test_read_text(files.name[i]);
         if (text && nth_include(text, files.name[i], 0, inc, sizeof inc) && !list_has(out, inc)) list_add(out, inc);
         free(text);
     }
@@ -120,7 +101,7 @@ static void interface_headers(path_list *out, const char *dir)
  * header is reached. */
 static int reaches(const char *file, const path_list *forbidden, path_list *seen, char *why, size_t size)
 {
-    char *text = read_text(file);
+    char *text = test_read_text(file);
     char inc[256];
     int i, found = 0;
     if (!text) return 0;
@@ -308,7 +289,7 @@ static int header_cites(const path_list *headers, const char *name, const char *
         char *text;
         int ok;
         if (headers->name[i][strlen(headers->name[i]) - 1] != 'h') continue;
-        text = read_text(headers->name[i]);
+        text = test_read_text(headers->name[i]);
         ok = text && definition_cites(text, name, paper, eq, 1) == 1;
         free(text);
         if (ok) return 1;
@@ -338,7 +319,7 @@ static int check_cell(const char *cell, const char *paper, int eq, const path_li
                 int i;
                 if (!close) break;
                 snprintf(path, sizeof path, "%.*s", (int)(close - p - 1), p + 1);
-                text = read_text(path);
+                text = test_read_text(path);
                 if (!text) {
                     snprintf(why, size, "%s Eq. %d: %s does not exist", paper, eq, path);
                     return -1;
@@ -408,7 +389,7 @@ static int check_equations(const char *doc, char *why, size_t size)
 
 TEST(house_equations_cited)
 {
-    char *doc = read_text("docs/equations.md");
+    char *doc = test_read_text("docs/equations.md");
     char why[4096] = "";
     int n;
     CHECKF(doc != NULL, "docs/equations.md not found (the suite runs from the repository root)");
