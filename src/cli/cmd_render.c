@@ -179,10 +179,9 @@ static int render_runs(const render_args *a, const scene *s, const char *out, im
     moments_meta meta;
     rerror e;
     char prefix[4096], name[64];
-    size_t n = strlen(out);
     int k, status = 0;
     e.msg[0] = '\0';
-    snprintf(prefix, sizeof prefix, "%.*s", (int)(n > 4 && !strcmp(out + n - 4, ".pfm") ? n - 4 : n), out);
+    output_prefix(prefix, sizeof prefix, out);
     if (moments_init(&m, s->width, s->height, &e) ||
         moments_set_block_sizes(&m, moments_default_block_sizes, 4, &e)) {
         fprintf(stderr, "%s\n", e.msg);
@@ -244,11 +243,10 @@ static int render_sequence(const render_args *a, const scene *s, const char *out
 {
     sequence_sink k;
     rerror e;
-    size_t n = strlen(out);
     double t0 = now_seconds();
     k.a = a;
     k.t = t;
-    snprintf(k.prefix, sizeof k.prefix, "%.*s", (int)(n > 4 && !strcmp(out + n - 4, ".pfm") ? n - 4 : n), out);
+    output_prefix(k.prefix, sizeof k.prefix, out);
     if (restir_render_sequence(s, &a->restir, &a->seq, write_frame, &k, &t->restir, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;

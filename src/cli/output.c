@@ -18,13 +18,17 @@ void default_output_path(char *buf, size_t size, const char *scene_path, const c
     snprintf(buf, size, "out/%.*s%s.pfm", (int)stem, base, suffix);
 }
 
-void preview_path(char *buf, size_t size, const char *pfm_path)
+void output_prefix(char *buf, size_t size, const char *pfm_path)
 {
     size_t n = strlen(pfm_path);
-    if (n > 4 && !strcmp(pfm_path + n - 4, ".pfm"))
-        snprintf(buf, size, "%.*s.png", (int)(n - 4), pfm_path);
-    else
-        snprintf(buf, size, "%s.png", pfm_path);
+    snprintf(buf, size, "%.*s", (int)(n > 4 && !strcmp(pfm_path + n - 4, ".pfm") ? n - 4 : n), pfm_path);
+}
+
+void preview_path(char *buf, size_t size, const char *pfm_path)
+{
+    char prefix[4096];
+    output_prefix(prefix, sizeof prefix, pfm_path);
+    snprintf(buf, size, "%s.png", prefix);
 }
 
 /* The directory part of path ("." when there is none). */

@@ -6,6 +6,8 @@
 
 /* Default output path "out/<scene stem>.pfm" into buf. */
 void default_output_path(char *buf, size_t size, const char *scene_path, const char *suffix);
+/* The path without a final ".pfm" ("x.pfm" -> "x"): the prefix of --runs and --sequence files. */
+void output_prefix(char *buf, size_t size, const char *pfm_path);
 /* The PNG preview path next to a .pfm path ("x.pfm" -> "x.png"). */
 void preview_path(char *buf, size_t size, const char *pfm_path);
 /* 0 if a file can be written at path before anything is rendered: not a directory, and
