@@ -222,7 +222,7 @@ static rgb bsdf_end(const restir_context *c, const path_vertex *from, unsigned l
     b.pdf_lobe = pdf_lobe;
     b.pdf_all = path_vertex_pdf(from, w);
     light_pdf = path_light_pdf(&c->path, to->hit.triangle, from->position, to->position, to->ng);
-    return rgb_mul(weight, rgb_scale(path_vertex_emitted(&c->path, to), mis_weight_bsdf_hit(&c->path, &b, light_pdf)));
+    return rgb_mul(weight, rgb_scale(path_vertex_emitted(&c->path, to), path_mis_weight_bsdf_hit(&c->path, &b, light_pdf)));
 }
 
 /* The NEE technique's last factor at `from` towards the light point y (normal ny, on
@@ -232,7 +232,7 @@ static rgb nee_end(const restir_context *c, const path_vertex *from, vec3 w, uin
     real p_light = path_light_pdf(&c->path, tri, from->position, y, ny);
     rgb f = path_vertex_eval(from, w);
     if (!from->can_nee || !(p_light > 0) || rgb_is_black(f)) return rgb_gray(0);
-    return rgb_scale(rgb_scale(rgb_mul(f, le), 1 / p_light), mis_weight_nee(&c->path, p_light, path_vertex_pdf(from, w)));
+    return rgb_scale(rgb_scale(rgb_mul(f, le), 1 / p_light), path_mis_weight_nee(&c->path, p_light, path_vertex_pdf(from, w)));
 }
 
 rgb rt_fresh_contribution(const restir_context *c, const path_vertex *y1, const path_vertex *x1_origin,
@@ -287,7 +287,7 @@ rgb rt_fresh_contribution(const restir_context *c, const path_vertex *y1, const 
     for (j = k + 1; j < d - 1; ++j) F = rgb_mul(F, o.b[j].weight);
     if (x->technique == PATH_TECH_NEE)
         return rgb_mul(F, rgb_scale(end_o.nee.contribution,
-                                    mis_weight_nee(&c->path, end_o.nee.pdf_light, end_o.nee.pdf_bsdf)));
+                                    path_mis_weight_nee(&c->path, end_o.nee.pdf_light, end_o.nee.pdf_bsdf)));
     return rgb_mul(F, rgb_mul(o.b[d - 1].weight, rgb_scale(path_vertex_emitted(&c->path, &o.v[d]),
-                                                          mis_weight_bsdf_hit(&c->path, &o.b[d - 1], end_o.light_pdf))));
+                                                          path_mis_weight_bsdf_hit(&c->path, &o.b[d - 1], end_o.light_pdf))));
 }

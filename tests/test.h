@@ -74,5 +74,7 @@ const char *test_write_file(const char *name, const char *text);
 /* 1 if both files exist and hold the same bytes. */
 int test_files_equal(const char *a, const char *b);
 int test_file_exists(const char *path);
+/* The whole file as a NUL-terminated string (caller frees), or NULL. */
+char *test_read_text(const char *path);
 
 #endif

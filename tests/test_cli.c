@@ -141,7 +141,7 @@ TEST(cli_bench_animation_smoke)
     CHECK(strstr(out, "\"pose_ms_median\"") != NULL && strstr(out, "\"animated_objects\": 1") != NULL);
 }
 
-/* Output bytes do not depend on the thread count (DESIGN §3). */
+/* Output bytes do not depend on the thread count (docs/design.md, Conventions). */
 TEST(cli_threads_bit_identical)
 {
     const char *path = write_tiny_scene();

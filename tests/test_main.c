@@ -131,6 +131,25 @@ int test_file_exists(const char *path)
     return stat(path, &st) == 0;
 }
 
+char *test_read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf;
+    long n;
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    buf = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        free(buf);
+        buf = NULL;
+    }
+    if (buf) buf[n] = '\0';
+    fclose(f);
+    return buf;
+}
+
 int test_cli(char *out, size_t out_size, const char *fmt, ...)
 {
     char args[4096], cmd[8192];

@@ -386,19 +386,6 @@ static const char *write_pfm(const char *name, const image *img)
     return path;
 }
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf;
-    size_t n;
-    if (!f) return NULL;
-    buf = calloc(65536, 1);
-    n = buf ? fread(buf, 1, 65535, f) : 0;
-    (void)n;
-    fclose(f);
-    return buf;
-}
-
 TEST(cli_compare_json_and_map)
 {
     image a, b;
@@ -418,7 +405,7 @@ TEST(cli_compare_json_and_map)
     CHECKF(test_cli(out, sizeof out, "compare %s %s --json %s --error-map %s --metric mse", pa, pb, json, png) == 0,
            "%s", out);
     CHECKF(strstr(out, "mse ") && strstr(out, "flip_hdr"), "%s", out);
-    text = slurp(json);
+    text = test_read_text(json);
     CHECK(text);
     /* MSE = 1 / (3 * 240) */
     CHECKF(strstr(text, "\"mse\": "), "%s", text);
@@ -428,7 +415,7 @@ TEST(cli_compare_json_and_map)
     CHECK(test_file_exists(png));
     /* the crop leaves the differing pixel out */
     CHECKF(test_cli(out, sizeof out, "compare %s %s --crop 5,0,15,12 --json %s", pa, pb, json) == 0, "%s", out);
-    text = slurp(json);
+    text = test_read_text(json);
     CHECK(text);
     CHECKF(strstr(text, "\"mse\": 0,") && strstr(text, "\"flip_hdr\": 0\n") && strstr(text, "\"pixels\": 180"), "%s",
            text);

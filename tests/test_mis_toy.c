@@ -292,11 +292,11 @@ TEST(mis_toy_constant_mis_biased)
     }
 }
 
-/* Broken variants (the "ablations" of DESIGN §5): the same z-test rejects
+/* Broken variants (the "ablations" of docs/statistics.md): the same z-test rejects
  *  - a resampling weight without the shift Jacobian |dT/dx| (GRIS Eq. 19 without its last
  *    factor; T(x) = x^2 and 0.7x have non-unit Jacobians), for every family;
  *  - MIS weights whose back-shift does not report failure (y outside T_i's image treated as
- *    reachable: the invertibility pitfall 3 of the notes), for Talbot and defensive. */
+ *    reachable: the invertibility pitfall 3 of docs/restir-pt.md §11), for Talbot and defensive. */
 TEST(mis_toy_broken_weights_detected)
 {
     static const mis_family families[3] = {MIS_TALBOT, MIS_PAIRWISE_UNIFORM, MIS_PAIRWISE_DEFENSIVE};

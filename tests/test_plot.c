@@ -140,25 +140,6 @@ static const char *xml_problem(const char *doc)
     return NULL;
 }
 
-static char *read_text_file(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf;
-    long n;
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    buf = malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    if (buf) buf[n] = '\0';
-    fclose(f);
-    return buf;
-}
-
 /* The checker itself must reject what is not well-formed. */
 TEST(plot_xml_checker_rejects_bad_documents)
 {
@@ -202,7 +183,7 @@ TEST(plot_svg_wellformed_and_escaped)
     s[1].count = 6;
     CHECK(plot_svg_write(path, &o, s, 2, &skipped, &e) == 0);
     CHECK(skipped == 1); /* -1 on the log axis; the NaN is a missing cell, not counted */
-    svg = read_text_file(path);
+    svg = test_read_text(path);
     CHECK(svg != NULL);
     problem = xml_problem(svg);
     CHECKF(problem == NULL, "SVG not well-formed: %s", problem);
@@ -247,7 +228,7 @@ TEST(plot_linear_axes_and_errors)
     s.y = y;
     s.count = 4;
     CHECK(plot_svg_write(path, &o, &s, 1, NULL, &e) == 0);
-    svg = read_text_file(path);
+    svg = test_read_text(path);
     CHECK(svg != NULL);
     problem = xml_problem(svg);
     CHECKF(problem == NULL, "%s", problem);
@@ -319,7 +300,7 @@ TEST(plot_cli)
     status = test_cli(out, sizeof out, "plot %s -o %s --title 'T <1>' --ylabel 'rel. MSE'", csv, svg_path);
     CHECKF(status == 0, "%d %s", status, out);
     CHECK(strstr(out, "1 point(s) not drawn")); /* the 0 on the log axis */
-    svg = read_text_file(svg_path);
+    svg = test_read_text(svg_path);
     CHECK(svg != NULL && xml_problem(svg) == NULL);
     CHECK(strstr(svg, "T &lt;1&gt;") && strstr(svg, ">spp</text>") && strstr(svg, "a &amp; b"));
     free(svg);

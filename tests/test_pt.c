@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "restir/bench.h"
 #include "restir/check.h"
 #include "restir/pt.h"
 #include "pt_util.h"

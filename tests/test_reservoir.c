@@ -1,6 +1,6 @@
 /* Weighted reservoir streaming and the UCW (reservoir.c): selection probabilities,
  * invalid weights, the exact decision rule, GRIS Eqs. 19/22, confidence bookkeeping, and
- * initial resampling from N path trees with Russian roulette (notes pitfall 2), with its
+ * initial resampling from N path trees with Russian roulette (pitfall 2, docs/restir-pt.md §11), with its
  * broken variants detected. */
 #include <math.h>
 #include <stdio.h>
@@ -106,7 +106,7 @@ TEST(reservoir_confidence_and_weights)
     CHECK_NEAR(ris_candidate_weight(2, 4, 8), 1, 1e-12);
 }
 
-/* ---- initial resampling from N path trees (GRIS §8.3, Enhanced §2.3, notes pitfall 2) ----
+/* ---- initial resampling from N path trees (GRIS §8.3, Enhanced §2.3, pitfall 2, docs/restir-pt.md §11) ----
  * Each tree emits one candidate per "length" d = 2, 3, 4 (three integrands of the
  * path-space sum, GRIS Eq. 50), each with its own RGB contribution F_d(x), x uniform in
  * PSS; Russian roulette kills the tree after d = 2 with probability 0.3 and after d = 3

@@ -1,4 +1,4 @@
-/* Two-domain resampling (include/restir/merge.h): every pixel merged with one random
+/* Two-domain resampling (one spatial pass, one neighbour; gris_resample): every pixel merged with one random
  * neighbour, averaged over frames, is an unbiased estimator of the path tracer's image
  * for every shift (K-run statistics of `restir check`), and the same comparison rejects
  * the deliberately broken variants --ablate jacobian and --ablate light-pdf.

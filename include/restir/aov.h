@@ -7,9 +7,8 @@
 
 enum aov_kind { AOV_NORMAL, AOV_ALBEDO, AOV_DEPTH, AOV_OBJECT, AOV_MOTION };
 
-/* Parses "normal|albedo|depth|object|motion"; returns -1 if unknown. */
-int aov_parse(const char *name);
-const char *aov_name(enum aov_kind kind);
+/* "normal", "albedo", "depth", "object", "motion" (index = enum aov_kind), NULL-terminated. */
+extern const char *const aov_names[];
 
 /* normal: shading normal mapped to 0.5 + 0.5 n; albedo: Kd (or Ks for conductors and
  * dielectrics); depth: view-space depth in scene units (0 where nothing is hit);
@@ -17,5 +16,11 @@ const char *aov_name(enum aov_kind kind);
  * pixels (gbuffer_motion: previous position minus current), B = prev_valid (0 or 1), all
  * 0 where nothing is hit. The image must be allocated. */
 void aov_render(const gbuffer *g, const scene *s, enum aov_kind kind, image *out);
+
+/* The PNG preview of an AOV image (allocated here): depth divided by the largest depth in
+ * the image, so the farthest hit is 1 (white) and misses stay 0 (black) whatever the
+ * scene's scale; the other channels are already in [0, 1] (normal, albedo, object) or
+ * are signed pixel offsets (motion) and are copied unchanged. */
+int aov_preview(const image *aov, enum aov_kind kind, image *out, rerror *e);
 
 #endif

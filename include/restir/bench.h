@@ -1,4 +1,4 @@
-/* Benchmarks with machine-readable (JSON) output (DESIGN §5b). */
+/* Benchmarks with machine-readable (JSON) output (`make bench`, docs/equal-time.md). */
 #ifndef RESTIR_BENCH_H
 #define RESTIR_BENCH_H
 
@@ -28,5 +28,10 @@ void bench_rays_default_options(bench_rays_options *o);
  * timed `repeats` times for 1 thread and for o->threads (if > 1); the BVH is also rebuilt
  * once to time the build. Writes one JSON object to json_out. */
 int bench_rays(const scene *s, const bench_rays_options *o, FILE *json_out, rerror *e);
+
+/* Renders s with the path tracer, `spp` samples per pixel on `threads` threads (MIS,
+ * default options otherwise) and writes one JSON object to out: samples/s, rays/s,
+ * seconds, counts (src/bench/pt_bench.c). */
+int bench_pt(FILE *out, const scene *s, const char *name, uint32_t spp, int threads, rerror *e);
 
 #endif

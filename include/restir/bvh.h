@@ -1,6 +1,6 @@
 /* Bounding volume hierarchy over triangles: binned-SAH build, 32-byte flattened
  * nodes, ordered stack traversal, watertight ray/triangle test (Woop et al. 2013).
- * Geometry is float (DESIGN §3). */
+ * Geometry is float (docs/design.md, Conventions). */
 #ifndef RESTIR_BVH_H
 #define RESTIR_BVH_H
 

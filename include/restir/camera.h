@@ -1,4 +1,4 @@
-/* Pinhole camera with the gluLookAt basis (DESIGN §3): forward f = normalize(target - eye),
+/* Pinhole camera with the gluLookAt basis (docs/design.md, Conventions): forward f = normalize(target - eye),
  * right = normalize(f x up), true up = right x f. Pixel (x, y) has row 0 at the TOP of
  * the image; the primary ray of the pixel centre goes through (x + 0.5, y + 0.5). */
 #ifndef RESTIR_CAMERA_H

@@ -1,5 +1,5 @@
 /* Command-line entry points. Each command lives in src/cli/cmd_<name>.c, parses its
- * own options (the CLI is the only place that parses arguments, DESIGN §2) and
+ * own options (the CLI is the only place that parses arguments, docs/design.md, Layout) and
  * returns the process exit status: 0 success, 1 a negative verdict (e.g. `check`
  * found a difference), 2 bad usage or bad input (message "file:line: what"). */
 #ifndef RESTIR_CLI_H

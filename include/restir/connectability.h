@@ -9,7 +9,7 @@
  *       a light vertex x_d: always rough;
  *   - ||x_k - x_{k-1}|| >= d_min (GRIS §7.5 distance condition).
  * A shift must reconnect exactly there, and the offset path must select the same k
- * under the same test, or the shift is not invertible (GRIS §7.4; notes pitfall 3).
+ * under the same test, or the shift is not invertible (GRIS §7.4; pitfall 3, docs/restir-pt.md §11).
  *
  * Everything the criterion reads is a function of the vertex positions, materials and
  * lobes, never of the direction a vertex is seen from, so base and offset paths evaluate

@@ -1,4 +1,4 @@
-/* Equal-time comparisons (DESIGN §1, §5b; docs/equal-time.md): render a scene with a
+/* Equal-time comparisons (docs/equal-time.md): render a scene with a
  * method for growing budgets, record (seconds, MAPE, relMSE) against a reference image
  * (metrics.h), write the curves as CSV for `restir plot` and as a log-log SVG, and read
  * off the time each method needs to reach a given error.

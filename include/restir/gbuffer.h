@@ -1,4 +1,4 @@
-/* The G-buffer: the primary hit x1 of every pixel (DESIGN §2, "render/gbuffer").
+/* The G-buffer: the primary hit x1 of every pixel (docs/design.md, Layout).
  * ReSTIR's reuse passes read it (neighbour rejection by normal/depth, reuse cells by
  * object id, the Enhanced footprint criterion by distance and cosine); `render --aov`
  * writes its channels as images. */

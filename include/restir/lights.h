@@ -1,4 +1,4 @@
-/* Emissive triangles as lights (DESIGN §6): every triangle whose material has
+/* Emissive triangles as lights (docs/scenes.md): every triangle whose material has
  * emission Ke > 0 in some channel is a one-sided area light that emits radiance Ke
  * from its FRONT face only, the side of the face normal (v1-v0)x(v2-v0).
  *
@@ -41,7 +41,7 @@ uint32_t alias_table_sample(const alias_table *t, real u_column, real u_coin);
 
 typedef struct {
     uint32_t triangle; /* index into scene.triangles */
-    vec3f v0, v1, v2;  /* vertices (float geometry, DESIGN §3) */
+    vec3f v0, v1, v2;  /* vertices (float geometry, docs/design.md, Conventions) */
     vec3f normal;      /* unit front-face normal (v1-v0)x(v2-v0)/|..| */
     real area;
     rgb emission;      /* Ke: radiance leaving the front face */

@@ -86,7 +86,11 @@ real mis_pair_canonical(real c_c, real p_c, real c_n, real p_n_from_c);
  *   p_n_from_n = p̂_n(x_n) / |dT/dx_n|, p_c_at_n = p̂_c(x_n'). A zero denominator gives 0. */
 real mis_pair_neighbor(real c_n, real p_n_from_n, real c_c, real p_c_at_n);
 
-/* "constant", "talbot", "pairwise", "defensive". */
+/* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive", then
+ * "stochastic-pairwise" (index MIS_FAMILY_COUNT = RESTIR_MIS_STOCHASTIC_PAIRWISE, the
+ * CLI's --mis choice; restir.h); NULL-terminated. The one name table of these families. */
+extern const char *const restir_mis_names[];
+/* restir_mis_names[f] for f < MIS_FAMILY_COUNT. */
 const char *mis_family_name(mis_family f);
 /* Parses a name above; returns 0 on success, -1 if unknown. */
 int mis_family_parse(const char *name, mis_family *f);

@@ -1,5 +1,5 @@
 /* The path sample of ReSTIR PT: what a reservoir must remember about its selected
- * path so that the path can be shifted to another pixel (DESIGN §4).
+ * path so that the path can be shifted to another pixel (docs/formats.md).
  *
  * A sample is a lobe-extended primary-sample-space (PSS) path (GRIS §7.6): the
  * random numbers that built it (its replay identity, or an explicit vector of
@@ -9,7 +9,7 @@
  * of the path contribution at x_k need, so neither the base path nor its pixel
  * must be revisited.
  *
- * INDEXING (GRIS §7.1, DESIGN §3): x0 camera, x1 primary hit, ..., x_d the emitter
+ * INDEXING (GRIS §7.1; docs/design.md, Conventions): x0 camera, x1 primary hit, ..., x_d the emitter
  * vertex; d = number of segments (d = 2: direct light at x1, d >= 3: indirect).
  * Lobe ell_j (GRIS §7.6) is the lobe chosen at x_j to sample x_{j+1}, 1 <= j <= d-1;
  * ell_{d-1} = PATH_LOBE_NEE when the last vertex was NEE-sampled (x_{d-1} is then
@@ -17,7 +17,7 @@
  * 2 <= k <= d (x_{k-1} is at least the primary hit) or k = PATH_RC_NONE.
  *
  * UNITS: F is the PSS path contribution f/p with every sampling pdf divided out
- * and Russian roulette excluded (DESIGN §3, notes §1.3.2), an RGB triple; the target
+ * and Russian roulette excluded (docs/design.md, Conventions), an RGB triple; the target
  * function is p̂ = luminance(F) (vec.h). docs/formats.md lists every field again
  * with its byte offset in the dump format. */
 #ifndef RESTIR_PATH_SAMPLE_H
@@ -70,7 +70,7 @@ typedef struct {
     /* ---- the reconnection vertex x_k (meaningful iff rc_k != PATH_RC_NONE) */
     uint32_t rc_triangle; /* scene triangle index of x_k */
     float rc_bary[2];     /* (b1, b2): x_k = (1-b1-b2) v0 + b1 v1 + b2 v2 */
-    vec3f rc_position;    /* x_k (float geometry, DESIGN §3) */
+    vec3f rc_position;    /* x_k (float geometry, docs/design.md, Conventions) */
     vec3f rc_normal;      /* geometric normal at x_k (front face (v1-v0)x(v2-v0), unit) */
     vec3 rc_wo;           /* omega_k: unit direction x_k -> x_{k+1}; zero vector if k = d */
     /* Source pdfs of the reconnection Jacobian (Enhanced Eq. 2 denominator), evaluated
@@ -95,7 +95,7 @@ typedef struct {
     rgb rc_radiance;
     /* Solid-angle pdf with which NEE samples x_d from x_{d-1} (light selection included),
      * for the final-vertex MIS weight; 0 if NEE cannot produce x_d. It depends on x_{d-1},
-     * so a shift that moves x_{d-1} must recompute it (notes pitfall 6). */
+     * so a shift that moves x_{d-1} must recompute it (pitfall 6, docs/restir-pt.md §11). */
     real light_pdf;
 
     /* ---- cached contribution in the domain (pixel) that owns the sample */

@@ -1,5 +1,5 @@
 /* The per-vertex steps of unidirectional path sampling, shared by the reference path
- * tracer (render/pt) and, later, ReSTIR's initial path sampling (DESIGN §2).
+ * tracer (render/pt) and ReSTIR's initial sampling, replay and reconnection (docs/design.md, Layout).
  *
  * Vertex indexing follows GRIS §7.1: x0 is the camera, x1 the primary hit, ...; a path
  * (x0, ..., x_d) has length d = number of segments; d = 2 is direct lighting.
@@ -67,7 +67,7 @@ typedef struct {
 void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir);
 
 /* Radiance leaving x_i towards x_{i-1}: Ke if x_i lies on the front face of a light,
- * 0 otherwise (one-sided emitters, DESIGN §3). */
+ * 0 otherwise (one-sided emitters, docs/design.md, Conventions). */
 rgb path_vertex_emitted(const path_context *c, const path_vertex *v);
 
 /* All-lobe f(wo,wi)|cos| (non-delta lobes) and all-lobe pdf sum_l P(l|wo) pdf_l(wi)
@@ -121,10 +121,10 @@ int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_b
 
 /* ---- MIS (GRIS Eq. 49, balance heuristic) ---- */
 /* p_this / (p_this + p_other); 0 if both are 0. */
-real mis_balance(real p_this, real p_other);
+real path_mis_balance(real p_this, real p_other);
 /* Weight of an NEE sample with light pdf p_light and all-lobe BSDF pdf p_bsdf. */
-real mis_weight_nee(const path_context *c, real p_light, real p_bsdf);
+real path_mis_weight_nee(const path_context *c, real p_light, real p_bsdf);
 /* Weight of a BSDF-sampled emitter hit after bounce b, whose light pdf is p_light. */
-real mis_weight_bsdf_hit(const path_context *c, const bsdf_bounce *b, real p_light);
+real path_mis_weight_bsdf_hit(const path_context *c, const bsdf_bounce *b, real p_light);
 
 #endif

@@ -118,9 +118,4 @@ int pt_state_merge(pt_state *acc, const pt_state *add, rerror *e);
  * double: the sample-count-weighted mean of runs given as mean images. */
 int pt_merge_means(const image *images, const double *counts, int n, image *out, rerror *e);
 
-/* ---- benchmark ---- */
-/* Renders s with `spp` samples per pixel on `threads` threads (MIS, default options
- * otherwise) and writes one JSON object to out: samples/s, rays/s, seconds, counts. */
-int bench_pt(FILE *out, const scene *s, const char *name, uint32_t spp, int threads, rerror *e);
-
 #endif

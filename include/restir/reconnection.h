@@ -1,6 +1,6 @@
 /* Reconnection: the offset path reaches the base path's vertex x_k from its own x_{k-1}
  * (GRIS §7.2 "vertex copy", §8.1; Enhanced §2.3), and the recording of a selected path
- * with the data a reconnection needs (DESIGN §4).
+ * with the data a reconnection needs (docs/formats.md).
  *
  * The PSS Jacobian of a reconnection from y_{k-1} to x_k (Enhanced Eq. 2, which is the
  * solid-angle Jacobian GRIS Eq. 52 converted to primary sample space by GRIS Eq. 54):
@@ -41,7 +41,7 @@ typedef struct {
 
 /* Reconnects the vertex `prev` (y_{k-1}, built by the path sampler with its incoming
  * direction) to x_k of sample x (rc_k = k). Re-evaluates the BSDF at x_k for the new
- * incoming direction (not frozen: notes pitfall 5) and the final vertex's NEE/BSDF MIS
+ * incoming direction (not frozen: pitfall 5, docs/restir-pt.md §11) and the final vertex's NEE/BSDF MIS
  * weight with the destination pdfs, the light pdf included when x_{d-1} moves (notes
  * pitfall 6; the light-pdf ablation keeps x's stale one), and traces the segment
  * y_{k-1} -> x_k (pitfall 7). Fails with SHIFT_FAIL_LOBE_UNAVAILABLE, _DELTA_LOBE, _ZERO,
@@ -63,7 +63,7 @@ enum shift_failure path_record(const restir_context *c, const path_vertex *x1, p
 /* The reconnection segment of sample y of the pixel with primary hit y1, traced again:
  * y_1..y_{k-1} replayed with y's numbers, then the shadow ray y_{k-1} -> x_k. 1 if visible
  * (or y has no reconnection vertex), 0 if blocked or the replay fails. For the debug
- * build's invariants (spatial_check_step, merge_two_domains): every successful shift must
+ * build's invariants (spatial_check_step): every successful shift must
  * pass it. */
 int rc_segment_visible(const restir_context *c, const path_vertex *y1, const path_sample *y);
 

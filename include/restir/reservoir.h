@@ -23,8 +23,9 @@
  *     w = ris_candidate_weight(p̂(x), W_x, N)  = p̂(x) W_x / N     (GRIS Eq. 1, M -> N)
  *     W = wsum / p̂(Y)                         = sum_trees sum_cands p̂ W_x / (N p̂(Y))
  *     c = N                                    (reservoir_add_confidence(&r, N))
- * with W_x = 1 / (Russian-roulette survival probability) in PSS (notes §1.3.2). The number
- * of candidates is NOT M: dividing by it is the bias of notes pitfall 2. */
+ * with W_x = 1 / (Russian-roulette survival probability) in PSS (the authors' Falcor code
+ * does the same). The number of candidates is NOT M: dividing the weight sum of a tree's
+ * sum over path lengths by its candidate count again is a bias. */
 #ifndef RESTIR_RESERVOIR_H
 #define RESTIR_RESERVOIR_H
 

@@ -1,5 +1,5 @@
 /* Binary dump of reservoirs (one per pixel): the exact per-pass intermediate buffers
- * a GPU implementation can be diffed against (DESIGN §1, §4). docs/formats.md gives the
+ * a GPU implementation can be diffed against (docs/formats.md). docs/formats.md gives the
  * layout byte by byte.
  *
  * A file is a 64-byte header followed by width*height fixed-size records, everything

@@ -14,11 +14,11 @@
 #ifndef RESTIR_RESTIR_H
 #define RESTIR_RESTIR_H
 
+#include <signal.h>
 #include <stdio.h>
 #include "restir/duplication.h"
 #include "restir/image.h"
 #include "restir/initial.h"
-#include "restir/merge.h"
 #include "restir/mis.h"
 #include "restir/neighbors.h"
 #include "restir/spatial.h"
@@ -41,22 +41,21 @@ enum restir_motion_vectors { RESTIR_MV_SINGLE = 0, RESTIR_MV_DUAL = 1 };
  * history this frame; sequences only) */
 enum restir_output { RESTIR_OUTPUT_RADIANCE = 0, RESTIR_OUTPUT_DUPLICATES = 1, RESTIR_OUTPUT_AGE = 2 };
 extern const char *const restir_motion_vector_names[]; /* "single", "dual" */
-/* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive", then
- * "stochastic-pairwise" (spatial passes only; not a mis_family: stochastic_spatial.h) */
-extern const char *const restir_mis_names[];
+/* --mis stochastic-pairwise: spatial passes only, not a mis_family (stochastic_spatial.h);
+ * its name is restir_mis_names[RESTIR_MIS_STOCHASTIC_PAIRWISE] (mis.h). */
 #define RESTIR_MIS_STOCHASTIC_PAIRWISE MIS_FAMILY_COUNT
 
 typedef struct {
-    int shift;                  /* enum restir_shift (default hybrid) */
+    enum restir_shift shift;    /* enum restir_shift (default hybrid) */
     int spatial_passes;         /* K, 0..16 (0: initial resampling alone; default 0) */
     int neighbors;              /* n candidates per pixel and pass (disk patterns; default 6) */
     double radius;              /* neighbour disk radius in pixels (default 10, GRIS §8.3 offline) */
-    int pattern;                /* enum neighbor_pattern (default r2) */
-    int pairing;                /* enum restir_pairing: disk (default: `pattern`) or paired (Enhanced §3) */
+    enum neighbor_pattern pattern; /* enum neighbor_pattern (default r2) */
+    enum restir_pairing pairing; /* enum restir_pairing: disk (default: `pattern`) or paired (Enhanced §3) */
     int no_reject;              /* 1: no normal/depth rejection of neighbours */
     double normal_cos;          /* reject if dot(n_i, n_j) < this (default 0.5) */
     double depth_ratio;         /* reject if |d_i - d_j| > this * min(d_i, d_j) (default 0.1) */
-    int mis;                    /* mis_family (default MIS_TALBOT, GRIS Eq. 36) */
+    mis_family mis;             /* mis_family (default MIS_TALBOT, GRIS Eq. 36) */
     int frames;                 /* independent frames averaged (GRIS Eq. 47), >= 1 */
     double time_limit;          /* > 0: render frames until this many seconds have passed
                                    (at least one; `frames` is then ignored) */
@@ -66,12 +65,12 @@ typedef struct {
     double roughness_threshold; /* lobe roughness for reconnection (default 0.2, GRIS §8.3) */
     double distance_threshold;  /* d_min as a fraction of the scene's bounding-box diagonal
                                    (default 0.02; GRIS §8.3 uses 1-5% of the scene size) */
-    int shading;                /* enum restir_shading: scalar F(Y) W_Y (default) or vector (Enhanced §6.3) */
+    enum restir_shading shading; /* enum restir_shading: scalar F(Y) W_Y (default) or vector (Enhanced §6.3) */
     int force_nee_reconnection; /* Enhanced §6.2.3 forced NEE light reconnection (hybrid; default 0) */
-    int rc_criterion;           /* enum rc_mode: gris (default) or footprint (Enhanced §4, Eq. 5) */
+    enum rc_mode rc_criterion;  /* enum rc_mode: gris (default) or footprint (Enhanced §4, Eq. 5) */
     double footprint_c;         /* c of Enhanced Eq. 5 (default 0.02, Enhanced §7.2) */
-    int paths;                  /* enum restir_paths */
-    int ablation;               /* enum restir_ablation */
+    enum restir_paths paths;    /* enum restir_paths */
+    enum restir_ablation ablation; /* enum restir_ablation */
     int russian_roulette;       /* the path tracer's roulette in initial sampling only (default 0) */
     int rr_min_depth;           /* default 3 */
     uint32_t seed;              /* run seed of the addressed RNG (default 1) */
@@ -81,7 +80,7 @@ typedef struct {
     int keep_reservoirs;        /* return the last frame's final reservoirs */
     /* real-time pipeline only (restir_render_sequence; restir_render ignores them): */
     int temporal;               /* temporal reuse (GRIS §6.3 step 2; default 1 in sequences) */
-    int temporal_mis;           /* mis_family of the temporal step (default MIS_TALBOT, GRIS §8.3) */
+    mis_family temporal_mis;    /* mis_family of the temporal step (default MIS_TALBOT, GRIS §8.3) */
     double mcap;                /* C > 0: c_prev <= C c_cur (GRIS §6.2, §6.4; default 20; may be inf) */
     /* stochastic pairwise MIS (mis = RESTIR_MIS_STOCHASTIC_PAIRWISE; stochastic_spatial.h): */
     int stochastic_n;           /* Ñ picks per pixel and pass (default 1) */
@@ -96,6 +95,8 @@ typedef struct {
     int motion_vectors;         /* enum restir_motion_vectors (default single; dual: Enhanced §6.4) */
     double boiling_filter;      /* RTXDI boiling filter strength s in (0, 1], 0 = off: BIASED */
     int output_aov;             /* enum restir_output: what the frame images hold (--aov duplicates|age) */
+    volatile sig_atomic_t *stop_flag; /* checked between frames (NULL: never): nonzero ends the
+                                         render after at least one frame (the CLI's SIGINT/SIGTERM) */
 } restir_options;
 
 typedef struct {

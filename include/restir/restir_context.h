@@ -48,7 +48,7 @@ enum shift_failure {
     SHIFT_FAILURE_COUNT
 };
 
-/* Deliberately broken variants (`--ablate NAME`, DESIGN §5): the merge test must
+/* Deliberately broken variants (`--ablate NAME`, docs/statistics.md): the merge test must
  * reject each of them. */
 enum restir_ablation {
     RESTIR_ABLATE_NONE = 0,
@@ -56,7 +56,7 @@ enum restir_ablation {
     RESTIR_ABLATE_LIGHT_PDF = 2, /* "light-pdf": after a shift that moves x_{d-1} (reconnection
                                    at k = d), the light pdf of the last vertex is not recomputed:
                                    the base path's stale value enters the NEE estimate and the
-                                   NEE/BSDF MIS weight (notes pitfall 6) */
+                                   NEE/BSDF MIS weight (pitfall 6, docs/restir-pt.md §11) */
     RESTIR_ABLATE_TEMPORAL_TARGET = 3, /* "temporal-target": temporal reuse evaluates the reverse
                                    shift (current -> previous pixel) with the CURRENT frame's
                                    camera and scene instead of the previous frame's (notes
@@ -90,7 +90,7 @@ extern const char *const rc_mode_names[]; /* "gris", "footprint" */
 typedef struct {
     real roughness_threshold; /* on the lobe's linear roughness (GRIS §8.3: 0.2; Enhanced alpha_min) */
     real min_distance;        /* d_min in scene units (gris only) */
-    int mode;                 /* enum rc_mode (default gris) */
+    enum rc_mode mode;        /* enum rc_mode (default gris) */
     real footprint_c;         /* c of Enhanced Eq. 5 (0.02, Enhanced §7.2) */
     int force_nee;            /* Enhanced §6.2.3: an NEE path without connectable pair reconnects
                                  at its light vertex x_d (hybrid shift) */
@@ -98,9 +98,9 @@ typedef struct {
 
 typedef struct {
     path_context path; /* scene, lights, MIS: the reference path tracer's per-vertex steps */
-    int shift;         /* enum restir_shift */
+    enum restir_shift shift; /* enum restir_shift */
     rc_criterion rc;
-    int ablation;      /* enum restir_ablation */
+    enum restir_ablation ablation; /* enum restir_ablation */
 } restir_context;
 
 /* NULL-terminated name tables (index = enum value): "reconnection", "replay", "hybrid";

@@ -1,10 +1,10 @@
-/* The addressed counter-based random number generator (DESIGN §3, docs/rng.md).
+/* The addressed counter-based random number generator (docs/design.md, Conventions, docs/rng.md).
  *
  * A random number is a pure function of its address:
  *     u = U(seed, pixel, sample, stream, vertex, slot)
  * so a path can be replayed from its identity alone, and nothing consumed in one
  * stream can put another stream out of step (the failure mode of streamed RNGs in
- * random replay, notes pitfall 1). The hash is pcg4d (Jarzynski & Olano 2020). */
+ * random replay, pitfall 1, docs/restir-pt.md §11). The hash is pcg4d (Jarzynski & Olano 2020). */
 #ifndef RESTIR_RNG_H
 #define RESTIR_RNG_H
 

@@ -1,4 +1,4 @@
-/* The scene: what the papers' scenes require and nothing more (DESIGN §6).
+/* The scene: what the papers' scenes require and nothing more (docs/scenes.md).
  * Triangles with optional per-vertex shading normals, materials from MTL (or
  * scene-file overrides), object ids from OBJ o/g, a pinhole camera with optional
  * per-frame keyframes, and an image size. */
@@ -18,6 +18,10 @@ enum material_type {
     MAT_DIELECTRIC = 3,      /* smooth glass: delta reflection + delta refraction (ior Ni) */
     MAT_ROUGH_DIELECTRIC = 4 /* Walter et al. 2007 rough glass (ior Ni) */
 };
+#define MATERIAL_TYPE_COUNT 5
+/* The scene file's names, index = enum material_type: "lambert", "conductor", "plastic",
+ * "dielectric", "rough-dielectric"; NULL-terminated (src/scene/scene_file.c). */
+extern const char *const material_type_names[];
 
 #define MATERIAL_NAME_MAX 128
 

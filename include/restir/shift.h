@@ -1,6 +1,6 @@
 /* Shift mappings T from a base path x of one pixel to an offset path y of another
  * (GRIS §4.3, §7; Enhanced §2.3), in the lobe-extended primary sample space (PSS) of
- * GRIS §7.6 / §8.1 where the target is p̂ = luminance(F), F = f/p (DESIGN §3).
+ * GRIS §7.6 / §8.1 where the target is p̂ = luminance(F), F = f/p (docs/design.md, Conventions).
  *
  * A shift starts at the destination pixel's primary hit y_1 (path_vertex, built by the
  * path sampler from the camera ray) and returns the offset path as a complete
@@ -43,7 +43,7 @@ enum shift_failure shift_random_replay(const restir_context *c, const path_verte
 enum shift_failure shift_hybrid(const restir_context *c, const path_vertex *y1, const path_sample *x, path_sample *y,
                                 real *jacobian, shift_info *info);
 
-/* The hybrid shift's invertibility test (GRIS §7.4, notes pitfall 3) on the replayed
+/* The hybrid shift's invertibility test (GRIS §7.4, pitfall 3, docs/restir-pt.md §11) on the replayed
  * offset prefix y_1..y_{k-1} (t->n = k - 1) followed by x's x_k: SHIFT_OK if the offset
  * path's first connectable pair is (y_{k-1}, x_k); SHIFT_FAIL_RC_EARLIER if a pair
  * (y_{j-1}, y_j) with j < k-1 is connectable, SHIFT_FAIL_RC_PREV if (y_{k-2}, y_{k-1})

@@ -77,7 +77,7 @@ enum shift_failure spatial_counted_shift(const restir_context *c, const path_ver
 
 void spatial_stats_add(spatial_stats *acc, const spatial_stats *add);
 
-/* The invariants of the GRIS step spatial_resample just computed into out, with its
+/* The invariants of the GRIS step gris_resample just computed into out, with its
  * workspace w still holding the step (the debug build runs this after every step and
  * aborts on failure; docs/statistics.md "Debug invariants"):
  *   - every input confidence c_j >= 0, out's c = sum_j c_j exactly (failed shifts too),

@@ -12,7 +12,7 @@
  *            from q's primary vertex OF FRAME t-1 (previous camera, previous poses) in the
  *            previous frame's scene (restir_context `prev`). GRIS App. B: the MIS weights
  *            need the previous frame's target p̂_{t-1}; evaluating it with the current
- *            frame's camera or scene is biased (`--ablate temporal-target`, notes pitfall 8).
+ *            frame's camera or scene is biased (`--ablate temporal-target`, pitfall 8, docs/restir-pt.md §11).
  *   p̂ from i (GRIS Eq. 35):  [ p̂_t(y_0)                       p̂_t(y_1)            ]
  *                            [ p̂_{t-1}(T^{-1}(y_0)) |dT^{-1}|  p̂_{t-1}(X_1) / J_1  ]
  *   w_j = m_j(y_j) p̂_t(y_j) W_j J_j (GRIS Eq. 19), W = sum w / p̂_t(Y) (GRIS Eq. 22) with

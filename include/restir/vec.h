@@ -1,6 +1,6 @@
 /* Vector math.
  *
- * Two precisions live side by side (DESIGN §3):
+ * Two precisions live side by side (docs/design.md, Conventions):
  *   vec3f  float   geometry: vertices, BVH, rays, hit points (as GPUs do);
  *   vec3   real    estimator arithmetic: shading directions, throughputs, pdfs.
  * `real` is double by default and float with `make PRECISION=float`.
@@ -78,7 +78,7 @@ static inline rgb rgb_scale(rgb a, real s) { return rgb_make(a.r * s, a.g * s, a
 static inline int rgb_is_black(rgb a) { return a.r == 0 && a.g == 0 && a.b == 0; }
 static inline real rgb_max(rgb a) { return fmax(a.r, fmax(a.g, a.b)); }
 
-/* The target function's scalarisation: Rec. 709 luminance (DESIGN §3). The one place it is written. */
+/* The target function's scalarisation: Rec. 709 luminance (docs/design.md, Conventions). The one place it is written. */
 static inline real luminance(rgb c) { return (real)0.2126 * c.r + (real)0.7152 * c.g + (real)0.0722 * c.b; }
 
 #endif

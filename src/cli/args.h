@@ -3,6 +3,7 @@
 #ifndef RESTIR_CLI_ARGS_H
 #define RESTIR_CLI_ARGS_H
 
+#include <stddef.h>
 #include <stdio.h>
 #include "restir/vec.h"
 
@@ -14,8 +15,15 @@ enum cli_option_type {
     OPT_STRING, /* const char * */
     OPT_VEC3,   /* double[3] from "x,y,z" */
     OPT_SIZE,   /* int[2] from "WxH" */
-    OPT_CHOICE  /* int index into `choices` (NULL-terminated) */
+    OPT_CHOICE, /* int index into `choices` (NULL-terminated) */
+    OPT_LIST    /* cli_list: the value and the arguments after it up to the next option */
 };
+
+/* Destination of an OPT_LIST row: items[0..count) point into argv; at most max. */
+typedef struct {
+    const char **items;
+    int count, max;
+} cli_list;
 
 typedef struct {
     const char *name; /* "--spp" */
@@ -31,6 +39,18 @@ typedef struct {
  * Returns 0, 1 if --help was printed, or 2 after printing "restir CMD: what is wrong". */
 int cli_parse(const char *command, int argc, char **argv, const cli_option *options, const char **positional,
               int max_positional, int *positional_count);
+
+/* A preset: every option whose destination lies in the struct at `to` (size bytes) and
+ * that was not given (given[i] = 0 for options[i]) takes the value at the same offset of
+ * the struct at `from`. So `--preset P` and the options given beside it need one parse
+ * and no order: the options given win, the preset fills the rest. */
+void cli_take_unset(const cli_option *options, const int *given, void *to, const void *from, size_t size);
+
+/* Points the `seen` of every option that has none at given[i] (zeroed here; room for
+ * every row), so given[i] tells whether options[i] was on the command line. */
+void cli_track_given(cli_option *options, int *given);
+/* given[i] of the option called name (0 if there is none). */
+int cli_given(const cli_option *options, const int *given, const char *name);
 
 void cli_print_help(FILE *out, const char *command, const char *usage, const cli_option *options);
 

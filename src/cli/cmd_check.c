@@ -12,48 +12,35 @@
 #include "restir/json_text.h"
 #include "restir/moments.h"
 #include "restir/output_set.h"
+#include "args.h"
 
 #define MAX_INPUTS 4096
 
-static const char usage[] =
-    "usage: restir check SIDE_A SIDE_B [options]\n"
-    "  SIDE_A: --a RUN.pfm...          K >= 2 independent renders of A\n"
-    "          --a-moments PREFIX      PREFIX.moments.json (+ .mean.pfm, .var.pfm)\n"
-    "  SIDE_B: --b RUN.pfm... | --b-moments PREFIX\n"
-    "          --ref REF.pfm           a reference taken as exact, or with\n"
-    "            --ref-var VAR.pfm --ref-runs N   its single-run variance over N runs\n"
-    "options:\n"
-    "  --block N              block size in pixels (default 8; 1 = per pixel)\n"
-    "  --alpha A              level of the 'different' verdict (default 0.01)\n"
-    "  --correction sidak|bh  block family correction (default sidak)\n"
-    "  --margin M             relative equivalence margin for the TOST (default 0.01)\n"
-    "  --require-equivalence  also exit 1 unless equivalence within the margin is shown\n"
-    "  --paired               run k of A and run k of B share their random numbers (same seeds):\n"
-    "                         test the K per-run differences (needs --a and --b with the same K)\n"
-    "  --json OUT.json        machine-readable results\n"
-    "  --z-map OUT.pfm|.png   per-pixel normal-equivalent z (PFM: per channel; PNG: red A>B, blue A<B)\n"
-    "  --block-z-map OUT.pfm|.png   the same per block (one pixel per block)\n"
-    "  --no-skew-correction   plain Welch block tests (default: discount the tail opposite the\n"
-    "                         pooled skewness of the per-run block means, Hall 1992)\n"
-    "  --scale-a S            multiply side A by S (a planted relative bias S - 1, to measure power)\n"
-    "  --quiet                print only the verdict line\n"
+/* What the option table cannot say (printed after it by --help). */
+static const char help_notes[] =
+    "\nSIDE_A is --a RUN.pfm... (K >= 2 independent renders) or --a-moments PREFIX\n"
+    "(PREFIX.moments.json + .mean.pfm + .var.pfm); SIDE_B is --b RUN.pfm..., --b-moments PREFIX\n"
+    "or --ref REF.pfm (a reference taken as exact, or with --ref-var VAR.pfm --ref-runs N its\n"
+    "single-run variance over N runs).\n"
     "exit status: 0 consistent, 1 different, 2 usage or input error\n";
 
 typedef struct {
-    const char *runs[MAX_INPUTS];
-    int run_count;
+    const char *run_names[MAX_INPUTS];
+    cli_list runs; /* --a / --b RUN.pfm... */
     const char *moments;
     const char *ref, *ref_var;
-    long ref_runs;
+    int ref_runs;
 } side_args;
 
 typedef struct {
     side_args a, b;
     check_options opt;
-    int require_equivalence, quiet, paired;
+    int require_equivalence, quiet, paired, no_skew_correction, correction;
     const char *json, *z_map, *block_z_map;
     double scale_a; /* --scale-a (0: not given) */
 } check_args;
+
+static const char *const correction_names[] = {"sidak", "bh", NULL}; /* index = enum check_correction */
 
 static int usage_error(const char *fmt, const char *arg)
 {
@@ -63,115 +50,61 @@ static int usage_error(const char *fmt, const char *arg)
     return 2;
 }
 
-static int parse_double(const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    *out = strtod(s, &end);
-    return end == s || *end || errno == ERANGE || !isfinite(*out) ? -1 : 0;
-}
-
-static int parse_long(const char *s, long *out)
-{
-    char *end;
-    errno = 0;
-    *out = strtol(s, &end, 10);
-    return end == s || *end || errno == ERANGE ? -1 : 0;
-}
-
-/* Collects the file names following --a / --b up to the next option. */
-static int take_runs(side_args *s, int argc, char **argv, int *i)
-{
-    while (*i + 1 < argc && strncmp(argv[*i + 1], "--", 2) != 0) {
-        if (s->run_count == MAX_INPUTS) return -1;
-        s->runs[s->run_count++] = argv[++*i];
-    }
-    return 0;
-}
-
 /* Returns 0, or the exit status to return (2 on a usage error, 0 after --help). */
 static int parse_args(int argc, char **argv, check_args *a, int *done)
 {
-    int i;
+    const char *positional[1];
+    int count, status;
     *done = 0;
     memset(a, 0, sizeof *a);
     check_options_default(&a->opt);
-    for (i = 1; i < argc; ++i) {
-        const char *opt = argv[i];
-        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        int needs_value = strcmp(opt, "--a") && strcmp(opt, "--b") && strcmp(opt, "--require-equivalence") &&
-                          strcmp(opt, "--paired") && strcmp(opt, "--quiet") && strcmp(opt, "--help") && strcmp(opt, "-h") &&
-                          strcmp(opt, "--no-skew-correction");
-        if (needs_value && !val) return usage_error("%s needs a value", opt);
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
-            fputs(usage, stdout);
+    a->a.runs.items = a->a.run_names;
+    a->b.runs.items = a->b.run_names;
+    a->a.runs.max = a->b.runs.max = MAX_INPUTS;
+    a->correction = (int)a->opt.correction;
+    {
+        const cli_option options[] = {
+            {"--a", OPT_LIST, &a->a.runs, "side A: K >= 2 independent renders", NULL, 0, 0, NULL},
+            {"--a-moments", OPT_STRING, &a->a.moments, "side A: PREFIX.moments.json (+ .mean.pfm, .var.pfm)", NULL, 0, 0, NULL},
+            {"--b", OPT_LIST, &a->b.runs, "side B: K >= 2 independent renders", NULL, 0, 0, NULL},
+            {"--b-moments", OPT_STRING, &a->b.moments, "side B: a moments file set", NULL, 0, 0, NULL},
+            {"--ref", OPT_STRING, &a->b.ref, "side B: a reference REF.pfm taken as exact (or with --ref-var, --ref-runs)", NULL, 0, 0, NULL},
+            {"--ref-var", OPT_STRING, &a->b.ref_var, "the reference's single-run variance VAR.pfm", NULL, 0, 0, NULL},
+            {"--ref-runs", OPT_INT, &a->b.ref_runs, "the number of runs N behind --ref-var", NULL, 2, 2147483647.0, NULL},
+            {"--block", OPT_INT, &a->opt.block_size, "block size in pixels (default 8; 1 = per pixel)", NULL, 1, 4096, NULL},
+            {"--alpha", OPT_REAL, &a->opt.alpha, "level of the 'different' verdict, in (0, 1) (default 0.01)", NULL, 0, 0, NULL},
+            {"--correction", OPT_CHOICE, &a->correction, "block family correction (default sidak)", correction_names, 0, 0, NULL},
+            {"--margin", OPT_REAL, &a->opt.margin, "relative equivalence margin for the TOST, in (0, 1) (default 0.01)", NULL, 0, 0, NULL},
+            {"--require-equivalence", OPT_FLAG, &a->require_equivalence, "also exit 1 unless equivalence within the margin is shown", NULL, 0, 0, NULL},
+            {"--paired", OPT_FLAG, &a->paired, "run k of A and run k of B share their random numbers (same seeds): test the K per-run differences (needs --a and --b with the same K)", NULL, 0, 0, NULL},
+            {"--json", OPT_STRING, &a->json, "machine-readable results OUT.json", NULL, 0, 0, NULL},
+            {"--z-map", OPT_STRING, &a->z_map, "per-pixel normal-equivalent z, OUT.pfm (per channel) or OUT.png (red A>B, blue A<B)", NULL, 0, 0, NULL},
+            {"--block-z-map", OPT_STRING, &a->block_z_map, "the same per block (one pixel per block)", NULL, 0, 0, NULL},
+            {"--no-skew-correction", OPT_FLAG, &a->no_skew_correction, "plain Welch block tests (default: discount the tail opposite the pooled skewness of the per-run block means, Hall 1992)", NULL, 0, 0, NULL},
+            {"--scale-a", OPT_REAL, &a->scale_a, "multiply side A by S (a planted relative bias S - 1, to measure power)", NULL, 1e-300, 1e6, NULL},
+            {"--quiet", OPT_FLAG, &a->quiet, "print only the verdict line", NULL, 0, 0, NULL},
+            {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
+        };
+        status = cli_parse("check", argc, argv, options, positional, 0, &count);
+        if (status == 1) {
+            cli_print_help(stdout, "check", "SIDE_A SIDE_B [options]", options);
+            fputs(help_notes, stdout);
             *done = 1;
             return 0;
-        } else if (!strcmp(opt, "--a") || !strcmp(opt, "--b")) {
-            side_args *s = opt[2] == 'a' ? &a->a : &a->b;
-            if (take_runs(s, argc, argv, &i)) return usage_error("too many files after %s", opt);
-            continue;
-        } else if (!strcmp(opt, "--a-moments")) {
-            a->a.moments = val;
-        } else if (!strcmp(opt, "--b-moments")) {
-            a->b.moments = val;
-        } else if (!strcmp(opt, "--ref")) {
-            a->b.ref = val;
-        } else if (!strcmp(opt, "--ref-var")) {
-            a->b.ref_var = val;
-        } else if (!strcmp(opt, "--ref-runs")) {
-            if (parse_long(val, &a->b.ref_runs) || a->b.ref_runs < 2)
-                return usage_error("--ref-runs must be an integer >= 2, not '%s'", val);
-        } else if (!strcmp(opt, "--block")) {
-            long b;
-            if (parse_long(val, &b) || b < 1 || b > 4096) return usage_error("--block must be 1..4096, not '%s'", val);
-            a->opt.block_size = (int)b;
-        } else if (!strcmp(opt, "--alpha")) {
-            if (parse_double(val, &a->opt.alpha) || !(a->opt.alpha > 0 && a->opt.alpha < 1))
-                return usage_error("--alpha must be in (0, 1), not '%s'", val);
-        } else if (!strcmp(opt, "--margin")) {
-            if (parse_double(val, &a->opt.margin) || !(a->opt.margin > 0 && a->opt.margin < 1))
-                return usage_error("--margin must be in (0, 1), not '%s'", val);
-        } else if (!strcmp(opt, "--correction")) {
-            if (!strcmp(val, "sidak"))
-                a->opt.correction = CHECK_SIDAK;
-            else if (!strcmp(val, "bh"))
-                a->opt.correction = CHECK_BH;
-            else
-                return usage_error("--correction must be sidak or bh, not '%s'", val);
-        } else if (!strcmp(opt, "--require-equivalence")) {
-            a->require_equivalence = 1;
-            continue;
-        } else if (!strcmp(opt, "--no-skew-correction")) {
-            a->opt.skew_correction = 0;
-            continue;
-        } else if (!strcmp(opt, "--quiet")) {
-            a->quiet = 1;
-            continue;
-        } else if (!strcmp(opt, "--paired")) {
-            a->paired = 1;
-            continue;
-        } else if (!strcmp(opt, "--scale-a")) {
-            if (parse_double(val, &a->scale_a) || !(a->scale_a > 0 && a->scale_a < 1e6))
-                return usage_error("--scale-a must be a positive number, not '%s'", val);
-        } else if (!strcmp(opt, "--json")) {
-            a->json = val;
-        } else if (!strcmp(opt, "--z-map")) {
-            a->z_map = val;
-        } else if (!strcmp(opt, "--block-z-map")) {
-            a->block_z_map = val;
-        } else {
-            return usage_error("unknown option '%s'", opt);
         }
-        ++i; /* the value */
+        if (status) return status;
     }
-    if ((a->a.run_count > 0) + (a->a.moments != NULL) != 1 || a->a.ref)
+    a->opt.correction = (enum check_correction)a->correction;
+    if (a->no_skew_correction) a->opt.skew_correction = 0;
+    if (!(a->opt.alpha > 0 && a->opt.alpha < 1)) return usage_error("%s", "--alpha: expected a number in (0, 1)");
+    if (!(a->opt.margin > 0 && a->opt.margin < 1)) return usage_error("%s", "--margin: expected a number in (0, 1)");
+    if ((a->a.runs.count > 0) + (a->a.moments != NULL) != 1 || a->a.ref)
         return usage_error("%s", "give side A as exactly one of --a RUN... or --a-moments PREFIX");
-    if ((a->b.run_count > 0) + (a->b.moments != NULL) + (a->b.ref != NULL) != 1)
+    if ((a->b.runs.count > 0) + (a->b.moments != NULL) + (a->b.ref != NULL) != 1)
         return usage_error("%s", "give side B as exactly one of --b RUN..., --b-moments PREFIX or --ref REF.pfm");
     if ((a->b.ref_var != NULL) != (a->b.ref_runs > 0) || (a->b.ref_var && !a->b.ref))
         return usage_error("%s", "--ref-var and --ref-runs go together, with --ref");
-    if (a->paired && (a->a.run_count == 0 || a->b.run_count == 0 || a->a.run_count != a->b.run_count))
+    if (a->paired && (a->a.runs.count == 0 || a->b.runs.count == 0 || a->a.runs.count != a->b.runs.count))
         return usage_error("%s", "--paired needs --a RUN... and --b RUN... with the same number of runs");
     return 0;
 }
@@ -181,20 +114,20 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
 static int load_runs(check_side *side, const side_args *s, int block, rerror *e)
 {
     int i;
-    for (i = 0; i < s->run_count; ++i) {
+    for (i = 0; i < s->runs.count; ++i) {
         image img;
         int status;
-        if (pfm_read(s->runs[i], &img, NULL, e)) return -1;
+        if (pfm_read(s->runs.items[i], &img, NULL, e)) return -1;
         if (i == 0 && check_side_begin_runs(side, img.width, img.height, block, e)) {
             image_free(&img);
             return -1;
         }
-        status = check_side_add_run(side, &img, s->runs[i], e);
+        status = check_side_add_run(side, &img, s->runs.items[i], e);
         image_free(&img);
         if (status) return -1;
     }
-    if (s->run_count < 2)
-        return rerror_at(e, s->runs[0], 0, "only one run given: at least 2 independent runs are needed");
+    if (s->runs.count < 2)
+        return rerror_at(e, s->runs.items[0], 0, "only one run given: at least 2 independent runs are needed");
     return check_side_end_runs(side, e);
 }
 
@@ -242,7 +175,7 @@ static int load_reference(check_side *side, const side_args *s, rerror *e)
 static int load_side(check_side *side, const side_args *s, int block, rerror *e)
 {
     memset(side, 0, sizeof *side);
-    if (s->run_count > 0) return load_runs(side, s, block, e);
+    if (s->runs.count > 0) return load_runs(side, s, block, e);
     if (s->moments) {
         moments_file f;
         if (moments_read(s->moments, &f, e)) return -1;
@@ -309,7 +242,7 @@ static const char *block_source(const check_side *s, int from_runs)
 /* The file that names a side in messages. */
 static const char *side_file(const side_args *s)
 {
-    return s->run_count > 0 ? s->runs[0] : s->moments ? s->moments : s->ref;
+    return s->runs.count > 0 ? s->runs.items[0] : s->moments ? s->moments : s->ref;
 }
 
 static void put_key_number(FILE *fp, const char *indent, const char *key, double v, int last)

@@ -9,21 +9,16 @@
 #include "restir/error_map.h"
 #include "restir/flip.h"
 #include "restir/image.h"
+#include "restir/json_text.h"
 #include "restir/metrics.h"
+#include "args.h"
 
-static const char usage_text[] =
-    "usage: restir compare TEST.pfm REF.pfm [options]\n"
-    "  Compares TEST against the reference REF (same size, finite values) and prints\n"
-    "  mse, rmse, relmse, mape, smape, marb, rel_bias, flip_ldr and flip_hdr\n"
-    "  (formulas: docs/metrics.md).\n"
-    "options:\n"
-    "  --json OUT.json      also write all values as JSON (atomically)\n"
-    "  --metric NAME        metric of the error map (default flip_hdr; \"flip\" = flip_hdr)\n"
-    "  --error-map OUT.png  false-colour map of that metric with a colour bar (FLIP: magma,\n"
-    "                       fixed scale 0..1; others: viridis from the map's min to max)\n"
-    "  --crop x,y,w,h       evaluate only this rectangle (FLIP sees only the crop)\n"
-    "  --ppd N              FLIP pixels per degree (default 67.02: 0.7 m from a 0.7 m wide 4K monitor)\n"
-    "  --help               this text\n"
+/* What the option table cannot say (printed after it by --help). */
+static const char help_notes[] =
+    "\nCompares TEST against the reference REF (same size, finite values) and prints\n"
+    "mse, rmse, relmse, mape, smape, marb, rel_bias, flip_ldr and flip_hdr (formulas:\n"
+    "docs/metrics.md). `restir compare --covariance RUN.pfm...` is a different measurement\n"
+    "(restir compare --covariance --help).\n"
     "exit status: 0 done, 2 bad usage or bad input.\n";
 
 typedef struct {
@@ -45,7 +40,7 @@ static int usage_error(const char *fmt, const char *arg)
 {
     fprintf(stderr, "restir compare: ");
     fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n%s", usage_text);
+    fprintf(stderr, "\n(restir compare --help for usage)\n");
     return 2;
 }
 
@@ -70,55 +65,40 @@ static int parse_crop(const char *s, image_rect *r)
     return 0;
 }
 
-static int parse_positive(const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    *out = strtod(s, &end);
-    return (end == s || *end || errno || !isfinite(*out) || !(*out > 0)) ? -1 : 0;
-}
-
 /* Returns 0 to proceed, 1 after --help, 2 on a usage error (already reported). */
 static int parse_args(int argc, char **argv, compare_options *o)
 {
-    int i, positional = 0;
+    const char *positional[2], *metric = NULL, *crop = NULL;
+    int count, status;
     memset(o, 0, sizeof *o);
     o->metric = METRIC_FLIP_HDR;
     flip_default_params(&o->flip);
-    for (i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        int has_value = i + 1 < argc;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(usage_text, stdout);
+    {
+        const cli_option options[] = {
+            {"--json", OPT_STRING, &o->json_path, "also write all values as JSON OUT.json (atomically)", NULL, 0, 0, NULL},
+            {"--metric", OPT_STRING, &metric, "metric of the error map (default flip_hdr; \"flip\" = flip_hdr)", NULL, 0, 0, NULL},
+            {"--error-map", OPT_STRING, &o->map_path, "false-colour map OUT.png of that metric with a colour bar (FLIP: magma, fixed scale 0..1; others: viridis from the map's min to max)", NULL, 0, 0, NULL},
+            {"--crop", OPT_STRING, &crop, "x,y,w,h: evaluate only this rectangle (FLIP sees only the crop)", NULL, 0, 0, NULL},
+            {"--ppd", OPT_REAL, &o->flip.ppd, "FLIP pixels per degree, > 0 (default 67.02: 0.7 m from a 0.7 m wide 4K monitor)", NULL, 0, 0, NULL},
+            {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
+        };
+        status = cli_parse("compare", argc, argv, options, positional, 2, &count);
+        if (status == 1) {
+            cli_print_help(stdout, "compare", "TEST.pfm REF.pfm [options]", options);
+            fputs(help_notes, stdout);
             return 1;
-        } else if (!strcmp(a, "--json") || !strcmp(a, "--metric") || !strcmp(a, "--error-map") ||
-                   !strcmp(a, "--crop") || !strcmp(a, "--ppd")) {
-            const char *v;
-            if (!has_value) return usage_error("%s needs a value", a);
-            v = argv[++i];
-            if (!strcmp(a, "--json")) o->json_path = v;
-            else if (!strcmp(a, "--error-map")) o->map_path = v;
-            else if (!strcmp(a, "--metric")) {
-                if ((o->metric = metric_from_name(v)) < 0) return usage_error("unknown metric '%s'", v);
-            } else if (!strcmp(a, "--crop")) {
-                if (parse_crop(v, &o->crop)) return usage_error("--crop '%s' is not x,y,w,h", v);
-                o->has_crop = 1;
-            } else if (parse_positive(v, &o->flip.ppd)) {
-                return usage_error("--ppd '%s' is not a positive number", v);
-            }
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return usage_error("unknown option '%s'", a);
-        } else if (positional == 0) {
-            o->test_path = a;
-            positional++;
-        } else if (positional == 1) {
-            o->ref_path = a;
-            positional++;
-        } else {
-            return usage_error("unexpected argument '%s'", a);
         }
+        if (status) return 2;
     }
-    if (positional < 2) return usage_error("%s", "needs TEST.pfm and REF.pfm");
+    if (count < 2) return usage_error("%s", "needs TEST.pfm and REF.pfm");
+    o->test_path = positional[0];
+    o->ref_path = positional[1];
+    if (metric && (o->metric = metric_from_name(metric)) < 0) return usage_error("unknown metric '%s'", metric);
+    if (crop) {
+        if (parse_crop(crop, &o->crop)) return usage_error("--crop '%s' is not x,y,w,h", crop);
+        o->has_crop = 1;
+    }
+    if (!(o->flip.ppd > 0)) return usage_error("%s", "--ppd: expected a positive number");
     if (o->map_path && o->metric == METRIC_REL_BIAS)
         return usage_error("%s", "rel_bias is one number per image: it has no error map");
     return 0;
@@ -173,25 +153,6 @@ static void print_table(const compare_options *o, const image *ref, const compar
 
 /* ---- JSON ---- */
 
-static void json_string(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; ++s) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
-        else if (c < 0x20) fprintf(f, "\\u%04x", c);
-        else fputc(c, f);
-    }
-    fputc('"', f);
-}
-
-/* JSON has no inf/NaN: those are written as null. */
-static void json_number(FILE *f, double v)
-{
-    if (isfinite(v)) fprintf(f, "%.17g", v);
-    else fputs("null", f);
-}
-
 static int write_json(const compare_options *o, const image *ref, const compare_results *res, rerror *e)
 {
     atomic_file af;
@@ -200,23 +161,23 @@ static int write_json(const compare_options *o, const image *ref, const compare_
     if (atomic_file_open(&af, o->json_path, e)) return -1;
     f = af.fp;
     fputs("{\n  \"test\": ", f);
-    json_string(f, o->test_path);
+    json_put_string(f, o->test_path);
     fputs(",\n  \"reference\": ", f);
-    json_string(f, o->ref_path);
+    json_put_string(f, o->ref_path);
     fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n", ref->width, ref->height);
     fprintf(f, "  \"crop\": [%d, %d, %d, %d],\n  \"pixels\": %ld,\n  \"eps\": ", o->crop.x, o->crop.y, o->crop.w,
             o->crop.h, res->m.pixels);
-    json_number(f, res->m.eps);
+    json_put_number(f, res->m.eps);
     fputs(",\n  \"metrics\": {\n", f);
     for (i = 0; i < METRIC_COUNT; ++i) {
         fprintf(f, "    \"%s\": ", metric_name(i));
-        json_number(f, res->m.value[i]);
+        json_put_number(f, res->m.value[i]);
         fputs(i + 1 < METRIC_COUNT ? ",\n" : "\n", f);
     }
     fprintf(f, "  },\n  \"flip\": {\"ppd\": %.17g, \"start_exposure\": ", o->flip.ppd);
-    json_number(f, res->flip_start);
+    json_put_number(f, res->flip_start);
     fputs(", \"stop_exposure\": ", f);
-    json_number(f, res->flip_stop);
+    json_put_number(f, res->flip_stop);
     fprintf(f, ", \"exposures\": %d}\n}\n", res->flip_count);
     return atomic_file_commit(&af, e);
 }

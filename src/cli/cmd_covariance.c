@@ -10,23 +10,18 @@
 #include "restir/image.h"
 #include "restir/json_text.h"
 #include "restir/output_set.h"
+#include "args.h"
 
-static const char usage[] =
-    "usage: restir compare --covariance RUN.pfm... [options]\n"
-    "  K >= 2 independent renders of the same image (Mutations Eq. 21: covariance of each\n"
-    "  pixel with the pixels of the box of radius R around it, averaged over the box, then\n"
-    "  over the image; on luminance)\n"
-    "options:\n"
-    "  --radius R         box radius (default 8, as in Mutations Table 1)\n"
-    "  --exclude-center   leave the pixel itself (its variance) out of each box\n"
-    "  --curve OUT.csv    the value for every radius 0..R (CSV radius,covariance; plot with restir plot)\n"
-    "  --map OUT.pfm      per-pixel box covariance at radius R\n"
-    "  --json OUT.json    machine-readable result\n";
+/* What the option table cannot say (printed after it by --help). */
+static const char help_notes[] =
+    "\nK >= 2 independent renders of the same image (Mutations Eq. 21: covariance of each\n"
+    "pixel with the pixels of the box of radius R around it, averaged over the box, then\n"
+    "over the image; on luminance).\n";
 
 typedef struct {
     const char **files;
     int file_count;
-    int radius, exclude_center;
+    int radius, exclude_center, covariance;
     const char *curve, *map, *json;
 } covariance_args;
 
@@ -38,46 +33,30 @@ static int usage_error(const char *what, const char *arg)
 
 static int parse_args(int argc, char **argv, covariance_args *a, int *done)
 {
-    int i;
+    int status;
     *done = 0;
     memset(a, 0, sizeof *a);
     a->radius = 8;
     a->files = calloc((size_t)argc, sizeof *a->files);
     if (!a->files) return usage_error("out of memory", "");
-    for (i = 1; i < argc; ++i) {
-        const char *opt = argv[i];
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
-            fputs(usage, stdout);
+    {
+        const cli_option options[] = {
+            {"--covariance", OPT_FLAG, &a->covariance, "this measurement (instead of compare's metrics)", NULL, 0, 0, NULL},
+            {"--radius", OPT_INT, &a->radius, "box radius R (default 8, as in Mutations Table 1)", NULL, 0, 4096, NULL},
+            {"--exclude-center", OPT_FLAG, &a->exclude_center, "leave the pixel itself (its variance) out of each box", NULL, 0, 0, NULL},
+            {"--curve", OPT_STRING, &a->curve, "OUT.csv: the value for every radius 0..R (CSV radius,covariance; plot with restir plot)", NULL, 0, 0, NULL},
+            {"--map", OPT_STRING, &a->map, "OUT.pfm: per-pixel box covariance at radius R", NULL, 0, 0, NULL},
+            {"--json", OPT_STRING, &a->json, "OUT.json: machine-readable result", NULL, 0, 0, NULL},
+            {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
+        };
+        status = cli_parse("compare --covariance", argc, argv, options, a->files, argc, &a->file_count);
+        if (status == 1) {
+            cli_print_help(stdout, "compare --covariance", "RUN.pfm... [options]", options);
+            fputs(help_notes, stdout);
             *done = 1;
             return 0;
-        } else if (!strcmp(opt, "--covariance")) {
-            continue;
-        } else if (!strcmp(opt, "--exclude-center")) {
-            a->exclude_center = 1;
-        } else if (!strcmp(opt, "--radius") || !strcmp(opt, "--curve") || !strcmp(opt, "--map") ||
-                   !strcmp(opt, "--json")) {
-            const char *val = i + 1 < argc ? argv[++i] : NULL;
-            if (!val) return usage_error("missing value after ", opt);
-            if (!strcmp(opt, "--radius")) {
-                char *end;
-                long r;
-                errno = 0;
-                r = strtol(val, &end, 10);
-                if (end == val || *end || errno || r < 0 || r > 4096)
-                    return usage_error("--radius must be an integer in 0..4096, not ", val);
-                a->radius = (int)r;
-            } else if (!strcmp(opt, "--curve")) {
-                a->curve = val;
-            } else if (!strcmp(opt, "--map")) {
-                a->map = val;
-            } else {
-                a->json = val;
-            }
-        } else if (!strncmp(opt, "--", 2)) {
-            return usage_error("unknown option ", opt);
-        } else {
-            a->files[a->file_count++] = opt;
         }
+        if (status) return status;
     }
     if (a->file_count < 2) return usage_error("needs at least 2 images (independent renders)", "");
     if (a->exclude_center && a->radius < 1) return usage_error("--exclude-center needs --radius >= 1", "");

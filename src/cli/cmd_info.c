@@ -5,8 +5,6 @@
 #include "restir/animation.h"
 #include "scene_args.h"
 
-static const char *const material_type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric"};
-
 static void print_materials(const scene *s)
 {
     size_t i;

@@ -18,9 +18,10 @@ int cmd_inspect(int argc, char **argv)
 {
     restir_options o;
     scene_overrides overrides;
-    cli_option options[52];
+    cli_option options[64];
+    int given[64];
     const char *positional[1], *pixel = NULL, *neighbor = NULL;
-    int n, count, status, xy[2], nxy[2], json = 0, temporal = 0;
+    int n, count, status, xy[2], nxy[2], preset = 0, json = 0, temporal = 0;
     double load, prepare;
     scene s;
     rerror e;
@@ -43,15 +44,18 @@ int cmd_inspect(int argc, char **argv)
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
     }
+    options[n++] = render_restir_preset_row(&preset);
     n += render_restir_options(options + n, &o);
     n += scene_override_options(options + n, &overrides);
     memset(&options[n], 0, sizeof options[n]);
+    cli_track_given(options, given);
     status = cli_parse("inspect", argc, argv, options, positional, 1, &count);
     if (status == 1) {
         cli_print_help(stdout, "inspect", "SCENE --pixel x,y [options]", options);
         return 0;
     }
     if (status) return status;
+    render_restir_apply_preset(options, given, preset, &o);
     if (count != 1 || !parse_pixel(pixel, xy)) {
         fprintf(stderr, "restir inspect: expected SCENE and --pixel x,y (see restir inspect --help)\n");
         return 2;

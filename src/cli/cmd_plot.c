@@ -3,15 +3,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/plot.h"
+#include "args.h"
 
-static const char usage[] =
-    "usage: restir plot DATA.csv -o FIG.svg [options]\n"
-    "  DATA.csv: a header row, then rows 'x,y1,y2,...' (first column x, one column per\n"
-    "  series, empty cell = missing point)\n"
-    "options:\n"
-    "  --title T, --xlabel X, --ylabel Y   text (default x label: the first header)\n"
-    "  --loglog (default) | --linear | --logx | --logy   axis scales\n"
-    "  --width W --height H                size in pixels (default 640 x 440)\n";
+/* What the option table cannot say (printed after it by --help). */
+static const char help_notes[] =
+    "\nDATA.csv: a header row, then rows 'x,y1,y2,...' (first column x, one column per\n"
+    "series, empty cell = missing point). Axes: --loglog (default), --linear, --logx, --logy.\n";
 
 static int usage_error(const char *what, const char *arg)
 {
@@ -19,60 +16,59 @@ static int usage_error(const char *what, const char *arg)
     return 2;
 }
 
+/* --loglog | --linear | --logx | --logy: at most one. */
+static int apply_scales(const int given[4], plot_options *o)
+{
+    static const enum plot_scale x[4] = {PLOT_LOG, PLOT_LINEAR, PLOT_LOG, PLOT_LINEAR};
+    static const enum plot_scale y[4] = {PLOT_LOG, PLOT_LINEAR, PLOT_LINEAR, PLOT_LOG};
+    int i, chosen = -1;
+    for (i = 0; i < 4; ++i) {
+        if (!given[i]) continue;
+        if (chosen >= 0) return usage_error("give one of --loglog, --linear, --logx, --logy", "");
+        chosen = i;
+    }
+    if (chosen >= 0) {
+        o->x_scale = x[chosen];
+        o->y_scale = y[chosen];
+    }
+    return 0;
+}
+
 int cmd_plot(int argc, char **argv)
 {
     plot_options o;
     plot_table t;
     plot_series *series;
-    const char *input = NULL, *output = NULL;
+    const char *input = NULL, *output = NULL, *positional[1];
     rerror e;
     long skipped = 0;
-    int i, status;
+    int i, status, count, scale[4] = {0, 0, 0, 0};
     plot_options_default(&o);
-    for (i = 1; i < argc; ++i) {
-        const char *opt = argv[i];
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
-            fputs(usage, stdout);
+    {
+        const cli_option options[] = {
+            {"-o", OPT_STRING, &output, "FIG.svg: the output (written atomically)", NULL, 0, 0, NULL},
+            {"--output", OPT_STRING, &output, "the same as -o", NULL, 0, 0, NULL},
+            {"--title", OPT_STRING, &o.title, "title text", NULL, 0, 0, NULL},
+            {"--xlabel", OPT_STRING, &o.xlabel, "x axis label (default: the first header)", NULL, 0, 0, NULL},
+            {"--ylabel", OPT_STRING, &o.ylabel, "y axis label", NULL, 0, 0, NULL},
+            {"--loglog", OPT_FLAG, &scale[0], "log x, log y (default)", NULL, 0, 0, NULL},
+            {"--linear", OPT_FLAG, &scale[1], "linear x, linear y", NULL, 0, 0, NULL},
+            {"--logx", OPT_FLAG, &scale[2], "log x, linear y", NULL, 0, 0, NULL},
+            {"--logy", OPT_FLAG, &scale[3], "linear x, log y", NULL, 0, 0, NULL},
+            {"--width", OPT_INT, &o.width, "width in pixels (default 640)", NULL, 200, 20000, NULL},
+            {"--height", OPT_INT, &o.height, "height in pixels (default 440)", NULL, 200, 20000, NULL},
+            {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
+        };
+        status = cli_parse("plot", argc, argv, options, positional, 1, &count);
+        if (status == 1) {
+            cli_print_help(stdout, "plot", "DATA.csv -o FIG.svg [options]", options);
+            fputs(help_notes, stdout);
             return 0;
-        } else if (!strcmp(opt, "--loglog")) {
-            o.x_scale = o.y_scale = PLOT_LOG;
-        } else if (!strcmp(opt, "--linear")) {
-            o.x_scale = o.y_scale = PLOT_LINEAR;
-        } else if (!strcmp(opt, "--logx")) {
-            o.x_scale = PLOT_LOG;
-            o.y_scale = PLOT_LINEAR;
-        } else if (!strcmp(opt, "--logy")) {
-            o.x_scale = PLOT_LINEAR;
-            o.y_scale = PLOT_LOG;
-        } else if (!strcmp(opt, "-o") || !strcmp(opt, "--output") || !strcmp(opt, "--title") ||
-                   !strcmp(opt, "--xlabel") || !strcmp(opt, "--ylabel") || !strcmp(opt, "--width") ||
-                   !strcmp(opt, "--height")) {
-            const char *val = i + 1 < argc ? argv[++i] : NULL;
-            if (!val) return usage_error("missing value after ", opt);
-            if (!strcmp(opt, "--title"))
-                o.title = val;
-            else if (!strcmp(opt, "--xlabel"))
-                o.xlabel = val;
-            else if (!strcmp(opt, "--ylabel"))
-                o.ylabel = val;
-            else if (!strcmp(opt, "--width") || !strcmp(opt, "--height")) {
-                char *end;
-                long v = strtol(val, &end, 10);
-                if (end == val || *end || v < 200 || v > 20000) return usage_error("size must be 200..20000, not ", val);
-                if (opt[2] == 'w')
-                    o.width = (int)v;
-                else
-                    o.height = (int)v;
-            } else
-                output = val;
-        } else if (!strncmp(opt, "-", 1) && opt[1]) {
-            return usage_error("unknown option ", opt);
-        } else if (!input) {
-            input = opt;
-        } else {
-            return usage_error("more than one input file: ", opt);
         }
+        if (status) return status;
     }
+    if (apply_scales(scale, &o)) return 2;
+    if (count == 1) input = positional[0];
     if (!input || !output) return usage_error("needs DATA.csv and -o FIG.svg", "");
     if (plot_csv_read(input, &t, &e)) {
         fprintf(stderr, "%s\n", e.msg);

@@ -1,10 +1,13 @@
 /* Output file naming and writing for the render command. */
 #include "output.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/duplication.h"
+#include <sys/stat.h>
+#include <unistd.h>
 
 void default_output_path(char *buf, size_t size, const char *scene_path, const char *suffix)
 {
@@ -17,20 +20,68 @@ void default_output_path(char *buf, size_t size, const char *scene_path, const c
     snprintf(buf, size, "out/%.*s%s.pfm", (int)stem, base, suffix);
 }
 
-void preview_path(char *buf, size_t size, const char *pfm_path)
+void output_prefix(char *buf, size_t size, const char *pfm_path)
 {
     size_t n = strlen(pfm_path);
-    if (n > 4 && !strcmp(pfm_path + n - 4, ".pfm"))
-        snprintf(buf, size, "%.*s.png", (int)(n - 4), pfm_path);
-    else
-        snprintf(buf, size, "%s.png", pfm_path);
+    snprintf(buf, size, "%.*s", (int)(n > 4 && !strcmp(pfm_path + n - 4, ".pfm") ? n - 4 : n), pfm_path);
+}
+
+void preview_path(char *buf, size_t size, const char *pfm_path)
+{
+    char prefix[4096];
+    output_prefix(prefix, sizeof prefix, pfm_path);
+    snprintf(buf, size, "%s.png", prefix);
+}
+
+/* The directory part of path ("." when there is none). */
+static void directory_of(const char *path, char *dir, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, size, ".");
+    else if (slash == path) snprintf(dir, size, "/");
+    else snprintf(dir, size, "%.*s", (int)(slash - path), path);
+}
+
+int output_path_check(const char *path, rerror *e)
+{
+    char dir[4096], parent[4096];
+    struct stat st;
+    int missing;
+    if (!*path) return rerror_set(e, "empty output path");
+    if (strlen(path) >= sizeof dir - 32) return rerror_set(e, "%s: path too long", path);
+    if (path[strlen(path) - 1] == '/' || (stat(path, &st) == 0 && S_ISDIR(st.st_mode)))
+        return rerror_set(e, "%s: is a directory, not an output file", path);
+    directory_of(path, dir, sizeof dir);
+    if (stat(dir, &st) == 0) {
+        if (!S_ISDIR(st.st_mode)) return rerror_set(e, "%s: %s is not a directory", path, dir);
+        if (access(dir, W_OK | X_OK) != 0) return rerror_set(e, "%s: directory %s is not writable", path, dir);
+        return 0;
+    }
+    /* One missing level is created when the file is written (ensure_parent_dir), as for out/. */
+    missing = errno == ENOENT;
+    directory_of(dir, parent, sizeof parent);
+    if (missing && stat(parent, &st) == 0 && S_ISDIR(st.st_mode) && access(parent, W_OK | X_OK) == 0) return 0;
+    return rerror_set(e, "%s: directory %s does not exist", path, dir);
 }
 
 int write_outputs(const image *img, const char *pfm_path, const char *png_path, double exposure)
 {
+    return write_outputs_preview(img, img, pfm_path, png_path, exposure);
+}
+
+int write_outputs_preview(const image *img, const image *preview, const char *pfm_path, const char *png_path,
+                          double exposure)
+{
     rerror e;
-    if ((pfm_path && pfm_write(pfm_path, img, &e)) || (png_path && *png_path && png_write_preview(png_path, img, exposure, &e))) {
+    if (pfm_path && pfm_write(pfm_path, img, &e)) {
         fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    if (png_path && *png_path && png_write_preview(png_path, preview, exposure, &e)) {
+        /* exit 2 leaves nothing behind: not the PFM of this call either */
+        if (pfm_path) remove(pfm_path);
+        fprintf(stderr, "%s\n", e.msg);
+        if (pfm_path) fprintf(stderr, "%s: removed (its preview could not be written)\n", pfm_path);
         return 2;
     }
     return 0;

@@ -1,4 +1,4 @@
-/* `restir render --method pt`: options, signal handling, progressive output. */
+/* `restir render --method pt`: options, progressive output. */
 #include "render_pt.h"
 
 #include <signal.h>
@@ -6,81 +6,52 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/image.h"
+#include "stop.h"
 
-static const char *const ablate_choices[] = {"none", "light-pdf", "mis-sum", "mis-lobe", NULL};
+/* --ablate for the path tracer: "none" or one of pt_ablation_names (one bit each). */
+static const char *ablation_name(unsigned bits)
+{
+    int i;
+    for (i = 0; pt_ablation_names[i]; ++i)
+        if (bits & (1u << i)) return pt_ablation_names[i];
+    return "none";
+}
 
 int render_pt_set_ablation(render_pt_args *a, const char *name)
 {
-    int i;
-    for (i = 0; ablate_choices[i]; ++i) {
-        if (!strcmp(ablate_choices[i], name)) {
-            a->ablate = i;
-            return 0;
-        }
-    }
-    return -1;
+    unsigned bit = pt_ablation_from_name(name);
+    if (!bit && strcmp(name, "none")) return -1;
+    a->o.ablations = bit;
+    return 0;
 }
 
 void render_pt_args_default(render_pt_args *a)
 {
-    pt_options o;
-    pt_options_default(&o);
     memset(a, 0, sizeof *a);
-    a->spp = o.spp;
-    a->max_depth = o.max_depth;
-    a->min_depth = o.min_depth;
-    a->strategy = (int)o.strategy;
+    pt_options_default(&a->o);
 }
+
+/* OPT_CHOICE writes an int: the enum must be one. */
+typedef char pt_strategy_is_int_sized[sizeof(enum pt_strategy) == sizeof(int) ? 1 : -1];
 
 int render_pt_options(cli_option *rows, render_pt_args *a)
 {
+    pt_options *o = &a->o;
     const cli_option r[RENDER_PT_OPTION_ROWS] = {
-        {"--spp", OPT_UINT32, &a->spp, "pt: target samples per pixel (default 16; 0 with --time-limit: until time)", NULL, 0, 0, NULL},
-        {"--time-limit", OPT_REAL, &a->time_limit, "pt: render whole 1-spp passes until SECONDS have passed", NULL, 0, 1e9, NULL},
-        {"--max-depth", OPT_INT, &a->max_depth, "pt: maximum path length d in segments, 1..255 (default 10; 2 = direct light)", NULL, 1, PT_MAX_DEPTH_LIMIT, NULL},
-        {"--min-depth", OPT_INT, &a->min_depth, "pt: shortest path length counted (default 1; 3 = indirect light only, like restir --paths indirect)", NULL, 1, PT_MAX_DEPTH_LIMIT, NULL},
-        {"--pt-strategy", OPT_CHOICE, &a->strategy, "pt: MIS (GRIS Eq. 49), NEE only or BSDF sampling only", pt_strategy_names, 0, 0, NULL},
-        {"--ablate", OPT_CHOICE, &a->ablate, "pt: a deliberately broken estimator (docs/path-tracer.md)", ablate_choices, 0, 0, NULL},
-        {"--rr", OPT_FLAG, &a->rr, "pt: unbiased Russian roulette after the 3rd vertex (default off)", NULL, 0, 0, NULL},
-        {"--sample-offset", OPT_UINT32, &a->sample_offset, "pt: first sample index (disjoint ranges merge: restir merge)", NULL, 0, 0, NULL},
-        {"--checkpoint", OPT_STRING, &a->checkpoint, "pt: write the accumulation state here at the end and on SIGINT/SIGTERM", NULL, 0, 0, NULL},
-        {"--checkpoint-every", OPT_REAL, &a->checkpoint_every, "pt: also write the checkpoint every SECONDS", NULL, 0, 1e9, NULL},
-        {"--resume", OPT_STRING, &a->resume, "pt: continue this checkpoint up to --spp", NULL, 0, 0, NULL},
+        {"--spp", OPT_UINT32, &o->spp, "pt: target samples per pixel (default 16; 0 with --time-limit: until time)", NULL, 0, 0, NULL},
+        {"--time-limit", OPT_REAL, &o->time_limit, "pt: render whole 1-spp passes until SECONDS have passed", NULL, 0, 1e9, NULL},
+        {"--max-depth", OPT_INT, &o->max_depth, "pt: maximum path length d in segments, 1..255 (default 10; 2 = direct light)", NULL, 1, PT_MAX_DEPTH_LIMIT, NULL},
+        {"--min-depth", OPT_INT, &o->min_depth, "pt: shortest path length counted (default 1; 3 = indirect light only, like restir --paths indirect)", NULL, 1, PT_MAX_DEPTH_LIMIT, NULL},
+        {"--pt-strategy", OPT_CHOICE, (int *)&o->strategy, "pt: MIS (GRIS Eq. 49), NEE only or BSDF sampling only", pt_strategy_names, 0, 0, NULL},
+        {"--rr", OPT_FLAG, &o->russian_roulette, "pt: unbiased Russian roulette after the 3rd vertex (default off)", NULL, 0, 0, NULL},
+        {"--sample-offset", OPT_UINT32, &o->sample_offset, "pt: first sample index (disjoint ranges merge: restir merge)", NULL, 0, 0, NULL},
+        {"--checkpoint", OPT_STRING, &o->checkpoint_path, "pt: write the accumulation state here at the end and on SIGINT/SIGTERM", NULL, 0, 0, NULL},
+        {"--checkpoint-every", OPT_REAL, &o->checkpoint_interval, "pt: also write the checkpoint every SECONDS", NULL, 0, 1e9, NULL},
+        {"--resume", OPT_STRING, &o->resume_path, "pt: continue this checkpoint up to --spp", NULL, 0, 0, NULL},
         {"--progressive", OPT_INT, &a->progressive, "pt: rewrite the output PFM every N passes", NULL, 0, 1e9, NULL},
     };
     memcpy(rows, r, sizeof r);
     return RENDER_PT_OPTION_ROWS;
-}
-
-/* ---- stopping on SIGINT / SIGTERM ---- */
-
-static volatile sig_atomic_t stop_requested;
-
-static void on_stop_signal(int sig)
-{
-    (void)sig;
-    stop_requested = 1;
-}
-
-typedef struct {
-    struct sigaction old_int, old_term;
-} saved_handlers;
-
-static void install_stop_handlers(saved_handlers *saved)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_stop_signal;
-    sigemptyset(&sa.sa_mask);
-    stop_requested = 0;
-    sigaction(SIGINT, &sa, &saved->old_int);
-    sigaction(SIGTERM, &sa, &saved->old_term);
-}
-
-static void restore_handlers(const saved_handlers *saved)
-{
-    sigaction(SIGINT, &saved->old_int, NULL);
-    sigaction(SIGTERM, &saved->old_term, NULL);
 }
 
 /* ---- progressive output ---- */
@@ -103,39 +74,16 @@ static void write_progressive(void *ctx, const pt_state *st)
     image_free(&img);
 }
 
-static void options_from_args(const render_pt_args *a, uint32_t seed, int threads, int jitter, int frame, int quiet,
-                              pt_options *o)
+int render_pt_image(const render_pt_args *a, const scene *s, const char *progressive_pfm, image *img,
+                    pt_result *result)
 {
-    pt_options_default(o);
-    o->spp = a->spp;
-    o->time_limit = a->time_limit;
-    o->seed = seed;
-    o->sample_offset = a->sample_offset;
-    o->max_depth = a->max_depth;
-    o->min_depth = a->min_depth;
-    o->strategy = (enum pt_strategy)a->strategy;
-    o->russian_roulette = a->rr;
-    o->jitter = jitter;
-    o->ablations = a->ablate > 0 ? pt_ablation_from_name(ablate_choices[a->ablate]) : 0;
-    o->frame = frame;
-    o->threads = threads;
-    o->quiet = quiet;
-    o->checkpoint_path = a->checkpoint;
-    o->checkpoint_interval = a->checkpoint_every;
-    o->resume_path = a->resume;
-    o->stop_flag = &stop_requested;
-}
-
-int render_pt_image(const render_pt_args *a, const scene *s, uint32_t seed, int threads, int jitter, int frame,
-                    int quiet, const char *progressive_pfm, image *img, pt_result *result)
-{
-    pt_options o;
+    pt_options o = a->o;
     pt_result r;
     progressive_ctx progressive;
-    saved_handlers saved;
     rerror e;
     int status;
-    options_from_args(a, seed, threads, jitter, frame, quiet, &o);
+    const int quiet = o.quiet;
+    o.stop_flag = &stop_requested;
     progressive.path = progressive_pfm;
     progressive.failed = 0;
     if (a->progressive > 0 && progressive_pfm) {
@@ -143,9 +91,7 @@ int render_pt_image(const render_pt_args *a, const scene *s, uint32_t seed, int 
         o.on_passes = write_progressive;
         o.callback_ctx = &progressive;
     }
-    install_stop_handlers(&saved);
     status = pt_render(s, &o, &r, &e);
-    restore_handlers(&saved);
     if (status) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
@@ -154,7 +100,7 @@ int render_pt_image(const render_pt_args *a, const scene *s, uint32_t seed, int 
         fprintf(stderr, "pt: %u spp (samples %u..%llu) in %.2f s, %.0f paths/s%s\n", r.state.spp,
                 r.state.sample_offset, (unsigned long long)r.state.sample_offset + r.state.spp - 1, r.seconds,
                 r.seconds > 0 ? (double)r.paths / r.seconds : 0.0, r.stopped ? ", stopped by a signal" : "");
-        if (r.stopped && a->checkpoint) fprintf(stderr, "pt: resume with --resume %s\n", a->checkpoint);
+        if (r.stopped && o.checkpoint_path) fprintf(stderr, "pt: resume with --resume %s\n", o.checkpoint_path);
     }
     /* The NaN policy (docs/path-tracer.md): never silent, even with --quiet. */
     if (r.state.nonfinite)
@@ -177,7 +123,7 @@ void render_pt_stats_json(FILE *out, const render_pt_args *a, const pt_result *r
             "  \"pt\": {\"spp\": %u, \"sample_offset\": %u, \"max_depth\": %d, \"min_depth\": %d, \"strategy\": \"%s\", "
             "\"ablate\": \"%s\", \"russian_roulette\": %d, \"seconds\": %.6f, \"paths\": %llu, \"rays\": %llu, "
             "\"paths_per_second\": %.1f, \"nonfinite_samples\": %llu, \"stopped\": %d},\n",
-            r->state.spp, r->state.sample_offset, a->max_depth, a->min_depth, pt_strategy_names[a->strategy],
-            ablate_choices[a->ablate], a->rr, r->seconds, (unsigned long long)r->paths, (unsigned long long)r->rays,
+            r->state.spp, r->state.sample_offset, a->o.max_depth, a->o.min_depth, pt_strategy_names[a->o.strategy],
+            ablation_name(a->o.ablations), a->o.russian_roulette, r->seconds, (unsigned long long)r->paths, (unsigned long long)r->rays,
             r->seconds > 0 ? (double)r->paths / r->seconds : 0.0, (unsigned long long)r->state.nonfinite, r->stopped);
 }

@@ -5,23 +5,42 @@
 #include <string.h>
 
 static const char *const preset_names[] = {"none", "gris-offline", "gris-realtime", NULL};
-static int preset_dummy;
 
-int render_restir_apply_preset(int argc, char **argv, restir_options *o)
+cli_option render_restir_preset_row(int *preset)
 {
-    int i;
-    for (i = 1; i + 1 < argc; ++i) {
-        if (strcmp(argv[i], "--preset")) continue;
-        if (!strcmp(argv[i + 1], "gris-offline")) restir_options_preset_gris_offline(o);
-        else if (!strcmp(argv[i + 1], "gris-realtime")) restir_options_preset_gris_realtime(o);
-        else if (strcmp(argv[i + 1], "none")) {
-            fprintf(stderr, "restir render: --preset: unknown preset '%s' (none, gris-offline, gris-realtime)\n",
-                    argv[i + 1]);
-            return 2;
-        }
-    }
-    return 0;
+    cli_option r;
+    memset(&r, 0, sizeof r);
+    r.name = "--preset";
+    r.type = OPT_CHOICE;
+    r.dest = preset;
+    r.help = "gris-offline: 32 path trees, 3 spatial passes, 6 neighbours, radius 10 (GRIS 8.3); "
+             "gris-realtime: 1 path tree, temporal talbot cap 20, 1 spatial pass, 3 neighbours, radius 20, "
+             "pairwise-defensive (GRIS 8.3, use with --sequence); options given beside it override it";
+    r.choices = preset_names;
+    return r;
 }
+
+void render_restir_apply_preset(const cli_option *options, const int *given, int preset, restir_options *o)
+{
+    restir_options p;
+    if (preset <= 0) return;
+    restir_options_default(&p);
+    if (preset == 1) restir_options_preset_gris_offline(&p);
+    else restir_options_preset_gris_realtime(&p);
+    cli_take_unset(options, given, o, &p, sizeof *o);
+}
+
+/* OPT_CHOICE writes an int: every enum a row chooses must be one (C leaves an enum's
+ * size to the compiler; gcc and clang make these int-sized). */
+#define CHOICE_IS_INT(T, name) typedef char name[sizeof(T) == sizeof(int) ? 1 : -1]
+CHOICE_IS_INT(enum restir_shift, shift_is_int);
+CHOICE_IS_INT(enum neighbor_pattern, pattern_is_int);
+CHOICE_IS_INT(enum restir_pairing, pairing_is_int);
+CHOICE_IS_INT(mis_family, mis_is_int);
+CHOICE_IS_INT(enum restir_shading, shading_is_int);
+CHOICE_IS_INT(enum rc_mode, rc_mode_is_int);
+CHOICE_IS_INT(enum restir_paths, paths_is_int);
+CHOICE_IS_INT(enum restir_ablation, ablation_is_int);
 
 static cli_option row(const char *name, enum cli_option_type type, void *dest, const char *help,
                       const char *const *choices, double min, double max)
@@ -44,11 +63,6 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--shift", OPT_CHOICE, &o->shift,
                     "shift mapping: reconnection (y2 = x2), replay (random replay), hybrid (default; GRIS 7.4)",
                     restir_shift_names, 0, 0);
-    rows[n++] = row("--preset", OPT_CHOICE, &preset_dummy,
-                    "gris-offline: 32 path trees, 3 spatial passes, 6 neighbours, radius 10 (GRIS 8.3); "
-                    "gris-realtime: 1 path tree, temporal talbot cap 20, 1 spatial pass, 3 neighbours, radius 20, "
-                    "pairwise-defensive (GRIS 8.3, use with --sequence); other options override it",
-                    preset_names, 0, 0);
     rows[n++] = row("--spatial-passes", OPT_INT, &o->spatial_passes,
                     "K spatial reuse passes, 0..16 (0: initial resampling only; default 0)", NULL, 0,
                     RESTIR_MAX_SPATIAL_PASSES);

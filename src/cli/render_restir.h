@@ -14,9 +14,11 @@
  * not among them: the caller copies those into o->seed, o->jitter, o->threads, o->quiet. */
 int render_restir_options(cli_option *rows, restir_options *o);
 
-/* `--preset NAME` must act before every other option so that explicit options override it:
- * scans argv for it and applies the preset to *o (gris-offline: GRIS §8.3). Returns 0, or 2
- * after a message on stderr for an unknown preset. */
-int render_restir_apply_preset(int argc, char **argv, restir_options *o);
+/* The --preset row (destination: the index of the preset, 0 = none). */
+cli_option render_restir_preset_row(int *preset);
+/* Applies preset index `preset` (gris-offline, gris-realtime: GRIS §8.3) to every option of
+ * options[] (parsed; given[i] = 1 if options[i] was on the command line) whose destination
+ * lies in *o and that was not given: the options given beside --preset win, in any order. */
+void render_restir_apply_preset(const cli_option *options, const int *given, int preset, restir_options *o);
 
 #endif

@@ -4,17 +4,7 @@
 #include <string.h>
 #include "restir/rng.h"
 
-static const char *const aov_names[] = {"normal", "albedo", "depth", "object", "motion"};
-
-int aov_parse(const char *name)
-{
-    int i;
-    for (i = 0; i < 5; ++i)
-        if (!strcmp(name, aov_names[i])) return i;
-    return -1;
-}
-
-const char *aov_name(enum aov_kind kind) { return aov_names[kind]; }
+const char *const aov_names[] = {"normal", "albedo", "depth", "object", "motion", NULL};
 
 static rgb material_albedo(const material *m)
 {
@@ -67,4 +57,18 @@ void aov_render(const gbuffer *g, const scene *s, enum aov_kind kind, image *out
             p[2] = (float)c.b;
         }
     }
+}
+
+int aov_preview(const image *aov, enum aov_kind kind, image *out, rerror *e)
+{
+    size_t i, n = 3 * (size_t)aov->width * (size_t)aov->height;
+    float scale = 1, largest = 0;
+    if (image_alloc(out, aov->width, aov->height, e)) return -1;
+    if (kind == AOV_DEPTH) {
+        for (i = 0; i < n; ++i)
+            if (aov->px[i] > largest) largest = aov->px[i];
+        if (largest > 0) scale = 1 / largest;
+    }
+    for (i = 0; i < n; ++i) out->px[i] = aov->px[i] * scale;
+    return 0;
 }

@@ -126,7 +126,7 @@ int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_b
 }
 
 /* GRIS Eq. 49: omega_n = p_n / (p_1 + p_2) (balance heuristic, Veach 1997 Eq. 9.4). */
-real mis_balance(real p_this, real p_other)
+real path_mis_balance(real p_this, real p_other)
 {
     real sum = p_this + p_other;
     return sum > 0 ? p_this / sum : 0;
@@ -139,16 +139,16 @@ static real mis_power2(real p_this, real p_other)
     return a + b > 0 ? a / (a + b) : 0;
 }
 
-real mis_weight_nee(const path_context *c, real p_light, real p_bsdf)
+real path_mis_weight_nee(const path_context *c, real p_light, real p_bsdf)
 {
     switch (c->strategy) {
     case PT_STRATEGY_NEE: return 1;
     case PT_STRATEGY_BSDF: return 0;
-    default: return mis_balance(p_light, p_bsdf);
+    default: return path_mis_balance(p_light, p_bsdf);
     }
 }
 
-real mis_weight_bsdf_hit(const path_context *c, const bsdf_bounce *b, real p_light)
+real path_mis_weight_bsdf_hit(const path_context *c, const bsdf_bounce *b, real p_light)
 {
     real p_bsdf;
     /* NEE cannot produce a direction through a Dirac lobe: BSDF sampling is the only
@@ -161,5 +161,5 @@ real mis_weight_bsdf_hit(const path_context *c, const bsdf_bounce *b, real p_lig
     }
     p_bsdf = (c->ablations & PT_ABLATE_MIS_LOBE) ? b->pdf_lobe : b->pdf_all;
     if (c->ablations & PT_ABLATE_MIS_SUM) return mis_power2(p_bsdf, p_light);
-    return mis_balance(p_bsdf, p_light);
+    return path_mis_balance(p_bsdf, p_light);
 }

@@ -78,7 +78,7 @@ static rgb emitter_hit(const pass_job *j, const path_vertex *from, const path_ve
     if (rgb_is_black(le)) return le;
     if (!b->is_delta && j->ctx.strategy == PT_STRATEGY_MIS)
         p_light = path_light_pdf(&j->ctx, hit->hit.triangle, from->position, hit->position, hit->ng);
-    return rgb_scale(le, mis_weight_bsdf_hit(&j->ctx, b, p_light));
+    return rgb_scale(le, path_mis_weight_bsdf_hit(&j->ctx, b, p_light));
 }
 
 /* Russian roulette at x_i (RNG_RR, vertex i, slot 0): continue with probability
@@ -107,7 +107,7 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
     ++*rays;
     if (!scene_intersect(j->s, &r, &h)) return rgb_gray(0);
     path_vertex_make(&v, j->s, &h, v3_from_f(r.dir));
-    /* emission at x1 is added directly (DESIGN §3); it is the path of length 1 */
+    /* emission at x1 is added directly (docs/design.md, Conventions); it is the path of length 1 */
     L = o->min_depth <= 1 ? path_vertex_emitted(&j->ctx, &v) : rgb_gray(0);
     /* At x_i, both NEE and the BSDF bounce make paths of length i + 1 <= max_depth; those
      * shorter than min_depth are traced (the walk needs them) but not counted. */
@@ -118,7 +118,7 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
             nee_sample n;
             int lit = vertex_sample_light(&j->ctx, &v, key, (uint32_t)i, &n);
             *rays += (uint64_t)n.shadow_ray;
-            if (lit) L = rgb_add(L, rgb_mul(beta, rgb_scale(n.contribution, mis_weight_nee(&j->ctx, n.pdf_light, n.pdf_bsdf))));
+            if (lit) L = rgb_add(L, rgb_mul(beta, rgb_scale(n.contribution, path_mis_weight_nee(&j->ctx, n.pdf_light, n.pdf_bsdf))));
         }
         if (!vertex_sample_bsdf(&v, key, (uint32_t)i, &b)) break;
         beta = rgb_mul(beta, b.weight);

@@ -145,18 +145,20 @@ real mis_pair_neighbor(real c_n, real p_n_from_n, real c_c, real p_c_at_n)
     return pair_balance(c_n * p_n_from_n, c_c * p_c_at_n);
 }
 
-static const char *const family_names[MIS_FAMILY_COUNT] = {"constant", "talbot", "pairwise", "defensive"};
+/* The one name table of the MIS families (mis.h); the CLI's --mis reads it too. */
+const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", "stochastic-pairwise",
+                                        NULL};
 
 const char *mis_family_name(mis_family f)
 {
-    return (int)f >= 0 && (int)f < MIS_FAMILY_COUNT ? family_names[f] : "unknown";
+    return (int)f >= 0 && (int)f < MIS_FAMILY_COUNT ? restir_mis_names[f] : "unknown";
 }
 
 int mis_family_parse(const char *name, mis_family *f)
 {
     int i;
     for (i = 0; i < MIS_FAMILY_COUNT; ++i) {
-        if (strcmp(name, family_names[i]) == 0) {
+        if (strcmp(name, restir_mis_names[i]) == 0) {
             *f = (mis_family)i;
             return 0;
         }

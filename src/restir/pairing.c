@@ -41,6 +41,8 @@ static int tile_delta(int d, int w)
     return d;
 }
 
+/* Enhanced §3: an involution texture from pairing_shuffle_count(sigma) 2x2 shuffle passes
+ * (Enhanced Eq. 3), so its offsets have standard deviation sigma. */
 int reuse_texture_build(reuse_texture *t, int w, double sigma, uint32_t seed, uint32_t id, rerror *e)
 {
     size_t n = (size_t)w * (size_t)w, p;

@@ -55,7 +55,7 @@ enum shift_failure trunk_replay(path_trunk *t, const restir_context *c, const pa
 /* GRIS Eq. 49 for an NEE path: w_nee = p_light / (p_light + p_bsdf). */
 rgb nee_path_contribution(const path_context *c, rgb beta, const nee_sample *n)
 {
-    return rgb_mul(beta, rgb_scale(n->contribution, mis_weight_nee(c, n->pdf_light, n->pdf_bsdf)));
+    return rgb_mul(beta, rgb_scale(n->contribution, path_mis_weight_nee(c, n->pdf_light, n->pdf_bsdf)));
 }
 
 /* GRIS Eq. 49 for a BSDF path: w_bsdf = p_bsdf / (p_bsdf + p_light), with the all-lobe
@@ -68,7 +68,7 @@ rgb emitter_path_contribution(const path_context *c, rgb beta_hit, const path_ve
     if (rgb_is_black(le)) return le;
     if (!b->is_delta && c->strategy == PT_STRATEGY_MIS)
         *light_pdf = path_light_pdf(c, hit->hit.triangle, from->position, hit->position, hit->ng);
-    return rgb_mul(beta_hit, rgb_scale(le, mis_weight_bsdf_hit(c, b, *light_pdf)));
+    return rgb_mul(beta_hit, rgb_scale(le, path_mis_weight_bsdf_hit(c, b, *light_pdf)));
 }
 
 enum shift_failure trunk_finish(path_trunk *t, const restir_context *c, const path_sample *s, path_end *end)

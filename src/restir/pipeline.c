@@ -347,7 +347,7 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
         return rerror_set(e, "--from-dump: not with --shading vector (it needs the last spatial pass's inputs, "
                              "which a restart does not compute)");
     progress_begin(&bar, "restir", j->o->quiet);
-    for (f = start; f <= q->last && !status; ++f) {
+    for (f = start; f <= q->last && !status && !(f > start && j->o->stop_flag && *j->o->stop_flag); ++f) {
         restir_stats st;
         image img;
         memset(&st, 0, sizeof st);

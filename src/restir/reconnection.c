@@ -28,7 +28,7 @@ static enum shift_failure lobe_bounce(const path_vertex *v, unsigned lobe, vec3 
 }
 
 /* The light pdf of the last vertex after the shift moved x_{d-1} to y_{d-1}: it depends
- * on y_{d-1}, so it is recomputed (notes pitfall 6). The light-pdf ablation keeps the base
+ * on y_{d-1}, so it is recomputed (pitfall 6, docs/restir-pt.md §11). The light-pdf ablation keeps the base
  * path's stale value instead, everywhere the offset path needs it (the NEE estimate's
  * 1/p_light and the NEE/BSDF MIS weight). The Jacobian keeps the true pdf: the ablation
  * models a stale cache, not a wrong reconnection. */
@@ -54,7 +54,7 @@ static enum shift_failure reconnect_nee_light(const restir_context *c, const pat
     if (rgb_is_black(f_cos)) return SHIFT_FAIL_BSDF_ZERO;
     if (rgb_is_black(le) || !(t->light_pdf > 0) || !(t->pdf_prev > 0)) return SHIFT_FAIL_ZERO;
     p_bsdf = path_vertex_pdf(prev, t->direction);
-    t->factor = rgb_scale(rgb_scale(rgb_mul(f_cos, le), 1 / t->light_pdf), mis_weight_nee(pc, t->light_pdf, p_bsdf));
+    t->factor = rgb_scale(rgb_scale(rgb_mul(f_cos, le), 1 / t->light_pdf), path_mis_weight_nee(pc, t->light_pdf, p_bsdf));
     return SHIFT_OK;
 }
 
@@ -71,11 +71,11 @@ static rgb emitter_from_prev(const restir_context *c, const path_vertex *prev, c
     b.pdf_all = path_vertex_pdf(prev, t->direction);
     t->light_pdf = last_light_pdf(c, x, path_light_pdf(pc, x->rc_triangle, prev->position, xk->position, xk->ng));
     t->radiance = le;
-    return rgb_scale(le, mis_weight_bsdf_hit(pc, &b, t->light_pdf));
+    return rgb_scale(le, path_mis_weight_bsdf_hit(pc, &b, t->light_pdf));
 }
 
 /* The part of the path from x_k on, seen from the new incoming direction -w'_{k-1}:
- * the BSDF at x_k is re-evaluated (notes pitfall 5), and when x_k = x_{d-1} so is the
+ * the BSDF at x_k is re-evaluated (pitfall 5, docs/restir-pt.md §11), and when x_k = x_{d-1} so is the
  * final MIS weight (x_{d-1} stays, so its light pdf is still the stored one). */
 static enum shift_failure suffix_at_xk(const restir_context *c, const path_vertex *xk, const path_sample *x,
                                        rc_terms *t, rgb *suffix)
@@ -95,7 +95,7 @@ static enum shift_failure suffix_at_xk(const restir_context *c, const path_verte
         if (rgb_is_black(f_cos)) return SHIFT_FAIL_BSDF_ZERO;
         p_bsdf = path_vertex_pdf(xk, x->rc_wo);
         *suffix = rgb_scale(rgb_scale(rgb_mul(f_cos, x->rc_radiance), 1 / x->light_pdf),
-                            mis_weight_nee(pc, x->light_pdf, p_bsdf));
+                            path_mis_weight_nee(pc, x->light_pdf, p_bsdf));
     } else {
         rgb w;
         enum shift_failure why = lobe_bounce(xk, lobe, x->rc_wo, &w, &t->pdf_k);
@@ -105,7 +105,7 @@ static enum shift_failure suffix_at_xk(const restir_context *c, const path_verte
             memset(&b, 0, sizeof b);
             b.pdf_lobe = t->pdf_k;
             b.pdf_all = path_vertex_pdf(xk, x->rc_wo);
-            *suffix = rgb_mul(w, rgb_scale(x->rc_radiance, mis_weight_bsdf_hit(pc, &b, x->light_pdf)));
+            *suffix = rgb_mul(w, rgb_scale(x->rc_radiance, path_mis_weight_bsdf_hit(pc, &b, x->light_pdf)));
         } else {
             *suffix = rgb_mul(w, x->rc_radiance);
         }
@@ -177,7 +177,7 @@ enum shift_failure rc_evaluate(const restir_context *c, const path_vertex *prev,
     if (why != SHIFT_OK) return why;
     if (rgb_is_black(t->factor)) return SHIFT_FAIL_ZERO;
     if (!rgb_finite(t->factor) || !isfinite(t->pdf_prev * t->geom * t->pdf_k)) return SHIFT_FAIL_NONFINITE;
-    /* Visibility of every reconnection segment, forward and inverse alike (DESIGN §3). */
+    /* Visibility of every reconnection segment, forward and inverse alike (docs/design.md, Conventions). */
     if (!scene_visible(c->path.scene, prev->hit.position, prev->hit.ng, x->rc_position, &x->rc_normal))
         return SHIFT_FAIL_OCCLUDED;
     return SHIFT_OK;
@@ -201,9 +201,9 @@ static rgb final_vertex_factor(const restir_context *c, const path_trunk *t, con
     const path_context *pc = &c->path;
     int d = s->length;
     if (s->technique == PATH_TECH_NEE)
-        return rgb_scale(end->nee.contribution, mis_weight_nee(pc, end->nee.pdf_light, end->nee.pdf_bsdf));
+        return rgb_scale(end->nee.contribution, path_mis_weight_nee(pc, end->nee.pdf_light, end->nee.pdf_bsdf));
     return rgb_mul(t->b[d - 1].weight,
-                   rgb_scale(path_vertex_emitted(pc, &t->v[d]), mis_weight_bsdf_hit(pc, &t->b[d - 1], end->light_pdf)));
+                   rgb_scale(path_vertex_emitted(pc, &t->v[d]), path_mis_weight_bsdf_hit(pc, &t->b[d - 1], end->light_pdf)));
 }
 
 /* L_k for k <= d-2 (path_sample.h): the bounce weights at x_{k+1}..x_{d-2}, then the

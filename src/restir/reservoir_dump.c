@@ -1,6 +1,7 @@
 /* Reservoir dump files: byte-exact little-endian encoding (docs/formats.md). */
 #include "restir/reservoir_dump.h"
 #include "restir/atomic_file.h"
+#include "restir/le_bytes.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -11,99 +12,25 @@
 /* A corrupt header must not make us allocate gigabytes: at most 2^26 records. */
 #define RESERVOIR_DUMP_MAX_RECORDS ((uint64_t)1 << 26)
 
-/* ---- little-endian primitives over a moving cursor ---- */
-static void put_u8(unsigned char **p, unsigned v) { *(*p)++ = (unsigned char)(v & 0xffu); }
-
-static void put_u32(unsigned char **p, uint32_t v)
-{
-    int i;
-    for (i = 0; i < 4; ++i) put_u8(p, (unsigned)(v >> (8 * i)));
-}
-
-static void put_u64(unsigned char **p, uint64_t v)
-{
-    int i;
-    for (i = 0; i < 8; ++i) put_u8(p, (unsigned)(v >> (8 * i)));
-}
-
-static void put_f32(unsigned char **p, float f)
-{
-    uint32_t bits;
-    memcpy(&bits, &f, sizeof bits);
-    put_u32(p, bits);
-}
-
-/* `real` is always stored as binary64. */
-static void put_f64(unsigned char **p, real v)
-{
-    double d = (double)v;
-    uint64_t bits;
-    memcpy(&bits, &d, sizeof bits);
-    put_u64(p, bits);
-}
-
-static unsigned get_u8(const unsigned char **p) { return *(*p)++; }
-
-static uint32_t get_u32(const unsigned char **p)
-{
-    uint32_t v = 0;
-    int i;
-    for (i = 0; i < 4; ++i) v |= (uint32_t)get_u8(p) << (8 * i);
-    return v;
-}
-
-static uint64_t get_u64(const unsigned char **p)
-{
-    uint64_t v = 0;
-    int i;
-    for (i = 0; i < 8; ++i) v |= (uint64_t)get_u8(p) << (8 * i);
-    return v;
-}
-
-static float get_f32(const unsigned char **p)
-{
-    uint32_t bits = get_u32(p);
-    float f;
-    memcpy(&f, &bits, sizeof f);
-    return f;
-}
-
-static real get_f64(const unsigned char **p)
-{
-    uint64_t bits = get_u64(p);
-    double d;
-    memcpy(&d, &bits, sizeof d);
-    return (real)d;
-}
-
-static void put_vec3f(unsigned char **p, vec3f v) { put_f32(p, v.x); put_f32(p, v.y); put_f32(p, v.z); }
-static void put_vec3(unsigned char **p, vec3 v) { put_f64(p, v.x); put_f64(p, v.y); put_f64(p, v.z); }
-static void put_rgb(unsigned char **p, rgb c) { put_f64(p, c.r); put_f64(p, c.g); put_f64(p, c.b); }
-
-static vec3f get_vec3f(const unsigned char **p)
-{
-    vec3f v;
-    v.x = get_f32(p);
-    v.y = get_f32(p);
-    v.z = get_f32(p);
-    return v;
-}
+/* ---- the real-valued composites (le_bytes.h has the primitives; real is stored as binary64) ---- */
+static void put_vec3(unsigned char **p, vec3 v) { le_put_f64(p, (double)v.x); le_put_f64(p, (double)v.y); le_put_f64(p, (double)v.z); }
+static void put_rgb(unsigned char **p, rgb c) { le_put_f64(p, (double)c.r); le_put_f64(p, (double)c.g); le_put_f64(p, (double)c.b); }
 
 static vec3 get_vec3(const unsigned char **p)
 {
     vec3 v;
-    v.x = get_f64(p);
-    v.y = get_f64(p);
-    v.z = get_f64(p);
+    v.x = (real)le_get_f64(p);
+    v.y = (real)le_get_f64(p);
+    v.z = (real)le_get_f64(p);
     return v;
 }
 
 static rgb get_rgb(const unsigned char **p)
 {
     rgb c;
-    c.r = get_f64(p);
-    c.g = get_f64(p);
-    c.b = get_f64(p);
+    c.r = (real)le_get_f64(p);
+    c.g = (real)le_get_f64(p);
+    c.b = (real)le_get_f64(p);
     return c;
 }
 
@@ -119,35 +46,35 @@ void reservoir_record_encode(const reservoir *r, uint32_t flags, unsigned char *
     const path_sample *s = &r->y;
     unsigned char *p = buf;
     int i;
-    put_f64(&p, r->wsum);
-    put_f64(&p, r->W);
-    put_f64(&p, r->confidence);
-    put_u32(&p, r->n_invalid);
-    put_u32(&p, 0);
-    put_u32(&p, s->seed);
-    put_u32(&p, s->pixel);
-    put_u32(&p, s->sample);
-    put_u8(&p, s->length);
-    put_u8(&p, s->technique);
-    put_u8(&p, s->rc_k);
-    put_u8(&p, s->n_pss);
-    for (i = 0; i < PATH_MAX_LENGTH; ++i) put_u8(&p, s->lobe[i]);
-    put_u32(&p, s->rc_triangle);
-    put_f32(&p, s->rc_bary[0]);
-    put_f32(&p, s->rc_bary[1]);
-    put_vec3f(&p, s->rc_position);
-    put_vec3f(&p, s->rc_normal);
-    put_u32(&p, s->rc_flags);
+    le_put_f64(&p, r->wsum);
+    le_put_f64(&p, r->W);
+    le_put_f64(&p, r->confidence);
+    le_put_u32(&p, r->n_invalid);
+    le_put_u32(&p, 0);
+    le_put_u32(&p, s->seed);
+    le_put_u32(&p, s->pixel);
+    le_put_u32(&p, s->sample);
+    le_put_u8(&p, s->length);
+    le_put_u8(&p, s->technique);
+    le_put_u8(&p, s->rc_k);
+    le_put_u8(&p, s->n_pss);
+    for (i = 0; i < PATH_MAX_LENGTH; ++i) le_put_u8(&p, s->lobe[i]);
+    le_put_u32(&p, s->rc_triangle);
+    le_put_f32(&p, s->rc_bary[0]);
+    le_put_f32(&p, s->rc_bary[1]);
+    le_put_vec3f(&p, s->rc_position);
+    le_put_vec3f(&p, s->rc_normal);
+    le_put_u32(&p, s->rc_flags);
     put_vec3(&p, s->rc_wo);
-    put_f64(&p, s->rc_pdf_prev);
-    put_f64(&p, s->rc_geom);
-    put_f64(&p, s->rc_pdf);
+    le_put_f64(&p, s->rc_pdf_prev);
+    le_put_f64(&p, s->rc_geom);
+    le_put_f64(&p, s->rc_pdf);
     put_rgb(&p, s->rc_radiance);
-    put_f64(&p, s->light_pdf);
+    le_put_f64(&p, s->light_pdf);
     put_rgb(&p, s->F);
-    put_f64(&p, s->target);
+    le_put_f64(&p, s->target);
     if (flags & RESERVOIR_DUMP_FLAG_PSS)
-        for (i = 0; i < PATH_MAX_PSS; ++i) put_f64(&p, s->pss[i]);
+        for (i = 0; i < PATH_MAX_PSS; ++i) le_put_f64(&p, s->pss[i]);
 }
 
 void reservoir_record_decode(const unsigned char *buf, uint32_t flags, reservoir *r)
@@ -156,39 +83,39 @@ void reservoir_record_decode(const unsigned char *buf, uint32_t flags, reservoir
     const unsigned char *p = buf;
     int i;
     path_sample_clear(s);
-    r->wsum = get_f64(&p);
-    r->W = get_f64(&p);
-    r->confidence = get_f64(&p);
-    r->n_invalid = get_u32(&p);
-    (void)get_u32(&p);
-    s->seed = get_u32(&p);
-    s->pixel = get_u32(&p);
-    s->sample = get_u32(&p);
-    s->length = (uint8_t)get_u8(&p);
-    s->technique = (uint8_t)get_u8(&p);
-    s->rc_k = (uint8_t)get_u8(&p);
-    s->n_pss = (uint8_t)get_u8(&p);
-    for (i = 0; i < PATH_MAX_LENGTH; ++i) s->lobe[i] = (uint8_t)get_u8(&p);
-    s->rc_triangle = get_u32(&p);
-    s->rc_bary[0] = get_f32(&p);
-    s->rc_bary[1] = get_f32(&p);
-    s->rc_position = get_vec3f(&p);
-    s->rc_normal = get_vec3f(&p);
+    r->wsum = (real)le_get_f64(&p);
+    r->W = (real)le_get_f64(&p);
+    r->confidence = (real)le_get_f64(&p);
+    r->n_invalid = le_get_u32(&p);
+    (void)le_get_u32(&p);
+    s->seed = le_get_u32(&p);
+    s->pixel = le_get_u32(&p);
+    s->sample = le_get_u32(&p);
+    s->length = (uint8_t)le_get_u8(&p);
+    s->technique = (uint8_t)le_get_u8(&p);
+    s->rc_k = (uint8_t)le_get_u8(&p);
+    s->n_pss = (uint8_t)le_get_u8(&p);
+    for (i = 0; i < PATH_MAX_LENGTH; ++i) s->lobe[i] = (uint8_t)le_get_u8(&p);
+    s->rc_triangle = le_get_u32(&p);
+    s->rc_bary[0] = le_get_f32(&p);
+    s->rc_bary[1] = le_get_f32(&p);
+    s->rc_position = le_get_vec3f(&p);
+    s->rc_normal = le_get_vec3f(&p);
     {
-        uint32_t flags_word = get_u32(&p);
+        uint32_t flags_word = le_get_u32(&p);
         /* Out-of-range words keep unknown bits, so path_sample_check rejects them. */
         s->rc_flags = (uint8_t)(flags_word > 0xFFu ? 0xFFu : flags_word);
     }
     s->rc_wo = get_vec3(&p);
-    s->rc_pdf_prev = get_f64(&p);
-    s->rc_geom = get_f64(&p);
-    s->rc_pdf = get_f64(&p);
+    s->rc_pdf_prev = (real)le_get_f64(&p);
+    s->rc_geom = (real)le_get_f64(&p);
+    s->rc_pdf = (real)le_get_f64(&p);
     s->rc_radiance = get_rgb(&p);
-    s->light_pdf = get_f64(&p);
+    s->light_pdf = (real)le_get_f64(&p);
     s->F = get_rgb(&p);
-    s->target = get_f64(&p);
+    s->target = (real)le_get_f64(&p);
     if (flags & RESERVOIR_DUMP_FLAG_PSS)
-        for (i = 0; i < PATH_MAX_PSS; ++i) s->pss[i] = get_f64(&p);
+        for (i = 0; i < PATH_MAX_PSS; ++i) s->pss[i] = (real)le_get_f64(&p);
 }
 
 /* ---- header ---- */
@@ -198,15 +125,15 @@ static void encode_header(const reservoir_dump_info *info, uint32_t flags, unsig
     size_t n = strlen(info->tag);
     memcpy(p, RESERVOIR_DUMP_MAGIC, 8);
     p += 8;
-    put_u32(&p, RESERVOIR_DUMP_VERSION);
-    put_u32(&p, RESERVOIR_DUMP_HEADER_SIZE);
-    put_u32(&p, (uint32_t)reservoir_record_size(flags));
-    put_u32(&p, flags);
-    put_u32(&p, info->width);
-    put_u32(&p, info->height);
-    put_u32(&p, info->frame);
-    put_u32(&p, (uint32_t)(8 * sizeof(real)));
-    put_u64(&p, (uint64_t)info->width * info->height);
+    le_put_u32(&p, RESERVOIR_DUMP_VERSION);
+    le_put_u32(&p, RESERVOIR_DUMP_HEADER_SIZE);
+    le_put_u32(&p, (uint32_t)reservoir_record_size(flags));
+    le_put_u32(&p, flags);
+    le_put_u32(&p, info->width);
+    le_put_u32(&p, info->height);
+    le_put_u32(&p, info->frame);
+    le_put_u32(&p, (uint32_t)(8 * sizeof(real)));
+    le_put_u64(&p, (uint64_t)info->width * info->height);
     memset(p, 0, RESERVOIR_DUMP_TAG_SIZE);
     memcpy(p, info->tag, n);
 }
@@ -220,15 +147,15 @@ static int decode_header(const char *path, const unsigned char *buf, reservoir_d
     int i;
     if (memcmp(buf, RESERVOIR_DUMP_MAGIC, 8) != 0)
         return rerror_at(e, path, 0, "not a reservoir dump (magic is not \"%s\")", RESERVOIR_DUMP_MAGIC);
-    version = get_u32(&p);
-    header_size = get_u32(&p);
-    record_size = get_u32(&p);
-    info->flags = get_u32(&p);
-    info->width = get_u32(&p);
-    info->height = get_u32(&p);
-    info->frame = get_u32(&p);
-    info->real_bits = get_u32(&p);
-    *count = get_u64(&p);
+    version = le_get_u32(&p);
+    header_size = le_get_u32(&p);
+    record_size = le_get_u32(&p);
+    info->flags = le_get_u32(&p);
+    info->width = le_get_u32(&p);
+    info->height = le_get_u32(&p);
+    info->frame = le_get_u32(&p);
+    info->real_bits = le_get_u32(&p);
+    *count = le_get_u64(&p);
     if (version != RESERVOIR_DUMP_VERSION)
         return rerror_at(e, path, 0, "reservoir dump version %u is not supported (expected %u)", version,
                          RESERVOIR_DUMP_VERSION);

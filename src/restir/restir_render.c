@@ -16,7 +16,6 @@ const char *const restir_paths_names[] = {"all", "indirect", NULL};
 const char *const restir_pairing_names[] = {"disk", "paired", NULL};
 const char *const restir_motion_vector_names[] = {"single", "dual", NULL};
 const char *const restir_shading_names[] = {"scalar", "vector", NULL};
-const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", "stochastic-pairwise", NULL};
 
 void restir_options_default(restir_options *o)
 {
@@ -335,7 +334,7 @@ static void shade_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             path_vertex v;
             rgb L;
             if (!primary_vertex(j, p, &v)) continue;
-            /* Emission at x1 is added, never resampled (DESIGN §3); F(Y) W_Y is GRIS Eq. 3. */
+            /* Emission at x1 is added, never resampled (docs/design.md, Conventions); F(Y) W_Y is GRIS Eq. 3. */
             L = j->vector_shade && j->o->spatial_passes > 0 ? j->vector_shade[p] : reservoir_estimate(&j->final[p]);
             if (j->o->paths == RESTIR_PATHS_ALL) L = rgb_add(path_vertex_emitted(&j->ctx.path, &v), L);
             j->sum[3 * p + 0] += (double)L.r;
@@ -440,7 +439,8 @@ void restir_result_free(restir_result *r)
 }
 
 /* Frames f = first_frame, first_frame + 1, ...: `frames` of them, or (time_limit > 0)
- * until the time is up. Returns the number rendered, -1 on failure. */
+ * until the time is up; a set stop_flag ends it after the current frame (at least one).
+ * Returns the number rendered, -1 on failure. */
 static long render_frames(frame_job *j, restir_stats *times, double t0, rerror *e)
 {
     const restir_options *o = j->o;
@@ -452,7 +452,7 @@ static long render_frames(frame_job *j, restir_stats *times, double t0, rerror *
     progress_begin(&bar, "restir", o->quiet || o->time_limit > 0);
     for (f = 0;; ++f) {
         if (o->time_limit > 0 ? (f > 0 && now_seconds() - t0 >= o->time_limit) : f >= o->frames) break;
-        if ((uint64_t)f >= max_frames) break;
+        if ((uint64_t)f >= max_frames || (f > 0 && o->stop_flag && *o->stop_flag)) break;
         j->frame = (uint32_t)(o->first_frame + f);
         if (render_frame(j, &cam, times, e)) return -1;
         if (o->time_limit <= 0) progress_update(&bar, (int)f + 1, o->frames);

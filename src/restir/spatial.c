@@ -39,9 +39,9 @@ void spatial_workspace_free(spatial_workspace *w)
     memset(w, 0, sizeof *w);
 }
 
-/* One counted shift of x to the pixel of `to`; the jacobian ablation drops |dT/dx|
- * wherever it enters (weights and MIS), as in merge.c. Returns the shifted target times
- * the Jacobian factor the caller asks for (0 on failure). */
+/* One counted shift of x to the pixel of `to` into *y with |dT/dx| in *jacobian; the
+ * jacobian ablation drops |dT/dx| wherever it enters (weights and MIS). Returns the
+ * shift's outcome (SHIFT_OK or why it failed), counted in st. */
 enum shift_failure spatial_counted_shift(const restir_context *c, const path_vertex *to, const path_sample *x,
                                          path_sample *y, real *jacobian, spatial_stats *st)
 {

@@ -9,6 +9,7 @@
 #include "restir/atomic_file.h"
 #include "restir/checksum.h"
 #include "restir/json_text.h"
+#include "restir/le_bytes.h"
 #include "restir/restir.h"
 #include "frame_job.h"
 
@@ -443,98 +444,53 @@ fail:
 
 /* ---- G-buffer dump: little-endian, docs/formats.md "G-buffer dump" ---- */
 
-static void put32(unsigned char **p, uint32_t v)
-{
-    int i;
-    for (i = 0; i < 4; ++i) *(*p)++ = (unsigned char)(v >> (8 * i));
-}
-
-static void putf(unsigned char **p, float f)
-{
-    uint32_t b;
-    memcpy(&b, &f, 4);
-    put32(p, b);
-}
-
-static void putv(unsigned char **p, vec3f v)
-{
-    putf(p, v.x);
-    putf(p, v.y);
-    putf(p, v.z);
-}
-
-static uint32_t get32(const unsigned char **p)
-{
-    uint32_t v = 0;
-    int i;
-    for (i = 0; i < 4; ++i) v |= (uint32_t)(*(*p)++) << (8 * i);
-    return v;
-}
-
-static float getf(const unsigned char **p)
-{
-    uint32_t b = get32(p);
-    float f;
-    memcpy(&f, &b, 4);
-    return f;
-}
-
-static vec3f getv(const unsigned char **p)
-{
-    vec3f v;
-    v.x = getf(p);
-    v.y = getf(p);
-    v.z = getf(p);
-    return v;
-}
-
 static void encode_texel(const gbuffer_texel *t, unsigned char *buf)
 {
     unsigned char *p = buf;
-    put32(&p, (uint32_t)t->valid);
-    put32(&p, t->hit.triangle);
-    put32(&p, t->hit.material);
-    put32(&p, t->hit.object);
-    putf(&p, t->hit.b1);
-    putf(&p, t->hit.b2);
-    putf(&p, t->hit.t);
-    putv(&p, t->hit.position);
-    putv(&p, t->hit.ng);
-    putv(&p, t->hit.ns);
-    putv(&p, t->view_dir);
-    putf(&p, t->distance);
-    putf(&p, t->cos_theta);
-    putf(&p, t->depth);
-    putf(&p, t->pixel[0]);
-    putf(&p, t->pixel[1]);
-    putf(&p, t->motion[0]);
-    putf(&p, t->motion[1]);
-    put32(&p, (uint32_t)t->prev_valid);
+    le_put_u32(&p, (uint32_t)t->valid);
+    le_put_u32(&p, t->hit.triangle);
+    le_put_u32(&p, t->hit.material);
+    le_put_u32(&p, t->hit.object);
+    le_put_f32(&p, t->hit.b1);
+    le_put_f32(&p, t->hit.b2);
+    le_put_f32(&p, t->hit.t);
+    le_put_vec3f(&p, t->hit.position);
+    le_put_vec3f(&p, t->hit.ng);
+    le_put_vec3f(&p, t->hit.ns);
+    le_put_vec3f(&p, t->view_dir);
+    le_put_f32(&p, t->distance);
+    le_put_f32(&p, t->cos_theta);
+    le_put_f32(&p, t->depth);
+    le_put_f32(&p, t->pixel[0]);
+    le_put_f32(&p, t->pixel[1]);
+    le_put_f32(&p, t->motion[0]);
+    le_put_f32(&p, t->motion[1]);
+    le_put_u32(&p, (uint32_t)t->prev_valid);
 }
 
 static void decode_texel(const unsigned char *buf, gbuffer_texel *t)
 {
     const unsigned char *p = buf;
     memset(t, 0, sizeof *t);
-    t->valid = (int)get32(&p);
-    t->hit.triangle = get32(&p);
-    t->hit.material = get32(&p);
-    t->hit.object = get32(&p);
-    t->hit.b1 = getf(&p);
-    t->hit.b2 = getf(&p);
-    t->hit.t = getf(&p);
-    t->hit.position = getv(&p);
-    t->hit.ng = getv(&p);
-    t->hit.ns = getv(&p);
-    t->view_dir = getv(&p);
-    t->distance = getf(&p);
-    t->cos_theta = getf(&p);
-    t->depth = getf(&p);
-    t->pixel[0] = getf(&p);
-    t->pixel[1] = getf(&p);
-    t->motion[0] = getf(&p);
-    t->motion[1] = getf(&p);
-    t->prev_valid = (int)get32(&p);
+    t->valid = (int)le_get_u32(&p);
+    t->hit.triangle = le_get_u32(&p);
+    t->hit.material = le_get_u32(&p);
+    t->hit.object = le_get_u32(&p);
+    t->hit.b1 = le_get_f32(&p);
+    t->hit.b2 = le_get_f32(&p);
+    t->hit.t = le_get_f32(&p);
+    t->hit.position = le_get_vec3f(&p);
+    t->hit.ng = le_get_vec3f(&p);
+    t->hit.ns = le_get_vec3f(&p);
+    t->view_dir = le_get_vec3f(&p);
+    t->distance = le_get_f32(&p);
+    t->cos_theta = le_get_f32(&p);
+    t->depth = le_get_f32(&p);
+    t->pixel[0] = le_get_f32(&p);
+    t->pixel[1] = le_get_f32(&p);
+    t->motion[0] = le_get_f32(&p);
+    t->motion[1] = le_get_f32(&p);
+    t->prev_valid = (int)le_get_u32(&p);
 }
 
 int gbuffer_dump_write(const char *path, const gbuffer *g, uint32_t frame, rerror *e)
@@ -544,12 +500,12 @@ int gbuffer_dump_write(const char *path, const gbuffer *g, uint32_t frame, rerro
     atomic_file f;
     memcpy(p, GBUFFER_DUMP_MAGIC, 8);
     p += 8;
-    put32(&p, GBUFFER_DUMP_VERSION);
-    put32(&p, GBUFFER_DUMP_HEADER_SIZE);
-    put32(&p, GBUFFER_DUMP_RECORD_SIZE);
-    put32(&p, (uint32_t)g->width);
-    put32(&p, (uint32_t)g->height);
-    put32(&p, frame);
+    le_put_u32(&p, GBUFFER_DUMP_VERSION);
+    le_put_u32(&p, GBUFFER_DUMP_HEADER_SIZE);
+    le_put_u32(&p, GBUFFER_DUMP_RECORD_SIZE);
+    le_put_u32(&p, (uint32_t)g->width);
+    le_put_u32(&p, (uint32_t)g->height);
+    le_put_u32(&p, frame);
     if (atomic_file_open(&f, path, e)) return -1;
     if (fwrite(head, 1, sizeof head, f.fp) != sizeof head) goto failed;
     for (i = 0; i < n; ++i) {
@@ -575,12 +531,12 @@ int gbuffer_dump_read(const char *path, gbuffer *g, uint32_t *frame, rerror *e)
         fclose(fp);
         return rerror_at(e, path, 0, "not a G-buffer dump (magic is not \"%s\")", GBUFFER_DUMP_MAGIC);
     }
-    version = get32(&p);
-    hsize = get32(&p);
-    rsize = get32(&p);
-    w = get32(&p);
-    h = get32(&p);
-    *frame = get32(&p);
+    version = le_get_u32(&p);
+    hsize = le_get_u32(&p);
+    rsize = le_get_u32(&p);
+    w = le_get_u32(&p);
+    h = le_get_u32(&p);
+    *frame = le_get_u32(&p);
     if (version != GBUFFER_DUMP_VERSION || hsize != GBUFFER_DUMP_HEADER_SIZE || rsize != GBUFFER_DUMP_RECORD_SIZE ||
         w == 0 || h == 0 || w > 65536 || h > 65536) {
         fclose(fp);

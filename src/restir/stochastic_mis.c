@@ -20,7 +20,8 @@ static int invert_cdf(const real *P, int m, real u)
     return last;
 }
 
-/* Stochastic MIS §3.1: a multiset of Ñ picks with replacement, multiplicities K. */
+/* Stochastic MIS §3.1: a multiset of Ñ picks with replacement, multiplicities K: the
+ * K_S̄(i) and P(i) of Stochastic MIS Eq. 15. */
 int stochastic_pick(const real *P, int m, int n_picks, const real *u, int *K)
 {
     int k, distinct = 0;

@@ -49,7 +49,7 @@ void stochastic_workspace_free(stochastic_workspace *w)
 
 static int usable(const reservoir *r) { return path_sample_is_valid(&r->y) && r->W > 0; }
 
-/* Eq. 17 over the n = m - 1 non-canonical domains (index i - 1), or the ablation's
+/* Stochastic MIS Eq. 17 over the n = m - 1 non-canonical domains (index i - 1), or the ablation's
  * uniform choice among the non-zero samples. */
 static void selection(const stochastic_options *so, int n, const reservoir *const *in, stochastic_workspace *w)
 {
@@ -62,7 +62,7 @@ static void selection(const stochastic_options *so, int n, const reservoir *cons
     stochastic_selection_p(w->a, n, w->P);
 }
 
-/* m̃_c (Eqs. 18-19): Ñ_c uniform picks among the n non-canonical domains, one shift of
+/* m̃_c (Stochastic MIS Eqs. 18-19): Ñ_c uniform picks among the n non-canonical domains, one shift of
  * the canonical sample out into each distinct pick. */
 static real canonical_weight(const restir_context *c, const stochastic_options *so, int n,
                              const path_vertex *const *x1, const reservoir *const *in, const real *uc, real c_c,
@@ -113,7 +113,7 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
         if (reservoir_stream(out, &in[0]->y, gris_resampling_weight(m_c, in[0]->y.target, in[0]->W, 1), u[0]))
             chosen = 0;
     }
-    /* the Ñ picks (Eq. 16): only these are shifted in */
+    /* the Ñ picks (Stochastic MIS Eq. 16): only these are shifted in */
     if (n > 0) {
         selection(so, n, in, w);
         distinct = stochastic_pick(w->P, n, so->n_picks, up, w->K);
@@ -130,7 +130,7 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
                                        stochastic_pairwise_m(c_c, c_S, scale * r->confidence, q, y->target));
             w->jacobian[i] = jac;
             w->m_used[i] = mi;
-            /* Eq. 14 */
+            /* Stochastic MIS Eq. 14 */
             if (reservoir_stream(out, y, gris_resampling_weight(mi, y->target, r->W, jac), u[i + 1])) chosen = i + 1;
         }
     }

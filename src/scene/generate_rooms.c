@@ -684,8 +684,6 @@ int generate_corridor(scene *s, rerror *e)
 /* ------------------------------------------------------------------------------- */
 /* Scene file output                                                                  */
 
-static const char *const type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric"};
-
 static void write_pose(FILE *f, const char *head, const camera_pose *p)
 {
     fprintf(f, "%s eye %.10g %.10g %.10g target %.10g %.10g %.10g up %.10g %.10g %.10g fov %.10g\n", head,
@@ -738,7 +736,7 @@ static void write_scene_text(FILE *f, const scene *s, const char *mesh_name, con
         const material *m = &s->materials[i];
         fprintf(f,
                 "material %s type %s kd %.9g %.9g %.9g ks %.9g %.9g %.9g ke %.9g %.9g %.9g roughness %.9g ior %.9g\n",
-                m->name, type_names[m->type], (double)m->diffuse.r, (double)m->diffuse.g, (double)m->diffuse.b,
+                m->name, material_type_names[m->type], (double)m->diffuse.r, (double)m->diffuse.g, (double)m->diffuse.b,
                 (double)m->specular.r, (double)m->specular.g, (double)m->specular.b, (double)m->emission.r,
                 (double)m->emission.g, (double)m->emission.b, (double)m->roughness, (double)m->ior);
     }

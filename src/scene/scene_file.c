@@ -53,7 +53,7 @@ typedef struct {
     long camera_line, size_line, keyframe_line;
 } scene_parser;
 
-static const char *const type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric"};
+const char *const material_type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric", NULL};
 
 /* The next token; a token starting with '"' runs to the next '"' (no escapes). */
 static int next_word(scene_parser *p, char **rest, char **word, rerror *e)
@@ -247,9 +247,9 @@ static int read_material_key(scene_parser *p, material_line *m, const char *key,
         char *t = text_next_token(rest);
         int i;
         if (!t) return rerror_at(e, p->path, p->text.line, "material type: missing value");
-        for (i = 0; i < 5; ++i)
-            if (!strcmp(t, type_names[i])) break;
-        if (i == 5)
+        for (i = 0; i < MATERIAL_TYPE_COUNT; ++i)
+            if (!strcmp(t, material_type_names[i])) break;
+        if (i == MATERIAL_TYPE_COUNT)
             return rerror_at(e, p->path, p->text.line,
                              "material type: unknown '%.60s' (lambert, conductor, plastic, dielectric, rough-dielectric)",
                              t);

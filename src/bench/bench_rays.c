@@ -5,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 #include "restir/camera.h"
+#include "restir/json_text.h"
 #include "restir/rng.h"
 #include "restir/threads.h"
 #include "restir/warp.h"
@@ -221,21 +222,6 @@ static int time_build(const scene *s, double *seconds, rerror *e)
     return 0;
 }
 
-static void json_string(FILE *f, const char *text)
-{
-    fputc('"', f);
-    for (; *text; ++text) {
-        unsigned char c = (unsigned char)*text;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-    fputc('"', f);
-}
-
 int bench_rays(const scene *s, const bench_rays_options *o, FILE *json_out, rerror *e)
 {
     long pixels = (long)o->width * o->height;
@@ -263,7 +249,7 @@ int bench_rays(const scene *s, const bench_rays_options *o, FILE *json_out, rerr
     if (thread_counts[1] > 1) runs = 2;
 
     fprintf(json_out, "{\"scene\": ");
-    json_string(json_out, s->path);
+    json_put_string(json_out, s->path);
     fprintf(json_out,
             ", \"triangles\": %zu,\n \"bvh\": {\"nodes\": %zu, \"depth\": %d, \"sah_cost\": %.4f, "
             "\"leaf_triangles\": %zu, \"build_seconds\": %.4f},\n",

@@ -1,18 +1,9 @@
-/* Path-tracer benchmark: samples/s and rays/s as one JSON object (DESIGN §5b). */
+/* Path-tracer benchmark: samples/s and rays/s as one JSON object (restir/bench.h). */
+#include "restir/bench.h"
 #include "restir/pt.h"
 
 #include <string.h>
-
-/* Writes s as a JSON string body (quotes and backslashes escaped, controls dropped). */
-static void json_string(FILE *out, const char *s)
-{
-    fputc('"', out);
-    for (; *s; ++s) {
-        if (*s == '"' || *s == '\\') fputc('\\', out);
-        if ((unsigned char)*s >= 0x20) fputc(*s, out);
-    }
-    fputc('"', out);
-}
+#include "restir/json_text.h"
 
 int bench_pt(FILE *out, const scene *s, const char *name, uint32_t spp, int threads, rerror *e)
 {
@@ -26,7 +17,7 @@ int bench_pt(FILE *out, const scene *s, const char *name, uint32_t spp, int thre
     paths_per_s = r.seconds > 0 ? (double)r.paths / r.seconds : 0;
     rays_per_s = r.seconds > 0 ? (double)r.rays / r.seconds : 0;
     fprintf(out, "{\"bench\": \"pt\", \"scene\": ");
-    json_string(out, name ? name : s->path);
+    json_put_string(out, name ? name : s->path);
     fprintf(out,
             ", \"width\": %d, \"height\": %d, \"spp\": %u, \"threads\": %d, \"max_depth\": %d, "
             "\"strategy\": \"%s\", \"seconds\": %.6f, \"paths\": %llu, \"rays\": %llu, "
