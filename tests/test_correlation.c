@@ -345,7 +345,7 @@ TEST(correlation_cli_biased_labels_and_duplicates_aov)
           strstr(out, "--ref"));
     CHECK(test_cli(out, sizeof out, "render scenes/pillars.scene --size 16x16 --method aov --aov duplicates -o %s.pfm",
                    prefix) == 2);
-    CHECK(strstr(out, "--aov duplicates needs --method restir") != NULL);
+    CHECK(strstr(out, "--aov applies to --method restir, not --method aov") != NULL);
     CHECK(test_cli(out, sizeof out, "render scenes/pillars.scene --size 16x16 --method restir --aov age -o %s.pfm",
                    prefix) == 2);
     CHECK(test_cli(out, sizeof out,

@@ -79,6 +79,8 @@ real stochastic_confidence_scale(int n_picks, int m_noncanonical)
     return (real)n_picks / (real)m_noncanonical;
 }
 
+/* Stochastic MIS Eq. 18: the multiplicities K'(i) of the Ñ_c uniform picks (P_c = 1/M)
+ * of the canonical weight. */
 void stochastic_canonical_picks(int n, int n_picks, const real *uc, int *Kc)
 {
     int k;
@@ -89,7 +91,7 @@ void stochastic_canonical_picks(int n, int n_picks, const real *uc, int *Kc)
     }
 }
 
-/* Eq. 18: K'(i) / (Ñ_c P_c) b_i(Y_c) */
+/* Stochastic MIS Eq. 18: K'(i) / (Ñ_c P_c) b_i(Y_c) */
 real stochastic_canonical_term(int kc, int n_picks, int n, real c_c, real c_S, real c_i, real q_i, real p)
 {
     real Pc = (real)1 / (real)n;
