@@ -86,6 +86,13 @@ real mis_pair_canonical(real c_c, real p_c, real c_n, real p_n_from_c);
  *   p_n_from_n = p̂_n(x_n) / |dT/dx_n|, p_c_at_n = p̂_c(x_n'). A zero denominator gives 0. */
 real mis_pair_neighbor(real c_n, real p_n_from_n, real c_c, real p_c_at_n);
 
+/* c_n p_n / (c_a p_a + c_b p_b) for finite c, p >= 0 (the ratio inside every balance
+ * weight above), or -1 when the denominator is 0. When a product overflows (the float
+ * build: c = 1e30 with p̂ = 1e10) the confidences are divided by their largest and the
+ * targets by theirs first, which leaves the ratio unchanged; otherwise the plain
+ * expression is returned, bit for bit (docs/precision.md). */
+real mis_product_ratio(real c_n, real p_n, real c_a, real p_a, real c_b, real p_b);
+
 /* "constant", "talbot", "pairwise", "defensive". */
 const char *mis_family_name(mis_family f);
 /* Parses a name above; returns 0 on success, -1 if unknown. */
