@@ -118,6 +118,19 @@ static int render_aov_image(const render_args *a, const scene *s, image *img)
     return 0;
 }
 
+/* Guards that changed a ReSTIR estimate are never silent, even with --quiet (the path
+ * tracer's NaN policy; docs/precision.md). */
+static void restir_guard_warning(const restir_stats *st)
+{
+    uint64_t w = restir_stats_invalid_weights(st);
+    if (w)
+        fprintf(stderr, "restir: warning: %llu resampling weights were NaN, Inf or negative and were skipped "
+                        "(--stats \"guards\")\n", (unsigned long long)w);
+    if (st->nonfinite_pixels)
+        fprintf(stderr, "restir: warning: %llu pixel estimates are NaN or Inf (kept in the image)\n",
+                (unsigned long long)st->nonfinite_pixels);
+}
+
 /* ReSTIR PT (docs/restir-pt.md): the render command's seed, jitter and threads go in. */
 static int render_restir_image(const render_args *a, const scene *s, uint32_t seed, image *img, render_timings *t)
 {
@@ -136,6 +149,7 @@ static int render_restir_image(const render_args *a, const scene *s, uint32_t se
     r.mean.px = NULL;
     t->restir = r.stats;
     t->restir_seconds = r.seconds;
+    restir_guard_warning(&r.stats);
     restir_result_free(&r);
     return 0;
 }
@@ -267,6 +281,7 @@ static int render_sequence(const render_args *a, const scene *s, const char *out
         return 2;
     }
     t->restir_seconds = t->render = now_seconds() - t0;
+    restir_guard_warning(&t->restir);
     if (!a->quiet)
         fprintf(stderr, "wrote frames %s.%04d.pfm .. %s.%04d.pfm\n", k.prefix, a->seq.first, k.prefix, a->seq.last);
     return 0;

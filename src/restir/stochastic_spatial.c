@@ -2,6 +2,7 @@
  * docs/stochastic-mis.md). */
 #include "restir/stochastic_spatial.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -38,12 +39,15 @@ static int usable(const reservoir *r) { return path_sample_is_valid(&r->y) && r-
 
 /* Eq. 17 over the n = m - 1 non-canonical domains (index i - 1), or the ablation's
  * uniform choice among the non-zero samples. */
-static void selection(const stochastic_options *so, int n, const reservoir *const *in, stochastic_workspace *w)
+static void selection(const stochastic_options *so, int n, const reservoir *const *in, stochastic_workspace *w,
+                      spatial_stats *st)
 {
     int i;
     for (i = 0; i < n; ++i) {
         const reservoir *r = in[i + 1];
         real a = usable(r) ? r->confidence * r->y.target * r->W : 0; /* c_i p̂(X_i) W_i */
+        /* stochastic_selection_p gives a NaN/Inf (overflowing) a_i probability 0: counted */
+        if (!isfinite((double)a)) st->invalid_weights++;
         w->a[i] = so->naive_p ? (a > 0 ? 1 : 0) : a;
     }
     stochastic_selection_p(w->a, n, w->P);
@@ -99,7 +103,7 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
     }
     /* the Ñ picks (Eq. 16): only these are shifted in */
     if (n > 0) {
-        selection(so, n, in, w);
+        selection(so, n, in, w, st);
         distinct = stochastic_pick(w->P, n, so->n_picks, up, w->K);
         (void)distinct;
         for (i = 0; i < n; ++i) {
@@ -118,4 +122,5 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
     reservoir_add_confidence(out, c_c + c_S);
     if (chosen > 0) st->selected_neighbor++;
     reservoir_finalize(out); /* GRIS Eq. 22 */
+    st->invalid_weights += out->n_invalid;
 }
