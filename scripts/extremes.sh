@@ -3,7 +3,8 @@
 # (tests/test_extremes.c, the long form) in the double and the float build for SEEDS seeds,
 # with RESTIR_EXTREMES_TABLE collecting one row per case, method, build and seed, and
 # writes the table (markdown) to OUT_DIR/table.md; with UPDATE_DOCS=1 it also replaces the
-# part of docs/precision.md between the "extremes-table" markers.
+# part of docs/precision.md between the "extremes-table" markers. TABLE_ONLY=1 rebuilds the
+# table from OUT_DIR/rows.tsv without running anything.
 #   make extremes-table   (or: sh scripts/extremes.sh [OUT_DIR])
 # Columns: non-finite pixels + samples summed over all seeds; the relative bias
 # (mean - reference) / reference as the range over seeds; the largest |z| = |bias| / se
@@ -15,15 +16,21 @@ OUT=${1:-out/extremes}
 SEEDS=${SEEDS:-1 2 3 4 5}
 mkdir -p "$OUT"
 ROWS="$OUT/rows.tsv"
-: > "$ROWS"
-make -j2 build/tests/run build/restir >/dev/null
-make -j2 PRECISION=float build/float/tests/run build/float/restir >/dev/null
-for seed in $SEEDS; do
-    for b in build build/float; do
-        RESTIR_EXTREMES_TABLE="$ROWS" nice -n 10 "$b/tests/run" --long --seed "$seed" extremes_ >"$OUT/log-$(echo "$b" | tr / -)-$seed.txt" 2>&1 ||
-            { echo "extremes suite failed: $b seed $seed (see $OUT)" >&2; exit 1; }
+# TABLE_ONLY=1: only rebuild the table from an existing OUT_DIR/rows.tsv.
+if [ "${TABLE_ONLY:-0}" != 1 ]; then
+    : > "$ROWS"
+    make -j2 build/tests/run build/restir >/dev/null
+    make -j2 PRECISION=float build/float/tests/run build/float/restir >/dev/null
+    for seed in $SEEDS; do
+        for b in build build/float; do
+            RESTIR_EXTREMES_TABLE="$ROWS" nice -n 10 "$b/tests/run" --long --seed "$seed" extremes_ \
+                >"$OUT/log-$(echo "$b" | tr / -)-$seed.txt" 2>&1 ||
+                { echo "extremes suite failed: $b seed $seed (see $OUT)" >&2; exit 1; }
+        done
     done
-done
+else
+    SEEDS=$(cut -f4 "$ROWS" | sort -un | tr '\n' ' ')
+fi
 awk -F '\t' '
 function abs(x) { return x < 0 ? -x : x }
 {
