@@ -605,14 +605,15 @@ static void mis_scaled_case(int fam, int m, const real *c, const real *pt)
 
 TEST(extremes_mis_huge_confidences_and_targets)
 {
-    static const double cs[] = {1, 1e6, 1e20, 1e30};
-    static const double ps[] = {1e-30, 1e-10, 1, 1e10, 1e30};
+    /* the last entry, REAL_MAX / 10, overflows the products in either build */
+    const double cs[] = {1, 1e6, 1e20, 1e30, (double)REAL_MAX / 10};
+    const double ps[] = {1e-30, 1e-10, 1, 1e10, 1e30, (double)REAL_MAX / 10};
     size_t a, b, k;
     int fam, i;
     for (fam = 0; fam < MIS_FAMILY_COUNT; ++fam)
-        for (a = 0; a < 4; ++a)
-            for (b = 0; b < 4; ++b)
-                for (k = 0; k < 5; ++k) {
+        for (a = 0; a < 5; ++a)
+            for (b = 0; b < 5; ++b)
+                for (k = 0; k < 6; ++k) {
                     real c[3], pt[9];
                     c[0] = (real)cs[a];
                     c[1] = (real)cs[b];
