@@ -7,10 +7,12 @@
 # table from OUT_DIR/rows.tsv without running anything.
 #   make extremes-table   (or: sh scripts/extremes.sh [OUT_DIR])
 # Columns: non-finite pixels + samples summed over all seeds; the relative bias
-# (mean - reference) / reference as the range over seeds; the largest |z| = |bias| / se
-# over seeds (se from the runs of one seed); float - double: the relative difference of the
-# two builds' means at the same seed (the same addressed random numbers), the largest
-# |value| over seeds.
+# (mean - reference) / reference as the range over seeds; the largest |t| = |bias| / se
+# over seeds (se from the R runs of one seed: t has R - 1 degrees of freedom, so with R = 4
+# a |t| of 5.8 is a two-sided p of 0.01); the pooled z = sum of the seeds' biases over the
+# root of the sum of their se^2 (all seeds together); float - double: the relative
+# difference of the two builds' means at the same seed (the same addressed random numbers),
+# the largest |value| over seeds.
 set -eu
 OUT=${1:-out/extremes}
 SEEDS=${SEEDS:-1 2 3 4 5}
@@ -40,6 +42,9 @@ function abs(x) { return x < 0 ? -x : x }
     rel = ($5 - $7) / $7
     z = $6 > 0 ? abs($5 - $7) / $6 : 0
     nf[bk] += $8
+    runs[key] = $9
+    bsum[bk] += $5 - $7
+    vsum[bk] += $6 * $6
     if (!(bk in lo) || rel < lo[bk]) lo[bk] = rel
     if (!(bk in hi) || rel > hi[bk]) hi[bk] = rel
     if (!(bk in zmax) || z > zmax[bk]) zmax[bk] = z
@@ -47,8 +52,8 @@ function abs(x) { return x < 0 ? -x : x }
     seeds[key "\t" $4] = 1
 }
 END {
-    print "| case | method | NaN/Inf (double, float) | rel. bias, double (range over seeds) | max \\|z\\| | rel. bias, float | max \\|z\\| | float − double (max \\|rel.\\|, paired) |"
-    print "| --- | --- | --- | --- | --- | --- | --- | --- |"
+    print "| case | method | runs | NaN/Inf (double, float) | rel. bias, double (range over seeds) | max \\|t\\| | pooled z | rel. bias, float | max \\|t\\| | pooled z | float − double (max \\|rel.\\|, paired) |"
+    print "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
     for (i = 1; i <= n; ++i) {
         key = order[i]; split(key, kk, "\t")
         d = key "\tdouble"; f = key "\tfloat"
@@ -59,7 +64,9 @@ END {
             md = mean[d "\t" ss[3]]; mf = mean[f "\t" ss[3]]
             if (md != "" && mf != "" && md != 0 && abs((mf - md) / md) > fd) fd = abs((mf - md) / md)
         }
-        printf "| %s | %s | %d, %d | %.1e … %.1e | %.1f | %.1e … %.1e | %.1f | %.1e |\n", kk[1], kk[2], nf[d], nf[f], lo[d], hi[d], zmax[d], lo[f], hi[f], zmax[f], fd
+        zd = vsum[d] > 0 ? bsum[d] / sqrt(vsum[d]) : 0
+        zf = vsum[f] > 0 ? bsum[f] / sqrt(vsum[f]) : 0
+        printf "| %s | %s | %s | %d, %d | %.1e … %.1e | %.1f | %.1f | %.1e … %.1e | %.1f | %.1f | %.1e |\n", kk[1], kk[2], runs[key], nf[d], nf[f], lo[d], hi[d], zmax[d], zd, lo[f], hi[f], zmax[f], zf, fd
     }
 }' "$ROWS" > "$OUT/table.md"
 echo "seeds: $SEEDS" >> "$OUT/table.md"

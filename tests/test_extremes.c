@@ -142,8 +142,8 @@ static void table_row(const char *name, const char *method, const extreme_result
     const char *path = getenv("RESTIR_EXTREMES_TABLE");
     FILE *f;
     if (!path || !(f = fopen(path, "a"))) return;
-    fprintf(f, "%s\t%s\t%s\t%u\t%.9g\t%.3g\t%.9g\t%ld\n", name, method, sizeof(real) == 4 ? "float" : "double",
-            test_seed(), r->mean, r->se, r->ref, r->nonfinite);
+    fprintf(f, "%s\t%s\t%s\t%u\t%.9g\t%.3g\t%.9g\t%ld\t%d\n", name, method, sizeof(real) == 4 ? "float" : "double",
+            test_seed(), r->mean, r->se, r->ref, r->nonfinite, r->runs);
     fclose(f);
 }
 
