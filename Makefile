@@ -8,6 +8,7 @@
 #   make test-data       load every file of ../shared/data (real-world OBJ/MTL/PFM)
 #   make bench           benchmarks, machine-readable JSON on stdout
 #   make mutation-score  planted bugs of tests/mutants vs make test (slow; MUTANT_FLAGS=--long)
+#   make test-extremes   the extremes suite, double and float builds (docs/precision.md)
 # Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir
 #   DEBUG=1 checks the estimator's invariants after every GRIS step and aborts with
 #   file:line on a failure (include/restir/invariant.h; docs/statistics.md).
@@ -120,3 +121,13 @@ results-stochastic: $(BUILD)/restir
 
 results-correlation: $(BUILD)/restir
 	sh scripts/results_correlation.sh out/results-correlation $(BUILD)
+# The extremes suite (docs/precision.md): the long form in the double and the float build
+# (`make test` runs its short form). extremes-table regenerates docs/precision.md's table
+# (scripts/extremes.sh; SEEDS="1 2 3 4 5"; minutes).
+.PHONY: test-extremes extremes-table
+test-extremes:
+	$(MAKE) test-long T=extremes_
+	$(MAKE) PRECISION=float test-long T=extremes_
+
+extremes-table:
+	UPDATE_DOCS=1 sh scripts/extremes.sh out/extremes

@@ -244,7 +244,9 @@ TEST(pfm_rejects_malformed)
         {"PF\n1x 1\n-1.0\n", 12, "width"},
         {"PF\n99999999999999999999999 1\n-1.0\n", 12, "too large"},
         {"PF\n1048576 1048576\n-1.0\n", 12, "too large"},
-        {"PF\n1000000 1000\n-1.0\n", 12, "short"},
+        {"PF\n100000 100\n-1.0\n", 12, "short"},
+        {"PF\n8193 8192\n-1.0\n", 12, "too large"}, /* IMAGE_MAX_PIXELS = 8192 x 8192 */
+        {"PF\n1048576 1\n-1.0\n", 12, "short"},   /* a 1048576 x 1 strip is allowed */
         {"PF\n2 2\n-1.0\n", 47, "short"},
         {"Pf\n2 2\n-1.0\n", 15, "short"},
         {"PF\n1 1\n-1.0\n", 13, "after"},

@@ -6,6 +6,10 @@
 
 #include "restir/error.h"
 
+/* Largest image (8192 x 8192 = 2^26 pixels): image_alloc, the PFM reader, `--size` and
+ * the scene file's `size` refuse more before allocating (docs/formats.md "Limits"). */
+#define IMAGE_MAX_PIXELS ((long)1 << 26)
+
 typedef struct {
     int width, height;
     float *px; /* width*height*3 floats */
@@ -13,6 +17,8 @@ typedef struct {
 
 int image_alloc(image *img, int width, int height, rerror *e); /* zero-filled */
 void image_free(image *img);
+/* Pixels with a NaN or Inf channel (the NaN/Inf policy counts them; docs/precision.md). */
+unsigned long long image_nonfinite_pixels(const image *img);
 static inline float *image_pixel(const image *img, int x, int y)
 {
     return img->px + 3 * ((long)y * img->width + x);

@@ -39,6 +39,7 @@ typedef struct {
     uint64_t unshiftable;     /* selected samples flagged PATH_RC_FLAG_UNSHIFTABLE */
     uint64_t length[PATH_MAX_LENGTH + 1];   /* selected samples by length d */
     uint64_t rc_index[PATH_MAX_LENGTH + 1]; /* selected samples by reconnection index (0: none) */
+    uint64_t invalid_weights; /* candidate weights skipped as NaN, Inf or < 0 (reservoir n_invalid) */
 } initial_stats;
 
 /* Fills r with the initial reservoir of `pixel` in `frame`, whose primary hit is x1. */

@@ -105,6 +105,8 @@ typedef struct {
     neighbor_stats neighbors;  /* verdict of every proposed neighbour */
     temporal_stats temporal;   /* temporal steps (sequences only) */
     uint64_t frames;
+    uint64_t nonfinite_pixels; /* output pixels with a NaN/Inf channel (kept in the image; an
+                                  estimate beyond FLT_MAX becomes Inf in the float image) */
     int passes;                /* K */
     double ms_gbuffer, ms_initial, ms_shade;     /* summed over frames */
     double ms_temporal;                          /* temporal step incl. reprojection (sequences) */
@@ -149,6 +151,9 @@ void restir_stats_add(restir_stats *acc, const restir_stats *add);
 
 /* The statistics as a JSON object (no trailing newline), e.g. for `render --stats`:
  * candidates, selections by length and reconnection index, shifts by outcome. */
+/* Guards that changed the estimate (docs/precision.md): initial + spatial + temporal
+ * invalid_weights. --stats writes them with nonfinite_pixels as "guards". */
+uint64_t restir_stats_invalid_weights(const restir_stats *st);
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent);
 /* The effective configuration as a JSON object (no trailing newline). */
 void restir_options_write_json(FILE *out, const restir_options *o, const char *indent);

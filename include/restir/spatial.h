@@ -30,6 +30,10 @@ typedef struct {
     uint64_t mis_shifts; /* the MIS part of `shifts` */
     uint64_t outcome[SHIFT_FAILURE_COUNT]; /* every shift by result; outcome[SHIFT_OK] = successes */
     uint64_t selected_neighbor; /* steps whose output sample came from a neighbour */
+    uint64_t invalid_weights;   /* guards that changed the estimate (docs/precision.md): the
+                                   outputs' n_invalid (resampling weights skipped as NaN, Inf
+                                   or < 0; W = 0 for p̂(Y) = 0), NaN/Inf selection weights of
+                                   stochastic MIS, NaN/Inf vector-shading weights */
 } spatial_stats;
 
 /* Scratch space for steps with up to max_domains domains (one per worker). */

@@ -2,12 +2,15 @@
  * encoding checks, logical lines, tokens, and strict number parsing.
  *
  * Lines are cut in place inside one buffer that holds the whole file, so reading is
- * linear in the file size with no line-length limit. */
+ * linear in the file size. A physical line may hold at most TEXT_MAX_LINE bytes (the
+ * reader stops there, so a hostile 1 GB line never gets a 1 GB buffer). */
 #ifndef RESTIR_TEXT_H
 #define RESTIR_TEXT_H
 
 #include <stddef.h>
 #include "restir/error.h"
+
+#define TEXT_MAX_LINE (1 << 22) /* bytes per physical line (4 MiB) */
 
 typedef struct {
     char *data;        /* the whole file, NUL-terminated (UTF-16 input decoded to UTF-8) */

@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/image.h"
 
 static int parse_number(const char *text, double *out)
 {
@@ -36,7 +37,7 @@ static int parse_size(const char *text, int wh[2])
     w = strtol(text, &end, 10);
     if (end == text || (*end != 'x' && *end != 'X')) return 0;
     h = strtol(end + 1, &end, 10);
-    if (*end || w < 1 || h < 1 || w > 65536 || h > 65536) return 0;
+    if (*end || w < 1 || h < 1 || w > 65536 || h > 65536 || w * h > IMAGE_MAX_PIXELS) return 0;
     wh[0] = (int)w;
     wh[1] = (int)h;
     return 1;
@@ -108,7 +109,7 @@ static int set_value(const char *command, const cli_option *o, const char *value
         if (!parse_triple(value, (double *)o->dest)) return bad_value(command, o, value, "x,y,z");
         return 0;
     case OPT_SIZE:
-        if (!parse_size(value, (int *)o->dest)) return bad_value(command, o, value, "WxH (e.g. 512x512)");
+        if (!parse_size(value, (int *)o->dest)) return bad_value(command, o, value, "WxH (e.g. 512x512; W, H <= 65536, W*H <= 8192*8192)");
         return 0;
     case OPT_CHOICE:
         return set_choice(command, o, value);

@@ -147,7 +147,20 @@ static int duplicates_of(const restir_result *r, image *img)
     return 0;
 }
 
-/* ReSTIR PT (docs/restir-pt.md) with the run's seed. */
+/* Guards that changed a ReSTIR estimate are never silent, even with --quiet (the path
+ * tracer's NaN policy; docs/precision.md). */
+static void restir_guard_warning(const restir_stats *st)
+{
+    uint64_t w = restir_stats_invalid_weights(st);
+    if (w)
+        fprintf(stderr, "restir: warning: %llu resampling weights were NaN, Inf or negative and were skipped "
+                        "(--stats \"guards\")\n", (unsigned long long)w);
+    if (st->nonfinite_pixels)
+        fprintf(stderr, "restir: warning: %llu pixel estimates are NaN or Inf (kept in the image)\n",
+                (unsigned long long)st->nonfinite_pixels);
+}
+
+/* ReSTIR PT (docs/restir-pt.md): with the run's seed. */
 static int render_restir_image(const render_args *a, const scene *s, uint32_t seed, image *img, render_timings *t)
 {
     restir_options o = a->restir;
@@ -170,6 +183,7 @@ static int render_restir_image(const render_args *a, const scene *s, uint32_t se
     }
     t->restir = r.stats;
     t->restir_seconds = r.seconds;
+    restir_guard_warning(&r.stats);
     restir_result_free(&r);
     return 0;
 }
@@ -293,6 +307,7 @@ static int render_sequence(const render_args *a, const scene *s, const char *out
         return 2;
     }
     t->restir_seconds = t->render = now_seconds() - t0;
+    restir_guard_warning(&t->restir);
     if (!a->quiet && t->frame_count > 0)
         fprintf(stderr, "wrote frames %s.%04d.pfm .. %s.%04d.pfm\n", k.prefix, t->frame_numbers[0], k.prefix,
                 t->frame_numbers[t->frame_count - 1]);

@@ -20,7 +20,6 @@
 
 /* Larger dimensions are treated as a corrupt header rather than attempted. */
 #define PFM_MAX_DIMENSION (1 << 20)
-#define PFM_MAX_PIXELS ((size_t)1 << 30)
 #define PFM_MAX_TOKEN 64
 
 typedef struct {
@@ -182,8 +181,9 @@ int pfm_read(const char *path, image *out, int *channels, rerror *e)
     r.e = e;
     if (!r.fp) return rerror_at(e, path, 0, "cannot open: %s", strerror(errno));
     if (parse_header(&r, &width, &height, &nch, &little_endian)) goto fail;
-    if ((size_t)width * (size_t)height > PFM_MAX_PIXELS) {
-        rerror_at(e, path, r.line, "PFM header: %d x %d pixels is too large", width, height);
+    if ((long)width * (long)height > IMAGE_MAX_PIXELS) {
+        rerror_at(e, path, r.line, "PFM header: %d x %d pixels is too large (at most %ld)", width, height,
+                  IMAGE_MAX_PIXELS);
         goto fail;
     }
     /* Check the file really holds the data before allocating for it (a corrupt

@@ -124,6 +124,7 @@ void initial_sample_pixel(const restir_context *c, const initial_options *o, con
         st->rc_index[r->y.rc_k]++;
     }
     reservoir_finalize(r); /* W = sum w / p̂(Y), GRIS Eq. 22 */
+    st->invalid_weights += r->n_invalid;
 }
 
 void initial_stats_add(initial_stats *acc, const initial_stats *add)
@@ -135,6 +136,7 @@ void initial_stats_add(initial_stats *acc, const initial_stats *add)
     acc->selected += add->selected;
     acc->record_failed += add->record_failed;
     acc->record_mismatch += add->record_mismatch;
+    acc->invalid_weights += add->invalid_weights;
     acc->unshiftable += add->unshiftable;
     for (i = 0; i <= PATH_MAX_LENGTH; ++i) {
         acc->length[i] += add->length[i];

@@ -2,7 +2,21 @@
  * and the partition-of-unity proofs: docs/mis-derivations.md. */
 #include "restir/mis.h"
 
+#include <math.h>
 #include <string.h>
+
+static real max2(real a, real b) { return a > b ? a : b; }
+
+real mis_product_ratio(real c_n, real p_n, real c_a, real p_a, real c_b, real p_b)
+{
+    real den = c_a * p_a + c_b * p_b, c_max, p_max;
+    if (isfinite((double)den)) return den > 0 ? c_n * p_n / den : -1;
+    /* Overflow: rescale (c_n, p_n are among the a, b terms or no larger in our uses). */
+    c_max = max2(c_n, max2(c_a, c_b));
+    p_max = max2(p_n, max2(p_a, p_b));
+    den = (c_a / c_max) * (p_a / p_max) + (c_b / c_max) * (p_b / p_max);
+    return den > 0 ? (c_n / c_max) * (p_n / p_max) / den : -1;
+}
 
 /* Reads p̂_{<-i}(y_j), counting it as a shift evaluation when it is one: a non-canonical
  * domain i evaluated at a sample that did not come from i (include/restir/mis.h). */
@@ -46,6 +60,25 @@ real mis_constant(const mis_input *in, int i, int j, long *shifts)
     return total > 0 ? in->confidence[i] / total : canonical_share(in, i);
 }
 
+/* mis_talbot when a term c_k p̂_{<-k} or their sum overflows (float build, huge
+ * confidences or targets): every c_k divided by the largest c, every p̂ by the largest
+ * p̂ of column j, which leaves the weight unchanged (mis_product_ratio). */
+static real talbot_rescaled(const mis_input *in, int i, int j)
+{
+    real c_max = 0, p_max = 0, numerator = 0, denominator = 0;
+    int k;
+    for (k = 0; k < in->m; ++k) {
+        c_max = max2(c_max, in->confidence[k]);
+        p_max = max2(p_max, mis_ptarget(in, k, j));
+    }
+    for (k = 0; k < in->m; ++k) {
+        real term = (in->confidence[k] / c_max) * (mis_ptarget(in, k, j) / p_max);
+        denominator += term;
+        if (k == i) numerator = term;
+    }
+    return denominator > 0 ? numerator / denominator : canonical_share(in, i);
+}
+
 /* GRIS Eq. 36; Stochastic MIS Eq. 9: the balance heuristic over the "p̂ from k" of Eq. 35
  * (GRIS Eq. 5 is the special case of identity shifts and known source pdfs). */
 real mis_talbot(const mis_input *in, int i, int j, long *shifts)
@@ -57,12 +90,17 @@ real mis_talbot(const mis_input *in, int i, int j, long *shifts)
         denominator += term;
         if (k == i) numerator = term;
     }
+    if (!isfinite((double)denominator)) return talbot_rescaled(in, i, j);
     return denominator > 0 ? numerator / denominator : canonical_share(in, i);
 }
 
 /* The two-domain balance heuristic a / (a + b) inside one pair; an empty pair (a = b = 0)
  * belongs to the canonical side, so this returns 0 for it. */
-static real pair_balance(real a, real b) { return a + b > 0 ? a / (a + b) : 0; }
+static real pair_balance(real c_a, real p_a, real c_b, real p_b)
+{
+    real r = mis_product_ratio(c_a, p_a, c_a, p_a, c_b, p_b);
+    return r < 0 ? 0 : r;
+}
 
 /* The generalized pairwise family (docs/mis-derivations.md §3). Each non-canonical domain
  * k forms a pair with the canonical set and holds a share lambda_k of the unit weight;
@@ -81,12 +119,12 @@ static real mis_pairwise(const mis_input *in, int i, int j, int defensive, long 
     if (share_norm <= 0) return canonical_share(in, i); /* no non-canonical confidence */
     if (i >= R) {
         real q = read_ptarget(in, i, j, shifts);
-        return in->confidence[i] / share_norm * pair_balance(c_S * q, c_R * p);
+        return in->confidence[i] / share_norm * pair_balance(c_S, q, c_R, p);
     }
     canonical_total = defensive ? c_R / C : 0;
     for (k = R; k < in->m; ++k) {
         real q = read_ptarget(in, k, j, shifts);
-        canonical_total += in->confidence[k] / share_norm * (1 - pair_balance(c_S * q, c_R * p));
+        canonical_total += in->confidence[k] / share_norm * (1 - pair_balance(c_S, q, c_R, p));
     }
     return canonical_share(in, i) * canonical_total;
 }
@@ -135,14 +173,14 @@ long mis_shift_count(mis_family f, int m, int n_canonical)
 /* Mutations App. B Eq. 31 (canonical sample of a two-domain merge). */
 real mis_pair_canonical(real c_c, real p_c, real c_n, real p_n_from_c)
 {
-    real a = c_c * p_c, b = c_n * p_n_from_c;
-    return a + b > 0 ? a / (a + b) : 1;
+    real r = mis_product_ratio(c_c, p_c, c_c, p_c, c_n, p_n_from_c);
+    return r < 0 ? 1 : r;
 }
 
 /* Mutations App. B Eq. 32 (shifted neighbour sample of a two-domain merge). */
 real mis_pair_neighbor(real c_n, real p_n_from_n, real c_c, real p_c_at_n)
 {
-    return pair_balance(c_n * p_n_from_n, c_c * p_c_at_n);
+    return pair_balance(c_n, p_n_from_n, c_c, p_c_at_n);
 }
 
 /* The one name table of the MIS families (mis.h); the CLI's --mis reads it too. */

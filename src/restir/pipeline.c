@@ -357,10 +357,11 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
         stats_reset_workers(j);
         st.frames = 1;
         st.passes = j->o->spatial_passes;
-        restir_stats_add(total, &st);
         if (j->o->output_aov ? count_image(pl, j->o->output_aov == RESTIR_OUTPUT_AGE ? pl->prev_age : pl->dup, &img, e)
                              : frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e))
             return -1;
+        st.nonfinite_pixels = image_nonfinite_pixels(&img); /* kept, counted (docs/precision.md) */
+        restir_stats_add(total, &st);
         if (sink) status = sink(user, f, &img, &st, e);
         image_free(&img);
         if (!status && q->checkpoint && checkpoint_write(pl, q->checkpoint, f, e)) status = -1;

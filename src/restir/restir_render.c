@@ -257,7 +257,7 @@ static void stochastic_spatial_pixel(frame_job *j, worker_state *w, rng_key key,
  * expectation of the scalar estimate F(Y) W_Y over the selection among the same inputs
  * (w_i = m_i p̂(Y_i) W_i J_i selects Y_i with probability w_i / sum w, and W_Y =
  * sum w / p̂(Y)), so it is unbiased wherever the scalar estimate is. */
-static rgb vector_estimate(const spatial_workspace *ws, const reservoir *const *in, int m)
+static rgb vector_estimate(const spatial_workspace *ws, const reservoir *const *in, int m, spatial_stats *st)
 {
     rgb L = rgb_gray(0);
     int i;
@@ -265,6 +265,7 @@ static rgb vector_estimate(const spatial_workspace *ws, const reservoir *const *
         real weight;
         if (!ws->valid[i]) continue;
         weight = ws->mis[i] * in[i]->W * ws->jacobian[i];
+        if (!isfinite(weight)) st->invalid_weights++; /* skipped, like wrs_update skips it */
         if (weight > 0 && isfinite(weight)) L = rgb_add(L, rgb_scale(ws->shifted[i].F, weight));
     }
     return L;
@@ -312,7 +313,7 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
     }
     spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws, &w->st.spatial);
     if (j->vector_shade && j->pass == j->o->spatial_passes - 1)
-        j->vector_shade[p] = vector_estimate(&w->ws, w->in, n + 1);
+        j->vector_shade[p] = vector_estimate(&w->ws, w->in, n + 1, &w->st.spatial);
 }
 
 static void spatial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
@@ -413,6 +414,7 @@ void restir_stats_add(restir_stats *st, const restir_stats *w)
     st->neighbors.candidates += w->neighbors.candidates;
     for (i = 0; i < NEIGHBOR_VERDICT_COUNT; ++i) st->neighbors.verdict[i] += w->neighbors.verdict[i];
     st->frames += w->frames;
+    st->nonfinite_pixels += w->nonfinite_pixels;
     st->ms_gbuffer += w->ms_gbuffer;
     st->ms_initial += w->ms_initial;
     st->ms_temporal += w->ms_temporal;
@@ -470,6 +472,7 @@ static int run_frames(frame_job *j, restir_result *out, double t0, rerror *e)
     out->stats.frames = (uint64_t)frames;
     if (image_alloc(&out->mean, j->s->width, j->s->height, e)) return -1;
     for (i = 0; i < 3 * pixels; ++i) out->mean.px[i] = (float)(j->sum[i] / (double)frames); /* GRIS Eq. 47 */
+    out->stats.nonfinite_pixels = image_nonfinite_pixels(&out->mean); /* kept, counted (docs/precision.md) */
     if (o->keep_reservoirs) {
         out->reservoirs = rmalloc(pixels, sizeof *out->reservoirs, e);
         if (!out->reservoirs) return -1;
@@ -619,6 +622,11 @@ static void correlation_stats_write_json(FILE *out, const restir_stats *st, cons
             (double)c->duplicated / px, c->count_max, (unsigned long long)st->boiling_cleared, st->ms_correlation);
 }
 
+uint64_t restir_stats_invalid_weights(const restir_stats *st)
+{
+    return st->initial.invalid_weights + st->spatial.invalid_weights + st->temporal.step.invalid_weights;
+}
+
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent)
 {
     const initial_stats *in = &st->initial;
@@ -657,6 +665,8 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
     fprintf(out, "}},\n");
     temporal_stats_write_json(out, &st->temporal, indent);
     correlation_stats_write_json(out, st, indent);
+    fprintf(out, ",\n%s  \"guards\": {\"invalid_weights\": %llu, \"nonfinite_pixels\": %llu}", indent,
+            (unsigned long long)restir_stats_invalid_weights(st), (unsigned long long)st->nonfinite_pixels);
     fprintf(out, "\n%s}", indent);
 }
 

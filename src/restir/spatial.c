@@ -166,6 +166,7 @@ void gris_resample(const restir_context *c, const restir_context *away, const do
     }
     if (chosen > 0) st->selected_neighbor++;
     reservoir_finalize(out); /* GRIS Eq. 22 */
+    st->invalid_weights += out->n_invalid;
     if (RESTIR_DEBUG_ENABLED) {
         char why[512];
         if (spatial_check_step(c, mis, m, x1, in, out, w, why, sizeof why)) restir_invariant_failed(__FILE__, __LINE__, why);
@@ -256,5 +257,6 @@ void spatial_stats_add(spatial_stats *acc, const spatial_stats *add)
     acc->shifts += add->shifts;
     acc->mis_shifts += add->mis_shifts;
     acc->selected_neighbor += add->selected_neighbor;
+    acc->invalid_weights += add->invalid_weights;
     for (i = 0; i < SHIFT_FAILURE_COUNT; ++i) acc->outcome[i] += add->outcome[i];
 }

@@ -1,6 +1,7 @@
 /* Stochastic resampling MIS weights (include/restir/stochastic_mis.h;
  * docs/stochastic-mis.md has the derivations). */
 #include "restir/stochastic_mis.h"
+#include "restir/mis.h"
 
 #include <math.h>
 #include <string.h>
@@ -58,18 +59,18 @@ real stochastic_selection_p(const real *a, int m, real *P)
 /* Stochastic MIS Eq. 11a (Eq. 16 without the K / (Ñ P) factor). */
 real stochastic_pairwise_m(real c_c, real c_S, real c_i, real q_i, real p)
 {
-    real C = c_S + c_c, den = c_S * q_i + c_c * p;
-    if (!(C > 0) || !(den > 0)) return 0;
-    return c_S / C * (c_i * q_i / den);
+    real C = c_S + c_c, ratio = mis_product_ratio(c_i, q_i, c_S, q_i, c_c, p);
+    if (!(C > 0) || ratio < 0) return 0;
+    return c_S / C * ratio;
 }
 
 /* Stochastic MIS Eq. 19: the term of the canonical weight Eq. 11b that pair i holds. */
 real stochastic_pairwise_b(real c_c, real c_S, real c_i, real q_i, real p)
 {
-    real C = c_S + c_c, den = c_S * q_i + c_c * p;
+    real C = c_S + c_c, ratio = mis_product_ratio(c_c, p, c_S, q_i, c_c, p);
     if (!(C > 0)) return 0;
-    if (!(den > 0)) return c_i / C; /* empty pair: the canonical side (mis.c convention) */
-    return c_i / C * (c_c * p / den);
+    if (ratio < 0) return c_i / C; /* empty pair: the canonical side (mis.c convention) */
+    return c_i / C * ratio;
 }
 
 /* Stochastic MIS §4.3: c_i <- c_i Ñ / M for the non-canonical domains. */

@@ -4,6 +4,7 @@
 
 #include "restir/invariant.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -51,12 +52,15 @@ static int usable(const reservoir *r) { return path_sample_is_valid(&r->y) && r-
 
 /* Stochastic MIS Eq. 17 over the n = m - 1 non-canonical domains (index i - 1), or the ablation's
  * uniform choice among the non-zero samples. */
-static void selection(const stochastic_options *so, int n, const reservoir *const *in, stochastic_workspace *w)
+static void selection(const stochastic_options *so, int n, const reservoir *const *in, stochastic_workspace *w,
+                      spatial_stats *st)
 {
     int i;
     for (i = 0; i < n; ++i) {
         const reservoir *r = in[i + 1];
         real a = usable(r) ? r->confidence * r->y.target * r->W : 0; /* c_i p̂(X_i) W_i */
+        /* stochastic_selection_p gives a NaN/Inf (overflowing) a_i probability 0: counted */
+        if (!isfinite((double)a)) st->invalid_weights++;
         w->a[i] = so->naive_p ? (a > 0 ? 1 : 0) : a;
     }
     stochastic_selection_p(w->a, n, w->P);
@@ -115,7 +119,7 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
     }
     /* the Ñ picks (Stochastic MIS Eq. 16): only these are shifted in */
     if (n > 0) {
-        selection(so, n, in, w);
+        selection(so, n, in, w, st);
         distinct = stochastic_pick(w->P, n, so->n_picks, up, w->K);
         (void)distinct;
         for (i = 0; i < n; ++i) {
@@ -142,4 +146,5 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
         if (stochastic_check_step(c, so, m, x1, in, out, w, why, sizeof why))
             restir_invariant_failed(__FILE__, __LINE__, why);
     }
+    st->invalid_weights += out->n_invalid;
 }

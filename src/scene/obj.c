@@ -9,6 +9,8 @@
 #include "restir/text.h"
 #include "restir/triangulate.h"
 
+#define OBJ_MAX_FACE_CORNERS 16384
+
 typedef struct {
     scene_builder *b;
     text_reader text;
@@ -249,6 +251,9 @@ static int read_face(obj_parser *o, char *rest, rerror *e)
     char *tok;
     uint32_t material = 0, object = 0;
     while ((tok = text_next_token(&rest)) != NULL) {
+        /* Ear clipping is quadratic in n: a hostile n-gon of 10^5 corners takes 30 s. */
+        if (n == OBJ_MAX_FACE_CORNERS)
+            return rerror_at(e, o->path, o->text.line, "face with more than %d corners", OBJ_MAX_FACE_CORNERS);
         if (face_reserve(o, n + 1, e)) return at_line(o, e);
         if (read_face_vertex(o, tok, &o->face_position[n], &o->face_normal[n], e)) return -1;
         n++;

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/animation.h"
+#include "restir/image.h"
 #include "restir/scene_builder.h"
 #include "restir/text.h"
 
@@ -202,6 +203,8 @@ static int directive_size(scene_parser *p, char *rest, rerror *e)
     if (read_int(p, &rest, "size", 1, 65536, &w, e) || read_int(p, &rest, "size", 1, 65536, &h, e) ||
         no_more(p, rest, "size", e))
         return -1;
+    if (w * h > IMAGE_MAX_PIXELS)
+        return rerror_at(e, p->path, p->text.line, "size %ld x %ld: more than %ld pixels", w, h, IMAGE_MAX_PIXELS);
     p->b->s->width = (int)w;
     p->b->s->height = (int)h;
     p->size_line = p->text.line;

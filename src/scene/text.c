@@ -16,10 +16,29 @@ static long line_of_offset(const char *data, size_t offset)
     return line;
 }
 
+/* Bytes since the last '\n' byte, updated for the got bytes at buf + n (the line number
+ * too). A hostile file (one 1 GB line) is refused after TEXT_MAX_LINE bytes, before the
+ * buffer grows to its size; in UTF-16 files the '\n' byte is counted as in UTF-8. */
+static int track_line_length(const char *path, const char *buf, size_t n, size_t got, size_t *line_bytes, long *line,
+                             rerror *e)
+{
+    size_t i;
+    for (i = n; i < n + got; ++i) {
+        if (buf[i] == '\n') {
+            (*line)++;
+            *line_bytes = 0;
+        } else if (++*line_bytes > TEXT_MAX_LINE) {
+            return rerror_at(e, path, *line, "line longer than %d bytes (a corrupt or hostile file?)", TEXT_MAX_LINE);
+        }
+    }
+    return 0;
+}
+
 static int read_whole_file(const char *path, char **data, size_t *size, rerror *e)
 {
     FILE *f = fopen(path, "rb");
-    size_t cap = 1 << 16, n = 0, got;
+    size_t cap = 1 << 16, n = 0, got, line_bytes = 0;
+    long line = 1;
     char *buf;
     if (!f) return rerror_at(e, path, 0, "cannot open: %s", strerror(errno));
     buf = malloc(cap);
@@ -39,6 +58,11 @@ static int read_whole_file(const char *path, char **data, size_t *size, rerror *
             cap *= 2;
         }
         got = fread(buf + n, 1, cap - 1 - n, f);
+        if (track_line_length(path, buf, n, got, &line_bytes, &line, e)) {
+            free(buf);
+            fclose(f);
+            return -1;
+        }
         n += got;
         if (got == 0) break;
     }
