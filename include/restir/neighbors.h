@@ -21,7 +21,7 @@
  *   paired   neighbour k is i's partner in reuse texture k (pairing.h; Enhanced §3), placed
  *            with that frame and pass's flip/mirror/transpose/offset: j's partner is i, so
  *            the pairs are reciprocal (--pairing paired). The two-shift pair step of §3
- *            is not implemented: each pixel still runs its own GRIS step.
+ *            (pair_step.h) files each pair's shifts by k.
  *
  * Random numbers: key (seed, pixel i, sample, RNG_NEIGHBOR, vertex, slot) with
  * sample = neighbor_sample_index(frame, passes, pass): uniform neighbour k uses vertex k,
@@ -113,5 +113,10 @@ enum neighbor_verdict neighbor_geometry_test(const neighbor_options *o, const gb
  * every candidate. */
 int neighbor_select(const neighbor_options *o, const gbuffer *g, uint32_t seed, uint32_t sample, int x, int y,
                     uint32_t *out, int capacity, neighbor_stats *stats, rerror *e);
+/* The same, and slot[a] (if slot is not NULL) = the candidate index k that proposed the
+ * a-th accepted pixel (paired: the reuse texture; the pair step, pair_step.c, files its
+ * shifts by it). */
+int neighbor_select_slots(const neighbor_options *o, const gbuffer *g, uint32_t seed, uint32_t sample, int x, int y,
+                          uint32_t *out, int *slot, int capacity, neighbor_stats *stats, rerror *e);
 
 #endif

@@ -120,12 +120,17 @@ int render_restir_options(cli_option *rows, restir_options *o)
     rows[n++] = row("--ablate", OPT_CHOICE, &o->ablation,
                     "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf), temporal-target, "
                     "temporal-suffix, stochastic-p (stochastic-pairwise without the P(i) correction), footprint-base-only "
-                    "(footprint criterion not tested on the offset)",
+                    "(footprint criterion not tested on the offset), pair-mis (pair step: the canonical MIS ignores the "
+                    "pre-pass shift to the partner)",
                     restir_ablation_names, 0, 0);
     rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
                     "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",
                     restir_mis_names, 0, 0);
     rows[n++] = row("--russian-roulette", OPT_FLAG, &o->russian_roulette,
                     "Russian roulette in initial sampling (in the source pdf only)", NULL, 0, 0);
+    rows[n++] = row("--no-pair-step", OPT_FLAG, &o->no_pair_step,
+                    "--pairing paired: a full GRIS step per pixel (4 shifts per pair) instead of the Enhanced 3 pair "
+                    "step (2 shifts per pair, same output)",
+                    NULL, 0, 0);
     return n;
 }

@@ -135,6 +135,12 @@ static int seen_before(const uint32_t *proposed, int count, uint32_t pixel)
 int neighbor_select(const neighbor_options *o, const gbuffer *g, uint32_t seed, uint32_t sample, int x, int y,
                     uint32_t *out, int capacity, neighbor_stats *stats, rerror *e)
 {
+    return neighbor_select_slots(o, g, seed, sample, x, y, out, NULL, capacity, stats, e);
+}
+
+int neighbor_select_slots(const neighbor_options *o, const gbuffer *g, uint32_t seed, uint32_t sample, int x, int y,
+                          uint32_t *out, int *slot, int capacity, neighbor_stats *stats, rerror *e)
+{
     uint32_t centre = (uint32_t)y * (uint32_t)g->width + (uint32_t)x;
     uint32_t proposed[NEIGHBOR_MAX_COUNT]; /* in-image candidates so far (disk patterns) */
     int candidates = neighbor_candidate_count(o), proposed_count = 0, accepted = 0, k;
@@ -166,7 +172,10 @@ int neighbor_select(const neighbor_options *o, const gbuffer *g, uint32_t seed, 
             verdict = neighbor_geometry_test(o, ti, gbuffer_at(g, nx, ny));
         if (o->pattern != NEIGHBOR_BOX && (verdict == NEIGHBOR_ACCEPTED || verdict >= NEIGHBOR_NO_HIT))
             proposed[proposed_count++] = pixel;
-        if (verdict == NEIGHBOR_ACCEPTED) out[accepted++] = pixel;
+        if (verdict == NEIGHBOR_ACCEPTED) {
+            if (slot) slot[accepted] = k;
+            out[accepted++] = pixel;
+        }
         if (stats) stats->verdict[verdict]++;
     }
     if (stats) stats->candidates += (uint64_t)candidates;

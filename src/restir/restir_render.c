@@ -68,6 +68,12 @@ int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_te
     return 0;
 }
 
+int restir_pair_step_active(const restir_options *o)
+{
+    return o->pairing == RESTIR_PAIRING_PAIRED && !o->no_pair_step && o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE &&
+           !o->cells && o->spatial_passes > 0;
+}
+
 void restir_pairing_free(neighbor_options *no)
 {
     if (no->textures) reuse_textures_free((reuse_texture *)no->textures, no->count);
@@ -142,6 +148,9 @@ int restir_options_validate(const restir_options *o, rerror *e)
         return rerror_set(e, "restir: unknown --paths %d", o->paths);
     if (o->ablation < 0 || o->ablation >= RESTIR_ABLATION_COUNT)
         return rerror_set(e, "restir: unknown ablation %d", o->ablation);
+    if (o->ablation == RESTIR_ABLATE_PAIR_MIS && !restir_pair_step_active(o))
+        return rerror_set(e, "restir: --ablate pair-mis needs the pair step (--pairing paired, a deterministic --mis, "
+                             "no --reuse-cells, no --no-pair-step)");
     if (o->threads < 1) return rerror_set(e, "restir: %d threads", o->threads);
     if (o->temporal_mis < 0 || o->temporal_mis >= MIS_FAMILY_COUNT)
         return rerror_set(e, "restir: unknown temporal MIS family %d", o->temporal_mis);
@@ -272,8 +281,8 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
         int c = reuse_cell_search(&j->cells, &j->g, (float)j->o->normal_cos, j->o->seed, nsample, x, y);
         n = c >= 0 ? reuse_cell_domains(&j->cells, c, (uint32_t)p, w->nbr) : 0;
     } else {
-        n = neighbor_select(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, j->max_domains - 1, &w->st.neighbors,
-                            NULL);
+        n = neighbor_select_slots(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, w->slot, j->max_domains - 1,
+                                  &w->st.neighbors, NULL);
         if (n < 0) n = 0;
     }
     w->lazy_job = j;
@@ -291,7 +300,11 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
         stochastic_spatial_pixel(j, w, key, n + 1, &j->dst[p]);
         return;
     }
-    spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws, &w->st.spatial);
+    if (j->pair)
+        frame_pair_resample(j, w, p, n, &j->dst[p]); /* Enhanced §3: the pair's shifts from the pre-pass */
+    else
+        spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws,
+                         &w->st.spatial);
     if (j->vector_shade && j->pass == j->o->spatial_passes - 1)
         j->vector_shade[p] = vector_estimate(&w->ws, w->in, n + 1);
 }
@@ -354,6 +367,7 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
         j->src = j->pass % 2 == 0 ? a : b;
         j->dst = j->pass % 2 == 0 ? b : a;
         if (j->o->cells) reuse_cells_build(&j->cells, &j->g, j->src, NULL); /* allocated: cannot fail */
+        if (j->pair) frame_pair_prepass(j); /* Enhanced §3: each pair's two shifts, once */
         parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
         final = j->dst;
         times->ms_spatial[j->pass] += frame_lap_ms(t);
@@ -478,7 +492,15 @@ int frame_workers_alloc(frame_job *j, rerror *e)
         w->verts = rmalloc(m, sizeof *w->verts, e);
         w->in = rmalloc(m, sizeof *w->in, e);
         w->u = rmalloc(m, sizeof *w->u, e);
-        if (!w->nbr || !w->x1 || !w->verts || !w->in || !w->u) return -1;
+        w->slot = rmalloc(m, sizeof *w->slot, e);
+        w->fwd = rmalloc(m, sizeof *w->fwd, e);
+        w->rev = rmalloc(m, sizeof *w->rev, e);
+        if (!w->nbr || !w->x1 || !w->verts || !w->in || !w->u || !w->slot || !w->fwd || !w->rev) return -1;
+    }
+    if (restir_pair_step_active(j->o)) {
+        /* one shift per pixel and texture: o->neighbors x pixels pair_shift records */
+        j->pair = rcalloc((size_t)j->o->neighbors * (size_t)j->s->width * (size_t)j->s->height, sizeof *j->pair, e);
+        if (!j->pair) return -1;
     }
     return 0;
 }
@@ -487,6 +509,8 @@ void frame_workers_free(frame_job *j)
 {
     int t;
     reuse_cells_free(&j->cells);
+    free(j->pair);
+    j->pair = NULL;
     if (!j->workers) return;
     for (t = 0; t < j->o->threads; ++t) {
         worker_state *w = &j->workers[t];
@@ -497,6 +521,9 @@ void frame_workers_free(frame_job *j)
         free(w->verts);
         free(w->in);
         free(w->u);
+        free(w->slot);
+        free(w->fwd);
+        free(w->rev);
     }
     free(j->workers);
 }
