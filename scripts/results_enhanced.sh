@@ -6,9 +6,13 @@
 # --stats. Not part of `make test`.
 #   sh scripts/results_enhanced.sh [OUT_DIR] [BUILD_DIR]
 # Differences from the paper's Table 1: CPU, not GPU; one frame, 1 path tree, 1 spatial
-# pass with 3 neighbours (R = 10) and pairwise MIS, no temporal reuse; the paired pass is
-# only the paired neighbour pattern (the two-shift pair step is not implemented), so no
-# speed-up is expected from it; no equal-time error (MAPE, FLIP) columns yet.
+# pass with 3 neighbours (R = 10) and pairwise MIS, no temporal reuse; no equal-time error
+# (MAPE, FLIP) columns yet.
+# PART=pairs (or all, the default) adds "the paired pass against the disk pass": CPU
+# milliseconds per spatial pass (process user + system time of a K-pass render minus the
+# same render with 0 passes, so the reuse-texture build and everything but the passes
+# cancel; --threads 1, so CPU time is the pass's cost whatever the machine's load), and
+# the shifts per pixel and pass from --stats.
 set -eu
 OUT=${1:-out/results-enhanced}
 R=${2:-build}/restir
@@ -16,17 +20,18 @@ SIZE=${SIZE:-256}
 THREADS=${THREADS:-2}
 SEEDS=${SEEDS:-1 2 3}
 SCENES=${SCENES:-scenes/cornell-glossy.scene}
+PART=${PART:-all}
 mkdir -p "$OUT"
 
-mean_ci() {
-    awk '{ x[NR] = $1; s += $1 } END {
+mean_ci() { # [decimals]
+    awk -v d="${1:-1}" '{ x[NR] = $1; s += $1 } END {
         n = NR; m = s / n; v = 0
         for (i = 1; i <= n; ++i) v += (x[i] - m) ^ 2
         v = n > 1 ? v / (n - 1) : 0
         split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262", t, " ")
         q = n - 1 <= 9 ? t[n - 1] : 1.96
         h = n > 1 ? q * sqrt(v / n) : 0
-        printf "%.1f ± %.1f", m, h }'
+        printf("%." d "f ± %." d "f", m, h) }'
 }
 # stage NAME of a --stats file: gbuffer, initial, spatial (pass 0), shade
 stage() {
@@ -38,10 +43,12 @@ BASE="--method restir --candidates 1 --spatial-passes 1 --neighbors 3 --radius 1
 set -- \
     "GRIS baseline (disk, gris criterion, scalar)|" \
     "+ footprint criterion (§4)|--rc-criterion footprint" \
-    "+ paired neighbours (§3, pattern only)|--rc-criterion footprint --pairing paired" \
+    "+ paired neighbours (§3, pattern only)|--rc-criterion footprint --pairing paired --no-pair-step" \
+    "+ pair step (§3, 2 shifts per pair)|--rc-criterion footprint --pairing paired" \
     "+ vector shading (§6.3)|--rc-criterion footprint --pairing paired --shading vector" \
     "+ forced NEE reconnection (§6.2.3)|--rc-criterion footprint --pairing paired --shading vector --force-nee-reconnection"
 
+if [ "$PART" = all ] || [ "$PART" = table1 ]; then
 for scene in $SCENES; do
     name=$(basename "$scene" .scene)
     echo "### $name, ${SIZE}², threads $THREADS, seeds $SEEDS"
@@ -71,3 +78,54 @@ for scene in $SCENES; do
     done
     echo
 done
+fi
+
+# ---- the paired pass against the disk pass at equal neighbour count ---------------------
+# cpu_ms OPTS...: user + system milliseconds of one render
+cpu_ms() {
+    # shellcheck disable=SC2086
+    /usr/bin/time -f "%U %S" -o "$OUT/time.txt" "$R" render "$@" --threads 1 --quiet --no-png -o "$OUT/p.pfm" \
+        --stats "$OUT/p.json" >/dev/null
+    awk '{ printf "%.1f", 1000 * ($1 + $2) }' "$OUT/time.txt"
+}
+shifts_pp() { sed -n 's/.*"shifts_per_pixel_per_frame": \([0-9.]*\).*/\1/p' "$OUT/p.json" | head -1; }
+
+if [ "$PART" = all ] || [ "$PART" = pairs ]; then
+    K=${PASSES:-3}
+    for scene in $SCENES; do
+        name=$(basename "$scene" .scene)
+        echo "### $name, ${SIZE}², $K spatial passes, pairwise-defensive, hybrid, threads 1, seeds $SEEDS"
+        echo
+        echo "| neighbours | pass | CPU ms per pass | shifts per pixel and pass | disk / this (per seed) |"
+        echo "| --- | --- | --- | --- | --- |"
+        for nb in ${NEIGHBORS:-3 6}; do
+            P="$scene --method restir --candidates 1 --neighbors $nb --radius 10 --mis pairwise-defensive --shift hybrid --size ${SIZE}x${SIZE}"
+            : >"$OUT/pairs.rows"
+            for s in $SEEDS; do
+                # shellcheck disable=SC2086
+                d0=$(cpu_ms $P --seed "$s" --spatial-passes 0)
+                # shellcheck disable=SC2086
+                dk=$(cpu_ms $P --seed "$s" --spatial-passes "$K"); ds=$(shifts_pp)
+                # shellcheck disable=SC2086
+                p0=$(cpu_ms $P --seed "$s" --spatial-passes 0 --pairing paired)
+                # shellcheck disable=SC2086
+                nk=$(cpu_ms $P --seed "$s" --spatial-passes "$K" --pairing paired --no-pair-step); ns=$(shifts_pp)
+                # shellcheck disable=SC2086
+                pk=$(cpu_ms $P --seed "$s" --spatial-passes "$K" --pairing paired); ps=$(shifts_pp)
+                echo "$d0 $dk $ds $p0 $nk $ns $pk $ps" | awk -v K="$K" '{
+                    d = ($2 - $1) / K; n = ($5 - $4) / K; p = ($7 - $4) / K
+                    print d, n, p, $3 / K, $6 / K, $8 / K, 1, d / n, d / p }' >>"$OUT/pairs.rows"
+            done
+            row() { # label, ms column, shifts column, ratio column
+                echo "| $nb | $1 | $(awk -v c="$2" '{ print $c }' "$OUT/pairs.rows" | mean_ci) |" \
+                    "$(awk -v c="$3" '{ s += $c } END { printf "%.2f", s / NR }' "$OUT/pairs.rows") |" \
+                    "$(awk -v c="$4" '{ print $c }' "$OUT/pairs.rows" | mean_ci 2) |"
+            }
+            row "disk (r2)" 1 4 7
+            row "paired, per-pixel step (--no-pair-step)" 2 5 8
+            row "paired, pair step" 3 6 9
+        done
+        echo
+    done
+    rm -f "$OUT/pairs.rows" "$OUT/time.txt"
+fi

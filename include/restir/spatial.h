@@ -38,7 +38,9 @@ typedef struct {
     real *ptarget, *confidence, *jacobian;
     real *mis;      /* m_j(y_j) the step used for candidate j (0 if it was not valid) */
     real *check_confidence; /* scratch of spatial_check_step */
-    path_sample *shifted;
+    path_sample *shifted;          /* storage of the shifts made by the step */
+    const path_sample **cand;      /* y_j: &shifted[j], the canonical reservoir's own sample
+                                      (j = 0), or a pair-step record (read in place) */
     unsigned char *valid;
 } spatial_workspace;
 

@@ -10,6 +10,8 @@
  * inputs), so the output is bit-identical to --no-pair-step (test_restir_pairing.c). */
 #include "restir/restir.h"
 
+#include <stdlib.h>
+
 #include "restir/threads.h"
 #include "frame_job.h"
 
@@ -20,22 +22,64 @@ static uint32_t pass_sample(const frame_job *j)
 
 static long frame_pixels(const frame_job *j) { return (long)j->s->width * j->s->height; }
 
-/* Pixel (x, y): its sample shifted to each accepted partner, filed by texture. Pixels
- * without a primary hit are nobody's neighbour: their slots are never read. */
+int frame_pair_alloc(frame_job *j, rerror *e)
+{
+    size_t N = (size_t)frame_pixels(j), k = (size_t)j->o->neighbors;
+    /* one shift per pixel and texture */
+    j->pair = rcalloc(k * N, sizeof *j->pair, e);
+    j->pair_n = rmalloc(N, sizeof *j->pair_n, e);
+    j->pair_nbr = rmalloc(k * N, sizeof *j->pair_nbr, e);
+    j->pair_slot = rmalloc(k * N, sizeof *j->pair_slot, e);
+    j->pair_x1 = rmalloc(N, sizeof *j->pair_x1, e);
+    return j->pair && j->pair_n && j->pair_nbr && j->pair_slot && j->pair_x1 ? 0 : -1;
+}
+
+void frame_pair_free(frame_job *j)
+{
+    free(j->pair);
+    free(j->pair_n);
+    free(j->pair_nbr);
+    free(j->pair_slot);
+    free(j->pair_x1);
+    j->pair = NULL;
+    j->pair_n = NULL;
+    j->pair_nbr = NULL;
+    j->pair_slot = NULL;
+    j->pair_x1 = NULL;
+}
+
+/* Pass 0 of a frame: every pixel's x1 (the G-buffer is the frame's), and -1 neighbours
+ * where the primary ray missed. */
+static void vertex_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
+{
+    frame_job *j = ctx;
+    int x, y;
+    (void)worker;
+    for (y = y0; y < y1; ++y)
+        for (x = x0; x < x1; ++x) {
+            long p = (long)y * j->s->width + x;
+            j->pair_n[p] = frame_primary_vertex(j->s, &j->g, p, &j->pair_x1[p]) ? 0 : -1;
+        }
+}
+
+/* Pixel (x, y): its neighbours (kept for the resampling pass; counted here, once) and its
+ * sample shifted to each partner, filed by texture. Pixels without a primary hit are
+ * nobody's neighbour: their slots are never read. */
 static void prepass_pixel(frame_job *j, worker_state *w, int x, int y)
 {
-    long p = (long)y * j->s->width + x, N = frame_pixels(j);
+    long p = (long)y * j->s->width + x, N = frame_pixels(j), k = j->o->neighbors;
     const reservoir *r = &j->src[p];
     int valid = path_sample_is_valid(&r->y) && r->W > 0, n, a;
-    path_vertex to;
-    if (!frame_primary_vertex(j->s, &j->g, p, &to)) return;
-    n = neighbor_select_slots(&j->no, &j->g, j->o->seed, pass_sample(j), x, y, w->nbr, w->slot, j->max_domains - 1,
-                              NULL, NULL);
+    uint32_t *nbr = &j->pair_nbr[p * k];
+    if (j->pair_n[p] < 0) return;
+    n = neighbor_select_slots(&j->no, &j->g, j->o->seed, pass_sample(j), x, y, nbr, w->slot, j->max_domains - 1,
+                              &w->st.neighbors, NULL);
+    j->pair_n[p] = n < 0 ? 0 : n;
     for (a = 0; a < n; ++a) {
         pair_shift *ps = &j->pair[(long)w->slot[a] * N + p];
-        ps->ok = 0;
-        if (!valid || !frame_primary_vertex(j->s, &j->g, (long)w->nbr[a], &to)) continue;
-        ps->ok = spatial_counted_shift(&j->ctx, &to, &r->y, &ps->y, &ps->jacobian, &w->st.spatial) == SHIFT_OK;
+        j->pair_slot[p * k + a] = (unsigned char)w->slot[a];
+        ps->ok = valid && spatial_counted_shift(&j->ctx, &j->pair_x1[nbr[a]], &r->y, &ps->y, &ps->jacobian,
+                                                &w->st.spatial) == SHIFT_OK;
     }
 }
 
@@ -49,7 +93,21 @@ static void prepass_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
 
 void frame_pair_prepass(frame_job *j)
 {
+    if (j->pass == 0) parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, vertex_tile, j, NULL, NULL);
     parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, prepass_tile, j, NULL, NULL);
+}
+
+int frame_pair_domains(frame_job *j, worker_state *w, long p)
+{
+    long k = j->o->neighbors;
+    int n = j->pair_n[p], a;
+    w->x1[0] = &j->pair_x1[p];
+    for (a = 0; a < n; ++a) {
+        w->nbr[a] = j->pair_nbr[p * k + a];
+        w->slot[a] = j->pair_slot[p * k + a];
+        w->x1[a + 1] = &j->pair_x1[w->nbr[a]];
+    }
+    return n;
 }
 
 void frame_pair_resample(frame_job *j, worker_state *w, long p, int n, reservoir *out)

@@ -255,7 +255,7 @@ static rgb vector_estimate(const spatial_workspace *ws, const reservoir *const *
         real weight;
         if (!ws->valid[i]) continue;
         weight = ws->mis[i] * in[i]->W * ws->jacobian[i];
-        if (weight > 0 && isfinite(weight)) L = rgb_add(L, rgb_scale(ws->shifted[i].F, weight));
+        if (weight > 0 && isfinite(weight)) L = rgb_add(L, rgb_scale(ws->cand[i]->F, weight));
     }
     return L;
 }
@@ -270,13 +270,15 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
     rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
     uint32_t nsample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass);
     int n, d;
-    if (!primary_vertex(j, p, &w->verts[0])) {
+    if (j->pair ? j->pair_n[p] < 0 : !primary_vertex(j, p, &w->verts[0])) {
         reservoir_init(&j->dst[p]);
         if (j->vector_shade) j->vector_shade[p] = rgb_gray(0);
         return;
     }
     /* capacity is checked by restir_options_validate, so this cannot fail */
-    if (j->o->cells) {
+    if (j->pair) {
+        n = frame_pair_domains(j, w, p); /* the pre-pass's neighbours and cached vertices */
+    } else if (j->o->cells) {
         /* Stochastic MIS §5.1: a reuse cell; its pixels except p are the domains */
         int c = reuse_cell_search(&j->cells, &j->g, (float)j->o->normal_cos, j->o->seed, nsample, x, y);
         n = c >= 0 ? reuse_cell_domains(&j->cells, c, (uint32_t)p, w->nbr) : 0;
@@ -289,8 +291,10 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
     for (d = 0; d <= n; ++d) {
         long q = d == 0 ? p : (long)w->nbr[d - 1];
         /* accepted neighbours have a primary hit; the stochastic step builds them on demand */
-        if (d > 0 && j->o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE) primary_vertex(j, q, &w->verts[d]);
-        w->x1[d] = d > 0 && j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE ? NULL : &w->verts[d];
+        if (!j->pair) {
+            if (d > 0 && j->o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE) primary_vertex(j, q, &w->verts[d]);
+            w->x1[d] = d > 0 && j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE ? NULL : &w->verts[d];
+        }
         w->in[d] = &j->src[q];
         /* vertex 32 + p: initial sampling uses vertices 2..16 of RNG_RIS (the key packs
          * vertex < 256 and slot < 65536, so the pass must not go into the slot) */
@@ -367,8 +371,14 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
         j->src = j->pass % 2 == 0 ? a : b;
         j->dst = j->pass % 2 == 0 ? b : a;
         if (j->o->cells) reuse_cells_build(&j->cells, &j->g, j->src, NULL); /* allocated: cannot fail */
+        if (j->no.textures) { /* paired: the pass's texture placements, drawn once */
+            neighbor_place(&j->no, j->o->seed,
+                           neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass), j->placed);
+            j->no.placements = j->placed;
+        }
         if (j->pair) frame_pair_prepass(j); /* Enhanced §3: each pair's two shifts, once */
         parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
+        j->no.placements = NULL;
         final = j->dst;
         times->ms_spatial[j->pass] += frame_lap_ms(t);
         if (j->sio) {
@@ -497,11 +507,7 @@ int frame_workers_alloc(frame_job *j, rerror *e)
         w->rev = rmalloc(m, sizeof *w->rev, e);
         if (!w->nbr || !w->x1 || !w->verts || !w->in || !w->u || !w->slot || !w->fwd || !w->rev) return -1;
     }
-    if (restir_pair_step_active(j->o)) {
-        /* one shift per pixel and texture: o->neighbors x pixels pair_shift records */
-        j->pair = rcalloc((size_t)j->o->neighbors * (size_t)j->s->width * (size_t)j->s->height, sizeof *j->pair, e);
-        if (!j->pair) return -1;
-    }
+    if (restir_pair_step_active(j->o) && frame_pair_alloc(j, e)) return -1;
     return 0;
 }
 
@@ -509,8 +515,7 @@ void frame_workers_free(frame_job *j)
 {
     int t;
     reuse_cells_free(&j->cells);
-    free(j->pair);
-    j->pair = NULL;
+    frame_pair_free(j);
     if (!j->workers) return;
     for (t = 0; t < j->o->threads; ++t) {
         worker_state *w = &j->workers[t];

@@ -17,10 +17,11 @@ int spatial_workspace_alloc(spatial_workspace *w, int max_domains, rerror *e)
     w->confidence = rcalloc(m, sizeof *w->confidence, e);
     w->jacobian = rcalloc(m, sizeof *w->jacobian, e);
     w->shifted = rcalloc(m, sizeof *w->shifted, e);
+    w->cand = rcalloc(m, sizeof *w->cand, e);
     w->valid = rcalloc(m, 1, e);
     w->mis = rcalloc(m, sizeof *w->mis, e);
     w->check_confidence = rcalloc(m, sizeof *w->check_confidence, e);
-    if (!w->ptarget || !w->confidence || !w->jacobian || !w->shifted || !w->valid || !w->mis || !w->check_confidence) {
+    if (!w->ptarget || !w->confidence || !w->jacobian || !w->shifted || !w->cand || !w->valid || !w->mis || !w->check_confidence) {
         spatial_workspace_free(w);
         return -1;
     }
@@ -33,6 +34,7 @@ void spatial_workspace_free(spatial_workspace *w)
     free(w->confidence);
     free(w->jacobian);
     free(w->shifted);
+    free(w->cand);
     free(w->valid);
     free(w->mis);
     free(w->check_confidence);
@@ -108,18 +110,19 @@ static void shift_in(const restir_context *c, const domain_refresh *rf, const pa
         w->confidence[j] = r->confidence;
         w->valid[j] = path_sample_is_valid(&r->y) && r->W > 0;
         w->jacobian[j] = 0;
+        w->cand[j] = &w->shifted[j];
         P[j] = 0;
         if (j > 0) P[j * m + j] = 0;
         if (!w->valid[j]) continue;
         if (j == 0) {
-            w->shifted[0] = r->y; /* canonical: identity shift */
+            w->cand[0] = &r->y; /* canonical: identity shift */
             w->jacobian[0] = 1;
         } else if (pre) {
             if (!pre->forward[j]->ok) {
                 w->valid[j] = 0;
                 continue;
             }
-            w->shifted[j] = pre->forward[j]->y;
+            w->cand[j] = &pre->forward[j]->y; /* read in place: no copy */
             w->jacobian[j] = pre->forward[j]->jacobian;
             P[j * m + j] = r->y.target / w->jacobian[j];
         } else if (!refreshed(rf, j, 0, &r->y, &tmp, &x, st) ||
@@ -129,7 +132,7 @@ static void shift_in(const restir_context *c, const domain_refresh *rf, const pa
         } else {
             P[j * m + j] = r->y.target / w->jacobian[j]; /* p̂_j(X_j) / |dT_j/dX_j| */
         }
-        P[j] = w->shifted[j].target; /* p̂(y_j) */
+        P[j] = w->cand[j]->target; /* p̂(y_j) */
     }
 }
 
@@ -148,7 +151,7 @@ static void mis_entries(const restir_context *away, const domain_refresh *rf, co
             else if (pre && j == 0) /* the pair step: X_0 was shifted into i by the pre-pass */
                 *P = pre->reverse[i]->ok && !pre->drop_reverse ? pre->reverse[i]->y.target * pre->reverse[i]->jacobian : 0;
             else
-                *P = ptarget_from(away, rf, i, x1[i], &w->shifted[j], st);
+                *P = ptarget_from(away, rf, i, x1[i], w->cand[j], st);
         }
     }
 }
@@ -181,7 +184,7 @@ static void select_candidate(const restir_context *c, mis_family mis, int m, con
             mj = mis_weight(mis, &mi, j, j, &unused);
             w->mis[j] = mj;
             wj = gris_resampling_weight(mj, w->ptarget[j], in[j]->W, w->jacobian[j]); /* GRIS Eq. 19 */
-            if (reservoir_stream(out, &w->shifted[j], wj, u[j])) chosen = j;
+            if (reservoir_stream(out, w->cand[j], wj, u[j])) chosen = j;
         }
         reservoir_add_confidence(out, w->confidence[j]); /* GRIS §6.2: c = sum of the inputs */
     }
@@ -284,9 +287,9 @@ int spatial_check_step(const restir_context *c, mis_family mis, int m, const pat
     for (j = 0; j < m; ++j) {
         if (!w->valid[j]) continue;
         if (check_mis_column(mis, m, in, w, j, w->check_confidence, why, why_size)) return 1;
-        if (j > 0 && !rc_segment_visible(c, x1[0], &w->shifted[j])) {
+        if (j > 0 && !rc_segment_visible(c, x1[0], w->cand[j])) {
             snprintf(why, why_size, "candidate %d: successful reconnection to x_%d, but the segment is occluded", j,
-                     w->shifted[j].rc_k);
+                     w->cand[j]->rc_k);
             return 1;
         }
     }
