@@ -662,8 +662,8 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
                  "\"roughness_threshold\": %g, \"distance_threshold\": %g, \"paths\": \"%s\", \"ablate\": \"%s\", ",
             o->frames, o->first_frame, o->time_limit, o->max_depth, o->roughness_threshold, o->distance_threshold,
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
-    fprintf(out, "\"pairing\": \"%s\", \"shading\": \"%s\", ", restir_pairing_names[o->pairing],
-            restir_shading_names[o->shading]);
+    fprintf(out, "\"pairing\": \"%s\", \"pair_step\": %s, \"shading\": \"%s\", ", restir_pairing_names[o->pairing],
+            restir_pair_step_active(o) ? "true" : "false", restir_shading_names[o->shading]);
     fprintf(out, "\"force_nee_reconnection\": %s, ", o->force_nee_reconnection ? "true" : "false");
     fprintf(out, "\"rc_criterion\": \"%s\", \"footprint_c\": %g, ", rc_mode_names[o->rc_criterion], o->footprint_c);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
