@@ -101,6 +101,7 @@ if [ "$PART" = all ] || [ "$PART" = pairs ]; then
         for nb in ${NEIGHBORS:-3 6}; do
             P="$scene --method restir --candidates 1 --neighbors $nb --radius 10 --mis pairwise-defensive --shift hybrid --size ${SIZE}x${SIZE}"
             : >"$OUT/pairs.rows"
+            # per seed: disk, no-step, pair-step ms per pass; their shifts; ratios (kept in pairs.$nb.rows)
             for s in $SEEDS; do
                 # shellcheck disable=SC2086
                 d0=$(cpu_ms $P --seed "$s" --spatial-passes 0)
@@ -124,8 +125,9 @@ if [ "$PART" = all ] || [ "$PART" = pairs ]; then
             row "disk (r2)" 1 4 7
             row "paired, per-pixel step (--no-pair-step)" 2 5 8
             row "paired, pair step" 3 6 9
+            cp "$OUT/pairs.rows" "$OUT/pairs.$nb.rows"
         done
         echo
     done
-    rm -f "$OUT/pairs.rows" "$OUT/time.txt"
+    rm -f "$OUT/time.txt"
 fi
