@@ -131,3 +131,53 @@ if [ "$PART" = all ] || [ "$PART" = pairs ]; then
     done
     rm -f "$OUT/time.txt"
 fi
+
+# ---- the footprint criterion on a near and a far view (Enhanced Figs. 10-12 in spirit) ----
+# The same glossy scene from the default camera ("near") and from 4x the distance with the
+# field of view narrowed to keep the framing ("far"): the primary footprint grows with the
+# distance, d_min (a fraction of the scene diagonal) does not. Equal wall time per render
+# (BUDGET seconds, --time-limit; the machine is shared, so "equal time" is approximate),
+# MAPE against a path-traced reference (REF_SPP), and the fraction of initial samples that
+# reconnect at k = 2 and the mean reconnection index k (from --stats).
+if [ "$PART" = all ] || [ "$PART" = footprint ]; then
+    FS=${FSIZE:-64}
+    BUDGET=${BUDGET:-5}
+    REF_SPP=${REF_SPP:-2048}
+    scene=scenes/cornell-glossy.scene
+    echo "### cornell-glossy near and far, ${FS}², ${BUDGET} s per render, reference $REF_SPP spp, seeds $SEEDS"
+    echo
+    echo "| view | criterion | MAPE | initial samples reconnecting at k = 2 | mean k (reconnecting samples) | frames in the budget |"
+    echo "| --- | --- | --- | --- | --- | --- |"
+    for view in near far; do
+        if [ "$view" = near ]; then V="--eye 278,273,-800 --target 278,273,0 --fov 39.3076481"
+        else V="--eye 278,273,-3800 --target 278,273,0 --fov 9.2"; fi
+        # shellcheck disable=SC2086
+        "$R" render "$scene" $V --method pt --spp "$REF_SPP" --size "${FS}x${FS}" --threads "$THREADS" --quiet --no-png \
+            -o "$OUT/ref-$view.pfm" >/dev/null
+        for crit in "gris, d_min 0.02 (default)|--rc-criterion gris" "gris, d_min 0.005|--rc-criterion gris --distance-threshold 0.005" \
+            "gris, d_min 0.08|--rc-criterion gris --distance-threshold 0.08" "footprint, c = 0.02|--rc-criterion footprint"; do
+            label=${crit%%|*}
+            opts=${crit#*|}
+            : >"$OUT/fp.rows"
+            for s in $SEEDS; do
+                # shellcheck disable=SC2086
+                "$R" render "$scene" $V --method restir --candidates 1 --spatial-passes 1 --neighbors 3 --radius 10 \
+                    --mis pairwise-defensive --shift hybrid $opts --time-limit "$BUDGET" --seed "$s" --size "${FS}x${FS}" \
+                    --threads "$THREADS" --quiet --no-png -o "$OUT/fp.pfm" --stats "$OUT/fp.json" >/dev/null
+                mape=$("$R" compare "$OUT/fp.pfm" "$OUT/ref-$view.pfm" | awk '$1 == "mape" { print $2 }')
+                # the stats JSON spans lines: flatten it first
+                rc=$(tr -d '\n' <"$OUT/fp.json" |
+                    sed -n 's/.*"initial": {[^}]*"selected": \([0-9]*\),.*"selected_by_reconnection_index": \[\([0-9, ]*\)\].*/\1,\2/p' |
+                    awk -F, '{ n = 0; s = 0; for (k = 4; k <= NF; ++k) { n += $k; s += (k - 2) * $k }
+                               printf "%.4f %.3f", $4 / $1, (n > 0 ? s / n : 0) }')
+                frames=$(tr -d '\n' <"$OUT/fp.json" | sed -n 's/.*"stats": *{ *"frames": \([0-9]*\),.*/\1/p')
+                echo "$mape $rc $frames" >>"$OUT/fp.rows" # mape, k=2 share, mean k, frames
+            done
+            echo "| $view | $label | $(awk '{ print $1 }' "$OUT/fp.rows" | mean_ci 4) |" \
+                "$(awk '{ print $2 }' "$OUT/fp.rows" | mean_ci 3) | $(awk '{ print $3 }' "$OUT/fp.rows" | mean_ci 3) |" \
+                "$(awk '{ print $4 }' "$OUT/fp.rows" | mean_ci 0) |"
+        done
+    done
+    echo
+    rm -f "$OUT/fp.rows"
+fi
