@@ -133,7 +133,7 @@ if [ "$PART" = all ] || [ "$PART" = pairs ]; then
 fi
 
 # ---- the footprint criterion on a near and a far view (Enhanced Figs. 10-12 in spirit) ----
-# The same glossy scene from the default camera ("near") and from 4x the distance with the
+# The same glossy scene from the default camera ("near") and from 4.75x the distance with the
 # field of view narrowed to keep the framing ("far"): the primary footprint grows with the
 # distance, d_min (a fraction of the scene diagonal) does not. Equal wall time per render
 # (BUDGET seconds, --time-limit; the machine is shared, so "equal time" is approximate),
