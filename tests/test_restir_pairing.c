@@ -3,9 +3,11 @@
  *     pass), on a G-buffer without rejection;
  *   - offline ReSTIR PT with paired neighbours agrees with the reference path tracer
  *     (`restir check`, K runs; a subset here, the matrix in TEST_LONG);
- *   - paired, against the validated 0-pass baseline on the same seeds.
- * The two-shift pair step of §3 (each pair's shifts computed once) is not implemented,
- * so --ablate pair-mis does not exist yet (docs/enhanced.md §2). */
+ *   - the pair step (Enhanced §3: each pair's two shifts made once by a pre-pass) gives
+ *     bit-identical images to the per-pixel step (--no-pair-step) with exactly half the
+ *     shifts under pairwise MIS: an exact oracle, every shift and MIS family;
+ *   - --ablate pair-mis (one side of the pair's MIS dropped) is detected by a paired test
+ *     against the pair step on the same seeds. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -140,4 +142,197 @@ TEST_LONG(restir_pairing_unbiased_matrix_long)
         for (i = 0; i < n; ++i) m[i].frames = glass ? 16 : 4;
         cases_on(scenes[sc], m, n, 24, glass ? 256 : 64);
     }
+}
+
+/* ---- the pair step (Enhanced §3; src/restir/pair_step.c) -------------------------------- */
+
+static int render_paired(const scene *s, const restir_options *o, restir_result *r)
+{
+    rerror e;
+    if (restir_render(s, o, r, &e) == 0) return 0;
+    test_fail(__FILE__, __LINE__, "restir_render: %s", e.msg);
+    return -1;
+}
+
+/* The pair step reads the values the per-pixel step computes (the same shift of the same
+ * sample to the same primary vertex), so the images are equal bit for bit, and under
+ * pairwise MIS each pixel makes one shift per neighbour instead of two. */
+TEST(restir_pair_step_bit_identical)
+{
+    static const int families[] = {MIS_PAIRWISE_UNIFORM, MIS_PAIRWISE_DEFENSIVE, MIS_TALBOT};
+    scene s;
+    int sh, f;
+    if (rt_load_scene("scenes/cornell-glossy.scene", 24, &s)) return;
+    for (sh = 0; sh < RESTIR_SHIFT_COUNT && !test_has_failed(); ++sh)
+        for (f = 0; f < 3 && !test_has_failed(); ++f) {
+            restir_options o;
+            restir_result a, b;
+            const spatial_stats *sa = &a.stats.spatial, *sb = &b.stats.spatial;
+            restir_options_default(&o);
+            o.seed = test_seed() * 7u + 3u;
+            o.shift = sh;
+            o.mis = families[f];
+            o.spatial_passes = 2;
+            o.neighbors = 4;
+            o.radius = 5;
+            o.pairing = RESTIR_PAIRING_PAIRED;
+            o.candidates = 2;
+            o.max_depth = 5;
+            o.threads = 2;
+            o.shading = sh == RESTIR_SHIFT_HYBRID ? RESTIR_SHADING_VECTOR : RESTIR_SHADING_SCALAR;
+            if (render_paired(&s, &o, &a)) break;
+            o.no_pair_step = 1;
+            if (render_paired(&s, &o, &b)) {
+                restir_result_free(&a);
+                break;
+            }
+            CHECKF(memcmp(a.mean.px, b.mean.px, sizeof(float) * 3 * (size_t)s.width * (size_t)s.height) == 0,
+                   "shift %s mis %s: the pair step's image differs from the per-pixel step's",
+                   restir_shift_names[sh], mis_family_name((mis_family)families[f]));
+            /* the pre-pass makes exactly the per-pixel step's MIS shifts (X_0 to each partner);
+             * the forward shifts are read from the partner's */
+            /* the pre-pass makes exactly the per-pixel step's canonical-column MIS shifts (X_0
+             * to each partner); Talbot's other entries are shifted as before */
+            CHECKF(sa->shifts - sa->mis_shifts == sb->mis_shifts - sa->mis_shifts && sa->outcome[SHIFT_OK] > 0,
+                   "shift %s mis %s: %llu pre-pass shifts, the per-pixel step made %llu canonical-column MIS shifts",
+                   restir_shift_names[sh], mis_family_name((mis_family)families[f]),
+                   (unsigned long long)(sa->shifts - sa->mis_shifts),
+                   (unsigned long long)(sb->mis_shifts - sa->mis_shifts));
+            if (families[f] != MIS_TALBOT)
+                CHECKF(2 * sa->shifts == sb->shifts, "shift %s mis %s: %llu shifts with the pair step, not half of %llu",
+                       restir_shift_names[sh], mis_family_name((mis_family)families[f]),
+                       (unsigned long long)sa->shifts, (unsigned long long)sb->shifts);
+            if (getenv("RESTIR_TEST_VERBOSE"))
+                fprintf(stderr, "  pair step shift %s mis %s: identical; %.3f vs %.3f shifts per pixel and pass\n",
+                        restir_shift_names[sh], mis_family_name((mis_family)families[f]),
+                        (double)sa->shifts / (double)sa->pixels, (double)sb->shifts / (double)sb->pixels);
+            restir_result_free(&a);
+            restir_result_free(&b);
+        }
+    scene_free(&s);
+}
+
+/* --ablate pair-mis against the pair step on the same seeds (docs/statistics.md "Paired
+ * check"): run k of both sides draws the same samples and neighbours, and without the
+ * ablation the two images are equal, so every difference is the ablation's. The canonical
+ * sample's MIS weight then ignores that its partners could have produced it: the weights
+ * at X_0 sum to more than 1, a bias upwards. The control is restir_pairing_unbiased_subset
+ * (the pair step is the default with --pairing paired). */
+TEST(restir_pair_mis_detected)
+{
+    scene s;
+    restir_options o, ob;
+    check_side a, b;
+    check_options opt;
+    check_result r;
+    rerror e;
+    if (rt_load_scene("scenes/cornell-glossy.scene", 16, &s)) return;
+    restir_options_default(&o);
+    o.seed = test_seed() * 2246822519u + 13u;
+    o.shift = RESTIR_SHIFT_HYBRID;
+    o.mis = MIS_PAIRWISE_DEFENSIVE;
+    o.spatial_passes = 1;
+    o.neighbors = 3;
+    o.radius = 4;
+    o.pairing = RESTIR_PAIRING_PAIRED;
+    o.frames = 2;
+    o.candidates = 2;
+    o.max_depth = 4;
+    o.threads = 2;
+    ob = o;
+    o.ablation = RESTIR_ABLATE_PAIR_MIS;
+    if (rt_restir_side(&s, &o, 16, 4, &a) == 0) {
+        if (rt_restir_side(&s, &ob, 16, 4, &b) == 0) {
+            int status;
+            check_options_default(&opt);
+            opt.alpha = ALPHA;
+            opt.block_size = 4;
+            status = check_compare_paired(&a, &b, &opt, &r, &e);
+            CHECKF(status == 0, "check_compare_paired: %s", e.msg);
+            if (status == 0) {
+                double z = stats_t_to_z(r.global.t, r.global.dof);
+                if (getenv("RESTIR_TEST_VERBOSE"))
+                    fprintf(stderr, "  pair-mis vs pair step: mean z %.2f (relative diff %+.3f%%), %ld/%ld blocks "
+                                    "rejected, worst block z %.2f\n",
+                            z, 100 * r.bias, r.rejected, r.tests, r.worst.z);
+                CHECKF(r.different && z > 0, "pair-mis not detected: mean z %.2f, %ld/%ld blocks, worst z %.2f", z,
+                       r.rejected, r.tests, r.worst.z);
+                check_result_free(&r);
+            }
+            check_side_free(&b);
+        }
+        check_side_free(&a);
+    }
+    scene_free(&s);
+}
+
+/* The real-time pipeline runs the same spatial stage: with temporal reuse (the spatial
+ * output is the next frame's temporal input) the frames stay bit-identical to the
+ * per-pixel step, and identical for 1 and 2 threads. */
+#define PAIR_SEQ_FRAMES 3
+
+typedef struct {
+    float *px[PAIR_SEQ_FRAMES];
+    size_t n;
+} seq_frames;
+
+static int keep_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
+{
+    seq_frames *f = user;
+    (void)st;
+    (void)e;
+    if (frame >= 0 && frame < PAIR_SEQ_FRAMES) {
+        f->n = sizeof(float) * 3 * (size_t)img->width * (size_t)img->height;
+        f->px[frame] = malloc(f->n);
+        if (f->px[frame]) memcpy(f->px[frame], img->px, f->n);
+    }
+    return 0;
+}
+
+static int run_sequence(const scene *s, const restir_options *o, seq_frames *f)
+{
+    restir_sequence seq;
+    restir_stats total;
+    rerror e;
+    memset(&seq, 0, sizeof seq);
+    memset(f, 0, sizeof *f);
+    seq.first = 0;
+    seq.last = PAIR_SEQ_FRAMES - 1;
+    if (restir_render_sequence(s, o, &seq, keep_frame, f, &total, &e) == 0) return 0;
+    test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
+    return -1;
+}
+
+TEST(restir_pair_step_sequence_identical)
+{
+    scene s;
+    restir_options o;
+    seq_frames f[3];
+    int v, k, ok = 0;
+    if (rt_load_scene("scenes/cornell-glossy.scene", 20, &s)) return;
+    restir_options_default(&o);
+    restir_options_preset_gris_realtime(&o);
+    o.seed = test_seed() * 31u + 5u;
+    o.spatial_passes = 2;
+    o.neighbors = 3;
+    o.radius = 5;
+    o.pairing = RESTIR_PAIRING_PAIRED;
+    o.max_depth = 5;
+    for (v = 0; v < 3; ++v) {
+        restir_options ov = o;
+        ov.no_pair_step = v == 2;
+        ov.threads = v == 1 ? 1 : 2;
+        ok += run_sequence(&s, &ov, &f[v]) == 0;
+    }
+    if (ok == 3)
+        for (k = 0; k < PAIR_SEQ_FRAMES; ++k) {
+            CHECKF(f[0].px[k] && f[1].px[k] && f[2].px[k], "frame %d missing", k);
+            if (!f[0].px[k] || !f[1].px[k] || !f[2].px[k]) break;
+            CHECKF(memcmp(f[0].px[k], f[1].px[k], f[0].n) == 0, "frame %d: the pair step differs for 1 and 2 threads", k);
+            CHECKF(memcmp(f[0].px[k], f[2].px[k], f[0].n) == 0, "frame %d: the pair step differs from the per-pixel step",
+                   k);
+        }
+    for (v = 0; v < 3; ++v)
+        for (k = 0; k < PAIR_SEQ_FRAMES; ++k) free(f[v].px[k]);
+    scene_free(&s);
 }

@@ -21,7 +21,7 @@
  *   paired   neighbour k is i's partner in reuse texture k (pairing.h; Enhanced §3), placed
  *            with that frame and pass's flip/mirror/transpose/offset: j's partner is i, so
  *            the pairs are reciprocal (--pairing paired). The two-shift pair step of §3
- *            is not implemented: each pixel still runs its own GRIS step.
+ *            (pair_step.h) files each pair's shifts by k.
  *
  * Random numbers: key (seed, pixel i, sample, RNG_NEIGHBOR, vertex, slot) with
  * sample = neighbor_sample_index(frame, passes, pass): uniform neighbour k uses vertex k,
@@ -56,6 +56,10 @@ typedef struct {
     float min_normal_cos;     /* accept only if dot(n_i, n_j) >= this */
     float max_relative_depth; /* accept only if |d_i - d_j| <= this * min(d_i, d_j) */
     const reuse_texture *textures; /* paired: `count` reuse textures (owned by the caller) */
+    const reuse_transform *placements; /* paired, optional: the textures' placements for the
+                                          (seed, sample) of every call, from neighbor_place
+                                          (drawn once per pass instead of per pixel); NULL:
+                                          drawn in each call */
 } neighbor_options;
 
 /* Why a candidate was not accepted (or that it was). */
@@ -113,5 +117,13 @@ enum neighbor_verdict neighbor_geometry_test(const neighbor_options *o, const gb
  * every candidate. */
 int neighbor_select(const neighbor_options *o, const gbuffer *g, uint32_t seed, uint32_t sample, int x, int y,
                     uint32_t *out, int capacity, neighbor_stats *stats, rerror *e);
+/* Paired: the placement of each of the o->count textures for (seed, sample) into
+ * out[0..count-1], the values neighbor_select would draw (for o->placements). */
+void neighbor_place(const neighbor_options *o, uint32_t seed, uint32_t sample, reuse_transform *out);
+/* The same, and slot[a] (if slot is not NULL) = the candidate index k that proposed the
+ * a-th accepted pixel (paired: the reuse texture; the pair step, pair_step.c, files its
+ * shifts by it). */
+int neighbor_select_slots(const neighbor_options *o, const gbuffer *g, uint32_t seed, uint32_t sample, int x, int y,
+                          uint32_t *out, int *slot, int capacity, neighbor_stats *stats, rerror *e);
 
 #endif

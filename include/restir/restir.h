@@ -69,6 +69,8 @@ typedef struct {
     int force_nee_reconnection; /* Enhanced §6.2.3 forced NEE light reconnection (hybrid; default 0) */
     enum rc_mode rc_criterion;  /* enum rc_mode: gris (default) or footprint (Enhanced §4, Eq. 5) */
     double footprint_c;         /* c of Enhanced Eq. 5 (default 0.02, Enhanced §7.2) */
+    int no_pair_step;           /* --pairing paired: 1 runs a full GRIS step per pixel (four shifts
+                                   per pair) instead of the Enhanced §3 pair step (two) */
     enum restir_paths paths;    /* enum restir_paths */
     enum restir_ablation ablation; /* enum restir_ablation */
     int russian_roulette;       /* the path tracer's roulette in initial sampling only (default 0) */
@@ -141,6 +143,9 @@ void restir_initial_options_for(initial_options *io, const restir_options *o);
  * restir_pairing_free releases them. */
 int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_texture *textures, rerror *e);
 void restir_pairing_free(neighbor_options *no);
+/* Whether spatial passes run the Enhanced §3 pair step (pair_step.c): --pairing paired, a
+ * deterministic MIS family, no reuse cells, no --no-pair-step. */
+int restir_pair_step_active(const restir_options *o);
 
 /* Renders s (prepared: BVH built). Deterministic for any thread count. On success fills
  * *out (free with restir_result_free); frees everything on failure. */

@@ -69,16 +69,19 @@ enum restir_ablation {
                                    candidates uniformly among the non-zero samples but weights
                                    them as if P(i) = 1/M (no P(i) correction; Stochastic MIS §3:
                                    "naively choosing input pixels based on their samples") */,
-    RESTIR_ABLATE_FOOTPRINT_BASE = 6 /* "footprint-base-only": with --rc-criterion footprint the
+    RESTIR_ABLATE_FOOTPRINT_BASE = 6, /* "footprint-base-only": with --rc-criterion footprint the
                                    shift does not test the criterion on the offset path (no
                                    invertibility check): T is then not a bijection (Enhanced §4) */,
     RESTIR_ABLATE_DUAL_MV_VERTEX = 7 /* "dual-mv-vertex": with --motion-vectors dual, a history
                                    found by the dual motion vector is resampled with the reverse
                                    shift starting at the STANDARD previous pixel's x1 (the
                                    occluder) instead of the dual source pixel's: the target of
-                                   domain 1 is then not the one its reservoir estimates */
+                                   domain 1 is then not the one its reservoir estimates */,
+    RESTIR_ABLATE_PAIR_MIS = 8 /* "pair-mis": the pair step (--pairing paired) drops one side of
+                                   each pair from the MIS: the canonical sample's weight ignores
+                                   the pre-pass shift X_0 -> partner (p̂_{<-d}(X_0) taken as 0) */
 };
-#define RESTIR_ABLATION_COUNT 8
+#define RESTIR_ABLATION_COUNT 9
 
 /* Reconnection criterion (connectability.h). gris (GRIS §7.4-7.5, §8.3; Enhanced §2.3):
  * x_{k-1} and x_k must be rough for their lobes and ||x_k - x_{k-1}|| >= min_distance.

@@ -42,7 +42,9 @@ typedef struct {
     real *ptarget, *confidence, *jacobian;
     real *mis;      /* m_j(y_j) the step used for candidate j (0 if it was not valid) */
     real *check_confidence; /* scratch of spatial_check_step */
-    path_sample *shifted;
+    path_sample *shifted;          /* storage of the shifts made by the step */
+    const path_sample **cand;      /* y_j: &shifted[j], the canonical reservoir's own sample
+                                      (j = 0), or a pair-step record (read in place) */
     unsigned char *valid;
 } spatial_workspace;
 
@@ -72,6 +74,32 @@ typedef struct {
 void gris_resample(const restir_context *c, const restir_context *away, const domain_refresh *rf, mis_family mis,
                    int m, const path_vertex *const *x1, const reservoir *const *in, const real *u, reservoir *out,
                    spatial_workspace *w, spatial_stats *st);
+
+/* Enhanced §3 pair step: the shift of one pixel's sample to its partner, computed once by
+ * the pre-pass (pair_step.h) and read by both pixels of the pair. */
+typedef struct {
+    path_sample y;   /* T(X) in the partner's pixel (valid iff ok) */
+    real jacobian;   /* |dT/dX| */
+    unsigned char ok; /* the sample was valid (W > 0) and the shift succeeded */
+} pair_shift;
+
+/* Per neighbour domain d >= 1 of a GRIS step whose pairs were shifted by the pre-pass:
+ * forward[d] = T_{d->0}(X_d), the partner's shift into this pixel (the candidate y_d);
+ * reverse[d] = T_{0->d}(X_0), this pixel's shift into partner d, whose p̂ J is the
+ * pairwise MIS entry p̂_{<-d}(X_0) (GRIS Eq. 35, canonical column). drop_reverse is the
+ * ablation "pair-mis": that entry is taken as 0 (one side of the pair's MIS dropped). */
+typedef struct {
+    const pair_shift *const *forward;
+    const pair_shift *const *reverse;
+    int drop_reverse;
+} pair_shifts;
+
+/* spatial_resample with the forward shifts and the canonical MIS column taken from pre
+ * instead of being shifted here (the same values: the result is bit-identical). Entries
+ * the family reads beyond those (Talbot: p̂_{<-i}(y_j), i, j >= 1) are shifted as usual. */
+void spatial_resample_preshifted(const restir_context *c, mis_family mis, int m, const path_vertex *const *x1,
+                                 const reservoir *const *in, const pair_shifts *pre, const real *u, reservoir *out,
+                                 spatial_workspace *w, spatial_stats *st);
 
 /* One shift of x to the pixel of `to` (shift.h), counted in st by outcome; the jacobian
  * ablation takes |dT/dx| as 1 wherever it enters (weights and MIS). Shared by every GRIS step

@@ -41,6 +41,28 @@ static void write_pass_array(FILE *out, const double *v, int n, double scale)
     fputc(']', out);
 }
 
+/* How often the criterion (--rc-criterion) picked a reconnection vertex: the initial
+ * samples by reconnection index, and the shifts refused because the offset path's own
+ * criterion disagrees (the bijectivity tests of shift.c). */
+static void write_reconnection_rates(FILE *out, const restir_stats *st)
+{
+    static const enum shift_failure refused[] = {SHIFT_FAIL_RC_EARLIER, SHIFT_FAIL_RC_PREV, SHIFT_FAIL_RC_DISTANCE,
+                                                 SHIFT_FAIL_RC_ROUGHNESS, SHIFT_FAIL_RC_FOOTPRINT,
+                                                 SHIFT_FAIL_RC_OFFSET_RECONNECTS};
+    double selected = st->initial.selected > 0 ? (double)st->initial.selected : 1;
+    double shifts = st->spatial.shifts > 0 ? (double)st->spatial.shifts : 1;
+    uint64_t none = st->initial.rc_index[0];
+    int i;
+    fprintf(out, "   \"reconnection\": {\"initial_rate\": %.4f, \"initial_by_index\": [",
+            1 - (double)none / selected);
+    for (i = 0; i <= PATH_MAX_LENGTH; ++i) fprintf(out, "%s%llu", i ? ", " : "", (unsigned long long)st->initial.rc_index[i]);
+    fprintf(out, "], \"shifts_refused_by_offset_criterion\": {");
+    for (i = 0; i < (int)(sizeof refused / sizeof refused[0]); ++i)
+        fprintf(out, "%s\"%s\": %.5f", i ? ", " : "", shift_failure_names[refused[i]],
+                (double)st->spatial.outcome[refused[i]] / shifts);
+    fprintf(out, "}}");
+}
+
 static void write_one(FILE *out, const char *name, const restir_options *o, const restir_result *r)
 {
     const restir_stats *st = &r->stats;
@@ -63,7 +85,9 @@ static void write_one(FILE *out, const char *name, const restir_options *o, cons
     for (i = 0; i < SHIFT_FAILURE_COUNT; ++i)
         fprintf(out, "%s\"%s\": %llu", i ? ", " : "", shift_failure_names[i],
                 (unsigned long long)st->spatial.outcome[i]);
-    fprintf(out, "}}");
+    fprintf(out, "},\n");
+    write_reconnection_rates(out, st);
+    fprintf(out, "}");
 }
 
 int bench_restir(FILE *out, const scene *s, const char *name, const restir_options *o, int *first, rerror *e)

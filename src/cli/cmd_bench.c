@@ -23,6 +23,7 @@ typedef struct {
     int generated;   /* subdivision level of the displaced sphere, 0 = none */
     int rays_size[2];
     int has_rays_size;
+    int pairing, no_pair_step, rc_criterion, shading; /* bench restir: Enhanced switches */
 } bench_args;
 
 /* A benchmark over one prepared scene; `name` labels it in the JSON. */
@@ -110,6 +111,10 @@ static int bench_restir_on(const scene *s, const char *name, const bench_args *a
     restir_options_default(&o);
     restir_options_preset_gris_offline(&o);
     o.threads = a->rays.threads > 0 ? a->rays.threads : threads_default();
+    o.pairing = a->pairing;
+    o.no_pair_step = a->no_pair_step;
+    o.rc_criterion = a->rc_criterion;
+    o.shading = a->shading;
     sized.width = sized.height = 64;
     status = bench_restir(stdout, &sized, name, &o, first, &e);
     if (!status) {
@@ -317,6 +322,14 @@ int cmd_bench(int argc, char **argv)
             {"--repeats", OPT_INT, &a.rays.repeats, "timed repetitions; the median is reported", NULL, 1, 1000, NULL},
             {"--size", OPT_SIZE, a.rays_size, "primary ray grid (default 512x512)", NULL, 0, 0, &a.has_rays_size},
             {"--seed", OPT_UINT32, &a.rays.seed, "seed of the jitter and bounce directions", NULL, 0, 0, NULL},
+            {"--pairing", OPT_CHOICE, &a.pairing, "bench restir: spatial neighbours disk (default) or paired (Enhanced 3)",
+             restir_pairing_names, 0, 0, NULL},
+            {"--no-pair-step", OPT_FLAG, &a.no_pair_step, "bench restir, --pairing paired: per-pixel GRIS steps", NULL, 0,
+             0, NULL},
+            {"--rc-criterion", OPT_CHOICE, &a.rc_criterion, "bench restir: reconnection criterion gris or footprint",
+             rc_mode_names, 0, 0, NULL},
+            {"--shading", OPT_CHOICE, &a.shading, "bench restir: pixel estimate scalar or vector (Enhanced 6.3)",
+             restir_shading_names, 0, 0, NULL},
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);

@@ -135,7 +135,8 @@ int render_restir_options(cli_option *rows, restir_options *o)
                     "deliberately broken variant: none, jacobian (|dT/dx| = 1), light-pdf (stale light pdf), temporal-target, "
                     "temporal-suffix, stochastic-p (stochastic-pairwise without the P(i) correction), footprint-base-only "
                     "(footprint criterion not tested on the offset), dual-mv-vertex (dual-MV history with the occluder "
-                    "pixel's x1)",
+                    "pixel's x1), pair-mis (pair step: the canonical MIS ignores the "
+                    "pre-pass shift to the partner)",
                     restir_ablation_names, 0, 0);
     rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
                     "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",
@@ -159,5 +160,9 @@ int render_restir_options(cli_option *rows, restir_options *o)
                     "BIASED. --sequence: RTXDI boiling filter of strength S in (0,1] after temporal reuse: clears "
                     "reservoirs with weight > (10/S - 9) x their 16x16 group's mean (0 = off, default)",
                     NULL, 0, 1);
+    rows[n++] = row("--no-pair-step", OPT_FLAG, &o->no_pair_step,
+                    "--pairing paired: a full GRIS step per pixel (4 shifts per pair) instead of the Enhanced 3 pair "
+                    "step (2 shifts per pair, same output)",
+                    NULL, 0, 0);
     return n;
 }

@@ -21,6 +21,8 @@ typedef struct {
     stochastic_workspace sw; /* stochastic pairwise MIS (stochastic_spatial.h) */
     real up[STOCHASTIC_MAX_PICKS], uc[STOCHASTIC_MAX_PICKS]; /* its pick numbers */
     struct frame_job_s *lazy_job; /* the job of the pixel being resampled (lazy_vertex) */
+    int *slot;                    /* pair step: the reuse texture of each accepted neighbour */
+    const pair_shift **fwd, **rev; /* pair step: the pre-pass shifts per domain (pair_shifts) */
     char pad[64];            /* keep workers' counters on separate cache lines */
 } worker_state;
 
@@ -45,6 +47,14 @@ typedef struct frame_job_s {
     int temporal;                    /* real-time pipeline with temporal reuse (workspaces >= 2) */
     stage_io *sio;                   /* NULL, or stage dumps / restart (stage_dump.h) */
     reuse_cells cells;               /* o->cells: the current pass's reuse cells (reuse_cells.h) */
+    reuse_transform placed[PAIRING_MAX_TEXTURES]; /* paired: this pass's placements (no.placements) */
+    pair_shift *pair;                /* the pair step (restir_pair_step_active): the pre-pass's
+                                        shift of pixel p to its partner in texture k at
+                                        pair[k * pixels + p] (pair_step.c) */
+    int *pair_n;                     /* pair step: accepted neighbours of pixel p (-1: no hit) */
+    uint32_t *pair_nbr;              /* ... their pixels, pair_nbr[p * count + a] */
+    unsigned char *pair_slot;        /* ... their textures */
+    path_vertex *pair_x1;            /* pair step: x1 of every pixel of the frame (built once) */
 } frame_job;
 
 /* Every stage of a frame calls this once its output reservoirs `rs` are complete: it
@@ -74,6 +84,18 @@ void frame_stage_initial(frame_job *j, restir_stats *times, double *t);
 reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_stats *times, double *t);
 /* GRIS §6.3 step 4: Le(x1) + F(Y) W_Y of `final` added into j->sum. */
 void frame_stage_shade(frame_job *j, const reservoir *final, restir_stats *times, double *t);
+
+/* Enhanced §3 pair step (pair_step.c). The pre-pass of spatial pass j->pass: every pixel's
+ * sample j->src[p] shifted once to each accepted partner into j->pair. */
+void frame_pair_prepass(frame_job *j);
+/* Pixel p's domains for the pass from the pre-pass: its neighbours into w->nbr, w->slot,
+ * the cached x1 of every domain into w->x1; returns n (pair_n[p] >= 0). */
+int frame_pair_domains(frame_job *j, worker_state *w, long p);
+int frame_pair_alloc(frame_job *j, rerror *e);
+void frame_pair_free(frame_job *j);
+/* The pass's GRIS step at pixel p (n accepted neighbours in w->nbr, textures in w->slot,
+ * domains set up in w) from the pre-pass shifts: no shift between the pair is made here. */
+void frame_pair_resample(frame_job *j, worker_state *w, long p, int n, reservoir *out);
 
 int frame_workers_alloc(frame_job *j, rerror *e);
 void frame_workers_free(frame_job *j);

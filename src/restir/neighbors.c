@@ -21,6 +21,7 @@ void neighbor_options_default(neighbor_options *o)
     o->min_normal_cos = NEIGHBOR_DEFAULT_MIN_NORMAL_COS;
     o->max_relative_depth = NEIGHBOR_DEFAULT_MAX_RELATIVE_DEPTH;
     o->textures = NULL;
+    o->placements = NULL;
 }
 
 int neighbor_options_validate(const neighbor_options *o, rerror *e)
@@ -132,8 +133,20 @@ static int seen_before(const uint32_t *proposed, int count, uint32_t pixel)
     return 0;
 }
 
+void neighbor_place(const neighbor_options *o, uint32_t seed, uint32_t sample, reuse_transform *out)
+{
+    int k;
+    for (k = 0; k < o->count; ++k) out[k] = reuse_transform_draw(&o->textures[k], seed, sample, (uint32_t)k);
+}
+
 int neighbor_select(const neighbor_options *o, const gbuffer *g, uint32_t seed, uint32_t sample, int x, int y,
                     uint32_t *out, int capacity, neighbor_stats *stats, rerror *e)
+{
+    return neighbor_select_slots(o, g, seed, sample, x, y, out, NULL, capacity, stats, e);
+}
+
+int neighbor_select_slots(const neighbor_options *o, const gbuffer *g, uint32_t seed, uint32_t sample, int x, int y,
+                          uint32_t *out, int *slot, int capacity, neighbor_stats *stats, rerror *e)
 {
     uint32_t centre = (uint32_t)y * (uint32_t)g->width + (uint32_t)x;
     uint32_t proposed[NEIGHBOR_MAX_COUNT]; /* in-image candidates so far (disk patterns) */
@@ -148,7 +161,8 @@ int neighbor_select(const neighbor_options *o, const gbuffer *g, uint32_t seed, 
         int dx, dy, nx, ny;
         uint32_t pixel;
         if (o->pattern == NEIGHBOR_PAIRED) { /* Enhanced §3.2: texture k, this frame's placement */
-            reuse_transform f = reuse_transform_draw(&o->textures[k], seed, sample, (uint32_t)k);
+            reuse_transform f = o->placements ? o->placements[k]
+                                              : reuse_transform_draw(&o->textures[k], seed, sample, (uint32_t)k);
             reuse_partner_offset(&o->textures[k], &f, x, y, &dx, &dy);
         } else {
             neighbor_offset(o, key, k, &dx, &dy);
@@ -166,7 +180,10 @@ int neighbor_select(const neighbor_options *o, const gbuffer *g, uint32_t seed, 
             verdict = neighbor_geometry_test(o, ti, gbuffer_at(g, nx, ny));
         if (o->pattern != NEIGHBOR_BOX && (verdict == NEIGHBOR_ACCEPTED || verdict >= NEIGHBOR_NO_HIT))
             proposed[proposed_count++] = pixel;
-        if (verdict == NEIGHBOR_ACCEPTED) out[accepted++] = pixel;
+        if (verdict == NEIGHBOR_ACCEPTED) {
+            if (slot) slot[accepted] = k;
+            out[accepted++] = pixel;
+        }
         if (stats) stats->verdict[verdict]++;
     }
     if (stats) stats->candidates += (uint64_t)candidates;

@@ -70,6 +70,12 @@ int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_te
     return 0;
 }
 
+int restir_pair_step_active(const restir_options *o)
+{
+    return o->pairing == RESTIR_PAIRING_PAIRED && !o->no_pair_step && o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE &&
+           !o->cells && o->spatial_passes > 0;
+}
+
 void restir_pairing_free(neighbor_options *no)
 {
     if (no->textures) reuse_textures_free((reuse_texture *)no->textures, no->count);
@@ -161,6 +167,9 @@ int restir_options_validate(const restir_options *o, rerror *e)
         return rerror_set(e, "restir: unknown --paths %d", o->paths);
     if (o->ablation < 0 || o->ablation >= RESTIR_ABLATION_COUNT)
         return rerror_set(e, "restir: unknown ablation %d", o->ablation);
+    if (o->ablation == RESTIR_ABLATE_PAIR_MIS && !restir_pair_step_active(o))
+        return rerror_set(e, "restir: --ablate pair-mis needs the pair step (--pairing paired, a deterministic --mis, "
+                             "no --reuse-cells, no --no-pair-step)");
     if (o->threads < 1) return rerror_set(e, "restir: %d threads", o->threads);
     if (o->temporal_mis < 0 || o->temporal_mis >= MIS_FAMILY_COUNT)
         return rerror_set(e, "restir: unknown temporal MIS family %d", o->temporal_mis);
@@ -266,7 +275,7 @@ static rgb vector_estimate(const spatial_workspace *ws, const reservoir *const *
         if (!ws->valid[i]) continue;
         weight = ws->mis[i] * in[i]->W * ws->jacobian[i];
         if (!isfinite(weight)) st->invalid_weights++; /* skipped, like wrs_update skips it */
-        if (weight > 0 && isfinite(weight)) L = rgb_add(L, rgb_scale(ws->shifted[i].F, weight));
+        if (weight > 0 && isfinite(weight)) L = rgb_add(L, rgb_scale(ws->cand[i]->F, weight));
     }
     return L;
 }
@@ -281,27 +290,31 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
     rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
     uint32_t nsample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass);
     int n, d;
-    if (!primary_vertex(j, p, &w->verts[0])) {
+    if (j->pair ? j->pair_n[p] < 0 : !primary_vertex(j, p, &w->verts[0])) {
         reservoir_init(&j->dst[p]);
         if (j->vector_shade) j->vector_shade[p] = rgb_gray(0);
         return;
     }
     /* capacity is checked by restir_options_validate, so this cannot fail */
-    if (j->o->cells) {
+    if (j->pair) {
+        n = frame_pair_domains(j, w, p); /* the pre-pass's neighbours and cached vertices */
+    } else if (j->o->cells) {
         /* Stochastic MIS §5.1: a reuse cell; its pixels except p are the domains */
         int c = reuse_cell_search(&j->cells, &j->g, (float)j->o->normal_cos, j->o->seed, nsample, x, y);
         n = c >= 0 ? reuse_cell_domains(&j->cells, c, (uint32_t)p, w->nbr) : 0;
     } else {
-        n = neighbor_select(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, j->max_domains - 1, &w->st.neighbors,
-                            NULL);
+        n = neighbor_select_slots(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, w->slot, j->max_domains - 1,
+                                  &w->st.neighbors, NULL);
         if (n < 0) n = 0;
     }
     w->lazy_job = j;
     for (d = 0; d <= n; ++d) {
         long q = d == 0 ? p : (long)w->nbr[d - 1];
         /* accepted neighbours have a primary hit; the stochastic step builds them on demand */
-        if (d > 0 && j->o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE) primary_vertex(j, q, &w->verts[d]);
-        w->x1[d] = d > 0 && j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE ? NULL : &w->verts[d];
+        if (!j->pair) {
+            if (d > 0 && j->o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE) primary_vertex(j, q, &w->verts[d]);
+            w->x1[d] = d > 0 && j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE ? NULL : &w->verts[d];
+        }
         w->in[d] = &j->src[q];
         /* vertex 32 + p: initial sampling uses vertices 2..16 of RNG_RIS (the key packs
          * vertex < 256 and slot < 65536, so the pass must not go into the slot) */
@@ -311,7 +324,11 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
         stochastic_spatial_pixel(j, w, key, n + 1, &j->dst[p]);
         return;
     }
-    spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws, &w->st.spatial);
+    if (j->pair)
+        frame_pair_resample(j, w, p, n, &j->dst[p]); /* Enhanced §3: the pair's shifts from the pre-pass */
+    else
+        spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws,
+                         &w->st.spatial);
     if (j->vector_shade && j->pass == j->o->spatial_passes - 1)
         j->vector_shade[p] = vector_estimate(&w->ws, w->in, n + 1, &w->st.spatial);
 }
@@ -377,7 +394,15 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
         j->dst = j->pass % 2 == 0 ? b : a;
         if (!pipeline_stage_skipped(j, name)) {
             if (j->o->cells) reuse_cells_build(&j->cells, &j->g, j->src, NULL); /* allocated: cannot fail */
+            if (j->no.textures) { /* paired: the pass's texture placements, drawn once */
+                neighbor_place(&j->no, j->o->seed,
+                               neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass),
+                               j->placed);
+                j->no.placements = j->placed;
+            }
+            if (j->pair) frame_pair_prepass(j); /* Enhanced §3: each pair's two shifts, once */
             parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
+            j->no.placements = NULL;
         }
         final = j->dst;
         times->ms_spatial[j->pass] += frame_lap_ms(t);
@@ -504,8 +529,12 @@ int frame_workers_alloc(frame_job *j, rerror *e)
         w->verts = rmalloc(m, sizeof *w->verts, e);
         w->in = rmalloc(m, sizeof *w->in, e);
         w->u = rmalloc(m, sizeof *w->u, e);
-        if (!w->nbr || !w->x1 || !w->verts || !w->in || !w->u) return -1;
+        w->slot = rmalloc(m, sizeof *w->slot, e);
+        w->fwd = rmalloc(m, sizeof *w->fwd, e);
+        w->rev = rmalloc(m, sizeof *w->rev, e);
+        if (!w->nbr || !w->x1 || !w->verts || !w->in || !w->u || !w->slot || !w->fwd || !w->rev) return -1;
     }
+    if (restir_pair_step_active(j->o) && frame_pair_alloc(j, e)) return -1;
     return 0;
 }
 
@@ -513,6 +542,7 @@ void frame_workers_free(frame_job *j)
 {
     int t;
     reuse_cells_free(&j->cells);
+    frame_pair_free(j);
     if (!j->workers) return;
     for (t = 0; t < j->o->threads; ++t) {
         worker_state *w = &j->workers[t];
@@ -523,6 +553,9 @@ void frame_workers_free(frame_job *j)
         free(w->verts);
         free(w->in);
         free(w->u);
+        free(w->slot);
+        free(w->fwd);
+        free(w->rev);
     }
     free(j->workers);
 }
@@ -682,8 +715,8 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
                  "\"roughness_threshold\": %g, \"distance_threshold\": %g, \"paths\": \"%s\", \"ablate\": \"%s\", ",
             o->frames, o->first_frame, o->time_limit, o->max_depth, o->roughness_threshold, o->distance_threshold,
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
-    fprintf(out, "\"pairing\": \"%s\", \"shading\": \"%s\", ", restir_pairing_names[o->pairing],
-            restir_shading_names[o->shading]);
+    fprintf(out, "\"pairing\": \"%s\", \"pair_step\": %s, \"shading\": \"%s\", ", restir_pairing_names[o->pairing],
+            restir_pair_step_active(o) ? "true" : "false", restir_shading_names[o->shading]);
     fprintf(out, "\"force_nee_reconnection\": %s, ", o->force_nee_reconnection ? "true" : "false");
     fprintf(out, "\"rc_criterion\": \"%s\", \"footprint_c\": %g, ", rc_mode_names[o->rc_criterion], o->footprint_c);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",

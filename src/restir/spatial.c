@@ -17,10 +17,11 @@ int spatial_workspace_alloc(spatial_workspace *w, int max_domains, rerror *e)
     w->confidence = rcalloc(m, sizeof *w->confidence, e);
     w->jacobian = rcalloc(m, sizeof *w->jacobian, e);
     w->shifted = rcalloc(m, sizeof *w->shifted, e);
+    w->cand = rcalloc(m, sizeof *w->cand, e);
     w->valid = rcalloc(m, 1, e);
     w->mis = rcalloc(m, sizeof *w->mis, e);
     w->check_confidence = rcalloc(m, sizeof *w->check_confidence, e);
-    if (!w->ptarget || !w->confidence || !w->jacobian || !w->shifted || !w->valid || !w->mis || !w->check_confidence) {
+    if (!w->ptarget || !w->confidence || !w->jacobian || !w->shifted || !w->cand || !w->valid || !w->mis || !w->check_confidence) {
         spatial_workspace_free(w);
         return -1;
     }
@@ -33,6 +34,7 @@ void spatial_workspace_free(spatial_workspace *w)
     free(w->confidence);
     free(w->jacobian);
     free(w->shifted);
+    free(w->cand);
     free(w->valid);
     free(w->mis);
     free(w->check_confidence);
@@ -93,9 +95,11 @@ static int needs_entry(mis_family f, int i, int j)
     return 0;
 }
 
-/* Candidates shifted in: y_j = T_j(X_j), J_j, and the matrix's row 0 and diagonal. */
-static void shift_in(const restir_context *c, const domain_refresh *rf, int m, const path_vertex *const *x1,
-                     const reservoir *const *in, spatial_workspace *w, spatial_stats *st)
+/* Candidates shifted in: y_j = T_j(X_j), J_j, and the matrix's row 0 and diagonal; with
+ * pre (the pair step) the neighbours' shifts are read instead of made. */
+static void shift_in(const restir_context *c, const domain_refresh *rf, const pair_shifts *pre, int m,
+                     const path_vertex *const *x1, const reservoir *const *in, spatial_workspace *w,
+                     spatial_stats *st)
 {
     int j;
     for (j = 0; j < m; ++j) {
@@ -106,12 +110,21 @@ static void shift_in(const restir_context *c, const domain_refresh *rf, int m, c
         w->confidence[j] = r->confidence;
         w->valid[j] = path_sample_is_valid(&r->y) && r->W > 0;
         w->jacobian[j] = 0;
+        w->cand[j] = &w->shifted[j];
         P[j] = 0;
         if (j > 0) P[j * m + j] = 0;
         if (!w->valid[j]) continue;
         if (j == 0) {
-            w->shifted[0] = r->y; /* canonical: identity shift */
+            w->cand[0] = &r->y; /* canonical: identity shift */
             w->jacobian[0] = 1;
+        } else if (pre) {
+            if (!pre->forward[j]->ok) {
+                w->valid[j] = 0;
+                continue;
+            }
+            w->cand[j] = &pre->forward[j]->y; /* read in place: no copy */
+            w->jacobian[j] = pre->forward[j]->jacobian;
+            P[j * m + j] = r->y.target / w->jacobian[j];
         } else if (!refreshed(rf, j, 0, &r->y, &tmp, &x, st) ||
                    spatial_counted_shift(c, x1[0], x, &w->shifted[j], &w->jacobian[j], st) != SHIFT_OK) {
             w->valid[j] = 0;
@@ -119,7 +132,27 @@ static void shift_in(const restir_context *c, const domain_refresh *rf, int m, c
         } else {
             P[j * m + j] = r->y.target / w->jacobian[j]; /* p̂_j(X_j) / |dT_j/dX_j| */
         }
-        P[j] = w->shifted[j].target; /* p̂(y_j) */
+        P[j] = w->cand[j]->target; /* p̂(y_j) */
+    }
+}
+
+/* p̂_{<-i}(y_j) for the entries family `mis` reads beyond row 0 and the diagonal. */
+static void mis_entries(const restir_context *away, const domain_refresh *rf, const pair_shifts *pre,
+                        mis_family mis, int m, const path_vertex *const *x1, spatial_workspace *w, spatial_stats *st)
+{
+    int i, j;
+    for (j = 0; j < m; ++j) {
+        if (!w->valid[j]) continue;
+        for (i = 1; i < m; ++i) {
+            real *P = &w->ptarget[i * m + j];
+            if (i == j) continue;
+            if (!needs_entry(mis, i, j))
+                *P = 0;
+            else if (pre && j == 0) /* the pair step: X_0 was shifted into i by the pre-pass */
+                *P = pre->reverse[i]->ok && !pre->drop_reverse ? pre->reverse[i]->y.target * pre->reverse[i]->jacobian : 0;
+            else
+                *P = ptarget_from(away, rf, i, x1[i], w->cand[j], st);
+        }
     }
 }
 
@@ -130,24 +163,15 @@ void spatial_resample(const restir_context *c, mis_family mis, int m, const path
     gris_resample(c, c, NULL, mis, m, x1, in, u, out, w, st);
 }
 
-void gris_resample(const restir_context *c, const restir_context *away, const domain_refresh *rf, mis_family mis,
-                   int m, const path_vertex *const *x1, const reservoir *const *in, const real *u, reservoir *out,
-                   spatial_workspace *w, spatial_stats *st)
+/* The GRIS step once the candidates are in (shift_in) and the MIS matrix is filled. */
+static void select_candidate(const restir_context *c, mis_family mis, int m, const path_vertex *const *x1,
+                             const reservoir *const *in, const real *u, reservoir *out, spatial_workspace *w,
+                             spatial_stats *st)
 {
     mis_input mi;
-    int i, j;
+    int j;
     long unused = 0;
     int chosen = -1;
-    reservoir_init(out);
-    st->pixels++;
-    st->domains += (uint64_t)m;
-    shift_in(c, rf, m, x1, in, w, st);
-    for (j = 0; j < m; ++j) {
-        if (!w->valid[j]) continue;
-        for (i = 1; i < m; ++i)
-            if (i != j)
-                w->ptarget[i * m + j] = needs_entry(mis, i, j) ? ptarget_from(away, rf, i, x1[i], &w->shifted[j], st) : 0;
-    }
     mi.m = m;
     mi.n_canonical = 1;
     mi.confidence = w->confidence;
@@ -160,7 +184,7 @@ void gris_resample(const restir_context *c, const restir_context *away, const do
             mj = mis_weight(mis, &mi, j, j, &unused);
             w->mis[j] = mj;
             wj = gris_resampling_weight(mj, w->ptarget[j], in[j]->W, w->jacobian[j]); /* GRIS Eq. 19 */
-            if (reservoir_stream(out, &w->shifted[j], wj, u[j])) chosen = j;
+            if (reservoir_stream(out, w->cand[j], wj, u[j])) chosen = j;
         }
         reservoir_add_confidence(out, w->confidence[j]); /* GRIS §6.2: c = sum of the inputs */
     }
@@ -171,6 +195,30 @@ void gris_resample(const restir_context *c, const restir_context *away, const do
         char why[512];
         if (spatial_check_step(c, mis, m, x1, in, out, w, why, sizeof why)) restir_invariant_failed(__FILE__, __LINE__, why);
     }
+}
+
+void gris_resample(const restir_context *c, const restir_context *away, const domain_refresh *rf, mis_family mis,
+                   int m, const path_vertex *const *x1, const reservoir *const *in, const real *u, reservoir *out,
+                   spatial_workspace *w, spatial_stats *st)
+{
+    reservoir_init(out);
+    st->pixels++;
+    st->domains += (uint64_t)m;
+    shift_in(c, rf, NULL, m, x1, in, w, st);
+    mis_entries(away, rf, NULL, mis, m, x1, w, st);
+    select_candidate(c, mis, m, x1, in, u, out, w, st);
+}
+
+void spatial_resample_preshifted(const restir_context *c, mis_family mis, int m, const path_vertex *const *x1,
+                                 const reservoir *const *in, const pair_shifts *pre, const real *u, reservoir *out,
+                                 spatial_workspace *w, spatial_stats *st)
+{
+    reservoir_init(out);
+    st->pixels++;
+    st->domains += (uint64_t)m;
+    shift_in(c, NULL, pre, m, x1, in, w, st);
+    mis_entries(c, NULL, pre, mis, m, x1, w, st);
+    select_candidate(c, mis, m, x1, in, u, out, w, st);
 }
 
 /* ---- invariants (spatial.h, spatial_check_step) -------------------------------------- */
@@ -240,9 +288,9 @@ int spatial_check_step(const restir_context *c, mis_family mis, int m, const pat
     for (j = 0; j < m; ++j) {
         if (!w->valid[j]) continue;
         if (check_mis_column(mis, m, in, w, j, w->check_confidence, why, why_size)) return 1;
-        if (j > 0 && !rc_segment_visible(c, x1[0], &w->shifted[j])) {
+        if (j > 0 && !rc_segment_visible(c, x1[0], w->cand[j])) {
             snprintf(why, why_size, "candidate %d: successful reconnection to x_%d, but the segment is occluded", j,
-                     w->shifted[j].rc_k);
+                     w->cand[j]->rc_k);
             return 1;
         }
     }
