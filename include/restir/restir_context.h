@@ -71,7 +71,7 @@ enum restir_ablation {
                                    "naively choosing input pixels based on their samples") */,
     RESTIR_ABLATE_FOOTPRINT_BASE = 6, /* "footprint-base-only": with --rc-criterion footprint the
                                    shift does not test the criterion on the offset path (no
-                                   invertibility check): T is then not a bijection (Enhanced §4) */,
+                                   invertibility check): T is then not a bijection (Enhanced §4) */
     RESTIR_ABLATE_DUAL_MV_VERTEX = 7 /* "dual-mv-vertex": with --motion-vectors dual, a history
                                    found by the dual motion vector is resampled with the reverse
                                    shift starting at the STANDARD previous pixel's x1 (the

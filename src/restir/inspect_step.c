@@ -33,7 +33,7 @@ static void step_end(inspect_step *g)
     for (j = 0; j < 2; ++j) {
         g->w[j] = g->ws.valid[j] ? gris_resampling_weight(g->ws.mis[j], g->ws.ptarget[j], g->in[j].W, g->ws.jacobian[j])
                                  : 0;
-        if (g->ws.valid[j] && dump_same_sample(&g->ws.shifted[j], &g->out.y)) g->selected = j;
+        if (g->ws.valid[j] && dump_same_sample(g->ws.cand[j], &g->out.y)) g->selected = j;
     }
 }
 

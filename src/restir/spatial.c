@@ -197,6 +197,10 @@ static void select_candidate(const restir_context *c, mis_family mis, int m, con
     }
 }
 
+/* One GRIS step: shift the candidates in, fill the "p̂ from i" entries of the MIS weights
+ * (GRIS Eq. 35; Stochastic MIS Eq. 10), then select by the resampling weights of GRIS
+ * Eq. 19 with the MIS weights of GRIS Eqs. 36-38 (Stochastic MIS Eqs. 9-12) and finalise W
+ * by GRIS Eq. 22 (select_candidate). */
 void gris_resample(const restir_context *c, const restir_context *away, const domain_refresh *rf, mis_family mis,
                    int m, const path_vertex *const *x1, const reservoir *const *in, const real *u, reservoir *out,
                    spatial_workspace *w, spatial_stats *st)
