@@ -19,6 +19,7 @@
 #include "restir/initial.h"
 #include "restir/merge.h"
 #include "restir/mis.h"
+#include "restir/mutate.h"
 #include "restir/neighbors.h"
 #include "restir/spatial.h"
 #include "restir/reuse_cells.h"
@@ -82,6 +83,10 @@ typedef struct {
     int no_confidence_scaling;  /* 1: no c_i <- c_i min(1, Ñ/M) (Stochastic MIS §4.3) */
     int cells;                  /* spatial domains = a reuse cell found by the §5.1 search
                                    (reuse_cells.h) instead of neighbor_select; any --mis */
+    /* MCMC mutations (mutate.h; Mutations Algorithm 3), real-time pipeline only: */
+    int mutations;              /* N Metropolis-Hastings iterations per pixel and stage (default 0: off) */
+    int mutation;               /* enum mutate_strategy (default rv, Mutations §4.3) */
+    int mutate_after;           /* enum mutate_stage bits (default MUTATE_AFTER_TEMPORAL, Mutations §3) */
 } restir_options;
 
 typedef struct {
@@ -89,11 +94,13 @@ typedef struct {
     spatial_stats spatial;     /* all passes */
     neighbor_stats neighbors;  /* verdict of every proposed neighbour */
     temporal_stats temporal;   /* temporal steps (sequences only) */
+    mutate_stats mutate;       /* MCMC mutations (sequences only) */
     uint64_t frames;
     int passes;                /* K */
     double ms_gbuffer, ms_initial, ms_shade;     /* summed over frames */
     double ms_temporal;                          /* temporal step incl. reprojection (sequences) */
     double ms_pose, ms_motion;                   /* posing + BVH rebuild; motion vectors (sequences) */
+    double ms_mutate;                            /* MCMC mutations, all stages (sequences) */
     double ms_spatial[RESTIR_MAX_SPATIAL_PASSES]; /* pass p, summed over frames */
 } restir_stats;
 

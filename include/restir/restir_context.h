@@ -71,9 +71,14 @@ enum restir_ablation {
                                    "naively choosing input pixels based on their samples") */,
     RESTIR_ABLATE_FOOTPRINT_BASE = 6 /* "footprint-base-only": with --rc-criterion footprint the
                                    shift does not test the criterion on the offset path (no
-                                   invertibility check): T is then not a bijection (Enhanced §4) */
+                                   invertibility check): T is then not a bijection (Enhanced §4) */,
+    RESTIR_ABLATE_MUTATION_W = 7, /* "mutation-w": an accepted MCMC mutation keeps W (no
+                                   Mutations Eq. 16 update p̂(x^0)/p̂(x^k)) */
+    RESTIR_ABLATE_RV_KERNEL = 8   /* "rv-kernel": the path mutations' kernel ratio
+                                   T(z->x)/T(x->z) of Mutations Eq. 20 taken as 1 (a symmetric
+                                   kernel) */
 };
-#define RESTIR_ABLATION_COUNT 7
+#define RESTIR_ABLATION_COUNT 9
 
 /* Reconnection criterion (connectability.h). gris (GRIS §7.4-7.5, §8.3; Enhanced §2.3):
  * x_{k-1} and x_k must be rough for their lobes and ||x_k - x_{k-1}|| >= min_distance.

@@ -8,7 +8,10 @@
  *                 temporal reuse (A, previous final P) -> B        step 2 (temporal.h; in
  *                                                                  animated scenes samples
  *                                                                  crossing frames are re-traced)
+ *                 [N MCMC mutations of A, --mutate-after initial]  Mutations §3 (mutate.h)
+ *                 [N MCMC mutations of B, default stage]           Mutations Algorithm 3
  *                 K spatial passes B -> A -> B ...                 step 3 (spatial.h)
+ *                 [N MCMC mutations of the last output, --mutate-after spatial]
  *                 shading of the last output                       step 4
  *                 the last output becomes P, the G-buffer, camera and scene of t are kept
  *
@@ -36,7 +39,8 @@ typedef struct {
     scene posed[2];          /* animated scenes: two posed copies, frames t and t-1 alternate */
     int animated, cur_copy;  /* cur_copy: the copy posed at frame t (the other one holds t-1) */
     const reservoir *cur;   /* temporal stage input: the initial reservoirs */
-    reservoir *out;         /* temporal stage output */
+    reservoir *out;         /* temporal stage output; mutation stage in/out */
+    int mutate_stage;       /* enum mutate_stage of the running mutation stage */
 } pipeline;
 
 /* ---- reprojection ---------------------------------------------------------------------- */
@@ -104,6 +108,35 @@ static void stage_temporal(pipeline *pl, const reservoir *cur, reservoir *out, r
     times->ms_temporal += frame_lap_ms(t);
 }
 
+/* ---- MCMC mutations (Mutations §3 Algorithm 3; mutate.h) ------------------------------- */
+
+static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
+{
+    pipeline *pl = ctx;
+    frame_job *j = &pl->j;
+    worker_state *w = &j->workers[worker];
+    int x, y;
+    for (y = y0; y < y1; ++y)
+        for (x = x0; x < x1; ++x) {
+            long p = (long)y * j->s->width + x;
+            rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+            path_vertex v;
+            if (!frame_primary_vertex(j->s, &j->g, p, &v)) continue;
+            mutate_reservoir(&j->ctx, &v, key, pl->mutate_stage, j->o->mutation, j->o->mutations, &pl->out[p],
+                             &w->st.mutate);
+        }
+}
+
+/* N mutations of every pixel's reservoir in r (in place) if the options ask for `stage`. */
+static void stage_mutate(pipeline *pl, reservoir *r, int stage, restir_stats *times, double *t)
+{
+    if (pl->j.o->mutations <= 0 || !(pl->j.o->mutate_after & stage)) return;
+    pl->out = r;
+    pl->mutate_stage = stage;
+    parallel_tiles(pl->j.s->width, pl->j.s->height, 16, pl->j.o->threads, mutate_tile, pl, NULL, NULL);
+    times->ms_mutate += frame_lap_ms(t);
+}
+
 /* ---- the frame ------------------------------------------------------------------------- */
 
 static void swap_reservoirs(reservoir **a, reservoir **b)
@@ -162,13 +195,16 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     times->ms_motion += frame_lap_ms(&t);
     if (j->sio) stage_io_gbuffer(j->sio, &j->g);
     frame_stage_initial(j, times, &t);
+    stage_mutate(pl, j->initial, MUTATE_AFTER_INITIAL, times, &t);
     pipeline_stage_done(j, "initial", j->initial);
     if (j->o->temporal) {
         stage_temporal(pl, j->initial, j->pong, times, &t);
+        stage_mutate(pl, j->pong, MUTATE_AFTER_TEMPORAL, times, &t);
         pipeline_stage_done(j, "temporal", j->pong);
         final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
     } else
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
+    if (j->o->spatial_passes > 0) stage_mutate(pl, final, MUTATE_AFTER_SPATIAL, times, &t);
     frame_stage_shade(j, final, times, &t);
     keep_as_previous(pl, final);
     return 0;

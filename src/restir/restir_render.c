@@ -45,6 +45,7 @@ void restir_options_default(restir_options *o)
     o->mcap = 20;
     o->stochastic_n = 1;
     o->stochastic_nc = 1;
+    o->mutate_after = MUTATE_AFTER_TEMPORAL;
 }
 
 void restir_neighbor_options_for(neighbor_options *no, const restir_options *o)
@@ -145,6 +146,12 @@ int restir_options_validate(const restir_options *o, rerror *e)
     if (o->threads < 1) return rerror_set(e, "restir: %d threads", o->threads);
     if (o->temporal_mis < 0 || o->temporal_mis >= MIS_FAMILY_COUNT)
         return rerror_set(e, "restir: unknown temporal MIS family %d", o->temporal_mis);
+    if (o->mutations < 0 || o->mutations > MUTATE_MAX_ITERATIONS)
+        return rerror_set(e, "restir: --mutations %d (must be 0..%d)", o->mutations, MUTATE_MAX_ITERATIONS);
+    if (o->mutation < 0 || o->mutation >= MUTATE_STRATEGY_COUNT)
+        return rerror_set(e, "restir: unknown mutation strategy %d", o->mutation);
+    if (o->mutate_after & ~(MUTATE_AFTER_INITIAL | MUTATE_AFTER_TEMPORAL | MUTATE_AFTER_SPATIAL))
+        return rerror_set(e, "restir: unknown mutation stage bits %#x", (unsigned)o->mutate_after);
     if (!(o->mcap > 0)) return rerror_set(e, "restir: M-cap %g (must be > 0, or inf)", o->mcap);
     return 0;
 }
@@ -391,6 +398,7 @@ void restir_stats_add(restir_stats *st, const restir_stats *w)
     initial_stats_add(&st->initial, &w->initial);
     spatial_stats_add(&st->spatial, &w->spatial);
     temporal_stats_add(&st->temporal, &w->temporal);
+    mutate_stats_add(&st->mutate, &w->mutate);
     st->neighbors.candidates += w->neighbors.candidates;
     for (i = 0; i < NEIGHBOR_VERDICT_COUNT; ++i) st->neighbors.verdict[i] += w->neighbors.verdict[i];
     st->frames += w->frames;
@@ -399,6 +407,7 @@ void restir_stats_add(restir_stats *st, const restir_stats *w)
     st->ms_temporal += w->ms_temporal;
     st->ms_pose += w->ms_pose;
     st->ms_motion += w->ms_motion;
+    st->ms_mutate += w->ms_mutate;
     st->ms_shade += w->ms_shade;
     for (i = 0; i < RESTIR_MAX_SPATIAL_PASSES; ++i) st->ms_spatial[i] += w->ms_spatial[i];
 }
@@ -578,6 +587,23 @@ static void temporal_stats_write_json(FILE *out, const temporal_stats *t, const 
     fprintf(out, "}}");
 }
 
+/* "mutations": proposals, acceptances, rejections by reason (Mutations §3, mutate.h). */
+static void mutate_stats_write_json(FILE *out, const mutate_stats *m, double ms, const char *indent)
+{
+    int i;
+    fprintf(out, "%s  \"mutations\": {\"pixels\": %llu, \"skipped\": %llu, \"proposals\": %llu, \"accepted\": %llu, "
+                 "\"rejected_mh\": %llu, \"acceptance_rate\": %.6f, \"milliseconds\": %.3f,\n%s    \"rejected\": {",
+            indent, (unsigned long long)m->pixels, (unsigned long long)m->skipped, (unsigned long long)m->proposals,
+            (unsigned long long)m->accepted, (unsigned long long)m->rejected_mh,
+            m->proposals ? (double)m->accepted / (double)m->proposals : 0.0, ms, indent);
+    for (i = 0; i < MUTATE_REJECT_COUNT; ++i)
+        fprintf(out, "%s\"%s\": %llu", i > 0 ? ", " : "", mutate_reject_names[i], (unsigned long long)m->rejected[i]);
+    fprintf(out, "}, \"skip\": {");
+    for (i = 0; i < MUTATE_REASON_SKIP_COUNT; ++i)
+        fprintf(out, "%s\"%s\": %llu", i > 0 ? ", " : "", mutate_skip_names[i], (unsigned long long)m->skip[i]);
+    fprintf(out, "}}");
+}
+
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent)
 {
     const initial_stats *in = &st->initial;
@@ -615,6 +641,8 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
                 (unsigned long long)st->neighbors.verdict[i]);
     fprintf(out, "}},\n");
     temporal_stats_write_json(out, &st->temporal, indent);
+    fprintf(out, ",\n");
+    mutate_stats_write_json(out, &st->mutate, st->ms_mutate, indent);
     fprintf(out, "\n%s}", indent);
 }
 
@@ -641,9 +669,11 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
                 o->stochastic_n, o->stochastic_nc, o->no_confidence_scaling ? "false" : "true", o->cells ? "true" : "false",
                 indent);
     if (isinf(o->mcap))
-        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"}", o->temporal ? "true" : "false",
+        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis]);
     else
-        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g}", o->temporal ? "true" : "false",
+        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis], o->mcap);
+    fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d}", o->mutations,
+            mutate_strategy_names[o->mutation], o->mutate_after);
 }
