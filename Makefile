@@ -52,7 +52,7 @@ LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/*.c))
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-.PHONY: all run test test-long test-data bench clean results results-temporal results-stochastic mutation-score
+.PHONY: all run test test-long test-data bench clean results results-temporal results-stochastic mutation-score results-mutations
 all: $(BUILD)/restir
 
 $(BUILD)/%.o: %.c
@@ -115,3 +115,7 @@ mutation-score:
 
 results-stochastic: $(BUILD)/restir
 	sh scripts/results_stochastic.sh out/results-stochastic $(BUILD)
+
+# MCMC mutations, the Mutations claims (docs/results.md; minutes, never part of `make test`).
+results-mutations: $(BUILD)/restir
+	sh scripts/results_mutations.sh out/results-mutations $(BUILD)

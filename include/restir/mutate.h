@@ -82,6 +82,9 @@ typedef struct {
     uint64_t accepted;
     uint64_t rejected_mh; /* proposal valid, lost the acceptance test */
     uint64_t rejected[MUTATE_REJECT_COUNT]; /* proposal impossible (T = 0), by reason */
+    uint64_t pss_numbers; /* sum over pixels of the explicit numbers (n_pss) the final sample keeps */
+    uint64_t duplicates;  /* final reservoirs of each frame whose sample another pixel also holds (Fig. 8) */
+    uint64_t final_valid; /* final reservoirs of each frame with a sample */
 } mutate_stats;
 
 void mutate_stats_add(mutate_stats *acc, const mutate_stats *add);
@@ -124,6 +127,11 @@ int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sa
  * number is a PSS coordinate), p(w_k, w_{k+1}) = 1 when x_{k+1} is the last vertex or NEE-
  * samples it, A = 1 when x_{k+1} is NEE-sampled from x_k. T(z->y)/T(y->z) = A(z) / A(y). */
 real mutate_rv_ratio_terms(const path_trunk *t, int k, int nb);
+/* The three factors of A (p(w_{k-1}, w_k), G(x_k -> x_{k+1}), p(w_k, w_{k+1})), 1 where absent. */
+void mutate_rv_terms(const path_trunk *t, int k, int nb, real terms[3]);
+/* Mutations Eq. 20 from the factors of the proposal z and the current path y: A(z) / A(y)
+ * (0 if A(y) = 0). */
+real mutate_eq20_ratio(const real z[3], const real y[3]);
 
 /* N iterations of Algorithm 3 with `strategy` (enum mutate_strategy) on reservoir r of the
  * pixel with primary hit y1, numbers from RNG_MUTATE at (key, vertex = stage). ablation:
@@ -131,5 +139,9 @@ real mutate_rv_ratio_terms(const path_trunk *t, int k, int nb);
  * kernel ratio taken as 1. */
 void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key key, int stage, int strategy,
                       int iterations, reservoir *r, mutate_stats *st);
+
+/* Mutations Fig. 8: of the n reservoirs, how many hold a sample (identity, x_k and explicit
+ * numbers) that another reservoir holds too; *valid receives the number of non-empty ones. */
+uint64_t mutate_count_duplicates(const reservoir *r, size_t n, uint64_t *valid);
 
 #endif

@@ -3,6 +3,7 @@
 #include "restir/mutate.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include "restir/reconnection.h"
 
@@ -21,6 +22,9 @@ void mutate_stats_add(mutate_stats *acc, const mutate_stats *add)
     acc->proposals += add->proposals;
     acc->accepted += add->accepted;
     acc->rejected_mh += add->rejected_mh;
+    acc->pss_numbers += add->pss_numbers;
+    acc->duplicates += add->duplicates;
+    acc->final_valid += add->final_valid;
     for (i = 0; i < MUTATE_REJECT_COUNT; ++i) acc->rejected[i] += add->rejected[i];
 }
 
@@ -145,15 +149,32 @@ static real geometry_term(const path_vertex *a, const path_vertex *b)
     return r2 > 0 ? (real)fabs(v3_dot(b->ng, d)) / (r2 * v3_length(d)) : 0;
 }
 
-/* Mutations Eq. 20 / App. C Eq. 33, one side (mutate.h). t holds x_1..x_{k+1} and the bounces
- * b[k] (and b[k+1] when x_{k+1} is BSDF-sampled by a scattering vertex). */
+/* Mutations Eq. 20 / App. C Eq. 33, one side (mutate.h): terms[0..2] = p(w_{k-1}, w_k),
+ * G(x_k -> x_{k+1}), p(w_k, w_{k+1}), each 1 where it does not apply. t holds x_1..x_{k+1}
+ * and the bounces b[k] (and b[k+1] when x_{k+1} is a BSDF-sampling scattering vertex). */
+void mutate_rv_terms(const path_trunk *t, int k, int nb, real terms[3])
+{
+    terms[0] = terms[1] = terms[2] = 1;
+    if (k > nb) return; /* x_{k+1} does not exist, or is NEE-sampled: its numbers do not move */
+    terms[0] = t->b[k].pdf_lobe;
+    terms[1] = geometry_term(&t->v[k], &t->v[k + 1]);
+    if (k + 1 <= nb) terms[2] = t->b[k + 1].pdf_lobe;
+}
+
 real mutate_rv_ratio_terms(const path_trunk *t, int k, int nb)
 {
-    real a;
-    if (k > nb) return 1; /* x_{k+1} does not exist, or is NEE-sampled: its numbers do not move */
-    a = t->b[k].pdf_lobe * geometry_term(&t->v[k], &t->v[k + 1]);
-    if (k + 1 <= nb) a *= t->b[k + 1].pdf_lobe;
-    return a;
+    real a[3];
+    mutate_rv_terms(t, k, nb, a);
+    return a[0] * a[1] * a[2];
+}
+
+/* Mutations Eq. 20: T(v->u)/T(u->v) = |cos phi| |y_{i+1} - y_i|^2 p(v_{i-1}, v_i) p(v_i, w_{i+1})
+ *                                     / (|cos theta| |y_{i+1} - z_i|^2 p(w_{i-1}, w_i) p(w_i, w_{i+1}))
+ * with G = |cos| / dist^2 at the kept vertex y_{i+1}: A(z) / A(y), 0 if A(y) = 0. */
+real mutate_eq20_ratio(const real z[3], const real y[3])
+{
+    real num = z[0] * z[1] * z[2], den = y[0] * y[1] * y[2];
+    return den > 0 ? num / den : 0;
 }
 
 /* 1 if the two points coincide up to float geometry (the reconnection ray z_k -> x_{k+1}
@@ -178,7 +199,7 @@ int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sa
 {
     path_trunk ty, tz;
     path_end end;
-    real n[3], a_y;
+    real n[3], a_y[3], a_z[3];
     int nb = mutate_bsdf_vertices(u), k = u->rc_k, j;
     *z = *u;
     *ratio = 1;
@@ -194,7 +215,7 @@ int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sa
     if (k <= nb) { /* z_k connects to the kept x_{k+1}: numbers by inverse sampling (App. C) */
         /* the current path's x_{k+1} and w_{k+1} (and the denominator of Eq. 20) */
         if (path_replay(&ty, c, y1, u, &end) != SHIFT_OK) return MUTATE_REJECT_REPLAY;
-        a_y = mutate_rv_ratio_terms(&ty, k, nb);
+        mutate_rv_terms(&ty, k, nb, a_y);
         if (trunk_replay(&tz, c, y1, z, k) != SHIFT_OK) return MUTATE_REJECT_REPLAY; /* z_2..z_k */
         if (!mutate_invert_bounce(&tz.v[k], u->lobe[k], mutate_direction_to(&tz.v[k], ty.v[k + 1].position), xi_lobe[0], n))
             return MUTATE_REJECT_INVERSE;
@@ -209,7 +230,8 @@ int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sa
             set_numbers(z, k + 1, n);
             if (trunk_sample(&tz, n) != SHIFT_OK) return MUTATE_REJECT_INVERSE;
         }
-        *ratio = a_y > 0 ? mutate_rv_ratio_terms(&tz, k, nb) / a_y : 0; /* Eq. 20: A(z) / A(y) */
+        mutate_rv_terms(&tz, k, nb, a_z);
+        *ratio = mutate_eq20_ratio(a_z, a_y); /* Mutations Eq. 20 */
         if (!(*ratio > 0) || !isfinite((double)*ratio)) return MUTATE_REJECT_ZERO;
     } /* else x_k is the last vertex: nothing is determined, the kernel is symmetric */
     if (path_record(c, y1, z) != SHIFT_OK) return MUTATE_REJECT_REPLAY;
@@ -241,6 +263,7 @@ void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key ke
     if (why >= 0) {
         st->skipped++;
         st->skip[why]++;
+        st->pss_numbers += r->y.n_pss;
         return;
     }
     for (it = 0; it < iterations; ++it) {
@@ -263,6 +286,7 @@ void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key ke
             if (it == 0) { /* the chain cannot start from this sample */
                 st->skipped++;
                 st->skip[why - 1]++;
+                st->pss_numbers += r->y.n_pss;
                 return;
             }
             why = MUTATE_REJECT_INVERSE; /* cannot happen after an accepted proposal; counted */
@@ -287,4 +311,53 @@ void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key ke
         if (c->ablation != RESTIR_ABLATE_MUTATION_W) r->W = mutate_weight(r->W, r->y.target, z.target);
         r->y = z;
     }
+    st->pss_numbers += r->y.n_pss;
+}
+
+/* ---- duplicates (Mutations Fig. 8) ------------------------------------------------------ */
+
+static uint64_t mix64(uint64_t h, uint64_t v)
+{
+    h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    return h ^ (h >> 29);
+}
+
+/* The identity of a sample: replay identity, structure, x_k, and the explicit numbers. */
+static uint64_t sample_hash(const path_sample *y)
+{
+    uint64_t h = mix64(0, ((uint64_t)y->seed << 32) | y->pixel);
+    uint32_t bits[3];
+    int i;
+    h = mix64(h, ((uint64_t)y->sample << 32) | ((uint64_t)y->length << 16) | ((uint64_t)y->rc_k << 8) | y->n_pss);
+    memcpy(bits, &y->rc_position, sizeof bits);
+    h = mix64(h, ((uint64_t)bits[0] << 32) | bits[1]);
+    h = mix64(h, bits[2]);
+    for (i = 0; i < y->n_pss; ++i) h = mix64(h, (uint64_t)(y->pss[i] * 9007199254740992.0));
+    return h;
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+uint64_t mutate_count_duplicates(const reservoir *r, size_t n, uint64_t *valid)
+{
+    uint64_t *h = malloc((n ? n : 1) * sizeof *h), dup = 0;
+    size_t i, m = 0, run;
+    *valid = 0;
+    if (!h) return 0;
+    for (i = 0; i < n; ++i)
+        if (path_sample_is_valid(&r[i].y) && r[i].W > 0) h[m++] = sample_hash(&r[i].y);
+    qsort(h, m, sizeof *h, cmp_u64);
+    for (i = 0; i < m; i += run) {
+        for (run = 1; i + run < m && h[i + run] == h[i]; ++run) {}
+        if (run > 1) dup += run;
+    }
+    *valid = m;
+    free(h);
+    return dup;
 }

@@ -205,6 +205,11 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     } else
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
     if (j->o->spatial_passes > 0) stage_mutate(pl, final, MUTATE_AFTER_SPATIAL, times, &t);
+    { /* Mutations Fig. 8: duplicated samples among the shaded reservoirs */
+        uint64_t valid;
+        times->mutate.duplicates += mutate_count_duplicates(final, (size_t)j->s->width * (size_t)j->s->height, &valid);
+        times->mutate.final_valid += valid;
+    }
     frame_stage_shade(j, final, times, &t);
     keep_as_previous(pl, final);
     return 0;

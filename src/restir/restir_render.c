@@ -598,7 +598,9 @@ static void mutate_stats_write_json(FILE *out, const mutate_stats *m, double ms,
             m->proposals ? (double)m->accepted / (double)m->proposals : 0.0, ms, indent);
     for (i = 0; i < MUTATE_REJECT_COUNT; ++i)
         fprintf(out, "%s\"%s\": %llu", i > 0 ? ", " : "", mutate_reject_names[i], (unsigned long long)m->rejected[i]);
-    fprintf(out, "}, \"skip\": {");
+    fprintf(out, "}, \"duplicates\": %llu, \"final_valid\": %llu, \"pss_bytes_per_pixel\": %.1f, \"skip\": {",
+            (unsigned long long)m->duplicates, (unsigned long long)m->final_valid,
+            m->pixels ? (double)m->pss_numbers / (double)m->pixels * (double)sizeof(real) : 0.0);
     for (i = 0; i < MUTATE_REASON_SKIP_COUNT; ++i)
         fprintf(out, "%s\"%s\": %llu", i > 0 ? ", " : "", mutate_skip_names[i], (unsigned long long)m->skip[i]);
     fprintf(out, "}}");
