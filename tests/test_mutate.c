@@ -542,32 +542,6 @@ static int rv_map(const restir_context *c, const path_vertex *y1, const path_sam
     return 0;
 }
 
-static double det(double a[4][4], int m)
-{
-    double d = 1;
-    int i, j, r;
-    for (i = 0; i < m; ++i) {
-        int p = i;
-        for (r = i + 1; r < m; ++r)
-            if (fabs(a[r][i]) > fabs(a[p][i])) p = r;
-        if (a[p][i] == 0) return 0;
-        if (p != i) {
-            for (j = 0; j < m; ++j) {
-                double t = a[i][j];
-                a[i][j] = a[p][j];
-                a[p][j] = t;
-            }
-            d = -d;
-        }
-        d *= a[i][i];
-        for (r = i + 1; r < m; ++r) {
-            double f = a[r][i] / a[i][i];
-            for (j = i; j < m; ++j) a[r][j] -= f * a[i][j];
-        }
-    }
-    return d;
-}
-
 /* Mutations Eq. 20 is |det db'/db| (docs/mutations.md, App. C): the code's kernel ratio from
  * mutate_propose against central differences of rv_map, the lobe-number factor P_z/P_y of
  * each determined vertex multiplied in (its number is drawn uniformly in the lobe interval). */
@@ -584,7 +558,7 @@ static void eq20_fd(const char *path, int *checked, double *worst)
             path_sample u, z, zz;
             path_trunk tz;
             real xi[PATH_MAX_PSS], xl[2] = {(real)0.5, (real)0.5}, ratio;
-            double b[4], J[4][4], plus[4], minus[4], Pz[2], Py[2], fd, rel;
+            double b[4], J[6][6], plus[4], minus[4], Pz[2], Py[2], fd, rel;
             rng_key key = rng_key_make(test_seed(), (uint32_t)(y * f.s.width + x), 9);
             int i, j, m, k = py->rc_k, nb = mutate_bsdf_vertices(py), ok = 1;
             if (!path_sample_is_valid(py) || k == PATH_RC_NONE || k > nb || !rt_primary_vertex(&f.s, x, y, &v)) continue;
@@ -609,7 +583,7 @@ static void eq20_fd(const char *path, int *checked, double *worst)
                 for (i = 0; i < m && ok; ++i) J[i][j] = (plus[i] - minus[i]) / (2 * h);
             }
             if (!ok || rv_map(&f.c, &v, &u, &tz, b, m, plus, Pz, Py)) continue;
-            fd = fabs(det(J, m)) * (Pz[0] / Py[0]) * (Pz[1] / Py[1]);
+            fd = fabs(rt_determinant(J, m)) * (Pz[0] / Py[0]) * (Pz[1] / Py[1]);
             rel = fabs(fd / (double)ratio - 1);
             ++*checked;
             if (rel > *worst) *worst = rel;
