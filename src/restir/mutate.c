@@ -233,7 +233,8 @@ int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sa
         mutate_rv_terms(&tz, k, nb, a_z);
         *ratio = mutate_eq20_ratio(a_z, a_y); /* Mutations Eq. 20 */
         if (!(*ratio > 0) || !isfinite((double)*ratio)) return MUTATE_REJECT_ZERO;
-    } /* else x_k is the last vertex: nothing is determined, the kernel is symmetric */
+    } /* else x_k is the last vertex, or x_{k+1} is its NEE sample (the NEE numbers stay, area
+       * sampling does not depend on x_k): nothing is determined, the kernel is symmetric */
     if (path_record(c, y1, z) != SHIFT_OK) return MUTATE_REJECT_REPLAY;
     if (z->rc_k != u->rc_k) return MUTATE_REJECT_STRUCTURE; /* connectability changed: T = 0 (§4.3) */
     for (j = k; j <= nb && j <= k + 1; ++j)
