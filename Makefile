@@ -53,7 +53,7 @@ LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/*.c))
 TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
 
-.PHONY: all run test test-long test-data bench clean results results-temporal results-stochastic results-correlation mutation-score
+.PHONY: all run test test-long test-data bench clean results results-temporal results-stochastic results-correlation mutation-score results-mutations
 all: $(BUILD)/restir
 
 $(BUILD)/%.o: %.c
@@ -131,3 +131,7 @@ test-extremes:
 
 extremes-table:
 	UPDATE_DOCS=1 sh scripts/extremes.sh out/extremes
+
+# MCMC mutations, the Mutations claims (docs/results.md; minutes, never part of `make test`).
+results-mutations: $(BUILD)/restir
+	sh scripts/results_mutations.sh out/results-mutations $(BUILD)

@@ -291,3 +291,30 @@ rgb rt_fresh_contribution(const restir_context *c, const path_vertex *y1, const 
     return rgb_mul(F, rgb_mul(o.b[d - 1].weight, rgb_scale(path_vertex_emitted(&c->path, &o.v[d]),
                                                           path_mis_weight_bsdf_hit(&c->path, &o.b[d - 1], end_o.light_pdf))));
 }
+
+/* Determinant by Gaussian elimination with partial pivoting. */
+double rt_determinant(double a[6][6], int n)
+{
+    double det = 1;
+    int i, j, r;
+    for (i = 0; i < n; ++i) {
+        int p = i;
+        for (r = i + 1; r < n; ++r)
+            if (fabs(a[r][i]) > fabs(a[p][i])) p = r;
+        if (a[p][i] == 0) return 0;
+        if (p != i) {
+            for (j = 0; j < n; ++j) {
+                double tmp = a[i][j];
+                a[i][j] = a[p][j];
+                a[p][j] = tmp;
+            }
+            det = -det;
+        }
+        det *= a[i][i];
+        for (r = i + 1; r < n; ++r) {
+            double m = a[r][i] / a[i][i];
+            for (j = i; j < n; ++j) a[r][j] -= m * a[i][j];
+        }
+    }
+    return det;
+}

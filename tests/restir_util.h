@@ -55,4 +55,8 @@ int rt_make_spot(scene *s, int res);
 rgb rt_fresh_contribution(const restir_context *c, const path_vertex *y1, const path_vertex *x1_origin,
                           const path_sample *x);
 
+/* Determinant of the leading n x n block (n <= 6) by Gaussian elimination with partial
+ * pivoting (a is overwritten): finite-difference Jacobians of the shift and mutation tests. */
+double rt_determinant(double a[6][6], int n);
+
 #endif

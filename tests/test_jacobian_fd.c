@@ -121,33 +121,6 @@ static int phi(const fd_setup *f, const real *ux, real *uy)
     return ok;
 }
 
-/* Determinant by Gaussian elimination with partial pivoting. */
-static double determinant(double a[6][6], int n)
-{
-    double det = 1;
-    int i, j, r;
-    for (i = 0; i < n; ++i) {
-        int p = i;
-        for (r = i + 1; r < n; ++r)
-            if (fabs(a[r][i]) > fabs(a[p][i])) p = r;
-        if (a[p][i] == 0) return 0;
-        if (p != i) {
-            for (j = 0; j < n; ++j) {
-                double tmp = a[i][j];
-                a[i][j] = a[p][j];
-                a[p][j] = tmp;
-            }
-            det = -det;
-        }
-        det *= a[i][i];
-        for (r = i + 1; r < n; ++r) {
-            double m = a[r][i] / a[i][i];
-            for (j = i; j < n; ++j) a[r][j] -= m * a[i][j];
-        }
-    }
-    return det;
-}
-
 /* Column i of dPhi/du by a central difference with step h; 0 if a perturbation leaves
  * the structure. */
 static int fd_column(const fd_setup *f, const real *u0, int i, double h, double *col)
@@ -173,7 +146,7 @@ static double fd_jacobian(const fd_setup *f, const real *u0)
         if (!fd_column(f, u0, i, FD_STEP, coarse) || !fd_column(f, u0, i, FD_STEP / 2, fine)) return 0;
         for (r = 0; r < f->nvars; ++r) m[r][i] = (4 * fine[r] - coarse[r]) / 3;
     }
-    return fabs(determinant(m, f->nvars));
+    return fabs(rt_determinant(m, f->nvars));
 }
 
 enum fd_case {

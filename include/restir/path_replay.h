@@ -31,6 +31,10 @@ void trunk_begin(path_trunk *t, const path_vertex *x1);
 /* The three BSDF numbers (lobe, direction, direction) of vertex j of sample s. */
 void path_bsdf_numbers(const path_sample *s, int vertex, real u[3]);
 
+/* The four NEE numbers of an NEE path's last vertex (light selection, point on the light):
+ * RNG_NEE at vertex d-1, the point numbers replaced by pss[] where it covers vertex d-1
+ * (path_sample.h; MCMC mutations of the light point, Mutations §4.2). */
+void path_nee_numbers(const path_sample *s, real u[4]);
 /* Samples the BSDF at the last vertex x_n with numbers u: fills b[n] and beta[n+1].
  * SHIFT_OK, SHIFT_FAIL_REPLAY_SAMPLE (no direction) or SHIFT_FAIL_REPLAY_ZERO (the
  * throughput beta[n+1] is black). */

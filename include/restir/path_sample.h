@@ -105,7 +105,10 @@ typedef struct {
     /* ---- explicit primary-sample numbers (MCMC mutations, Mutations §4): pss[i], i < n_pss,
      * replaces the RNG_BSDF number at vertex 1 + i / PATH_PSS_PER_VERTEX, slot
      * i % PATH_PSS_PER_VERTEX (slot 0 lobe choice, slots 1-2 direction); all other numbers
-     * still come from the replay identity. Each in [0, 1). */
+     * still come from the replay identity. Each in [0, 1). For an NEE path (technique NEE) the
+     * slots of vertex d-1, which samples no BSDF, hold (unused, u_2, u_3): they replace the
+     * RNG_NEE numbers 2-3 that place the point on the light (path_nee_numbers); the light
+     * selection numbers 0-1 always come from the replay identity. */
     real pss[PATH_MAX_PSS];
 } path_sample;
 

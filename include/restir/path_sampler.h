@@ -102,6 +102,9 @@ typedef struct {
  * if the contribution is nonzero, 0 otherwise (no light, occluded, back side, f = 0). */
 int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
                         nee_sample *out);
+/* The same from explicit numbers u[0..1] (light selection), u[2..3] (point on the light):
+ * replay of MCMC-mutated NEE numbers (Mutations §4.2). */
+int vertex_sample_light_numbers(const path_context *c, const path_vertex *v, const real u[4], nee_sample *out);
 
 /* ---- BSDF sampling at one vertex (one lobe per bounce, GRIS §7.6) ---- */
 typedef struct {

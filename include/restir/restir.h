@@ -20,6 +20,7 @@
 #include "restir/image.h"
 #include "restir/initial.h"
 #include "restir/mis.h"
+#include "restir/mutate.h"
 #include "restir/neighbors.h"
 #include "restir/spatial.h"
 #include "restir/reuse_cells.h"
@@ -99,6 +100,10 @@ typedef struct {
     int output_aov;             /* enum restir_output: what the frame images hold (--aov duplicates|age) */
     volatile sig_atomic_t *stop_flag; /* checked between frames (NULL: never): nonzero ends the
                                          render after at least one frame (the CLI's SIGINT/SIGTERM) */
+    /* MCMC mutations (mutate.h; Mutations Algorithm 3), real-time pipeline only: */
+    int mutations;              /* N Metropolis-Hastings iterations per pixel and stage (default 0: off) */
+    int mutation;               /* enum mutate_strategy (default rv, Mutations §4.3) */
+    int mutate_after;           /* enum mutate_stage bits (default MUTATE_AFTER_TEMPORAL, Mutations §3) */
 } restir_options;
 
 typedef struct {
@@ -106,6 +111,7 @@ typedef struct {
     spatial_stats spatial;     /* all passes */
     neighbor_stats neighbors;  /* verdict of every proposed neighbour */
     temporal_stats temporal;   /* temporal steps (sequences only) */
+    mutate_stats mutate;       /* MCMC mutations (sequences only) */
     uint64_t frames;
     uint64_t nonfinite_pixels; /* output pixels with a NaN/Inf channel (kept in the image; an
                                   estimate beyond FLT_MAX becomes Inf in the float image) */
@@ -113,6 +119,7 @@ typedef struct {
     double ms_gbuffer, ms_initial, ms_shade;     /* summed over frames */
     double ms_temporal;                          /* temporal step incl. reprojection (sequences) */
     double ms_pose, ms_motion;                   /* posing + BVH rebuild; motion vectors (sequences) */
+    double ms_mutate;                            /* MCMC mutations, all stages (sequences) */
     double ms_spatial[RESTIR_MAX_SPATIAL_PASSES]; /* pass p, summed over frames */
     /* correlation (sequences; docs/correlation.md): the duplication map of every frame's
      * final reservoirs, summed over frames; reservoirs the boiling filter cleared */

@@ -37,4 +37,11 @@ int bench_restir_equal_time(FILE *out, const scene *s, const char *name, const r
 int bench_realtime(FILE *out, const scene *s, const char *name, const restir_options *o, int first_frame,
                    int last_frame, int *first, rerror *e);
 
+/* MCMC mutations (docs/mutations.md): the sequence f0..f1 of s (hybrid shift) without
+ * mutations and, per strategy (rv, pp, fp), with o->mutations (>= 1) mutations after temporal
+ * reuse; one JSON object per strategy: ms per mutation iteration, frame times and their
+ * ratio, acceptance rate, rejections by reason, bytes per pixel. */
+int bench_mutations(FILE *out, const scene *s, const char *name, const restir_options *o, int f0, int f1, int *first,
+                    rerror *e);
+
 #endif

@@ -79,9 +79,14 @@ enum restir_ablation {
                                    domain 1 is then not the one its reservoir estimates */,
     RESTIR_ABLATE_PAIR_MIS = 8 /* "pair-mis": the pair step (--pairing paired) drops one side of
                                    each pair from the MIS: the canonical sample's weight ignores
-                                   the pre-pass shift X_0 -> partner (p̂_{<-d}(X_0) taken as 0) */
+                                   the pre-pass shift X_0 -> partner (p̂_{<-d}(X_0) taken as 0) */,
+    RESTIR_ABLATE_MUTATION_W = 9, /* "mutation-w": an accepted MCMC mutation keeps W (no
+                                   Mutations Eq. 16 update p̂(x^0)/p̂(x^k)) */
+    RESTIR_ABLATE_RV_KERNEL = 10   /* "rv-kernel": the path mutations' kernel ratio
+                                   T(z->x)/T(x->z) of Mutations Eq. 20 taken as 1 (a symmetric
+                                   kernel) */
 };
-#define RESTIR_ABLATION_COUNT 9
+#define RESTIR_ABLATION_COUNT 11
 
 /* Reconnection criterion (connectability.h). gris (GRIS §7.4-7.5, §8.3; Enhanced §2.3):
  * x_{k-1} and x_k must be rough for their lobes and ||x_k - x_{k-1}|| >= min_distance.

@@ -250,3 +250,74 @@ int bench_realtime(FILE *out, const scene *s, const char *name, const restir_opt
     fflush(out);
     return 0;
 }
+
+/* ---- MCMC mutations (Mutations §5; docs/mutations.md) ------------------------------------- */
+
+/* One sequence, the summed stats and the mean frame time (ms, all stages). */
+static int mutation_run(const scene *s, const restir_options *o, int f0, int f1, restir_stats *sum, double *ms_frame,
+                        rerror *e)
+{
+    restir_sequence q;
+    realtime_acc acc;
+    restir_stats total;
+    double t;
+    int i;
+    memset(&q, 0, sizeof q);
+    memset(&acc, 0, sizeof acc);
+    q.first = f0;
+    q.last = f1;
+    if (restir_render_sequence(s, o, &q, realtime_sink, &acc, &total, e)) return -1;
+    *sum = acc.sum;
+    t = sum->ms_pose + sum->ms_gbuffer + sum->ms_motion + sum->ms_initial + sum->ms_temporal + sum->ms_shade +
+        sum->ms_mutate;
+    for (i = 0; i < RESTIR_MAX_SPATIAL_PASSES; ++i) t += sum->ms_spatial[i];
+    *ms_frame = t / (acc.frames > 0 ? acc.frames : 1);
+    return 0;
+}
+
+int bench_mutations(FILE *out, const scene *s, const char *name, const restir_options *o, int f0, int f1, int *first,
+                    rerror *e)
+{
+    restir_options off = *o;
+    restir_stats a;
+    double ms_off, frames = f1 - f0 + 1;
+    int strategy, i;
+    off.shift = RESTIR_SHIFT_HYBRID; /* the paper's shift (Mutations §4.3) */
+    off.mutations = 0;
+    if (mutation_run(s, &off, f0, f1, &a, &ms_off, e)) return -1;
+    for (strategy = 0; strategy < MUTATE_STRATEGY_COUNT; ++strategy) {
+        restir_options on = off;
+        restir_stats b;
+        double ms_on;
+        const mutate_stats *m = &b.mutate;
+        on.mutations = o->mutations > 0 ? o->mutations : 1;
+        on.mutation = strategy;
+        if (mutation_run(s, &on, f0, f1, &b, &ms_on, e)) return -1;
+        if (!*first) fprintf(out, ",\n");
+        *first = 0;
+        fprintf(out, "  {\"bench\": \"restir-mutations\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": [%d, %d], "
+                     "\"strategy\": \"%s\", \"shift\": \"%s\", \"mutations\": %d,\n",
+                name, s->width, s->height, f0, f1, mutate_strategy_names[strategy], restir_shift_names[on.shift],
+                on.mutations);
+        fprintf(out, "   \"ms_per_mutation_iteration\": %.3f, \"ms_frame_without\": %.3f, \"ms_frame_with\": %.3f, "
+                     "\"frame_cost_ratio\": %.3f,\n",
+                b.ms_mutate / frames / on.mutations, ms_off, ms_on, ms_off > 0 ? ms_on / ms_off : 0.0);
+        fprintf(out, "   \"pixels\": %llu, \"skipped_rate\": %.4f, \"proposals\": %llu, \"acceptance_rate\": %.4f, "
+                     "\"rejected_mh\": %llu, \"rejected\": {",
+                (unsigned long long)m->pixels, m->pixels ? (double)m->skipped / (double)m->pixels : 0.0,
+                (unsigned long long)m->proposals, m->proposals ? (double)m->accepted / (double)m->proposals : 0.0,
+                (unsigned long long)m->rejected_mh);
+        for (i = 0; i < MUTATE_REJECT_COUNT; ++i)
+            fprintf(out, "%s\"%s\": %llu", i ? ", " : "", mutate_reject_names[i], (unsigned long long)m->rejected[i]);
+        /* Reservoir storage (Mutations §4.3 "Reservoir storage"): the in-memory reservoir is
+         * fixed; what the strategy makes a pixel keep is the explicit numbers pss[] (mean over
+         * the chains' final samples). */
+        fprintf(out, "},\n   \"bytes_per_pixel\": {\"reservoir_in_memory\": %u, \"pss_kept_mean\": %.1f, \"pss_max\": %u, "
+                     "\"dump_record_with_pss\": %u}}",
+                (unsigned)sizeof(reservoir),
+                m->pixels ? (double)m->pss_numbers / (double)m->pixels * (double)sizeof(real) : 0.0,
+                (unsigned)(PATH_MAX_PSS * sizeof(real)), (unsigned)reservoir_record_size(RESERVOIR_DUMP_FLAG_PSS));
+        fflush(out);
+    }
+    return 0;
+}

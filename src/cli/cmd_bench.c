@@ -248,6 +248,34 @@ static int bench_stochastic_on(const scene *s, const char *name, const bench_arg
     return status ? 2 : 0;
 }
 
+/* MCMC mutations at 256 x 256, gris-realtime preset, frames 0..3, 1 mutation per pixel. */
+static int bench_mutations_on(const scene *s, const char *name, const bench_args *a, int *first)
+{
+    scene sized = *s;
+    restir_options o;
+    rerror e;
+    int status;
+    restir_options_default(&o);
+    restir_options_preset_gris_realtime(&o);
+    o.threads = a->rays.threads > 0 ? a->rays.threads : threads_default();
+    o.mutations = 1;
+    sized.width = sized.height = 256;
+    status = bench_mutations(stdout, &sized, name, &o, 0, 3, first, &e);
+    if (status) fprintf(stderr, "%s\n", e.msg);
+    return status ? 2 : 0;
+}
+
+/* The scenes of issue 13: cornell, cornell-glossy, glass, ajar. */
+static int bench_mutations_all(const bench_args *a, int *first)
+{
+    static const char *const files[] = {"scenes/cornell.scene", "scenes/cornell-glossy.scene", "scenes/glass.scene",
+                                        "scenes/ajar.scene"};
+    size_t i;
+    int status = 0;
+    for (i = 0; i < sizeof files / sizeof files[0] && !status; ++i) status = on_file(files[i], bench_mutations_on, a, first);
+    return status;
+}
+
 static int compare_names(const void *a, const void *b)
 {
     return strcmp(*(const char *const *)a, *(const char *const *)b);
@@ -305,6 +333,7 @@ static int bench_all(const bench_args *a, int *first)
     if (!status) status = on_file("scenes/cornell.scene", bench_restir_on, a, first);
     if (!status) status = bench_animation_all(a, first);
     if (!status) status = bench_realtime_animated(a, first);
+    if (!status) status = bench_mutations_all(a, first);
     return status;
 }
 
@@ -335,7 +364,7 @@ int cmd_bench(int argc, char **argv)
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);
         if (status == 1) {
             cli_print_help(stdout, "bench",
-                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | stochastic [SCENE] | all [options]",
+                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | stochastic [SCENE] | mutations [SCENE] | all [options]",
                            options);
             return 0;
         }
@@ -347,10 +376,11 @@ int cmd_bench(int argc, char **argv)
     }
     if (count < 1 ||
         (strcmp(positional[0], "rays") && strcmp(positional[0], "all") && strcmp(positional[0], "restir") &&
-         strcmp(positional[0], "animation") && strcmp(positional[0], "realtime") && strcmp(positional[0], "stochastic")) ||
+         strcmp(positional[0], "animation") && strcmp(positional[0], "realtime") && strcmp(positional[0], "stochastic") &&
+         strcmp(positional[0], "mutations")) ||
         (!strcmp(positional[0], "rays") && count != 2 && !a.generated)) {
         fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]`, `animation [SCENE]`, "
-                        "`realtime [SCENE]`, `stochastic [SCENE]` or `all`\n");
+                        "`realtime [SCENE]`, `stochastic [SCENE]`, `mutations [SCENE]` or `all`\n");
         return 2;
     }
     printf("[\n");
@@ -361,6 +391,8 @@ int cmd_bench(int argc, char **argv)
         status = count > 1 ? on_file(positional[1], bench_animation_on, &a, &first) : bench_animation_all(&a, &first);
     else if (!strcmp(positional[0], "stochastic"))
         status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_stochastic_on, &a, &first);
+    else if (!strcmp(positional[0], "mutations"))
+        status = count > 1 ? on_file(positional[1], bench_mutations_on, &a, &first) : bench_mutations_all(&a, &first);
     else if (!strcmp(positional[0], "realtime"))
         status = count > 1 ? on_file(positional[1], bench_realtime_on, &a, &first) : bench_realtime_animated(&a, &first);
     else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);

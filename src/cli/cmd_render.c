@@ -445,6 +445,10 @@ static int apply_sequence_options(render_args *a)
         fprintf(stderr, "restir render: --sequence and --accumulate need --method restir\n");
         return 2;
     }
+    if (a->restir.mutations > 0 && !a->sequence) { /* mutations live in the real-time pipeline */
+        fprintf(stderr, "restir render: --mutations needs --method restir --sequence A..B\n");
+        return 2;
+    }
     if (a->accumulate && !a->sequence) {
         fprintf(stderr, "restir render: --accumulate needs --sequence A..B\n");
         return 2;

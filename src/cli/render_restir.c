@@ -136,11 +136,21 @@ int render_restir_options(cli_option *rows, restir_options *o)
                     "temporal-suffix, stochastic-p (stochastic-pairwise without the P(i) correction), footprint-base-only "
                     "(footprint criterion not tested on the offset), dual-mv-vertex (dual-MV history with the occluder "
                     "pixel's x1), pair-mis (pair step: the canonical MIS ignores the "
-                    "pre-pass shift to the partner)",
+                    "pre-pass shift to the partner), mutation-w (no Mutations Eq. 16 W update), "
+                    "rv-kernel (symmetric path-mutation kernel, Mutations Eq. 20 dropped)",
                     restir_ablation_names, 0, 0);
     rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
                     "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",
                     restir_mis_names, 0, 0);
+    rows[n++] = row("--mutations", OPT_INT, &o->mutations,
+                    "with --sequence: N MCMC mutations per pixel after the --mutate-after stage (Mutations Alg. 3; default 0)",
+                    NULL, 0, MUTATE_MAX_ITERATIONS);
+    rows[n++] = row("--mutation", OPT_CHOICE, &o->mutation,
+                    "path mutation (Mutations §4.3): rv (reconnection vertex, default), pp (partial path), fp (full path)",
+                    mutate_strategy_names, 0, 0);
+    rows[n++] = row("--mutate-after", OPT_CHOICE, &o->mutate_after,
+                    "stages followed by mutations: temporal (default), initial, spatial, or a comma list of them",
+                    mutate_after_names, 0, 0);
     rows[n++] = row("--russian-roulette", OPT_FLAG, &o->russian_roulette,
                     "Russian roulette in initial sampling (in the source pdf only)", NULL, 0, 0);
     /* correlation under motion (issue 12, docs/correlation.md) */

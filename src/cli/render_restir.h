@@ -6,7 +6,7 @@
 #include "restir/restir.h"
 
 /* The most rows render_restir_options writes (no terminating row). */
-#define RENDER_RESTIR_OPTION_ROWS 48
+#define RENDER_RESTIR_OPTION_ROWS 51
 
 /* Writes the ReSTIR-specific option rows into rows[0..n-1] (destinations inside *o, which
  * should hold restir_options_default) and returns n <= RENDER_RESTIR_OPTION_ROWS. The

@@ -79,12 +79,17 @@ int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key pat
                         nee_sample *out)
 {
     real u[4];
+    int k;
+    for (k = 0; k < 4; ++k) u[k] = rng_u(path, RNG_NEE, vertex_index, (uint32_t)k);
+    return vertex_sample_light_numbers(c, v, u, out);
+}
+
+int vertex_sample_light_numbers(const path_context *c, const path_vertex *v, const real u[4], nee_sample *out)
+{
     vec3 y, d;
     real dist;
-    int k;
     out->contribution = rgb_gray(0);
     out->shadow_ray = 0;
-    for (k = 0; k < 4; ++k) u[k] = rng_u(path, RNG_NEE, vertex_index, (uint32_t)k);
     if (!light_sample_point(c->lights, u, &out->y)) return 0;
     y = v3_from_f(out->y.position);
     d = v3_sub(y, v->position);

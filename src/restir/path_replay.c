@@ -18,6 +18,17 @@ void path_bsdf_numbers(const path_sample *s, int vertex, real u[3])
     }
 }
 
+void path_nee_numbers(const path_sample *s, real u[4])
+{
+    rng_key key = path_sample_key(s);
+    int slot, base = (s->length - 2) * PATH_PSS_PER_VERTEX; /* vertex d-1 (path_sample.h) */
+    for (slot = 0; slot < 4; ++slot) u[slot] = rng_u(key, RNG_NEE, (uint32_t)(s->length - 1), (uint32_t)slot);
+    if (s->technique == PATH_TECH_NEE && base + PATH_PSS_PER_VERTEX <= s->n_pss) {
+        u[2] = s->pss[base + 1];
+        u[3] = s->pss[base + 2];
+    }
+}
+
 enum shift_failure trunk_sample(path_trunk *t, const real u[3])
 {
     int n = t->n;
@@ -78,8 +89,9 @@ enum shift_failure trunk_finish(path_trunk *t, const restir_context *c, const pa
     if (s->technique == PATH_TECH_NEE) {
         const path_vertex *v = &t->v[d - 1];
         /* The path tracer draws NEE only where a non-Dirac lobe can receive it. */
-        if (!v->can_nee || !vertex_sample_light(&c->path, v, path_sample_key(s), (uint32_t)(d - 1), &end->nee))
-            return SHIFT_FAIL_NEE;
+        real u[4];
+        path_nee_numbers(s, u);
+        if (!v->can_nee || !vertex_sample_light_numbers(&c->path, v, u, &end->nee)) return SHIFT_FAIL_NEE;
         end->F = nee_path_contribution(&c->path, t->beta[d - 1], &end->nee);
         end->light_pdf = end->nee.pdf_light;
         return rgb_is_black(end->F) ? SHIFT_FAIL_NEE : SHIFT_OK;

@@ -12,7 +12,10 @@
  *                                                                  map with --dedup, Enhanced §5;
  *                                                                  dual MVs, Enhanced §6.4)
  *                 boiling filter on B (--boiling-filter: RTXDI, biased)
+ *                 [N MCMC mutations of A, --mutate-after initial]  Mutations §3 (mutate.h)
+ *                 [N MCMC mutations of B, default stage]           Mutations Algorithm 3
  *                 K spatial passes B -> A -> B ...                 step 3 (spatial.h)
+ *                 [N MCMC mutations of the last output, --mutate-after spatial]
  *                 shading of the last output                       step 4
  *                 duplication map of the last output (Enhanced §5 step 1; docs/correlation.md)
  *                 the last output becomes P, the G-buffer, camera and scene of t are kept
@@ -43,9 +46,10 @@ typedef struct {
     scene posed[2];          /* animated scenes: two posed copies, frames t and t-1 alternate */
     int animated, cur_copy;  /* cur_copy: the copy posed at frame t (the other one holds t-1) */
     const reservoir *cur;   /* temporal stage input: the initial reservoirs */
-    reservoir *out;         /* temporal stage output */
+    reservoir *out;         /* temporal stage output; mutation stage in/out */
     uint16_t *dup;          /* duplicate counts of P (Enhanced §5 step 1; duplication.h) */
     uint16_t *age, *prev_age; /* temporal history age of frame t and of P (--aov age) */
+    int mutate_stage;       /* enum mutate_stage of the running mutation stage */
 } pipeline;
 
 /* ---- reprojection ---------------------------------------------------------------------- */
@@ -165,6 +169,35 @@ static void stage_duplication(pipeline *pl, const reservoir *final, restir_stats
     times->ms_correlation += frame_lap_ms(t);
 }
 
+/* ---- MCMC mutations (Mutations §3 Algorithm 3; mutate.h) ------------------------------- */
+
+static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
+{
+    pipeline *pl = ctx;
+    frame_job *j = &pl->j;
+    worker_state *w = &j->workers[worker];
+    int x, y;
+    for (y = y0; y < y1; ++y)
+        for (x = x0; x < x1; ++x) {
+            long p = (long)y * j->s->width + x;
+            rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+            path_vertex v;
+            if (!frame_primary_vertex(j->s, &j->g, p, &v)) continue;
+            mutate_reservoir(&j->ctx, &v, key, pl->mutate_stage, j->o->mutation, j->o->mutations, &pl->out[p],
+                             &w->st.mutate);
+        }
+}
+
+/* N mutations of every pixel's reservoir in r (in place) if the options ask for `stage`. */
+static void stage_mutate(pipeline *pl, reservoir *r, int stage, restir_stats *times, double *t)
+{
+    if (pl->j.o->mutations <= 0 || !(pl->j.o->mutate_after & stage)) return;
+    pl->out = r;
+    pl->mutate_stage = stage;
+    parallel_tiles(pl->j.s->width, pl->j.s->height, 16, pl->j.o->threads, mutate_tile, pl, NULL, NULL);
+    times->ms_mutate += frame_lap_ms(t);
+}
+
 /* ---- the frame ------------------------------------------------------------------------- */
 
 static void swap_reservoirs(reservoir **a, reservoir **b)
@@ -228,16 +261,28 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
         return -1;
     times->ms_motion += frame_lap_ms(&t);
     if (j->sio) stage_io_gbuffer(j->sio, &j->g);
-    if (!pipeline_stage_skipped(j, "initial")) frame_stage_initial(j, times, &t);
+    if (!pipeline_stage_skipped(j, "initial")) {
+        frame_stage_initial(j, times, &t);
+        stage_mutate(pl, j->initial, MUTATE_AFTER_INITIAL, times, &t); /* part of the "initial" dump */
+    }
     pipeline_stage_done(j, "initial", j->initial);
     if (j->o->temporal) {
-        if (!pipeline_stage_skipped(j, "temporal")) stage_temporal(pl, j->initial, j->pong, times, &t);
+        if (!pipeline_stage_skipped(j, "temporal")) {
+            stage_temporal(pl, j->initial, j->pong, times, &t);
+            stage_mutate(pl, j->pong, MUTATE_AFTER_TEMPORAL, times, &t); /* part of the "temporal" dump */
+        }
         pipeline_stage_done(j, "temporal", j->pong);
         stage_boiling(pl, j->pong, times, &t);
         final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
     } else {
         stage_boiling(pl, j->initial, times, &t);
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
+    }
+    if (j->o->spatial_passes > 0) stage_mutate(pl, final, MUTATE_AFTER_SPATIAL, times, &t);
+    { /* Mutations Fig. 8: duplicated samples among the shaded reservoirs */
+        uint64_t valid;
+        times->mutate.duplicates += mutate_count_duplicates(final, (size_t)j->s->width * (size_t)j->s->height, &valid);
+        times->mutate.final_valid += valid;
     }
     frame_stage_shade(j, final, times, &t);
     stage_duplication(pl, final, times, &t);

@@ -47,6 +47,7 @@ void restir_options_default(restir_options *o)
     o->stochastic_nc = 1;
     o->dedup_min = 1;    /* Enhanced §5: c_cap_min = 1, alpha = 0.1 */
     o->dedup_alpha = 0.1;
+    o->mutate_after = MUTATE_AFTER_TEMPORAL;
 }
 
 void restir_neighbor_options_for(neighbor_options *no, const restir_options *o)
@@ -173,6 +174,12 @@ int restir_options_validate(const restir_options *o, rerror *e)
     if (o->threads < 1) return rerror_set(e, "restir: %d threads", o->threads);
     if (o->temporal_mis < 0 || o->temporal_mis >= MIS_FAMILY_COUNT)
         return rerror_set(e, "restir: unknown temporal MIS family %d", o->temporal_mis);
+    if (o->mutations < 0 || o->mutations > MUTATE_MAX_ITERATIONS)
+        return rerror_set(e, "restir: --mutations %d (must be 0..%d)", o->mutations, MUTATE_MAX_ITERATIONS);
+    if (o->mutation < 0 || o->mutation >= MUTATE_STRATEGY_COUNT)
+        return rerror_set(e, "restir: unknown mutation strategy %d", o->mutation);
+    if (o->mutate_after & ~(MUTATE_AFTER_INITIAL | MUTATE_AFTER_TEMPORAL | MUTATE_AFTER_SPATIAL))
+        return rerror_set(e, "restir: unknown mutation stage bits %#x", (unsigned)o->mutate_after);
     if (!(o->mcap > 0)) return rerror_set(e, "restir: M-cap %g (must be > 0, or inf)", o->mcap);
     return correlation_options_validate(o, e);
 }
@@ -436,6 +443,7 @@ void restir_stats_add(restir_stats *st, const restir_stats *w)
     initial_stats_add(&st->initial, &w->initial);
     spatial_stats_add(&st->spatial, &w->spatial);
     temporal_stats_add(&st->temporal, &w->temporal);
+    mutate_stats_add(&st->mutate, &w->mutate);
     st->neighbors.candidates += w->neighbors.candidates;
     for (i = 0; i < NEIGHBOR_VERDICT_COUNT; ++i) st->neighbors.verdict[i] += w->neighbors.verdict[i];
     st->frames += w->frames;
@@ -445,6 +453,7 @@ void restir_stats_add(restir_stats *st, const restir_stats *w)
     st->ms_temporal += w->ms_temporal;
     st->ms_pose += w->ms_pose;
     st->ms_motion += w->ms_motion;
+    st->ms_mutate += w->ms_mutate;
     st->ms_shade += w->ms_shade;
     for (i = 0; i < RESTIR_MAX_SPATIAL_PASSES; ++i) st->ms_spatial[i] += w->ms_spatial[i];
     duplication_summary_add(&st->correlation, &w->correlation);
@@ -660,6 +669,25 @@ uint64_t restir_stats_invalid_weights(const restir_stats *st)
     return st->initial.invalid_weights + st->spatial.invalid_weights + st->temporal.step.invalid_weights;
 }
 
+/* "mutations": proposals, acceptances, rejections by reason (Mutations §3, mutate.h). */
+static void mutate_stats_write_json(FILE *out, const mutate_stats *m, double ms, const char *indent)
+{
+    int i;
+    fprintf(out, "%s  \"mutations\": {\"pixels\": %llu, \"skipped\": %llu, \"proposals\": %llu, \"accepted\": %llu, "
+                 "\"rejected_mh\": %llu, \"acceptance_rate\": %.6f, \"milliseconds\": %.3f,\n%s    \"rejected\": {",
+            indent, (unsigned long long)m->pixels, (unsigned long long)m->skipped, (unsigned long long)m->proposals,
+            (unsigned long long)m->accepted, (unsigned long long)m->rejected_mh,
+            m->proposals ? (double)m->accepted / (double)m->proposals : 0.0, ms, indent);
+    for (i = 0; i < MUTATE_REJECT_COUNT; ++i)
+        fprintf(out, "%s\"%s\": %llu", i > 0 ? ", " : "", mutate_reject_names[i], (unsigned long long)m->rejected[i]);
+    fprintf(out, "}, \"duplicates\": %llu, \"final_valid\": %llu, \"pss_bytes_per_pixel\": %.1f, \"skip\": {",
+            (unsigned long long)m->duplicates, (unsigned long long)m->final_valid,
+            m->pixels ? (double)m->pss_numbers / (double)m->pixels * (double)sizeof(real) : 0.0);
+    for (i = 0; i < MUTATE_REASON_SKIP_COUNT; ++i)
+        fprintf(out, "%s\"%s\": %llu", i > 0 ? ", " : "", mutate_skip_names[i], (unsigned long long)m->skip[i]);
+    fprintf(out, "}}");
+}
+
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent)
 {
     const initial_stats *in = &st->initial;
@@ -700,6 +728,8 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
     correlation_stats_write_json(out, st, indent);
     fprintf(out, ",\n%s  \"guards\": {\"invalid_weights\": %llu, \"nonfinite_pixels\": %llu}", indent,
             (unsigned long long)restir_stats_invalid_weights(st), (unsigned long long)st->nonfinite_pixels);
+    fprintf(out, ",\n");
+    mutate_stats_write_json(out, &st->mutate, st->ms_mutate, indent);
     fprintf(out, "\n%s}", indent);
 }
 
@@ -731,9 +761,11 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
                 o->dedup ? "true" : "false", o->dedup_min, o->dedup_alpha, restir_motion_vector_names[o->motion_vectors],
                 o->boiling_filter, restir_options_biased(o) ? "true" : "false", indent);
     if (isinf(o->mcap))
-        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"}", o->temporal ? "true" : "false",
+        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis]);
     else
-        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g}", o->temporal ? "true" : "false",
+        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis], o->mcap);
+    fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d}", o->mutations,
+            mutate_strategy_names[o->mutation], o->mutate_after);
 }

@@ -20,6 +20,7 @@
 #include "restir/microfacet.h"
 #include "restir/mis.h"
 #include "restir/pairing.h"
+#include "restir/mutate.h"
 #include "restir/reconnection.h"
 #include "restir/reservoir.h"
 #include "restir/rng.h"
@@ -737,6 +738,38 @@ static int e_shift(const double *in, int n_in, double *out)
     return 12;
 }
 
+/* ---- MCMC mutations (mutate.h) ---- */
+static int e_mutate_perturb(const double *in, int n_in, double *out)
+{
+    NEED(2);
+    out[0] = (double)mutate_perturb((real)in[0], (real)in[1]);
+    return 1;
+}
+static int e_mutate_acceptance(const double *in, int n_in, double *out)
+{
+    NEED(3);
+    out[0] = (double)mutate_acceptance((real)in[0], (real)in[1], (real)in[2]);
+    return 1;
+}
+static int e_mutate_weight(const double *in, int n_in, double *out)
+{
+    NEED(3);
+    out[0] = (double)mutate_weight((real)in[0], (real)in[1], (real)in[2]);
+    return 1;
+}
+static int e_mutate_eq20(const double *in, int n_in, double *out)
+{
+    real z[3], y[3];
+    int i;
+    NEED(6);
+    for (i = 0; i < 3; ++i) {
+        z[i] = (real)in[i];
+        y[i] = (real)in[3 + i];
+    }
+    out[0] = (double)mutate_eq20_ratio(z, y);
+    return 1;
+}
+
 #define MAT "type,Kd.r,Kd.g,Kd.b,Ks.r,Ks.g,Ks.b,roughness,ior"
 static const vector_fn table[] = {
     {"rng", "rng_u", "seed,pixel,sample,stream,vertex,slot -> bits,u", e_rng_u},
@@ -810,6 +843,10 @@ static const vector_fn table[] = {
      "forward,inverse,result (enum shift_failure)",
      e_footprint},
     {"footprint", "rc_primary_footprint", "t,ng.x,ng.y,ng.z,wo.x,wo.y,wo.z -> footprint", e_primary_footprint},
+    {"mutation", "mutate_perturb", "u,xi -> v", e_mutate_perturb},
+    {"mutation", "mutate_acceptance", "target_x,target_z,kernel_ratio -> a (before min(1, .))", e_mutate_acceptance},
+    {"mutation", "mutate_weight", "W,target_x,target_z -> W", e_mutate_weight},
+    {"mutation", "mutate_eq20_ratio", "p_k_z,G_z,p_k1_z,p_k_y,G_y,p_k1_y -> T(z->y)/T(y->z)", e_mutate_eq20},
     {NULL, NULL, NULL, NULL}};
 
 const vector_fn *vectors_functions(void) { return table; }
@@ -1258,6 +1295,32 @@ typedef struct {
     void (*generate)(gen *g);
 } vector_family;
 
+/* MCMC mutations: the Kelemen kernel (symmetric, wrapped, s in (s1, s2]), the acceptance of
+ * Eqs. 14/19, the UCW update of Eqs. 16/23, the rv kernel ratio of Eq. 20. */
+static void gen_mutation(gen *g)
+{
+    static const double pert[][2] = {{0.5, 0.0}, {0.5, 0.25}, {0.5, 0.4999}, {0.5, 0.5}, {0.5, 0.75}, {0.5, 0.9999},
+                                     {0.001, 0.75}, {0.999, 0.25}, {0.0, 0.6}};
+    static const char *const plabel[] = {"add s2",          "add sqrt(s1 s2)", "add ~s1",      "subtract s2",
+                                         "subtract sqrt(s1 s2)", "subtract ~s1", "wrap below 0", "wrap above 1",
+                                         "u = 0 subtract"};
+    size_t i;
+    for (i = 0; i < sizeof pert / sizeof pert[0]; ++i)
+        EMIT("mutate_perturb", "Mutations 19", plabel[i], pert[i][0], pert[i][1]);
+    EMIT("mutate_acceptance", "Mutations 14;Mutations 19", "symmetric, uphill", 0.2, 0.5, 1.0);
+    EMIT("mutate_acceptance", "Mutations 14;Mutations 19", "symmetric, downhill", 0.5, 0.2, 1.0);
+    EMIT("mutate_acceptance", "Mutations 14;Mutations 19", "asymmetric kernel", 0.5, 0.2, 3.0);
+    EMIT("mutate_acceptance", "Mutations 14;Mutations 19", "impossible reverse (ratio 0)", 0.5, 0.7, 0.0);
+    EMIT("mutate_weight", "Mutations 16;Mutations 23", "to a brighter sample", 2.0, 0.2, 0.5);
+    EMIT("mutate_weight", "Mutations 16;Mutations 23", "to a darker sample", 2.0, 0.5, 0.2);
+    EMIT("mutate_weight", "Mutations 16;Mutations 23", "same target", 3.0, 0.4, 0.4);
+    EMIT("mutate_eq20_ratio", "Mutations 20", "identity", 0.3, 0.05, 0.8, 0.3, 0.05, 0.8);
+    EMIT("mutate_eq20_ratio", "Mutations 20", "closer to x_{k+1} (larger G)", 0.3, 0.2, 0.8, 0.3, 0.05, 0.8);
+    EMIT("mutate_eq20_ratio", "Mutations 20", "x_{k+1} last or NEE (p(w_k, w_{k+1}) = 1)", 0.4, 0.02, 1, 0.3, 0.05, 1);
+    EMIT("mutate_eq20_ratio", "Mutations 20", "x_{k+1} NEE-sampled from x_k (all 1)", 1, 1, 1, 1, 1, 1);
+    EMIT("mutate_eq20_ratio", "Mutations 20", "degenerate current path (A(y) = 0)", 0.3, 0.05, 0.8, 0, 0.05, 0.8);
+}
+
 static const vector_family families[] = {
     {"rng", gen_rng},
     {"warp", gen_warp},
@@ -1271,6 +1334,7 @@ static const vector_family families[] = {
     {"stochastic", gen_stochastic},
     {"pairing", gen_pairing},
     {"footprint", gen_footprint},
+    {"mutation", gen_mutation},
 };
 #define FAMILY_COUNT ((int)(sizeof families / sizeof families[0]))
 
