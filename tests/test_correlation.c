@@ -17,7 +17,7 @@
 #include "restir_util.h"
 #include "test.h"
 
-static char out[8192];
+static char out[65536];
 
 /* A reservoir holding initial candidate (seed, pixel, sample) with UCW W. */
 static void holder(reservoir *r, uint32_t pixel, uint32_t sample, real W)

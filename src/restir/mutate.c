@@ -28,8 +28,8 @@ void mutate_stats_add(mutate_stats *acc, const mutate_stats *add)
     for (i = 0; i < MUTATE_REJECT_COUNT; ++i) acc->rejected[i] += add->rejected[i];
 }
 
-/* Mutations §4.1 (Kelemen et al. 2002): s = s2 exp(-log(s2/s1) U), s in (s1, s2], added or
- * subtracted with probability 1/2 each, wrapped to [0,1): a symmetric kernel on the circle. */
+/* Mutations §4.1, the proposal of the PSS chain of Mutations Eq. 19 (Kelemen et al.
+ * 2002): s = s2 exp(-log(s2/s1) U), s in (s1, s2], added or subtracted with probability 1/2 each, wrapped to [0,1): a symmetric kernel on the circle. */
 real mutate_perturb(real u, real xi)
 {
     int up = xi < (real)0.5;
@@ -194,6 +194,9 @@ static void perturb_vertices(path_sample *z, int first, int last, const real *xi
         z->pss[i] = mutate_perturb(z->pss[i], xi[i]);
 }
 
+/* One proposal z of the chain (Mutations §4.1-4.3): the perturbed numbers replayed into a
+ * path of the pixel, with the kernel ratio the acceptance of Mutations Eq. 19 needs (1 for
+ * the symmetric kernels, Mutations Eq. 20 for RV and PP). */
 int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sample *u, int strategy, const real *xi,
                    const real xi_lobe[2], path_sample *z, real *ratio)
 {
