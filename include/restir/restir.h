@@ -84,6 +84,19 @@ typedef struct {
                                    (reuse_cells.h) instead of neighbor_select; any --mis */
 } restir_options;
 
+/* Bytes per pixel of every per-pixel buffer of a ReSTIR run (issue 17; docs/performance.md).
+ * Per-thread workspaces and per-scene data are not per pixel and not counted. */
+typedef struct {
+    unsigned reservoir;          /* sizeof(reservoir), of which reservoir_pss is the pss[] vector */
+    unsigned reservoir_pss;
+    unsigned reservoirs_initial, reservoirs_spatial, reservoirs_previous; /* 0 when not allocated */
+    unsigned gbuffer, gbuffer_previous;
+    unsigned accumulation, vector_shade, reuse_cells;
+    unsigned total;
+} restir_memory;
+/* The buffers restir_render (sequence = 0) or the real-time pipeline (sequence = 1) allocates. */
+void restir_memory_per_pixel(const restir_options *o, int sequence, restir_memory *m);
+
 typedef struct {
     initial_stats initial;
     spatial_stats spatial;     /* all passes */
@@ -95,6 +108,7 @@ typedef struct {
     double ms_temporal;                          /* temporal step incl. reprojection (sequences) */
     double ms_pose, ms_motion;                   /* posing + BVH rebuild; motion vectors (sequences) */
     double ms_spatial[RESTIR_MAX_SPATIAL_PASSES]; /* pass p, summed over frames */
+    restir_memory memory;      /* bytes per pixel of the run's buffers (set once per run) */
 } restir_stats;
 
 typedef struct {
