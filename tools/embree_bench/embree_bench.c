@@ -77,7 +77,6 @@ static void to_embree(const ray *r, struct RTCRay *e)
 }
 
 /* One timed pass; returns Mrays/s and writes hit flags. */
-extern unsigned long bvh_cnt_nodes, bvh_cnt_tris;
 static double pass_restir(const scene *s, const bench_ray_set *set, int any, unsigned char *hit)
 {
     double t0 = now();
@@ -86,8 +85,6 @@ static double pass_restir(const scene *s, const bench_ray_set *set, int any, uns
         bvh_hit h;
         hit[i] = (unsigned char)(any ? bvh_occluded(&s->accel, &set->rays[i]) : bvh_intersect(&s->accel, &set->rays[i], &h));
     }
-    fprintf(stderr, "nodes/ray %.1f tris/ray %.1f\n", (double)bvh_cnt_nodes / set->count, (double)bvh_cnt_tris / set->count);
-    bvh_cnt_nodes = bvh_cnt_tris = 0;
     return set->count / (now() - t0) * 1e-6;
 }
 
