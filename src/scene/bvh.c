@@ -701,7 +701,24 @@ static inline unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n,
 /* Pushes the children of wide node n that the ray enters before tfar_limit, the farthest
  * first, so that the nearest is visited next (the order only affects the speed: the
  * closest hit and its tie-break do not depend on it). */
-static inline void push_children(const ray_setup *s, const bvh_wide_node *n, float tfar_limit, stack_entry *stack,
+/* Starts loading a child that was just pushed: its wide node, or its leaf's vertices.
+ * Memory latency dominates incoherent rays (docs/performance.md); a cache hint changes
+ * no result, and without the GCC/Clang builtin it does nothing. */
+static inline void prefetch_child(const bvh *b, uint32_t child, uint32_t count)
+{
+#ifdef __GNUC__
+    if (count > 0)
+        __builtin_prefetch(&b->leaf_vertices[3 * (size_t)child]);
+    else
+        __builtin_prefetch(&b->wide[child]);
+#else
+    (void)b;
+    (void)child;
+    (void)count;
+#endif
+}
+
+static inline void push_children(const ray_setup *s, const bvh *b, const bvh_wide_node *n, float tfar_limit, stack_entry *stack,
                                  int *top)
 {
     float entry[BVH_WIDTH];
@@ -715,6 +732,7 @@ static inline void push_children(const ray_setup *s, const bvh_wide_node *n, flo
         stack[j].child = n->child[k];
         stack[j].count = n->count[k];
         stack[j].tnear = entry[k];
+        prefetch_child(b, n->child[k], n->count[k]);
     }
 }
 
@@ -739,7 +757,7 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
         /* Culled: the ray can only enter this box beyond the closest hit so far. */
         if (at.tnear > best_t) continue;
         if (at.count == 0) {
-            push_children(&s, &b->wide[at.child], best_t, stack, &top);
+            push_children(&s, b, &b->wide[at.child], best_t, stack, &top);
             continue;
         }
         for (slot = at.child, end = at.child + at.count; slot < end; ++slot) {
@@ -783,7 +801,7 @@ int bvh_occluded(const bvh *b, const ray *r)
         stack_entry at = stack[--top];
         uint32_t slot, end;
         if (at.count == 0) {
-            push_children(&s, &b->wide[at.child], s.tmax, stack, &top);
+            push_children(&s, b, &b->wide[at.child], s.tmax, stack, &top);
             continue;
         }
         for (slot = at.child, end = at.child + at.count; slot < end; ++slot) {
