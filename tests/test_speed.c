@@ -7,7 +7,11 @@
  * ReSTIR PT frame (initial resampling + spatial reuse) on the Cornell box. A deliberate
  * one-ulp change anywhere in these paths changes the checksum. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include "restir/bvh.h"
+#include "restir/generate.h"
+#include "restir/scene.h"
 #include "restir/vec.h"
 #include "test.h"
 
@@ -59,4 +63,53 @@ TEST(speed_images_bit_identical_to_recorded)
         CHECKF(got == want, "%s: image checksum %016llx, recorded before the speed changes %016llx", c->name, got,
                want);
     }
+}
+
+/* The 4-wide tree (bvh.h) covers every leaf slot exactly once, its child boxes contain
+ * their triangles, and its depth stays within the binary tree's (the traversal stack is
+ * sized by that). */
+static int wide_walk(const bvh *b, uint32_t at, int depth, unsigned char *seen, int *max_depth)
+{
+    const bvh_wide_node *n = &b->wide[at];
+    int k, ok = 1;
+    if (depth > *max_depth) *max_depth = depth;
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        uint32_t slot;
+        if (n->count[k] == 0 && n->child[k] == BVH_WIDE_EMPTY) continue;
+        if (n->count[k] == 0) {
+            ok &= n->child[k] > at && n->child[k] < b->wide_count;
+            if (ok) ok &= wide_walk(b, n->child[k], depth + 1, seen, max_depth);
+            continue;
+        }
+        for (slot = n->child[k]; slot < n->child[k] + n->count[k] && slot < b->prim_count; ++slot) {
+            const vec3f *v = &b->leaf_vertices[3 * (size_t)slot];
+            int c;
+            seen[slot]++;
+            for (c = 0; c < 3; ++c)
+                ok &= v[c].x >= n->bounds[0][k] && v[c].x <= n->bounds[3][k] && v[c].y >= n->bounds[1][k] &&
+                      v[c].y <= n->bounds[4][k] && v[c].z >= n->bounds[2][k] && v[c].z <= n->bounds[5][k];
+        }
+    }
+    return ok;
+}
+
+TEST(bvh_wide_tree_covers_every_leaf_slot_once)
+{
+    scene s;
+    rerror e;
+    unsigned char *seen;
+    size_t i, once = 0;
+    int depth = 0;
+    memset(&s, 0, sizeof s);
+    CHECKF(generate_displaced_sphere(&s, 24, &e) == 0 && scene_prepare(&s, &e) == 0, "%s", e.msg);
+    seen = calloc(s.accel.prim_count, 1);
+    CHECK(seen != NULL && s.accel.wide_count >= 1 && s.accel.wide_count < s.accel.node_count);
+    if (seen) {
+        CHECK(wide_walk(&s.accel, 0, 0, seen, &depth));
+        for (i = 0; i < s.accel.prim_count; ++i) once += seen[i] == 1;
+        CHECKF(once == s.accel.prim_count, "%zu of %zu leaf slots reached exactly once", once, s.accel.prim_count);
+        CHECKF(depth <= s.accel.depth, "wide depth %d > binary depth %d", depth, s.accel.depth);
+    }
+    free(seen);
+    scene_free(&s);
 }

@@ -3,13 +3,14 @@
 # ROUNDS rounds, alternating which binary goes first, each timed by its CPU time (user +
 # system, from perf stat's task-clock: insensitive to waiting for a core on a loaded
 # machine). Prints the median A/B time ratio (the speed-up of B) with its min..max, and
-# whether the two wrote the same bytes (-o OUT is appended: the output is compared).
+# whether the two wrote the same bytes (-o OUT is appended: every output file is compared).
 #   tools/ab_cmd.sh A_BIN B_BIN ROUNDS ARGS...      e.g.
 #   tools/ab_cmd.sh old/restir build/restir 5 render scenes/cornell.scene --method pt --spp 4 --threads 1
 set -eu
 a=$1 b=$2 rounds=$3
 shift 3
 tmp=$(mktemp -d)
+mkdir "$tmp/a" "$tmp/b"
 trap 'rm -rf "$tmp"' EXIT
 cpu_ms() { # bin out -> task-clock in ms
     bin=$1 out=$2; shift 2; nice -n 5 perf stat -x, -e task-clock -o "$tmp/stat" "$bin" "$@" -o "$out" > /dev/null 2>&1 || true
@@ -18,15 +19,16 @@ cpu_ms() { # bin out -> task-clock in ms
 i=0
 while [ $i -lt "$rounds" ]; do
     if [ $((i % 2)) -eq 0 ]; then
-        ta=$(cpu_ms "$a" "$tmp/a.pfm" "$@"); tb=$(cpu_ms "$b" "$tmp/b.pfm" "$@")
+        ta=$(cpu_ms "$a" "$tmp/a/out.pfm" "$@"); tb=$(cpu_ms "$b" "$tmp/b/out.pfm" "$@")
     else
-        tb=$(cpu_ms "$b" "$tmp/b.pfm" "$@"); ta=$(cpu_ms "$a" "$tmp/a.pfm" "$@")
+        tb=$(cpu_ms "$b" "$tmp/b/out.pfm" "$@"); ta=$(cpu_ms "$a" "$tmp/a/out.pfm" "$@")
     fi
     echo "$ta $tb" >> "$tmp/rows"
     i=$((i + 1))
 done
 same=no
-cmp -s "$tmp/a.pfm" "$tmp/b.pfm" && same=yes
+# Every file written (a --sequence writes out.0000.pfm, ...; PNG previews too).
+[ -n "$(ls "$tmp/a")" ] && diff -r -q "$tmp/a" "$tmp/b" > /dev/null && same=yes
 awk '{print $1 / $2, $1, $2}' "$tmp/rows" | sort -g | awk -v same=$same '
     {r[NR] = $1; a += $2; b += $3}
     END {m = (NR % 2) ? r[(NR + 1) / 2] : (r[NR / 2] + r[NR / 2 + 1]) / 2;

@@ -6,8 +6,12 @@
  * the SAH says splitting does not pay. Nodes are stored depth-first: the left child of
  * an interior node is the next node, the right child is at `offset`.
  *
- * Traversal: one stack, near child first (chosen by the sign of the ray direction on
- * the node's split axis). The box test is made conservative with respect to the
+ * Collapse: the binary tree is then collapsed to 4-wide nodes (BVH4) with the very same
+ * boxes; queries traverse those (fewer, larger nodes: fewer dependent cache misses for
+ * incoherent rays; docs/performance.md has the measurements).
+ *
+ * Traversal: one stack; of the children a ray enters, the nearest is visited first
+ * (by entry distance). The box test is made conservative with respect to the
  * rounding of both the slab test and the watertight triangle test (see ray_setup),
  * so the BVH finds exactly what a loop over all triangles finds.
  *
