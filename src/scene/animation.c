@@ -487,7 +487,9 @@ int scene_clone(scene *dst, const scene *src, rerror *e)
     dst->warnings = NULL;
     dst->warning_count = 0;
     memset(&dst->accel, 0, sizeof dst->accel);
+    dst->face_normals = NULL;
     if (copy_array((void **)&dst->positions, src->positions, src->position_count, sizeof(vec3f), e) ||
+        copy_array((void **)&dst->face_normals, src->face_normals, src->triangle_count, sizeof(vec3f), e) ||
         copy_array((void **)&dst->normals, src->normals, src->normal_count, sizeof(vec3f), e) ||
         copy_array((void **)&dst->triangles, src->triangles, src->triangle_count, sizeof(triangle), e) ||
         copy_array((void **)&dst->materials, src->materials, src->material_count, sizeof(material), e) ||
