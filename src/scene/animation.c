@@ -357,6 +357,8 @@ int scene_add_object_animation(scene *s, uint32_t object, vec3 pivot, const obje
         split_vertices(s, object, (int32_t)(an->track_count - 1), 1, e) || snapshot_rest(s, e))
         return -1;
     bvh_free(&s->accel); /* vertex indices changed */
+    free(s->face_normals);
+    s->face_normals = NULL;
     return 0;
 }
 
