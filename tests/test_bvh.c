@@ -210,6 +210,7 @@ static void free_test_scene(scene *s)
     free(s->normals);
     free(s->triangles);
     bvh_free(&s->accel);
+    free(s->face_normals);
     memset(s, 0, sizeof *s);
 }
 
@@ -1168,5 +1169,6 @@ TEST(spawn_ray_concave_edge)
             CHECK(v3f_dot(h.ng, dir) < 0); /* the front face */
         }
         bvh_free(&s.accel);
+        free(s.face_normals);
     }
 }

@@ -36,6 +36,26 @@ TEST(rng_address_fields_independent)
     k = base; k.slot++; CHECK(rng_bits(k) != b);
 }
 
+/* rng_u_slots (the batched form the path sampler uses) returns exactly rng_u's numbers,
+ * for every batch length and many addresses. */
+TEST(rng_u_slots_equals_rng_u)
+{
+    long i;
+    for (i = 0; i < 20000; ++i) {
+        rng_key base = rng_key_make(test_seed() + (uint32_t)(i % 7), (uint32_t)(i * 2654435761u), (uint32_t)(i / 3));
+        uint32_t stream = (uint32_t)(i % 5), vertex = (uint32_t)(i % 17), first = (uint32_t)(i % 11);
+        int n = 1 + (int)(i % RNG_SLOTS_MAX), l;
+        real u[RNG_SLOTS_MAX];
+        rng_u_slots(base, stream, vertex, first, n, u);
+        for (l = 0; l < n; ++l)
+            if (u[l] != rng_u(base, stream, vertex, first + (uint32_t)l)) {
+                CHECKF(0, "address %ld lane %d: %.17g != %.17g", i, l, (double)u[l],
+                       (double)rng_u(base, stream, vertex, first + (uint32_t)l));
+                return;
+            }
+    }
+}
+
 /* Uniformity: chi-square over 64 bins and serial correlation of consecutive slots. */
 TEST(rng_uniformity)
 {

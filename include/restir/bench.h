@@ -16,6 +16,18 @@ typedef struct {
 
 void bench_rays_default_options(bench_rays_options *o);
 
+/* The rays bench_rays times, for harnesses outside the build (tools/embree_bench). */
+typedef struct {
+    ray *rays;
+    long count;
+} bench_ray_set;
+typedef struct {
+    bench_ray_set primary, secondary, shadow;
+} bench_ray_sets;
+/* Generates the three ray sets described below (o->width x o->height primary rays). */
+int bench_ray_sets_make(const scene *s, const bench_rays_options *o, bench_ray_sets *r, rerror *e);
+void bench_ray_sets_free(bench_ray_sets *r);
+
 /* Ray throughput of the scene's BVH (s must be prepared with scene_prepare) in Mrays/s:
  *   primary:   the camera's jittered rays through every pixel, closest hit;
  *   secondary: one cosine-distributed bounce about the geometric normal (turned to the

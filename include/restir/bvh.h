@@ -1,5 +1,5 @@
 /* Bounding volume hierarchy over triangles: binned-SAH build, 32-byte flattened
- * nodes, ordered stack traversal, watertight ray/triangle test (Woop et al. 2013).
+ * nodes collapsed to 4-wide nodes, ordered stack traversal, watertight ray/triangle test (Woop et al. 2013).
  * Geometry is float (docs/design.md, Conventions). */
 #ifndef RESTIR_BVH_H
 #define RESTIR_BVH_H
@@ -32,9 +32,26 @@ typedef struct {
     uint32_t count_axis; /* leaf: primitive count (>0) in the low 24 bits; interior: axis << 24 */
 } bvh_node;
 
+/* The traversal's node: the binary tree above collapsed to 4 children per node
+ * (BVH4; docs/performance.md), 128 bytes = two cache lines. Structure of arrays, so the
+ * four slab tests are one loop the compiler can vectorise. The child boxes are exactly
+ * the binary tree's node boxes. Per child k: bounds[0..2][k] = min x, y, z and
+ * bounds[3..5][k] = max x, y, z; count[k] > 0: a leaf of count[k] triangles from leaf
+ * slot child[k]; count[k] == 0: the wide node child[k], or no child if child[k] is
+ * BVH_WIDE_EMPTY (its box is empty too). */
+#define BVH_WIDTH 4
+#define BVH_WIDE_EMPTY UINT32_MAX
 typedef struct {
-    bvh_node *nodes;
+    float bounds[6][BVH_WIDTH];
+    uint32_t child[BVH_WIDTH];
+    uint32_t count[BVH_WIDTH];
+} bvh_wide_node;
+
+typedef struct {
+    bvh_node *nodes;        /* the binary SAH tree (the build's output) */
     size_t node_count;
+    bvh_wide_node *wide;    /* the same tree, 4-wide, what the queries traverse */
+    size_t wide_count;
     uint32_t *prim_order;   /* leaf slots -> original triangle index */
     vec3f *leaf_vertices;   /* 3 vertices per leaf slot, in prim_order order */
     size_t prim_count;

@@ -106,6 +106,19 @@ typedef struct {
     int mutate_after;           /* enum mutate_stage bits (default MUTATE_AFTER_TEMPORAL, Mutations §3) */
 } restir_options;
 
+/* Bytes per pixel of every per-pixel buffer of a ReSTIR run (issue 17; docs/performance.md).
+ * Per-thread workspaces and per-scene data are not per pixel and not counted. */
+typedef struct {
+    unsigned reservoir;          /* sizeof(reservoir), of which reservoir_pss is the pss[] vector */
+    unsigned reservoir_pss;
+    unsigned reservoirs_initial, reservoirs_spatial, reservoirs_previous; /* 0 when not allocated */
+    unsigned gbuffer, gbuffer_previous;
+    unsigned accumulation, vector_shade, reuse_cells;
+    unsigned total;
+} restir_memory;
+/* The buffers restir_render (sequence = 0) or the real-time pipeline (sequence = 1) allocates. */
+void restir_memory_per_pixel(const restir_options *o, int sequence, restir_memory *m);
+
 typedef struct {
     initial_stats initial;
     spatial_stats spatial;     /* all passes */
@@ -126,6 +139,7 @@ typedef struct {
     duplication_summary correlation;
     uint64_t boiling_cleared;
     double ms_correlation;                       /* duplication map + boiling filter */
+    restir_memory memory;      /* bytes per pixel of the run's buffers (set once per run) */
 } restir_stats;
 
 typedef struct {

@@ -68,6 +68,13 @@ real rng_uniform(rng_key k);
 double rng_uniform_double(rng_key k);
 float rng_uniform_float(rng_key k);
 
+/* out[i] = rng_u(base, stream, vertex, first_slot + i) for i < n (n <= RNG_SLOTS_MAX):
+ * the same numbers, with the n hashes computed side by side. Each pcg4d is a chain of
+ * dependent multiplications; interleaving independent chains lets the CPU overlap them
+ * (docs/performance.md: the RNG was ~20% of a path-tracer profile). */
+#define RNG_SLOTS_MAX 4
+void rng_u_slots(rng_key base, uint32_t stream, uint32_t vertex, uint32_t first_slot, int n, real *out);
+
 /* Convenience: rng_uniform at (stream, vertex, slot) of a path's base key. */
 static inline real rng_u(rng_key base, uint32_t stream, uint32_t vertex, uint32_t slot)
 {

@@ -83,6 +83,7 @@ typedef struct {
     /* Built by scene_prepare(): */
     bvh accel;
     vec3f bounds_min, bounds_max;
+    vec3f *face_normals; /* per triangle: its unit face normal, so hits need not recompute it */
 } scene;
 
 /* Loads a .scene file or a bare .obj (then the camera frames the bounding box

@@ -29,10 +29,7 @@ static double wall_seconds(void)
 /* ------------------------------------------------------------------------------- */
 /* Ray generation (untimed)                                                         */
 
-typedef struct {
-    ray *rays;
-    long count;
-} ray_set;
+typedef bench_ray_set ray_set;
 
 static real random_at(const bench_rays_options *o, long pixel, uint32_t slot)
 {
@@ -126,6 +123,30 @@ static int make_hit_rays(const scene *s, const bench_rays_options *o, const ray_
     }
     free(emitters);
     return 0;
+}
+
+void bench_ray_sets_free(bench_ray_sets *r)
+{
+    free(r->primary.rays);
+    free(r->secondary.rays);
+    free(r->shadow.rays);
+    memset(r, 0, sizeof *r);
+}
+
+int bench_ray_sets_make(const scene *s, const bench_rays_options *o, bench_ray_sets *r, rerror *e)
+{
+    size_t pixels = (size_t)o->width * (size_t)o->height;
+    memset(r, 0, sizeof *r);
+    r->primary.rays = rmalloc(pixels, sizeof(ray), e);
+    r->secondary.rays = rmalloc(pixels, sizeof(ray), e);
+    r->shadow.rays = rmalloc(pixels, sizeof(ray), e);
+    if (!r->primary.rays || !r->secondary.rays || !r->shadow.rays) goto fail;
+    make_primary_rays(s, o, &r->primary);
+    if (make_hit_rays(s, o, &r->primary, &r->secondary, &r->shadow, e)) goto fail;
+    return 0;
+fail:
+    bench_ray_sets_free(r);
+    return -1;
 }
 
 /* ------------------------------------------------------------------------------- */

@@ -51,26 +51,76 @@ uint32_t rng_bits(rng_key k)
     return v[0];
 }
 
+/* The uniform numbers from the hashed words (docs/rng.md). */
+static double words_to_double(const uint32_t v[4])
+{
+    uint64_t bits = ((uint64_t)v[0] << 21) | (uint64_t)(v[1] >> 11); /* 53 bits */
+    return (double)bits * (1.0 / 9007199254740992.0);                /* 2^-53 */
+}
+
+static float words_to_float(const uint32_t v[4])
+{
+    return (float)(v[0] >> 8) * (1.0f / 16777216.0f); /* 24 bits, 2^-24 */
+}
+
+static real words_to_real(const uint32_t v[4])
+{
+#ifdef RESTIR_REAL_FLOAT
+    return words_to_float(v);
+#else
+    return words_to_double(v);
+#endif
+}
+
 double rng_uniform_double(rng_key k)
 {
     uint32_t v[4];
-    uint64_t bits;
     rng_words(k, v);
     rng_pcg4d(v);
-    bits = ((uint64_t)v[0] << 21) | (uint64_t)(v[1] >> 11); /* 53 bits */
-    return (double)bits * (1.0 / 9007199254740992.0);      /* 2^-53 */
+    return words_to_double(v);
 }
 
 float rng_uniform_float(rng_key k)
 {
-    return (float)(rng_bits(k) >> 8) * (1.0f / 16777216.0f); /* 24 bits, 2^-24 */
+    uint32_t v[4];
+    rng_words(k, v);
+    rng_pcg4d(v);
+    return words_to_float(v);
 }
 
 real rng_uniform(rng_key k)
 {
-#ifdef RESTIR_REAL_FLOAT
-    return rng_uniform_float(k);
-#else
-    return rng_uniform_double(k);
-#endif
+    uint32_t v[4];
+    rng_words(k, v);
+    rng_pcg4d(v);
+    return words_to_real(v);
+}
+
+/* rng_pcg4d on n address words at once, one step of all lanes after the other, so the
+ * lanes' independent multiplication chains interleave. The same arithmetic per lane. */
+static void pcg4d_lanes(uint32_t v[RNG_SLOTS_MAX][4], int n)
+{
+    int i, l;
+    for (l = 0; l < n; ++l)
+        for (i = 0; i < 4; ++i) v[l][i] = v[l][i] * 1664525u + 1013904223u;
+    for (l = 0; l < n; ++l) v[l][0] += v[l][1] * v[l][3];
+    for (l = 0; l < n; ++l) v[l][1] += v[l][2] * v[l][0];
+    for (l = 0; l < n; ++l) v[l][2] += v[l][0] * v[l][1];
+    for (l = 0; l < n; ++l) v[l][3] += v[l][1] * v[l][2];
+    for (l = 0; l < n; ++l)
+        for (i = 0; i < 4; ++i) v[l][i] ^= v[l][i] >> 16;
+    for (l = 0; l < n; ++l) v[l][0] += v[l][1] * v[l][3];
+    for (l = 0; l < n; ++l) v[l][1] += v[l][2] * v[l][0];
+    for (l = 0; l < n; ++l) v[l][2] += v[l][0] * v[l][1];
+    for (l = 0; l < n; ++l) v[l][3] += v[l][1] * v[l][2];
+}
+
+void rng_u_slots(rng_key base, uint32_t stream, uint32_t vertex, uint32_t first_slot, int n, real *out)
+{
+    uint32_t v[RNG_SLOTS_MAX][4];
+    int l;
+    if (n > RNG_SLOTS_MAX) abort(); /* a caller's bug: the lanes are a fixed array */
+    for (l = 0; l < n; ++l) rng_words(rng_key_at(base, stream, vertex, first_slot + (uint32_t)l), v[l]);
+    pcg4d_lanes(v, n);
+    for (l = 0; l < n; ++l) out[l] = words_to_real(v[l]);
 }

@@ -79,8 +79,7 @@ int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key pat
                         nee_sample *out)
 {
     real u[4];
-    int k;
-    for (k = 0; k < 4; ++k) u[k] = rng_u(path, RNG_NEE, vertex_index, (uint32_t)k);
+    rng_u_slots(path, RNG_NEE, vertex_index, 0, 4, u);
     return vertex_sample_light_numbers(c, v, u, out);
 }
 
@@ -110,9 +109,9 @@ int vertex_sample_light_numbers(const path_context *c, const path_vertex *v, con
 
 int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index, bsdf_bounce *out)
 {
-    real u_lobe = rng_u(path, RNG_BSDF, vertex_index, 0);
-    vec2 u = v2(rng_u(path, RNG_BSDF, vertex_index, 1), rng_u(path, RNG_BSDF, vertex_index, 2));
-    return vertex_sample_bsdf_numbers(v, u_lobe, u, out);
+    real u[3];
+    rng_u_slots(path, RNG_BSDF, vertex_index, 0, 3, u);
+    return vertex_sample_bsdf_numbers(v, u[0], v2(u[1], u[2]), out);
 }
 
 int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out)

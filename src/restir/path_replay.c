@@ -12,6 +12,11 @@ void path_bsdf_numbers(const path_sample *s, int vertex, real u[3])
 {
     rng_key key = path_sample_key(s);
     int slot;
+    /* Without explicit numbers at this vertex (the usual case): the three hashed side by side. */
+    if ((vertex - 1) * PATH_PSS_PER_VERTEX >= s->n_pss) {
+        rng_u_slots(key, RNG_BSDF, (uint32_t)vertex, 0, PATH_PSS_PER_VERTEX, u);
+        return;
+    }
     for (slot = 0; slot < PATH_PSS_PER_VERTEX; ++slot) {
         int i = (vertex - 1) * PATH_PSS_PER_VERTEX + slot; /* path_sample.h: pss[i] layout */
         u[slot] = i >= 0 && i < s->n_pss ? s->pss[i] : rng_u(key, RNG_BSDF, (uint32_t)vertex, (uint32_t)slot);

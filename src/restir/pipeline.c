@@ -459,6 +459,7 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     if (status || !j->initial || !j->pong || !pl.prev || !j->sum || !pl.dup || !pl.age || !pl.prev_age || frame_workers_alloc(j, e)) status = -1;
     if (!status) status = run_sequence(&pl, q, sink, user, total, e);
     if (!status) total->passes = o->spatial_passes;
+    if (!status) restir_memory_per_pixel(o, 1, &total->memory);
     free(j->initial);
     free(j->pong);
     free(pl.prev);

@@ -327,9 +327,7 @@ enum shift_failure rc_retrace_suffix(const restir_context *c, const path_sample 
         real u[4];
         vec3 y, dv;
         real dist;
-        int i;
-        rng_key key = path_sample_key(x);
-        for (i = 0; i < 4; ++i) u[i] = rng_u(key, RNG_NEE, (uint32_t)k, (uint32_t)i);
+        rng_u_slots(path_sample_key(x), RNG_NEE, (uint32_t)k, 0, 4, u);
         if (!light_sample_point(pc->lights, u, &ls)) return SHIFT_FAIL_NEE;
         y = v3_from_f(ls.position);
         dv = v3_sub(y, pos);

@@ -604,6 +604,7 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     if (!status) {
         frame_sum_stats(&j, &out->stats);
         out->stats.passes = o->spatial_passes;
+        restir_memory_per_pixel(o, 0, &out->stats.memory);
         out->seconds = now_seconds() - t0;
     }
     free(j.initial);
@@ -688,6 +689,36 @@ static void mutate_stats_write_json(FILE *out, const mutate_stats *m, double ms,
     fprintf(out, "}}");
 }
 
+void restir_memory_per_pixel(const restir_options *o, int sequence, restir_memory *m)
+{
+    memset(m, 0, sizeof *m);
+    m->reservoir = (unsigned)sizeof(reservoir);
+    m->reservoir_pss = (unsigned)(PATH_MAX_PSS * sizeof(real));
+    m->reservoirs_initial = m->reservoir;
+    m->reservoirs_spatial = sequence || o->spatial_passes > 0 ? m->reservoir : 0; /* ping-pong */
+    m->reservoirs_previous = sequence ? m->reservoir : 0;                         /* temporal input */
+    m->gbuffer = (unsigned)sizeof(gbuffer_texel);
+    m->gbuffer_previous = sequence ? m->gbuffer : 0;
+    m->accumulation = (unsigned)(3 * sizeof(double));
+    m->vector_shade = o->shading == RESTIR_SHADING_VECTOR && o->spatial_passes > 0 ? (unsigned)sizeof(rgb) : 0;
+    /* reuse_cells.h: cell_of, start, pixels, nz_start, nz_pixels, hash per pixel, and at most
+     * one confidence per pixel (one cell per pixel at worst). */
+    m->reuse_cells = o->cells ? (unsigned)(3 * sizeof(int) + 3 * sizeof(uint32_t) + sizeof(double)) : 0;
+    m->total = m->reservoirs_initial + m->reservoirs_spatial + m->reservoirs_previous + m->gbuffer +
+               m->gbuffer_previous + m->accumulation + m->vector_shade + m->reuse_cells;
+}
+
+static void restir_memory_write_json(FILE *out, const restir_memory *m, const char *indent)
+{
+    fprintf(out, ",\n%s  \"bytes_per_pixel\": {\"reservoir\": %u, \"reservoir_pss\": %u, \"reservoirs_initial\": %u, "
+                 "\"reservoirs_spatial\": %u, \"reservoirs_previous\": %u,\n%s    \"gbuffer\": %u, "
+                 "\"gbuffer_previous\": %u, \"accumulation\": %u, \"vector_shade\": %u, \"reuse_cells\": %u, "
+                 "\"total\": %u}",
+            indent, m->reservoir, m->reservoir_pss, m->reservoirs_initial, m->reservoirs_spatial,
+            m->reservoirs_previous, indent, m->gbuffer, m->gbuffer_previous, m->accumulation, m->vector_shade,
+            m->reuse_cells, m->total);
+}
+
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent)
 {
     const initial_stats *in = &st->initial;
@@ -730,6 +761,7 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
             (unsigned long long)restir_stats_invalid_weights(st), (unsigned long long)st->nonfinite_pixels);
     fprintf(out, ",\n");
     mutate_stats_write_json(out, &st->mutate, st->ms_mutate, indent);
+    if (st->memory.total) restir_memory_write_json(out, &st->memory, indent);
     fprintf(out, "\n%s}", indent);
 }
 

@@ -357,6 +357,8 @@ int scene_add_object_animation(scene *s, uint32_t object, vec3 pivot, const obje
         split_vertices(s, object, (int32_t)(an->track_count - 1), 1, e) || snapshot_rest(s, e))
         return -1;
     bvh_free(&s->accel); /* vertex indices changed */
+    free(s->face_normals);
+    s->face_normals = NULL;
     return 0;
 }
 
@@ -487,7 +489,9 @@ int scene_clone(scene *dst, const scene *src, rerror *e)
     dst->warnings = NULL;
     dst->warning_count = 0;
     memset(&dst->accel, 0, sizeof dst->accel);
+    dst->face_normals = NULL;
     if (copy_array((void **)&dst->positions, src->positions, src->position_count, sizeof(vec3f), e) ||
+        copy_array((void **)&dst->face_normals, src->face_normals, src->triangle_count, sizeof(vec3f), e) ||
         copy_array((void **)&dst->normals, src->normals, src->normal_count, sizeof(vec3f), e) ||
         copy_array((void **)&dst->triangles, src->triangles, src->triangle_count, sizeof(triangle), e) ||
         copy_array((void **)&dst->materials, src->materials, src->material_count, sizeof(material), e) ||
@@ -502,7 +506,9 @@ int scene_clone(scene *dst, const scene *src, rerror *e)
     dst->accel.nodes = NULL;
     dst->accel.prim_order = NULL;
     dst->accel.leaf_vertices = NULL;
+    dst->accel.wide = NULL;
     if (copy_array((void **)&dst->accel.nodes, b->nodes, b->node_count, sizeof *b->nodes, e) ||
+        copy_array((void **)&dst->accel.wide, b->wide, b->wide_count, sizeof *b->wide, e) ||
         copy_array((void **)&dst->accel.prim_order, b->prim_order, b->prim_count, sizeof *b->prim_order, e) ||
         copy_array((void **)&dst->accel.leaf_vertices, b->leaf_vertices, 3 * b->prim_count, sizeof(vec3f), e))
         goto fail;

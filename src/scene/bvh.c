@@ -6,8 +6,12 @@
  * the SAH says splitting does not pay. Nodes are stored depth-first: the left child of
  * an interior node is the next node, the right child is at `offset`.
  *
- * Traversal: one stack, near child first (chosen by the sign of the ray direction on
- * the node's split axis). The box test is made conservative with respect to the
+ * Collapse: the binary tree is then collapsed to 4-wide nodes (BVH4) with the very same
+ * boxes; queries traverse those (fewer, larger nodes: fewer dependent cache misses for
+ * incoherent rays; docs/performance.md has the measurements).
+ *
+ * Traversal: one stack; of the children a ray enters, the nearest is visited first
+ * (by entry distance). The box test is made conservative with respect to the
  * rounding of both the slab test and the watertight triangle test (see ray_setup),
  * so the BVH finds exactly what a loop over all triangles finds.
  *
@@ -34,8 +38,9 @@ enum {
     /* Below this depth the SAH decides; deeper nodes are halved by count, which keeps
      * the depth (and the traversal stack) bounded even for adversarial inputs. */
     BVH_SAH_DEPTH_LIMIT = 48,
-    /* Depth <= 48 + log2(2^32) < 96, and the stack holds at most one node per level. */
-    BVH_STACK_SIZE = 96
+    /* Depth <= 48 + log2(2^32) < 96; a wide level is at least one binary level, and the
+     * stack grows by at most BVH_WIDTH - 1 entries per wide level. */
+    BVH_STACK_SIZE = (BVH_WIDTH - 1) * 96 + 1
 };
 
 /* SAH constants: cost of one node traversal and one triangle test, in the same unit. */
@@ -294,6 +299,91 @@ static void triangle_box(const vec3f *v, box3 *bx, float centroid[3])
     for (k = 0; k < 3; ++k) centroid[k] = 0.5f * bx->lo[k] + 0.5f * bx->hi[k];
 }
 
+/* ------------------------------------------------------------------------------- */
+/* Collapse to 4-wide nodes                                                         */
+
+static double node_area(const bvh_node *n)
+{
+    box3 bx;
+    memcpy(bx.lo, n->min, sizeof bx.lo);
+    memcpy(bx.hi, n->max, sizeof bx.hi);
+    return box_area(&bx);
+}
+
+/* Wide node `at` from the binary subtree of `kids[0..n)`: while there are fewer than
+ * BVH_WIDTH children, the interior child with the largest surface area (the one a ray is
+ * most likely to enter) is replaced by its two children (the usual BVH2 -> BVH4
+ * collapse, e.g. Wald et al. 2008, "Getting rid of packets"). The boxes are the binary
+ * nodes' own boxes, so the traversal tests the same boxes, only fewer at a time. */
+static void collapse_node(bvh *b, size_t at, uint32_t kids[BVH_WIDTH], int n)
+{
+    int k;
+    while (n < BVH_WIDTH) {
+        int best = -1;
+        double best_area = -1;
+        for (k = 0; k < n; ++k) {
+            const bvh_node *c = &b->nodes[kids[k]];
+            if ((c->count_axis & COUNT_MASK) == 0 && node_area(c) > best_area) {
+                best = k;
+                best_area = node_area(c);
+            }
+        }
+        if (best < 0) break;
+        kids[n++] = b->nodes[kids[best]].offset;
+        kids[best] = kids[best] + 1;
+    }
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        bvh_wide_node *w = &b->wide[at];
+        int axis;
+        if (k >= n) {
+            for (axis = 0; axis < 3; ++axis) {
+                w->bounds[axis][k] = FLT_MAX;
+                w->bounds[3 + axis][k] = -FLT_MAX;
+            }
+            w->child[k] = BVH_WIDE_EMPTY;
+            w->count[k] = 0;
+            continue;
+        }
+        for (axis = 0; axis < 3; ++axis) {
+            w->bounds[axis][k] = b->nodes[kids[k]].min[axis];
+            w->bounds[3 + axis][k] = b->nodes[kids[k]].max[axis];
+        }
+        w->count[k] = b->nodes[kids[k]].count_axis & COUNT_MASK;
+        if (w->count[k] > 0) {
+            w->child[k] = b->nodes[kids[k]].offset;
+        } else {
+            uint32_t grand[BVH_WIDTH];
+            size_t child = b->wide_count++;
+            grand[0] = kids[k] + 1;
+            grand[1] = b->nodes[kids[k]].offset;
+            w->child[k] = (uint32_t)child;
+            collapse_node(b, child, grand, 2);
+        }
+    }
+}
+
+/* b->wide from b->nodes (at most one wide node per binary interior node, and one for a
+ * root that is a leaf). */
+static int collapse(bvh *b, rerror *e)
+{
+    uint32_t kids[BVH_WIDTH];
+    bvh_wide_node *shrunk;
+    b->wide = rmalloc(b->node_count, sizeof *b->wide, e);
+    if (!b->wide) return -1;
+    b->wide_count = 1;
+    if (b->nodes[0].count_axis & COUNT_MASK) {
+        kids[0] = 0;
+        collapse_node(b, 0, kids, 1);
+    } else {
+        kids[0] = 1;
+        kids[1] = b->nodes[0].offset;
+        collapse_node(b, 0, kids, 2);
+    }
+    shrunk = realloc(b->wide, b->wide_count * sizeof *b->wide);
+    if (shrunk) b->wide = shrunk;
+    return 0;
+}
+
 int bvh_build(bvh *b, const vec3f *tri_vertices, size_t tri_count, rerror *e)
 {
     builder bd;
@@ -356,6 +446,7 @@ int bvh_build(bvh *b, const vec3f *tri_vertices, size_t tri_count, rerror *e)
         root_area = box_area(&root);
     }
     b->sah_cost = root_area > 0 ? bd.sah_cost / root_area : 0;
+    if (collapse(b, e)) goto fail;
 done:
     free(prim_box);
     free(centroid);
@@ -372,6 +463,7 @@ fail:
 void bvh_free(bvh *b)
 {
     free(b->nodes);
+    free(b->wide);
     free(b->prim_order);
     free(b->leaf_vertices);
     memset(b, 0, sizeof *b);
@@ -391,6 +483,7 @@ typedef struct {
      * constants c = -org * inv -+ slack / |dir| (see setup_box_test). */
     float inv[3];
     size_t near_face[3], far_face[3];
+    int near_row[3], far_row[3]; /* the same faces as rows of bvh_wide_node.bounds */
     float near_c[3], far_c[3];
     float tmin, tmax;
 } ray_setup;
@@ -462,6 +555,8 @@ static void setup_box_test(ray_setup *s, const bvh_node *root)
         s->far_c[i] = -s->org[i] * inv + slack_t;
         s->near_face[i] = (inv < 0 ? offsetof(bvh_node, max) : offsetof(bvh_node, min)) + (size_t)i * sizeof(float);
         s->far_face[i] = (inv < 0 ? offsetof(bvh_node, min) : offsetof(bvh_node, max)) + (size_t)i * sizeof(float);
+        s->near_row[i] = inv < 0 ? 3 + i : i;
+        s->far_row[i] = inv < 0 ? i : 3 + i;
     }
 }
 
@@ -558,51 +653,91 @@ static inline const float *leaf_triangle(const bvh *b, uint32_t slot, float p[9]
     return p;
 }
 
-/* A stack entry: a node still to visit and where the ray enters its box, so that a
- * closest hit found meanwhile can cull it without touching the node again. */
+/* A stack entry: a child still to visit (a wide node, or a leaf of `count` triangles)
+ * and where the ray enters its box, so that a closest hit found meanwhile can cull it
+ * without touching it again. */
 typedef struct {
-    uint32_t node;
+    uint32_t child, count;
     float tnear;
 } stack_entry;
 
-/* Starts loading the right child of a node that is about to be visited (for a leaf,
- * a harmless hint at an unrelated node). Memory latency dominates incoherent rays; a
- * cache hint costs nothing in correctness and, without the GCC/Clang builtin, does
- * nothing. Unconditional on purpose: a leaf/interior branch here costs more than it
- * saves. */
-static inline void prefetch_right_child(const bvh *b, const bvh_node *n)
+/* box_overlaps on the four children of a wide node at once: the same arithmetic in the
+ * same order, hence the same conservative answers. Returns the bit mask of the children
+ * the ray enters within [tmin, tfar_limit] and their entry distances. One loop over the
+ * children without branches, which compilers vectorise. */
+static inline unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n, float tfar_limit,
+                                     float entry[BVH_WIDTH])
+{
+    const float *near_x = n->bounds[s->near_row[0]], *near_y = n->bounds[s->near_row[1]];
+    const float *near_z = n->bounds[s->near_row[2]], *far_x = n->bounds[s->far_row[0]];
+    const float *far_y = n->bounds[s->far_row[1]], *far_z = n->bounds[s->far_row[2]];
+    /* Local copies: nothing the loop writes can alias them, so it vectorises. */
+    const float ix = s->inv[0], iy = s->inv[1], iz = s->inv[2], tmin = s->tmin;
+    const float ncx = s->near_c[0], ncy = s->near_c[1], ncz = s->near_c[2];
+    const float fcx = s->far_c[0], fcy = s->far_c[1], fcz = s->far_c[2];
+    float tnear[BVH_WIDTH], tfar[BVH_WIDTH];
+    unsigned mask = 0;
+    int k;
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        float t, tn = tmin, tf = tfar_limit;
+        t = near_x[k] * ix + ncx;
+        tn = t > tn ? t : tn;
+        t = near_y[k] * iy + ncy;
+        tn = t > tn ? t : tn;
+        t = near_z[k] * iz + ncz;
+        tn = t > tn ? t : tn;
+        t = far_x[k] * ix + fcx;
+        tf = t < tf ? t : tf;
+        t = far_y[k] * iy + fcy;
+        tf = t < tf ? t : tf;
+        t = far_z[k] * iz + fcz;
+        tf = t < tf ? t : tf;
+        tnear[k] = tn;
+        tfar[k] = tf;
+    }
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        entry[k] = tnear[k];
+        mask |= (unsigned)(tnear[k] <= tfar[k]) << k;
+    }
+    return mask;
+}
+
+/* Pushes the children of wide node n that the ray enters before tfar_limit, the farthest
+ * first, so that the nearest is visited next (the order only affects the speed: the
+ * closest hit and its tie-break do not depend on it). */
+/* Starts loading a child that was just pushed: its wide node, or its leaf's vertices.
+ * Memory latency dominates incoherent rays (docs/performance.md); a cache hint changes
+ * no result, and without the GCC/Clang builtin it does nothing. */
+static inline void prefetch_child(const bvh *b, uint32_t child, uint32_t count)
 {
 #ifdef __GNUC__
-    uint32_t i = n->offset < b->node_count ? n->offset : 0;
-    __builtin_prefetch(&b->nodes[i]);
+    if (count > 0)
+        __builtin_prefetch(&b->leaf_vertices[3 * (size_t)child]);
+    else
+        __builtin_prefetch(&b->wide[child]);
 #else
     (void)b;
-    (void)n;
+    (void)child;
+    (void)count;
 #endif
 }
 
-/* Tests both children of interior node `at` and decides where to go: returns the
- * child to visit next (or UINT32_MAX for none) and pushes the other one if it is hit
- * too. Near child first by the sign of the ray direction on the split axis: the left
- * child holds the smaller centroids along that axis. */
-static inline uint32_t enter_children(const ray_setup *s, const bvh *b, uint32_t at, float tfar_limit,
-                                      stack_entry *stack, int *top)
+static inline void push_children(const ray_setup *s, const bvh *b, const bvh_wide_node *n, float tfar_limit, stack_entry *stack,
+                                 int *top)
 {
-    const bvh_node *n = &b->nodes[at];
-    int right_first = s->inv[n->count_axis >> 24] < 0;
-    uint32_t first = right_first ? n->offset : at + 1, second = right_first ? at + 1 : n->offset;
-    float t_first, t_second;
-    int hit_first = box_overlaps(s, &b->nodes[first], tfar_limit, &t_first);
-    int hit_second = box_overlaps(s, &b->nodes[second], tfar_limit, &t_second);
-    if (hit_first) prefetch_right_child(b, &b->nodes[first]);
-    if (hit_second) prefetch_right_child(b, &b->nodes[second]);
-    if (hit_first && hit_second) {
-        stack[*top].node = second;
-        stack[*top].tnear = t_second;
-        (*top)++;
-        return first;
+    float entry[BVH_WIDTH];
+    unsigned mask = wide_overlaps(s, n, tfar_limit, entry);
+    int k, base = *top;
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        int j;
+        if (!((mask >> k) & 1u) || (n->count[k] == 0 && n->child[k] == BVH_WIDE_EMPTY)) continue;
+        /* Insertion into stack[base..top), kept sorted by decreasing entry distance. */
+        for (j = (*top)++; j > base && stack[j - 1].tnear < entry[k]; --j) stack[j] = stack[j - 1];
+        stack[j].child = n->child[k];
+        stack[j].count = n->count[k];
+        stack[j].tnear = entry[k];
+        prefetch_child(b, n->child[k], n->count[k]);
     }
-    return hit_first ? first : (hit_second ? second : UINT32_MAX);
 }
 
 int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
@@ -610,7 +745,6 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
     int top = 0, found = 0;
-    uint32_t at = 0;
     float best_t = r->tmax, best_b1 = 0, best_b2 = 0, t_root;
     uint32_t best_tri = BVH_NO_HIT;
 
@@ -618,38 +752,34 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
     if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
     setup_box_test(&s, &b->nodes[0]);
     if (!box_overlaps(&s, &b->nodes[0], best_t, &t_root)) return 0;
-    for (;;) {
-        const bvh_node *n = &b->nodes[at];
-        uint32_t count = n->count_axis & COUNT_MASK;
-        if (count == 0) {
-            at = enter_children(&s, b, at, best_t, stack, &top);
-            if (at != UINT32_MAX) continue;
-        } else {
-            uint32_t slot, end = n->offset + count;
-            for (slot = n->offset; slot < end; ++slot) {
-                float p[9], t, b1, b2;
-                uint32_t tri = b->prim_order[slot];
-                if (!watertight_test(&s, leaf_triangle(b, slot, p), &t, &b1, &b2)) continue;
-                if (!(t > s.tmin && t < s.tmax)) continue;
-                /* Closest t; among exactly equal t the lowest triangle index, so that the
-                 * answer does not depend on the tree. */
-                if (!found || t < best_t || (t == best_t && tri < best_tri)) {
-                    found = 1;
-                    best_t = t;
-                    best_b1 = b1;
-                    best_b2 = b2;
-                    best_tri = tri;
-                }
+    stack[top].child = 0;
+    stack[top].count = 0;
+    stack[top++].tnear = t_root;
+    while (top > 0) {
+        stack_entry at = stack[--top];
+        uint32_t slot, end;
+        /* Culled: the ray can only enter this box beyond the closest hit so far. */
+        if (at.tnear > best_t) continue;
+        if (at.count == 0) {
+            push_children(&s, b, &b->wide[at.child], best_t, stack, &top);
+            continue;
+        }
+        for (slot = at.child, end = at.child + at.count; slot < end; ++slot) {
+            float p[9], t, b1, b2;
+            uint32_t tri = b->prim_order[slot];
+            if (!watertight_test(&s, leaf_triangle(b, slot, p), &t, &b1, &b2)) continue;
+            if (!(t > s.tmin && t < s.tmax)) continue;
+            /* Closest t; among exactly equal t the lowest triangle index, so that the
+             * answer does not depend on the tree. */
+            if (!found || t < best_t || (t == best_t && tri < best_tri)) {
+                found = 1;
+                best_t = t;
+                best_b1 = b1;
+                best_b2 = b2;
+                best_tri = tri;
             }
         }
-        /* Next: the most recently deferred node the ray can still reach before best_t. */
-        do {
-            if (top == 0) goto done;
-            --top;
-        } while (stack[top].tnear > best_t);
-        at = stack[top].node;
     }
-done:
     if (!found) return 0;
     h->t = best_t;
     h->b1 = best_b1;
@@ -663,29 +793,27 @@ int bvh_occluded(const bvh *b, const ray *r)
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
     int top = 0;
-    uint32_t at = 0;
     float t_root;
 
     if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
     setup_box_test(&s, &b->nodes[0]);
     if (!box_overlaps(&s, &b->nodes[0], s.tmax, &t_root)) return 0;
-    for (;;) {
-        const bvh_node *n = &b->nodes[at];
-        uint32_t count = n->count_axis & COUNT_MASK;
-        if (count == 0) {
-            at = enter_children(&s, b, at, s.tmax, stack, &top);
-            if (at != UINT32_MAX) continue;
-        } else {
-            uint32_t slot, end = n->offset + count;
-            for (slot = n->offset; slot < end; ++slot) {
-                float p[9], t, b1, b2;
-                if (watertight_test(&s, leaf_triangle(b, slot, p), &t, &b1, &b2) && t > s.tmin && t < s.tmax)
-                    return 1;
-            }
+    stack[top].child = 0;
+    stack[top].count = 0;
+    stack[top++].tnear = t_root;
+    while (top > 0) {
+        stack_entry at = stack[--top];
+        uint32_t slot, end;
+        if (at.count == 0) {
+            push_children(&s, b, &b->wide[at.child], s.tmax, stack, &top);
+            continue;
         }
-        if (top == 0) return 0;
-        at = stack[--top].node;
+        for (slot = at.child, end = at.child + at.count; slot < end; ++slot) {
+            float p[9], t, b1, b2;
+            if (watertight_test(&s, leaf_triangle(b, slot, p), &t, &b1, &b2) && t > s.tmin && t < s.tmax) return 1;
+        }
     }
+    return 0;
 }
 
 /* ------------------------------------------------------------------------------- */

@@ -95,6 +95,7 @@ void scene_free(scene *s)
     for (i = 0; i < s->warning_count; ++i) free(s->warnings[i]);
     free(s->warnings);
     bvh_free(&s->accel);
+    free(s->face_normals);
     memset(s, 0, sizeof *s);
 }
 

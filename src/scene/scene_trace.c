@@ -9,6 +9,23 @@
 #include <stdlib.h>
 #include <string.h>
 
+static vec3f face_normal(vec3f a, vec3f b, vec3f c);
+
+/* face_normal of every triangle, once: a hit looks it up instead of recomputing it (the
+ * same function, so the same bits; docs/performance.md). */
+static int prepare_face_normals(scene *s, rerror *e)
+{
+    size_t i;
+    free(s->face_normals);
+    s->face_normals = rmalloc(s->triangle_count, sizeof *s->face_normals, e);
+    if (!s->face_normals) return -1;
+    for (i = 0; i < s->triangle_count; ++i) {
+        const triangle *t = &s->triangles[i];
+        s->face_normals[i] = face_normal(s->positions[t->v[0]], s->positions[t->v[1]], s->positions[t->v[2]]);
+    }
+    return 0;
+}
+
 int scene_prepare(scene *s, rerror *e)
 {
     vec3f *corners;
@@ -40,7 +57,7 @@ int scene_prepare(scene *s, rerror *e)
         return -1;
     }
     free(corners);
-    return 0;
+    return prepare_face_normals(s, e);
 }
 
 /* The true face normal (v1-v0)x(v2-v0), normalised. Computed in double: the cross
@@ -81,7 +98,7 @@ int scene_intersect(const scene *s, const ray *r, surface_hit *h)
     /* The position from the barycentrics rather than origin + t dir: its error is
      * relative to the vertex magnitudes, which is what offset_ray_origin assumes. */
     h->position = v3f_add(v3f_add(v3f_scale(a, 1.0f - bh.b1 - bh.b2), v3f_scale(b, bh.b1)), v3f_scale(c, bh.b2));
-    h->ng = face_normal(a, b, c);
+    h->ng = s->face_normals ? s->face_normals[bh.tri] : face_normal(a, b, c);
     h->ns = shading_normal(s, t, bh.b1, bh.b2, h->ng);
     h->t = bh.t;
     h->b1 = bh.b1;
@@ -103,7 +120,7 @@ int scene_surface_point(const scene *s, uint32_t tri, float b1, float b2, surfac
     c = s->positions[t->v[2]];
     /* Exactly the arithmetic of scene_intersect, so a stored hit is rebuilt bit for bit. */
     h->position = v3f_add(v3f_add(v3f_scale(a, 1.0f - b1 - b2), v3f_scale(b, b1)), v3f_scale(c, b2));
-    h->ng = face_normal(a, b, c);
+    h->ng = s->face_normals ? s->face_normals[tri] : face_normal(a, b, c);
     h->ns = shading_normal(s, t, b1, b2, h->ng);
     h->t = 0;
     h->b1 = b1;
