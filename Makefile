@@ -118,6 +118,7 @@ mutation-score:
 
 results-stochastic: $(BUILD)/restir
 	sh scripts/results_stochastic.sh out/results-stochastic $(BUILD)
+	UPDATE_DOCS=1 sh scripts/results_stochastic_disocclusion.sh out/results-correlation $(BUILD)
 
 results-correlation: $(BUILD)/restir
 	sh scripts/results_correlation.sh out/results-correlation $(BUILD)
