@@ -9,12 +9,16 @@
 #   make bench           benchmarks, machine-readable JSON on stdout
 #   make mutation-score  planted bugs of tests/mutants vs make test (slow; MUTANT_FLAGS=--long)
 #   make test-extremes   the extremes suite, double and float builds (docs/precision.md)
+#   make fuzz            libFuzzer harnesses of tests/fuzz (clang; FUZZ_RUNS, FUZZ_TARGETS)
+#   make valgrind        the quick suite's CLI paths under valgrind memcheck
+#   make tradeoffs       docs/tradeoffs.md: time against error for every knob (~20 min)
 # Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir
 #   DEBUG=1 checks the estimator's invariants after every GRIS step and aborts with
 #   file:line on a failure (include/restir/invariant.h; docs/statistics.md).
 
 PRECISION ?= double
 SANITIZE ?= 0
+FUZZ ?= 0
 WERROR ?= 0
 DEBUG ?= 0
 
@@ -27,7 +31,10 @@ endif
 ifeq ($(DEBUG),1)
 BUILD_DEBUG := /debug
 endif
-BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)$(BUILD_DEBUG)
+ifeq ($(FUZZ),1)
+BUILD_FUZZ := /fuzz
+endif
+BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)$(BUILD_DEBUG)$(BUILD_FUZZ)
 
 CFLAGS ?= -O2
 CFLAGS += -std=c99 -Wall -Wextra -Wpedantic -ffp-contract=off -D_POSIX_C_SOURCE=200809L
@@ -38,6 +45,11 @@ CPPFLAGS += -DRESTIR_REAL_FLOAT
 endif
 ifeq ($(SANITIZE),1)
 CFLAGS += -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+LDFLAGS += -fsanitize=address,undefined
+endif
+ifeq ($(FUZZ),1)
+# libFuzzer instrumentation for `make fuzz` (clang only; docs/fuzzing.md).
+CFLAGS += -g -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 LDFLAGS += -fsanitize=address,undefined
 endif
 ifeq ($(WERROR),1)
@@ -51,8 +63,11 @@ endif
 LIB_SRC := $(sort $(filter-out src/cli/main.c,$(wildcard src/*/*.c)))
 LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/*.c))
-TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o)
+# The fuzz targets (tests/fuzz/, docs/fuzzing.md) are plain functions in the test binary.
+FUZZ_SRC := $(sort $(wildcard tests/fuzz/*.c))
+TEST_OBJ := $(TEST_SRC:%.c=$(BUILD)/%.o) $(FUZZ_SRC:%.c=$(BUILD)/%.o)
 
+.PHONY: fuzz fuzz-build valgrind tradeoffs
 .PHONY: all run test test-long test-data bench clean results results-temporal results-stochastic results-correlation mutation-score results-mutations
 all: $(BUILD)/restir
 
@@ -136,3 +151,26 @@ extremes-table:
 # MCMC mutations, the Mutations claims (docs/results.md; minutes, never part of `make test`).
 results-mutations: $(BUILD)/restir
 	sh scripts/results_mutations.sh out/results-mutations $(BUILD)
+
+# libFuzzer harnesses of tests/fuzz/ (docs/fuzzing.md): needs clang with libFuzzer.
+# One target at a time, FUZZ_RUNS executions each (FUZZ_TARGETS to choose), under nice.
+# `make test` runs the same targets on the committed inputs of tests/data/fuzz/.
+FUZZ_TARGETS ?= obj mtl scene pfm dump cli
+FUZZ_RUNS ?= 2000000
+fuzz:
+	$(MAKE) FUZZ=1 CC=clang fuzz-build
+	sh scripts/fuzz.sh build/fuzz out/fuzz $(FUZZ_RUNS) $(FUZZ_TARGETS)
+
+fuzz-build: $(FUZZ_TARGETS:%=$(BUILD)/fuzz_%)
+
+$(BUILD)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_file.c tests/fuzz/fuzz.h $(BUILD)/librestir.a
+	$(CC) $(CPPFLAGS) $(CFLAGS) -DFUZZ_LIBFUZZER -fsanitize=fuzzer $(filter %.c,$^) $(BUILD)/librestir.a -o $@ $(LDLIBS)
+
+# The quick suite's CLI paths under valgrind memcheck (minutes; not part of make test).
+valgrind: $(BUILD)/restir
+	sh scripts/valgrind.sh $(BUILD)/restir
+
+# docs/tradeoffs.md: time against error for every knob (about 20 minutes; docs/tradeoffs.md).
+tradeoffs: $(BUILD)/restir
+	$(MAKE) PRECISION=float
+	sh scripts/tradeoffs.sh out/tradeoffs $(BUILD) build/float

@@ -44,59 +44,8 @@ TMP="$OUT/tmp"
 CACHE="$OUT/cache"
 mkdir -p "$OUT" "$TMP" "$CACHE"
 
-# ---- helpers ------------------------------------------------------------------------------
-# metric NAME TEST.pfm REF.pfm: one value from `restir compare`
-metric() { "$R" compare "$2" "$3" | awk -v m="$1" '$1 == m { print $2 }'; }
-# wall seconds of the rendering of the last run (its --stats file)
-render_seconds() { grep -o '"render": [0-9.e+-]*' "$1" | tail -n 1 | awk '{ print $2 }'; }
-# render SIDE SCENE options...: one render at SIDE x SIDE
-render() {
-    side=$1; shift
-    "$R" render "$@" --size "${side}x${side}" --threads "$THREADS" --quiet --no-png
-}
-seq_seeds() { i=1; while [ $i -le "$SEEDS" ]; do echo $i; i=$((i + 1)); done; }
-calc() { awk "BEGIN { printf \"%.6g\", $1 }"; }
-
-# reference KEY SIDE SCENE METHOD BUDGET [options...] -> prints the path of the reference.
-# Two independent halves A and B (PT: sample ranges [0, n/2) and [n/2, n) of seed 9001;
-# ReSTIR: frame ranges [0, F/2) and [F/2, F)) merged into REF. Since REF = (A + B) / 2,
-# A - REF = (A - B) / 2 has the variance of REF itself, so compare(A, REF) estimates the
-# reference's own error in every metric (relMSE exactly in expectation; MAPE for Gaussian
-# noise); written to KEY.err as "relmse mape".
-reference() {
-    key=$1 side=$2 scene=$3 method=$4 budget=$5; shift 5
-    ref="$CACHE/$key-${side}-$method$budget-s9001"
-    if [ ! -f "$ref.pfm" ] || [ ! -f "$ref.err" ]; then
-        half=$((budget / 2))
-        if [ "$method" = pt ]; then
-            render "$side" "$scene" --method pt --spp $half --seed 9001 "$@" -o "$ref.a.pfm"
-            render "$side" "$scene" --method pt --spp $half --sample-offset $half --seed 9001 "$@" -o "$ref.b.pfm"
-        else
-            render "$side" "$scene" --method restir --frames $half --seed 9001 "$@" -o "$ref.a.pfm"
-            render "$side" "$scene" --method restir --frames $half --first-frame $half --seed 9001 "$@" -o "$ref.b.pfm"
-        fi
-        "$R" merge -o "$ref.tmp.pfm" "$ref.a.pfm" "$ref.b.pfm" --counts $half,$half --no-png --quiet
-        echo "$(metric relmse "$ref.a.pfm" "$ref.tmp.pfm") $(metric mape "$ref.a.pfm" "$ref.tmp.pfm")" > "$ref.err"
-        mv "$ref.tmp.pfm" "$ref.pfm"
-    fi
-    echo "$ref"
-}
-ref_relmse() { awk '{ print $1 }' "$1.err"; }
-ref_mape() { awk '{ print $2 }' "$1.err"; }
-
-# summarise RUNS.csv NAME XNAME TITLE XLABEL YLABEL: NAME.csv (means, plotted to NAME.svg) and
-# the markdown table NAME.table.md (mean ± 95% interval over seeds).
-summarise() {
-    runs=$1 name=$2 xname=$3
-    awk -F, -v mode=wide -v xname="$xname" -f "$SUMMARY" "$runs" > "$OUT/$name.csv"
-    { awk -F, -v mode=header -v xname="$xname" -f "$SUMMARY" "$runs"
-      awk -F, -v mode=md -f "$SUMMARY" "$runs"; } > "$OUT/$name.table.md"
-    "$R" plot "$OUT/$name.csv" -o "$OUT/$name.svg" --title "$4" --xlabel "$5" --ylabel "$6"
-}
-# paired_ratio RUNS.csv NUM DEN: markdown rows "| x | mean ± hw |" of NUM/DEN per seed
-paired_ratio() { awk -F, -v mode=ratio -v num="$2" -v den="$3" -f "$SUMMARY" "$1"; }
-# drop RUNS.csv SERIES X1 X2: "mean ± hw" of value(X1)/value(X2) per seed
-drop() { awk -F, -v mode=drop -v num="$2" -v lo="$3" -v hi="$4" -f "$SUMMARY" "$1"; }
+# ---- helpers (metric, render, reference, summarise ...: scripts/results/lib.sh) -----------------
+. "$HERE/results/lib.sh"
 
 . "$HERE/results/figs.sh"
 . "$HERE/results/equal_time.sh"

@@ -169,9 +169,16 @@ static uint32_t fallback_corner(const triangulator *t, uint32_t start)
     return start;
 }
 
+/* Full passes without an ear tolerated before the rest of the polygon is clipped in
+ * place. A simple polygon always has an ear, so only a degenerate or self-intersecting
+ * one ever gets here; without a bound every corner of such a polygon could cost a
+ * whole failed pass, O(n^2) each (a fuzzed face "f 1 2 3 4 1 2 3 4 ..." of a thousand
+ * corners took minutes; tests/data/fuzz/obj/crash-ngon-timeout.obj). */
+#define TRIANGULATE_MAX_FAILED_PASSES 16
+
 int triangulate_polygon(triangulator *t, const vec3f *corners, size_t n, uint32_t *tri, size_t *count, rerror *e)
 {
-    size_t m = 0, i, remaining, stall = 0, not_convex;
+    size_t m = 0, i, remaining, stall = 0, not_convex, failed_passes = 0;
     uint32_t cur;
     *count = 0;
     if (n < 3) return 0;
@@ -197,10 +204,13 @@ int triangulate_polygon(triangulator *t, const vec3f *corners, size_t n, uint32_
     cur = 1; /* start at corner 1 so that a convex polygon becomes the fan from corner 0 */
     while (remaining > 3) {
         uint32_t after, before;
-        if (!is_ear(t, cur, not_convex)) {
+        /* After TRIANGULATE_MAX_FAILED_PASSES the polygon is not simple: clip each
+         * corner as it comes (a fan from where the scan stands), linear in time. */
+        if (failed_passes < TRIANGULATE_MAX_FAILED_PASSES && !is_ear(t, cur, not_convex)) {
             cur = t->next[cur];
             if (++stall < remaining) continue;
             cur = fallback_corner(t, cur);
+            failed_passes++;
         }
         emit(t, t->prev[cur], cur, t->next[cur], tri, count);
         before = t->prev[cur];
