@@ -79,18 +79,8 @@ render $PRESET --aov age -o "$TMP/age.pfm"
 AGE="$TMP/age.$F.pfm"
 
 # ---- K runs per configuration: keep frame LAST and the stats --------------------------------
-for c in $CONFIGS; do
-    k=1
-    while [ "$k" -le "$K" ]; do
-        if [ ! -f "$TMP/$c.$k.pfm" ]; then
-            render $PRESET $(opts "$c") --seed "$k" -o "$TMP/run.pfm" --stats "$TMP/$c.$k.json"
-            mv "$TMP/run.$F.pfm" "$TMP/$c.$k.pfm"
-            rm -f "$TMP"/run.*.pfm
-        fi
-        k=$((k + 1))
-    done
-done
-runs() { k=1; while [ "$k" -le "${2:-$K}" ]; do printf "%s " "$TMP/$1.$k.pfm"; k=$((k + 1)); done; }
+. "$(dirname "$0")/results/sequence_runs.sh"
+for c in $CONFIGS; do STATS=1 sequence_runs "$c" $(opts "$c"); done
 
 SEC="$OUT/section.md"
 {
