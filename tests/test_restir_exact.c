@@ -474,6 +474,38 @@ TEST_LONG(restir_exact_furnace_long)
 
 /* ---- the debug build's invariants, driven directly ------------------------------------ */
 
+/* The debug-invariant tests' setup: the reconnection shift on b, and the initial
+ * reservoirs of pixel (x, y) and its 4 neighbours (domains 0..4) drawn as initial sampling
+ * does (2 path trees, depth 4). Returns STEP_MAX_M, or less where a domain has no hit. */
+static void debug_bench_reconnection(step_bench *b)
+{
+    restir_options o;
+    restir_options_default(&o);
+    o.shift = RESTIR_SHIFT_RECONNECTION;
+    restir_context_for(&b->c, &b->s, &b->lights, &o);
+}
+
+static int debug_cross(step_bench *b, int x, int y, reservoir *r, const path_vertex **x1, const reservoir **in)
+{
+    static const int ox[STEP_MAX_M] = {0, 1, -1, 0, 0}, oy[STEP_MAX_M] = {0, 0, 0, 1, -1};
+    initial_options io;
+    initial_stats ist;
+    int k;
+    memset(&io, 0, sizeof io);
+    memset(&ist, 0, sizeof ist);
+    io.trees = 2;
+    io.max_depth = 4;
+    io.rr_min_depth = 3;
+    for (k = 0; k < STEP_MAX_M; ++k) {
+        long q = (long)(y + oy[k]) * b->s.width + x + ox[k];
+        if (!b->hit[q]) return k;
+        initial_sample_pixel(&b->c, &io, &b->x1[q], test_seed(), (uint32_t)q, 0, &r[k], &ist);
+        x1[k] = &b->x1[q];
+        in[k] = &r[k];
+    }
+    return STEP_MAX_M;
+}
+
 /* spatial_check_step (the check `make DEBUG=1` runs after every GRIS step) accepts a real
  * step and rejects each planted violation with a message naming it: a non-finite W, an
  * output confidence that is not the sum of the inputs, a negative input confidence, an
@@ -490,39 +522,18 @@ TEST(restir_debug_invariants_fire)
     char why[512];
     int x, y, k, found = 0, m = 0, j = -1;
     if (step_bench_open(&b, "scenes/cornell-glossy.scene", 16)) return;
-    {
-        restir_options o;
-        initial_options io;
-        initial_stats ist;
-        restir_options_default(&o);
-        o.shift = RESTIR_SHIFT_RECONNECTION;
-        restir_context_for(&b.c, &b.s, &b.lights, &o);
-        memset(&io, 0, sizeof io);
-        memset(&ist, 0, sizeof ist);
-        io.trees = 2;
-        io.max_depth = 4;
-        io.rr_min_depth = 3;
-        /* a pixel whose 4 neighbours all shift in with a reconnection */
-        for (y = 2; y < 14 && !found; ++y)
-            for (x = 2; x < 14 && !found; ++x) {
-                static const int ox[STEP_MAX_M] = {0, 1, -1, 0, 0}, oy[STEP_MAX_M] = {0, 0, 0, 1, -1};
-                for (k = 0, m = 0; k < STEP_MAX_M; ++k) {
-                    long q = (long)(y + oy[k]) * b.s.width + x + ox[k];
-                    if (!b.hit[q]) break;
-                    initial_sample_pixel(&b.c, &io, &b.x1[q], test_seed(), (uint32_t)q, 0, &r[k], &ist);
-                    x1[k] = &b.x1[q];
-                    in[k] = &r[k];
-                    u[k] = (real)0.5;
-                    m++;
-                }
-                if (m < STEP_MAX_M) continue;
-                memset(&st, 0, sizeof st);
-                spatial_resample(&b.c, MIS_TALBOT, m, x1, in, u, &out, &b.w, &st);
-                for (k = 1; k < m && j < 0; ++k)
-                    if (b.w.valid[k] && b.w.shifted[k].rc_k != PATH_RC_NONE) j = k;
-                found = j > 0;
-            }
-    }
+    debug_bench_reconnection(&b);
+    for (k = 0; k < STEP_MAX_M; ++k) u[k] = (real)0.5;
+    /* a pixel whose 4 neighbours all shift in, one of them with a reconnection */
+    for (y = 2; y < 14 && !found; ++y)
+        for (x = 2; x < 14 && !found; ++x) {
+            if ((m = debug_cross(&b, x, y, r, x1, in)) < STEP_MAX_M) continue;
+            memset(&st, 0, sizeof st);
+            spatial_resample(&b.c, MIS_TALBOT, m, x1, in, u, &out, &b.w, &st);
+            for (k = 1; k < m && j < 0; ++k)
+                if (b.w.valid[k] && b.w.shifted[k].rc_k != PATH_RC_NONE) j = k;
+            found = j > 0;
+        }
     CHECKF(found, "no pixel with a reconnected neighbour");
     CHECKF(spatial_check_step(&b.c, MIS_TALBOT, m, x1, in, &out, &b.w, why, sizeof why) == 0, "a correct step: %s", why);
     saved = out;
@@ -562,34 +573,15 @@ TEST(restir_debug_stochastic_invariants_fire)
     reservoir r[STEP_MAX_M], out, saved;
     real u[STEP_MAX_M] = {0.5, 0.5, 0.5, 0.5, 0.5}, up[2] = {0.3, 0.8}, uc[2] = {0.1, 0.6};
     spatial_stats st;
-    restir_options o;
-    initial_options io;
-    initial_stats ist;
     rerror e;
     char why[512];
     int x, y, k, m = 0, j = -1;
     if (step_bench_open(&b, "scenes/cornell-glossy.scene", 16)) return;
     CHECKF(stochastic_workspace_alloc(&sw, STEP_MAX_M, &e) == 0, "%s", e.msg);
-    restir_options_default(&o);
-    o.shift = RESTIR_SHIFT_RECONNECTION;
-    restir_context_for(&b.c, &b.s, &b.lights, &o);
-    memset(&io, 0, sizeof io);
-    memset(&ist, 0, sizeof ist);
-    io.trees = 2;
-    io.max_depth = 4;
-    io.rr_min_depth = 3;
+    debug_bench_reconnection(&b);
     for (y = 2; y < 14 && j < 0; ++y)
         for (x = 2; x < 14 && j < 0; ++x) {
-            static const int ox[STEP_MAX_M] = {0, 1, -1, 0, 0}, oy[STEP_MAX_M] = {0, 0, 0, 1, -1};
-            for (k = 0, m = 0; k < STEP_MAX_M; ++k) {
-                long q = (long)(y + oy[k]) * b.s.width + x + ox[k];
-                if (!b.hit[q]) break;
-                initial_sample_pixel(&b.c, &io, &b.x1[q], test_seed(), (uint32_t)q, 0, &r[k], &ist);
-                x1[k] = &b.x1[q];
-                in[k] = &r[k];
-                m++;
-            }
-            if (m < STEP_MAX_M || !(r[0].W > 0)) continue;
+            if ((m = debug_cross(&b, x, y, r, x1, in)) < STEP_MAX_M || !(r[0].W > 0)) continue;
             memset(&st, 0, sizeof st);
             stochastic_pairwise_resample(&b.c, &so, m, x1, in, u, up, uc, &out, &sw, &st);
             for (k = 0; k < m - 1 && j < 0; ++k)
