@@ -114,6 +114,8 @@ typedef struct {
     unsigned reservoirs_initial, reservoirs_spatial, reservoirs_previous; /* 0 when not allocated */
     unsigned gbuffer, gbuffer_previous;
     unsigned accumulation, vector_shade, reuse_cells;
+    unsigned pair_step;          /* --pairing paired: the pair step's pre-pass records (Enhanced §3) */
+    unsigned correlation;        /* sequences: duplication map and history ages (docs/correlation.md) */
     unsigned total;
 } restir_memory;
 /* The buffers restir_render (sequence = 0) or the real-time pipeline (sequence = 1) allocates. */

@@ -704,8 +704,17 @@ void restir_memory_per_pixel(const restir_options *o, int sequence, restir_memor
     /* reuse_cells.h: cell_of, start, pixels, nz_start, nz_pixels, hash per pixel, and at most
      * one confidence per pixel (one cell per pixel at worst). */
     m->reuse_cells = o->cells ? (unsigned)(3 * sizeof(int) + 3 * sizeof(uint32_t) + sizeof(double)) : 0;
+    /* pair_step.c: one pre-pass shift, partner pixel and texture per neighbour, the accepted
+     * count and x1 of every pixel (Enhanced §3) */
+    m->pair_step = restir_pair_step_active(o) && o->spatial_passes > 0
+                       ? (unsigned)((size_t)o->neighbors * (sizeof(pair_shift) + sizeof(uint32_t) + 1) + sizeof(int) +
+                                    sizeof(path_vertex))
+                       : 0;
+    /* pipeline.c: the duplication map and the history ages of frames t and t-1 (issue 12) */
+    m->correlation = sequence ? (unsigned)(3 * sizeof(uint16_t)) : 0;
     m->total = m->reservoirs_initial + m->reservoirs_spatial + m->reservoirs_previous + m->gbuffer +
-               m->gbuffer_previous + m->accumulation + m->vector_shade + m->reuse_cells;
+               m->gbuffer_previous + m->accumulation + m->vector_shade + m->reuse_cells + m->pair_step +
+               m->correlation;
 }
 
 static void restir_memory_write_json(FILE *out, const restir_memory *m, const char *indent)
@@ -713,10 +722,10 @@ static void restir_memory_write_json(FILE *out, const restir_memory *m, const ch
     fprintf(out, ",\n%s  \"bytes_per_pixel\": {\"reservoir\": %u, \"reservoir_pss\": %u, \"reservoirs_initial\": %u, "
                  "\"reservoirs_spatial\": %u, \"reservoirs_previous\": %u,\n%s    \"gbuffer\": %u, "
                  "\"gbuffer_previous\": %u, \"accumulation\": %u, \"vector_shade\": %u, \"reuse_cells\": %u, "
-                 "\"total\": %u}",
+                 "\"pair_step\": %u, \"correlation\": %u, \"total\": %u}",
             indent, m->reservoir, m->reservoir_pss, m->reservoirs_initial, m->reservoirs_spatial,
             m->reservoirs_previous, indent, m->gbuffer, m->gbuffer_previous, m->accumulation, m->vector_shade,
-            m->reuse_cells, m->total);
+            m->reuse_cells, m->pair_step, m->correlation, m->total);
 }
 
 void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent)
