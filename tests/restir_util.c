@@ -11,7 +11,17 @@
 int rt_load_scene(const char *path, int res, scene *s)
 {
     rerror e;
-    int status = !strcmp(path, RT_CORRIDOR) ? generate_corridor(s, &e) : scene_load(s, path, &e);
+    int status;
+    if (!path) { /* the spot scene, prepared */
+        if (rt_make_spot(s, res)) return -1;
+        if (scene_prepare(s, &e)) {
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            scene_free(s);
+            return -1;
+        }
+        return 0;
+    }
+    status = !strcmp(path, RT_CORRIDOR) ? generate_corridor(s, &e) : scene_load(s, path, &e);
     if (status || scene_prepare(s, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         return -1;

@@ -11,7 +11,8 @@
 /* The name rt_load_scene takes for the generated mirror corridor (generate_corridor). */
 #define RT_CORRIDOR "generated:corridor"
 
-/* Loads and prepares a scene file (or RT_CORRIDOR), then sets the image size to res x res.
+/* Loads and prepares a scene file (or RT_CORRIDOR; NULL: the spot scene of rt_make_spot),
+ * then sets the image size to res x res.
  * 0 on success (a test failure is recorded otherwise). */
 int rt_load_scene(const char *path, int res, scene *s);
 

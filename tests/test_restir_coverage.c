@@ -30,19 +30,10 @@ typedef struct {
 /* path NULL: the spot scene. */
 static int bench_open(coverage_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth)
 {
-    rerror e;
     memset(b, 0, sizeof *b);
     b->block = 4;
     b->runs = runs;
-    if (!path) {
-        if (rt_make_spot(&b->s, res)) return -1;
-        if (scene_prepare(&b->s, &e)) {
-            test_fail(__FILE__, __LINE__, "%s", e.msg);
-            scene_free(&b->s);
-            return -1;
-        }
-    } else if (rt_load_scene(path, res, &b->s))
-        return -1;
+    if (rt_load_scene(path, res, &b->s)) return -1; /* NULL: the spot scene */
     if (rt_pt_side(&b->s, test_seed() * 7919u + 11, runs, spp, max_depth, 0, b->block, &b->pt)) {
         scene_free(&b->s);
         return -1;

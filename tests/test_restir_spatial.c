@@ -31,21 +31,12 @@ typedef struct {
 /* path NULL: the spot scene of restir_util.h. */
 static int bench_open(spatial_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth)
 {
-    rerror e;
     memset(b, 0, sizeof *b);
     b->res = res;
     b->block = 4;
     b->runs = runs;
     b->max_depth = max_depth;
-    if (!path) {
-        if (rt_make_spot(&b->s, res)) return -1;
-        if (scene_prepare(&b->s, &e)) {
-            test_fail(__FILE__, __LINE__, "%s", e.msg);
-            scene_free(&b->s);
-            return -1;
-        }
-    } else if (rt_load_scene(path, res, &b->s))
-        return -1;
+    if (rt_load_scene(path, res, &b->s)) return -1; /* NULL: the spot scene */
     if (rt_pt_side(&b->s, test_seed() * 7919u + 5, runs, spp, max_depth, 0, b->block, &b->pt)) {
         scene_free(&b->s);
         return -1;
