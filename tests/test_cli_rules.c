@@ -89,6 +89,42 @@ TEST(cli_rule_restir_interrupted_exit_143)
     CHECK(test_file_exists(frame0));
 }
 
+/* --runs follows it too: a run cut short is dropped (it would mix two estimators); with
+ * fewer than 2 finished runs nothing is written, with more the file set holds them. */
+TEST(cli_rule_runs_interrupted_keeps_finished_runs)
+{
+    char args[4096], pfm[1024], mean[1024], json[1024];
+    int status;
+    FILE *f;
+    long runs = -1;
+    snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-runs-int.pfm"));
+    snprintf(mean, sizeof mean, "%s", test_tmp_path("rule-runs-int.mean.pfm"));
+    snprintf(json, sizeof json, "%s", test_tmp_path("rule-runs-int.moments.json"));
+    remove_files(mean, json, NULL);
+    snprintf(args, sizeof args, "render " SMALL " --method pt --spp 100000000 --runs 3 --quiet --no-png -o %s", pfm);
+    status = run_interrupted("INT", 0.6, args);
+    CHECKF(status == 130, "status %d, expected 130: %s", status, out);
+    CHECKF(strstr(out, "after 0 finished run(s)") && strstr(out, "nothing written"), "message: %s", out);
+    CHECK(!test_file_exists(mean) && !test_file_exists(json));
+    snprintf(args, sizeof args, "render " SMALL " --method pt --spp 1 --runs 1000000 --quiet --no-png -o %s", pfm);
+    status = run_interrupted("TERM", 1.0, args);
+    CHECKF(status == 143, "status %d, expected 143: %s", status, out);
+    CHECKF(strstr(out, "runs finished so far"), "message: %s", out);
+    CHECK(test_file_exists(mean));
+    f = fopen(json, "rb");
+    CHECKF(f != NULL, "%s missing", json);
+    if (f) {
+        char text[4096];
+        size_t n = fread(text, 1, sizeof text - 1, f);
+        const char *r;
+        text[n] = '\0';
+        fclose(f);
+        r = strstr(text, "\"runs\":");
+        if (r) runs = strtol(r + 7, NULL, 10);
+    }
+    CHECKF(runs >= 2 && runs < 1000000, "runs in the sidecar: %ld", runs);
+}
+
 /* An option of another method is an error with a hint, before anything is written. */
 TEST(cli_rule_options_of_another_method_refused)
 {

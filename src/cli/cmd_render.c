@@ -253,9 +253,20 @@ static int render_runs(const render_args *a, const scene *s, const char *out, im
         image run;
         status = render_one(a, s, a->seed + (uint32_t)k, NULL, &run, t);
         if (status) break;
-        snprintf(name, sizeof name, "seed %u", a->seed + (uint32_t)k);
-        if (moments_add(&m, &run, name, &e)) status = 2;
+        /* A run cut short by SIGINT/SIGTERM has fewer samples than the others: adding it
+         * would mix two estimators in one mean and variance, so it is dropped. */
+        if (!stop_signal()) {
+            snprintf(name, sizeof name, "seed %u", a->seed + (uint32_t)k);
+            if (moments_add(&m, &run, name, &e)) status = 2;
+        }
         image_free(&run);
+    }
+    if (!status && stop_signal() && m.runs < 2) {
+        /* A variance needs two runs: nothing is written, and the status says so. */
+        fprintf(stderr, "restir render: interrupted by %s after %ld finished run(s); fewer than 2, nothing written\n",
+                stop_signal_name(), m.runs);
+        moments_free(&m);
+        return 128 + stop_signal();
     }
     if (!status && moments_write_meta(prefix, &m, &meta, &e)) status = 2;
     if (!status) {
@@ -345,7 +356,8 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
         if (status) return status;
         t->render = now_seconds() - t0;
         if (png[0]) status = write_outputs(&img, NULL, png, a->exposure);
-        if (!status && !a->quiet) fprintf(stderr, "wrote %d runs as %s mean/var/moments\n", a->runs, out);
+        if (!status && !a->quiet && !stop_signal())
+            fprintf(stderr, "wrote %d runs as %s mean/var/moments\n", a->runs, out);
         image_free(&img);
         return status;
     }
@@ -584,7 +596,7 @@ static int interrupted_status(const render_args *a, const render_timings *t, con
                 stop_signal_name(), t->frame_count, a->seq.checkpoint ? ", checkpoint " : "",
                 a->seq.checkpoint ? a->seq.checkpoint : "");
     else if (a->runs > 0)
-        fprintf(stderr, "restir render: interrupted by %s: %s mean/var/moments hold the runs finished so far\n",
+        fprintf(stderr, "restir render: interrupted by %s: %s mean/var/moments hold the runs finished so far (a run cut short is dropped)\n",
                 stop_signal_name(), out);
     else if (a->method == METHOD_PT)
         fprintf(stderr, "restir render: interrupted by %s: %s holds %u spp%s%s (resume with --resume)\n",
