@@ -184,6 +184,7 @@ static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             path_vertex v;
             if (!frame_primary_vertex(j->s, &j->g, p, &v)) continue;
             mutate_reservoir(&j->ctx, &v, key, pl->mutate_stage, j->o->mutation, j->o->mutations, &pl->out[p],
+                             reservoir_buffer_pss_row(pl->out, (size_t)j->s->width * (size_t)j->s->height, (size_t)p),
                              &w->st.mutate);
         }
 }
@@ -365,6 +366,7 @@ static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
                           q->first - 1, q->last - 1);
     }
     memcpy(pl->prev, rs, pixels * sizeof *rs);
+    reservoir_buffer_keep_pss(pl->prev, pixels); /* the numbers, before rs's rows are freed */
     free(rs);
     duplication_counts(pl->prev, j->s->width, j->s->height, DUPLICATION_RADIUS, pl->dup); /* --dedup reads it */
     j->frame = (uint32_t)k;
@@ -446,9 +448,13 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     if (!status && restir_pairing_build(&j->no, o, textures, e)) status = -1;
     j->max_domains = neighbor_candidate_count(&j->no) + 1;
     pixels = (size_t)s->width * (size_t)s->height;
-    j->initial = rmalloc(pixels, sizeof *j->initial, e);
-    j->pong = rmalloc(pixels, sizeof *j->pong, e);
-    pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
+    /* primary-sample rows (reservoir.h) where samples with explicit numbers can appear:
+     * mutations, or reservoirs read from a checkpoint or a stage dump */
+    j->pss_rows = o->mutations > 0 || q->resume || (q->stages && q->stages->from_dir);
+    if (j->sio) j->sio->pss_rows = j->pss_rows;
+    j->initial = reservoir_buffer_alloc(pixels, j->pss_rows, e);
+    j->pong = reservoir_buffer_alloc(pixels, j->pss_rows, e);
+    pl.prev = reservoir_buffer_alloc(pixels, j->pss_rows, e);
     j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
     pl.dup = rcalloc(pixels, sizeof *pl.dup, e);
     pl.age = rcalloc(pixels, sizeof *pl.age, e);

@@ -75,3 +75,17 @@ rgb reservoir_estimate(const reservoir *r)
     if (!path_sample_is_valid(&r->y) || r->W == 0) return rgb_gray(0);
     return rgb_scale(r->y.F, r->W);
 }
+
+reservoir *reservoir_buffer_alloc(size_t n, int pss_rows, rerror *e)
+{
+    /* sizeof(reservoir) is a multiple of the alignment of real, so the rows are aligned */
+    return rmalloc(n ? n : 1, sizeof(reservoir) + (pss_rows ? PATH_MAX_PSS * sizeof(real) : 0), e);
+}
+
+real *reservoir_buffer_pss_row(reservoir *rs, size_t n, size_t p) { return (real *)(void *)(rs + n) + p * PATH_MAX_PSS; }
+
+void reservoir_buffer_keep_pss(reservoir *rs, size_t n)
+{
+    size_t p;
+    for (p = 0; p < n; ++p) path_sample_keep_pss(&rs[p].y, reservoir_buffer_pss_row(rs, n, p));
+}
