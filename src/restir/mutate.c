@@ -349,21 +349,32 @@ static uint64_t sample_hash(const path_sample *y)
     return h;
 }
 
-static int cmp_u64(const void *a, const void *b)
+/* LSD radix sort of n keys, 8 bits per pass, through tmp[n] (issue 17: qsort of a 512 x 512
+ * frame's hashes was 2% of a real-time frame, all of it serial; this is a few ms). */
+static void radix_sort_u64(uint64_t *a, uint64_t *tmp, size_t n)
 {
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
+    int shift;
+    for (shift = 0; shift < 64; shift += 8) {
+        size_t count[257] = {0}, i;
+        uint64_t *t;
+        for (i = 0; i < n; ++i) count[((a[i] >> shift) & 0xFF) + 1]++;
+        for (i = 1; i < 257; ++i) count[i] += count[i - 1];
+        for (i = 0; i < n; ++i) tmp[count[(a[i] >> shift) & 0xFF]++] = a[i];
+        t = a; /* the sorted pass becomes the input of the next (8 passes: ends in a) */
+        a = tmp;
+        tmp = t;
+    }
 }
 
 uint64_t mutate_count_duplicates(const reservoir *r, size_t n, uint64_t *valid)
 {
-    uint64_t *h = malloc((n ? n : 1) * sizeof *h), dup = 0;
+    uint64_t *h = malloc(2 * (n ? n : 1) * sizeof *h), dup = 0;
     size_t i, m = 0, run;
     *valid = 0;
     if (!h) return 0;
     for (i = 0; i < n; ++i)
         if (path_sample_is_valid(&r[i].y) && r[i].W > 0) h[m++] = sample_hash(&r[i].y);
-    qsort(h, m, sizeof *h, cmp_u64);
+    radix_sort_u64(h, h + m, m);
     for (i = 0; i < m; i += run) {
         for (run = 1; i + run < m && h[i + run] == h[i]; ++run) {}
         if (run > 1) dup += run;
