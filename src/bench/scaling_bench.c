@@ -13,11 +13,12 @@
 /* One run's accounting. */
 typedef struct {
     double wall, cpu, parallel_cpu; /* seconds */
-    double stage_ms[8];             /* gbuffer, motion, initial, temporal, spatial, mutate, shade, correlation */
+    double stage_ms[9];             /* pose, gbuffer, motion, initial, temporal, spatial, mutate, shade, correlation */
 } scaling_run;
 
-static const char *const stage_names[8] = {"gbuffer", "motion", "initial", "temporal", "spatial", "mutate", "shade",
-                                           "correlation"};
+#define SCALING_STAGES 9
+static const char *const stage_names[SCALING_STAGES] = {"pose", "gbuffer", "motion", "initial", "temporal",
+                                                        "spatial", "mutate", "shade", "correlation"};
 
 static double process_cpu_seconds(void)
 {
@@ -44,15 +45,16 @@ static int run_once(const scene *s, const restir_options *o, int frames, int thr
     r->parallel_cpu = threads_parallel_cpu_seconds() - p0;
     r->cpu = process_cpu_seconds() - c0;
     r->wall = now_seconds() - w0;
-    r->stage_ms[0] = st.ms_gbuffer;
-    r->stage_ms[1] = st.ms_motion;
-    r->stage_ms[2] = st.ms_initial;
-    r->stage_ms[3] = st.ms_temporal;
-    r->stage_ms[4] = 0;
-    for (i = 0; i < RESTIR_MAX_SPATIAL_PASSES; ++i) r->stage_ms[4] += st.ms_spatial[i];
-    r->stage_ms[5] = st.ms_mutate;
-    r->stage_ms[6] = st.ms_shade;
-    r->stage_ms[7] = st.ms_correlation;
+    r->stage_ms[0] = st.ms_pose;
+    r->stage_ms[1] = st.ms_gbuffer;
+    r->stage_ms[2] = st.ms_motion;
+    r->stage_ms[3] = st.ms_initial;
+    r->stage_ms[4] = st.ms_temporal;
+    r->stage_ms[5] = 0;
+    for (i = 0; i < RESTIR_MAX_SPATIAL_PASSES; ++i) r->stage_ms[5] += st.ms_spatial[i];
+    r->stage_ms[6] = st.ms_mutate;
+    r->stage_ms[7] = st.ms_shade;
+    r->stage_ms[8] = st.ms_correlation;
     return 0;
 }
 
@@ -101,13 +103,13 @@ static void write_config(FILE *out, int threads, const scaling_run *r, int n, do
     for (i = 0; i < n; ++i) serial[i] = r[i].cpu > 0 ? (r[i].cpu - r[i].parallel_cpu) / r[i].cpu : 0;
     *serial_fraction = median(serial, n);
     fprintf(out, "\"serial_fraction\": %.5f,\n     \"stage_ms_median\": {", *serial_fraction);
-    for (k = 0; k < 8; ++k) {
+    for (k = 0; k < SCALING_STAGES; ++k) {
         for (i = 0; i < n; ++i) stage[i] = r[i].stage_ms[k];
         fprintf(out, "%s\"%s\": %.1f", k ? ", " : "", stage_names[k], median(stage, n));
     }
     for (i = 0; i < n; ++i) { /* wall time outside every stage timer */
         stage[i] = 1000 * r[i].wall;
-        for (k = 0; k < 8; ++k) stage[i] -= r[i].stage_ms[k];
+        for (k = 0; k < SCALING_STAGES; ++k) stage[i] -= r[i].stage_ms[k];
     }
     fprintf(out, ", \"outside_stages\": %.1f}}", median(stage, n));
 }
