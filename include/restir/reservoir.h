@@ -93,7 +93,8 @@ real *reservoir_buffer_pss_row(reservoir *rs, size_t n, size_t p);
 /* Every sample of the buffer (allocated with rows) takes its numbers into its own row
  * (path_sample_keep_pss). A stage that writes a buffer leaves samples pointing into the
  * rows of the buffers it read (a shift or a copy by value shares the numbers); this is
- * called when the stage is done, before anything writes those buffers again. */
-void reservoir_buffer_keep_pss(reservoir *rs, size_t n);
+ * called when the stage is done, before anything writes those buffers again. On `threads`
+ * workers (threads.h). */
+void reservoir_buffer_keep_pss(reservoir *rs, size_t n, int threads);
 
 #endif

@@ -368,7 +368,7 @@ static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
                           q->first - 1, q->last - 1);
     }
     memcpy(pl->prev, rs, pixels * sizeof *rs);
-    reservoir_buffer_keep_pss(pl->prev, pixels); /* the numbers, before rs's rows are freed */
+    reservoir_buffer_keep_pss(pl->prev, pixels, j->o->threads); /* the numbers, before rs's rows are freed */
     free(rs);
     duplication_counts(pl->prev, j->s->width, j->s->height, DUPLICATION_RADIUS, j->o->threads, pl->dup); /* --dedup reads it */
     j->frame = (uint32_t)k;

@@ -2,6 +2,7 @@
 #include "restir/reservoir.h"
 
 #include <math.h>
+#include "restir/threads.h"
 
 void reservoir_init(reservoir *r)
 {
@@ -84,8 +85,22 @@ reservoir *reservoir_buffer_alloc(size_t n, int pss_rows, rerror *e)
 
 real *reservoir_buffer_pss_row(reservoir *rs, size_t n, size_t p) { return (real *)(void *)(rs + n) + p * PATH_MAX_PSS; }
 
-void reservoir_buffer_keep_pss(reservoir *rs, size_t n)
+typedef struct {
+    reservoir *rs;
+    size_t n;
+} keep_job;
+
+static void keep_item(void *ctx, long p, int worker)
 {
-    size_t p;
-    for (p = 0; p < n; ++p) path_sample_keep_pss(&rs[p].y, reservoir_buffer_pss_row(rs, n, p));
+    keep_job *k = ctx;
+    (void)worker;
+    path_sample_keep_pss(&k->rs[p].y, reservoir_buffer_pss_row(k->rs, k->n, (size_t)p));
+}
+
+void reservoir_buffer_keep_pss(reservoir *rs, size_t n, int threads)
+{
+    keep_job k;
+    k.rs = rs;
+    k.n = n;
+    parallel_items((long)n, threads, keep_item, &k); /* each item writes its own row only */
 }
