@@ -65,7 +65,7 @@ TEST(correlation_duplicate_count_exact)
     rs[15 * W + 16].W = 0;
     want[15 * W + 16] = 0;
     holder(&rs[0], 999, 4, 1); /* same pixel and seed as A, different sample index: not A */
-    duplication_counts(rs, W, H, DUPLICATION_RADIUS, count);
+    duplication_counts(rs, W, H, DUPLICATION_RADIUS, 3, count); /* B straddles the 16 x 16 tile corner */
     for (y = 0; y < H; ++y)
         for (x = 0; x < W; ++x)
             CHECKF(count[y * W + x] == want[y * W + x], "pixel (%d, %d): %u duplicates, want %u", x, y,
@@ -73,7 +73,7 @@ TEST(correlation_duplicate_count_exact)
     /* the whole window: 289 identical samples -> 288 = D 1 at the centre */
     for (y = 0; y < H; ++y)
         for (x = 0; x < W; ++x) holder(&rs[y * W + x], 5, 5, 1);
-    duplication_counts(rs, W, H, DUPLICATION_RADIUS, count);
+    duplication_counts(rs, W, H, DUPLICATION_RADIUS, 1, count);
     CHECK(count[10 * W + 12] == 288 && count[0] == 80); /* corner: 9 x 9 window minus self */
     CHECK_NEAR(duplication_score(count[10 * W + 12], DUPLICATION_RADIUS), 1.0, 0);
     {
@@ -174,7 +174,7 @@ static void dual_case(double speed, int *checked, int *fallbacks)
     CHECKF(!scene_pose_at(&s, frame, &e), "%s", e.msg);
     camera_init(&cc, scene_camera_at(&s, frame), s.width, s.height);
     CHECKF(!gbuffer_build(&cur, &s, &cc, 3, (uint32_t)frame, 0, 1, &e), "%s", e.msg);
-    CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, &e), "%s", e.msg);
+    CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, 1, &e), "%s", e.msg);
     for (y = 0; y < s.height; ++y)
         for (x = 0; x < s.width; ++x) {
             const gbuffer_texel *t = gbuffer_at(&cur, x, y);

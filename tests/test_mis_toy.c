@@ -112,13 +112,15 @@ static real toy_p_from(toy_kind k, real y, int ignore_domain)
     return kind_target(k, x) * jac;
 }
 
-/* A 1-D sample travels in a path_sample as its single primary-sample number. */
-static void toy_sample(path_sample *s, real x, real target)
+/* A 1-D sample travels in a path_sample as its single primary-sample number, kept in
+ * *number (the numbers are out of line, path_sample.h; only pss[0] is ever read here). */
+static void toy_sample(path_sample *s, real x, real target, real *number)
 {
     path_sample_clear(s);
     s->technique = PATH_TECH_BSDF;
     s->length = 2;
     s->n_pss = 1;
+    s->pss = number;
     s->pss[0] = x;
     path_sample_set_contribution(s, rgb_gray(target));
 }
@@ -128,6 +130,7 @@ static void toy_sample(path_sample *s, real x, real target)
 static int toy_domain_sample(toy_kind k, rng_key key, uint32_t domain, real *x, real *W)
 {
     reservoir r;
+    real numbers[TOY_K];
     int c;
     reservoir_init(&r);
     for (c = 0; c < TOY_K; ++c) {
@@ -136,7 +139,7 @@ static int toy_domain_sample(toy_kind k, rng_key key, uint32_t domain, real *x, 
         real pdf = k == CANON_B ? 2 * xc : 1;
         path_sample s;
         if (!(pdf > 0)) continue;
-        toy_sample(&s, xc, kind_target(k, xc));
+        toy_sample(&s, xc, kind_target(k, xc), &numbers[c]);
         reservoir_stream(&r, &s, ris_candidate_weight(s.target, 1 / pdf, TOY_K),
                          rng_u(key, RNG_RIS, domain, (uint32_t)c));
     }
@@ -167,7 +170,7 @@ static real toy_gris_run(const toy_config *cfg, mis_family family, toy_variant v
 {
     rng_key key = rng_key_make(test_seed() ^ 0x6a09e667u, run, 0);
     real y[TOY_MAX_DOMAINS], W[TOY_MAX_DOMAINS], J[TOY_MAX_DOMAINS];
-    real ptarget[TOY_MAX_DOMAINS * TOY_MAX_DOMAINS];
+    real ptarget[TOY_MAX_DOMAINS * TOY_MAX_DOMAINS], numbers[TOY_MAX_DOMAINS];
     int ok[TOY_MAX_DOMAINS], i, j, M = cfg->m;
     mis_input in;
     reservoir r;
@@ -190,7 +193,7 @@ static real toy_gris_run(const toy_config *cfg, mis_family family, toy_variant v
         real w;
         if (ok[j]) {
             real jac = variant == TOY_DROP_JACOBIAN ? 1 : J[j];
-            toy_sample(&s, y[j], toy_target(y[j]));
+            toy_sample(&s, y[j], toy_target(y[j]), &numbers[j]);
             w = gris_resampling_weight(mis_weight(family, &in, j, j, NULL), s.target, W[j], jac); /* GRIS Eq. 19 */
             reservoir_stream(&r, &s, w, rng_u(key, RNG_RIS, 100, (uint32_t)j));
         }

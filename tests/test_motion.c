@@ -51,7 +51,7 @@ TEST(motion_vectors_match_analytic_camera_and_object_motion)
         double f = 0.5 * s.height / tan(30 * PI_R / 180), ecur = 0.1 * frame, eprev = 0.1 * (frame - 1);
         CHECKF(!frame_gbuffer(&s, frame - 1, jitter, &prev, &pc, &e), "%s", e.msg);
         CHECKF(!frame_gbuffer(&s, frame, jitter, &cur, &cc, &e), "%s", e.msg);
-        CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, &e), "%s", e.msg);
+        CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, 1, &e), "%s", e.msg);
         for (y = 0; y < s.height; ++y)
             for (x = 0; x < s.width; ++x) {
                 const gbuffer_texel *t = gbuffer_at(&cur, x, y);
@@ -138,7 +138,7 @@ static int count_disocclusion(scene *s, int first, int last, disocclusion_counts
     if (scene_clone(&prev_s, s, e)) return -1;
     if (frame_gbuffer(&prev_s, first, 0, &prev, &pc, e)) return -1;
     for (frame = first + 1; frame <= last; ++frame) {
-        if (frame_gbuffer(s, frame, 0, &cur, &cc, e) || gbuffer_motion(&cur, s, frame, &pc, frame - 1, &prev, NULL, e))
+        if (frame_gbuffer(s, frame, 0, &cur, &cc, e) || gbuffer_motion(&cur, s, frame, &pc, frame - 1, &prev, NULL, 1, e))
             return -1;
         for (y = 0; y < s->height; ++y)
             for (x = 0; x < s->width; ++x) {
@@ -237,7 +237,7 @@ TEST(motion_each_previous_texel_test_rejects)
     wall = !strcmp(s.object_names[0], "wall") ? 0 : 1;
     CHECKF(!frame_gbuffer(&s, frame - 1, 0, &prev, &pc, &e), "%s", e.msg);
     CHECKF(!frame_gbuffer(&s, frame, 0, &cur, &cc, &e), "%s", e.msg);
-    CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, &e), "%s", e.msg);
+    CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, 1, &e), "%s", e.msg);
     /* A card pixel whose landing texel is well inside the card. */
     for (y = 0; y < s.height && x < 0; ++y)
         for (cx = 0; cx < s.width; ++cx) {
@@ -261,10 +261,10 @@ TEST(motion_each_previous_texel_test_rejects)
         if (variant == 0) q->hit.object = wall;
         if (variant == 1) q->hit.position = v3f_add(q->hit.position, v3f_scale(q->hit.ng, 0.24f)); /* 0.12 of the depth 2 */
         if (variant == 2) q->hit.ng = v3f((float)sin(40 * PI_R / 180), 0, (float)cos(40 * PI_R / 180));
-        CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, &e), "%s", e.msg);
+        CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, 1, &e), "%s", e.msg);
         CHECKF(!gbuffer_at(&cur, x, cy)->prev_valid, "variant %d accepted", variant);
         *q = saved;
-        CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, &e), "%s", e.msg);
+        CHECKF(!gbuffer_motion(&cur, &s, frame, &pc, frame - 1, &prev, NULL, 1, &e), "%s", e.msg);
         CHECK(gbuffer_at(&cur, x, cy)->prev_valid);
     }
     gbuffer_free(&prev);
@@ -292,7 +292,7 @@ TEST(motion_turning_object_keeps_its_history)
     CHECKF(!scene_load(&s, path, &e), "%s", e.msg);
     CHECKF(!frame_gbuffer(&s, 0, 0, &prev, &pc, &e), "%s", e.msg);
     CHECKF(!frame_gbuffer(&s, 1, 0, &cur, &cc, &e), "%s", e.msg);
-    CHECKF(!gbuffer_motion(&cur, &s, 1, &pc, 0, &prev, NULL, &e), "%s", e.msg);
+    CHECKF(!gbuffer_motion(&cur, &s, 1, &pc, 0, &prev, NULL, 1, &e), "%s", e.msg);
     for (i = 0; i < cur.width * cur.height; ++i)
         if (cur.texels[i].valid && strcmp(s.object_names[cur.texels[i].hit.object], "wall")) {
             card++;

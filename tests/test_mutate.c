@@ -153,6 +153,7 @@ static void round_trip(const char *path, int shift, int strategy, int *checked, 
             path_vertex v;
             path_sample u, z, back;
             real xi[PATH_MAX_PSS], mirror[PATH_MAX_PSS], xl[2], r1, r2;
+            real un[PATH_MAX_PSS], zn[PATH_MAX_PSS], bn[PATH_MAX_PSS]; /* their numbers (path_sample.h) */
             double tol = sizeof(real) == 8 ? 1e-3 : 2e-2; /* float geometry (vec3f hits) */
             rng_key key = rng_key_make(test_seed(), (uint32_t)(y * f.s.width + x), 5);
             int i;
@@ -163,6 +164,9 @@ static void round_trip(const char *path, int shift, int strategy, int *checked, 
             }
             xl[0] = rng_u(key, RNG_TEST, 1, 0);
             xl[1] = rng_u(key, RNG_TEST, 1, 1);
+            u.pss = un;
+            z.pss = zn;
+            back.pss = bn;
             if (mutate_explicit(&f.c, &v, py, xl, &u)) continue;
             if (mutate_propose(&f.c, &v, &u, strategy, xi, xl, &z, &r1) >= 0) continue;
             /* z's pss is its explicit vector: the perturbed numbers exactly, the determined ones
@@ -517,8 +521,10 @@ static int rv_map(const restir_context *c, const path_vertex *y1, const path_sam
     path_sample yy = *u;
     path_trunk ty, tv = *tz;
     path_end end;
-    real n[3], lo, hi;
+    real n[3], lo, hi, numbers[PATH_MAX_PSS];
     int k = u->rc_k, j;
+    path_sample_copy_pss(u, numbers); /* yy's own numbers: u's are not to be changed */
+    yy.pss = numbers;
     for (j = 0; j < m; ++j) yy.pss[(k - 1 + j / 2) * 3 + 1 + j % 2] = (real)b[j];
     if (path_replay(&ty, c, y1, &yy, &end) != SHIFT_OK) return -1;
     if (!mutate_invert_bounce(&tv.v[k], u->lobe[k], mutate_direction_to(&tv.v[k], ty.v[k + 1].position), (real)0.5, n))
@@ -558,15 +564,20 @@ static void eq20_fd(const char *path, int *checked, double *worst)
             path_sample u, z, zz;
             path_trunk tz;
             real xi[PATH_MAX_PSS], xl[2] = {(real)0.5, (real)0.5}, ratio;
+            real un[PATH_MAX_PSS], zn[PATH_MAX_PSS], zzn[PATH_MAX_PSS]; /* their numbers (path_sample.h) */
             double b[4], J[6][6], plus[4], minus[4], Pz[2], Py[2], fd, rel;
             rng_key key = rng_key_make(test_seed(), (uint32_t)(y * f.s.width + x), 9);
             int i, j, m, k = py->rc_k, nb = mutate_bsdf_vertices(py), ok = 1;
             if (!path_sample_is_valid(py) || k == PATH_RC_NONE || k > nb || !rt_primary_vertex(&f.s, x, y, &v)) continue;
             m = k + 1 <= nb ? 4 : 2;
             for (i = 0; i < PATH_MAX_PSS; ++i) xi[i] = rng_u(key, RNG_TEST, 0, (uint32_t)i);
+            u.pss = un;
+            z.pss = zn;
             if (mutate_explicit(&f.c, &v, py, xl, &u)) continue;
             if (mutate_propose(&f.c, &v, &u, MUTATE_RV, xi, xl, &z, &ratio) >= 0) continue;
             zz = u;
+            path_sample_copy_pss(&u, zzn);
+            zz.pss = zzn;
             for (i = 0; i < 3; ++i) zz.pss[(k - 2) * 3 + i] = mutate_perturb(u.pss[(k - 2) * 3 + i], xi[(k - 2) * 3 + i]);
             if (trunk_replay(&tz, &f.c, &v, &zz, k) != SHIFT_OK) continue;
             for (j = 0; j < m; ++j) {
@@ -646,6 +657,7 @@ static double flux_worst_z(const scene *sc, const restir_context *c, int strateg
         path_vertex v;
         reservoir r;
         mutate_stats st;
+        real numbers[PATH_MAX_PSS];
         int b0, b1, q;
         double la0, la1;
         memset(&r, 0, sizeof r);
@@ -654,13 +666,15 @@ static double flux_worst_z(const scene *sc, const restir_context *c, int strateg
         r.y.length = 4;
         r.y.technique = PATH_TECH_NEE;
         r.y.n_pss = 3 * 3;
+        r.y.pss = numbers;
         for (q = 0; q < r.y.n_pss; ++q) r.y.pss[q] = rng_u(key, RNG_TEST, 1, (uint32_t)q);
         if (path_record(c, &v, &r.y) != SHIFT_OK || !(r.y.target > 0)) continue;
         r.W = 1;
         la0 = log_a(c, &v, &r.y);
         b0 = flux_bin(la0);
         memset(&st, 0, sizeof st);
-        mutate_reservoir(c, &v, rng_key_make(test_seed(), (uint32_t)n, 3), MUTATE_AFTER_INITIAL, strategy, 1, &r, &st);
+        mutate_reservoir(c, &v, rng_key_make(test_seed(), (uint32_t)n, 3), MUTATE_AFTER_INITIAL, strategy, 1, &r, numbers,
+                         &st);
         la1 = log_a(c, &v, &r.y);
         b1 = flux_bin(la1);
         total += 1;
@@ -753,6 +767,7 @@ TEST(mutate_luminance_invariant_exact)
         rerror e;
         int x, y, moved = 0;
         double worst = 0;
+        real *rows, numbers[PATH_MAX_PSS]; /* the mutated samples' numbers: one row per pixel (reservoir.h) */
         if (rt_load_scene(files[f], 16, &s)) return;
         restir_options_default(&o);
         o.shift = shifts[f];
@@ -766,14 +781,16 @@ TEST(mutate_luminance_invariant_exact)
         }
         rt_context(&c, &s, &lights, o.shift);
         memset(&st, 0, sizeof st);
-        for (y = 0; y < s.height; ++y)
+        rows = calloc((size_t)s.width * (size_t)s.height * PATH_MAX_PSS, sizeof *rows);
+        CHECK(rows != NULL);
+        for (y = 0; y < s.height && rows; ++y)
             for (x = 0; x < s.width; ++x) {
                 reservoir *r = &res.reservoirs[y * s.width + x];
                 double before = (double)r->y.target * (double)r->W, after, rel;
                 path_vertex v;
                 if (!rt_primary_vertex(&s, x, y, &v)) continue;
                 mutate_reservoir(&c, &v, rng_key_make(test_seed(), (uint32_t)(y * s.width + x), 0), MUTATE_AFTER_TEMPORAL,
-                                 strategies[f], 20, r, &st);
+                                 strategies[f], 20, r, rows + (size_t)(y * s.width + x) * PATH_MAX_PSS, &st);
                 after = (double)luminance(r->y.F) * (double)r->W;
                 rel = before > 0 ? fabs(after - before) / before : fabs(after);
                 if (rel > worst) worst = rel;
@@ -793,7 +810,7 @@ TEST(mutate_luminance_invariant_exact)
                     path_vertex v;
                     if (!rt_primary_vertex(&s, x, y, &v)) continue;
                     mutate_reservoir(&cw, &v, rng_key_make(test_seed(), (uint32_t)(y * s.width + x), 1),
-                                     MUTATE_AFTER_TEMPORAL, strategies[f], 20, &r, &st);
+                                     MUTATE_AFTER_TEMPORAL, strategies[f], 20, &r, numbers, &st);
                     after = (double)luminance(r.y.F) * (double)r.W;
                     if (before > 0 && fabs(after - before) / before > broken) broken = fabs(after - before) / before;
                 }
@@ -802,6 +819,7 @@ TEST(mutate_luminance_invariant_exact)
             CHECKF(broken > 1e-3, "%s: --ablate mutation-w not detected by the exact invariant (%g)", files[f], broken);
         }
         CHECKF(moved, "%s: no mutation was accepted (%llu proposals)", files[f], (unsigned long long)st.proposals);
+        free(rows);
         lights_free(&lights);
         restir_result_free(&res);
         scene_free(&s);

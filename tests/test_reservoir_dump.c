@@ -20,8 +20,9 @@ static vec3 random_unit(rng_key key, uint32_t *n)
     return v3_normalize(v);
 }
 
-/* A random sample that satisfies every invariant of path_sample.h. */
-static void random_path_sample(path_sample *s, uint32_t index, int with_pss)
+/* A random sample that satisfies every invariant of path_sample.h; with explicit numbers
+ * (kept in pss[PATH_MAX_PSS]) unless pss is NULL. */
+static void random_path_sample(path_sample *s, uint32_t index, real *pss)
 {
     rng_key key = rng_key_make(test_seed(), index, 99);
     uint32_t n = 0;
@@ -49,17 +50,19 @@ static void random_path_sample(path_sample *s, uint32_t index, int with_pss)
     }
     s->light_pdf = dump_urand(key, &n);
     path_sample_set_contribution(s, rgb_make(dump_urand(key, &n), dump_urand(key, &n) / 7, 3));
-    if (with_pss) {
+    if (pss) {
+        memset(pss, 0, PATH_MAX_PSS * sizeof *pss);
+        s->pss = pss;
         s->n_pss = (uint8_t)(dump_urand(key, &n) * (PATH_MAX_PSS + 1));
         for (j = 0; j < s->n_pss; ++j) s->pss[j] = dump_urand(key, &n);
     }
 }
 
-static void random_reservoir(reservoir *r, uint32_t index, int with_pss)
+static void random_reservoir(reservoir *r, uint32_t index, real *pss)
 {
     reservoir_init(r);
     if (index % 5 == 3) return; /* some empty reservoirs */
-    random_path_sample(&r->y, index, with_pss);
+    random_path_sample(&r->y, index, pss);
     r->wsum = (real)index * (real)0.25;
     r->W = (real)index / 3;
     r->confidence = (real)(index % 20) + (real)0.5;
@@ -70,12 +73,13 @@ TEST(path_sample_invariants)
 {
     path_sample s, bad;
     rerror e;
+    real numbers[PATH_MAX_PSS], bad_numbers[PATH_MAX_PSS];
     uint32_t i;
     path_sample_clear(&s);
     CHECK(path_sample_check(&s, "empty", &e) == 0);
     CHECK(!path_sample_is_valid(&s));
     for (i = 0; i < 200; ++i) {
-        random_path_sample(&s, i, 1);
+        random_path_sample(&s, i, numbers);
         CHECKF(path_sample_check(&s, "random", &e) == 0, "%s", e.msg);
         CHECK(s.target == luminance(s.F));
     }
@@ -109,7 +113,7 @@ TEST(path_sample_invariants)
     bad = s; bad.rc_flags = 0x2; CHECK(path_sample_check(&bad, "unknown rc flag", &e) != 0);
     bad = s; bad.rc_k = PATH_RC_NONE; bad.rc_flags = PATH_RC_FLAG_UNSHIFTABLE;
     CHECK(path_sample_check(&bad, "rc flag without k", &e) != 0);
-    bad = s; bad.n_pss = 2; bad.pss[1] = 1; CHECK(path_sample_check(&bad, "pss", &e) != 0);
+    bad = s; bad.pss = bad_numbers; bad.n_pss = 2; bad.pss[0] = 0; bad.pss[1] = 1; CHECK(path_sample_check(&bad, "pss", &e) != 0);
     CHECKF(strstr(e.msg, "pss[1]") != NULL, "%s", e.msg);
 }
 
@@ -119,6 +123,7 @@ TEST(reservoir_dump_roundtrip)
 {
     enum { W = 7, H = 5 };
     reservoir rs[W * H], *back = NULL;
+    static real rows[W * H][PATH_MAX_PSS]; /* the samples' numbers (path_sample.h) */
     reservoir_dump_info info, got;
     unsigned char a[RESERVOIR_DUMP_RECORD_PSS], b[RESERVOIR_DUMP_RECORD_PSS];
     rerror e;
@@ -126,7 +131,7 @@ TEST(reservoir_dump_roundtrip)
     for (pass = 0; pass < 2; ++pass) {
         const char *path = test_tmp_path(pass ? "dump-pss.bin" : "dump.bin");
         uint32_t flags = pass ? RESERVOIR_DUMP_FLAG_PSS : 0;
-        for (i = 0; i < W * H; ++i) random_reservoir(&rs[i], (uint32_t)i, pass);
+        for (i = 0; i < W * H; ++i) random_reservoir(&rs[i], (uint32_t)i, pass ? rows[i] : NULL);
         memset(&info, 0, sizeof info);
         info.width = W;
         info.height = H;
@@ -177,8 +182,9 @@ TEST(reservoir_dump_documented_offsets)
 {
     reservoir r;
     unsigned char rec[RESERVOIR_DUMP_RECORD_PSS];
+    real numbers[PATH_MAX_PSS];
     reservoir_init(&r);
-    random_path_sample(&r.y, 3, 1);
+    random_path_sample(&r.y, 3, numbers);
     r.y.length = 6;
     r.y.technique = PATH_TECH_BSDF;
     memset(r.y.lobe, PATH_LOBE_NONE, sizeof r.y.lobe);
@@ -276,7 +282,7 @@ TEST(reservoir_dump_rejects_malformed)
         {"bad-record.bin", "record 1", 64 + 216 + 44, &two, 1, -1, 0},
     };
     snprintf(good, sizeof good, "%s", test_tmp_path("good-dump.bin"));
-    for (i = 0; i < W * H; ++i) random_reservoir(&rs[i], (uint32_t)i + 1, 0);
+    for (i = 0; i < W * H; ++i) random_reservoir(&rs[i], (uint32_t)i + 1, NULL);
     memset(&info, 0, sizeof info);
     info.width = W;
     info.height = H;

@@ -26,9 +26,11 @@
 /* 1 iff a and b hold copies of the same initial candidate (both W > 0, same identity). */
 int duplication_same_sample(const reservoir *a, const reservoir *b);
 
-/* count[p] for every pixel of the w x h reservoir image rs (row-major), window radius r;
- * the window is clipped at the image border (clipped pixels count as no copy). */
-void duplication_counts(const reservoir *rs, int w, int h, int r, uint16_t *count);
+/* count[p] for every pixel of the w x h reservoir image rs (row-major), window radius
+ * 0 <= r <= DUPLICATION_RADIUS; the window is clipped at the image border (clipped pixels
+ * count as no copy). In 16 x 16 tiles on `threads` workers (threads.h: the same counts for
+ * any thread count). */
+void duplication_counts(const reservoir *rs, int w, int h, int r, int threads, uint16_t *count);
 
 /* D = count / ((2r+1)^2 - 1). */
 double duplication_score(unsigned count, int r);

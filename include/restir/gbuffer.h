@@ -55,9 +55,10 @@ void motion_thresholds_default(motion_thresholds *t);
  * with prev_cam, and accepted when it lands on screen on a previous texel that is valid,
  * shows the same object and passes the depth (tangent-plane) and normal tests.
  * Pixels whose primary ray missed, and points behind the previous camera, get motion 0
- * and prev_valid 0. th = NULL: the defaults. */
+ * and prev_valid 0. th = NULL: the defaults. In 16 x 16 tiles on `threads` workers (each
+ * texel depends only on itself: the same bytes for any thread count). */
 int gbuffer_motion(gbuffer *cur, const scene *s, int frame, const camera *prev_cam, int prev_frame,
-                   const gbuffer *prev, const motion_thresholds *th, rerror *e);
+                   const gbuffer *prev, const motion_thresholds *th, int threads, rerror *e);
 /* The previous frame's pixel of a texel with motion: (floor(pixel + motion)). Returns
  * prev_valid (the pixel is then inside the previous image). */
 static inline int gbuffer_previous_pixel(const gbuffer_texel *t, int *x, int *y)

@@ -102,7 +102,8 @@ real mutate_weight(real W, real target_x, real target_z);
  * *u = y with pss[] holding the numbers of x_1..x_{d-1} (n_pss = 3 (d-1); NEE point numbers
  * at x_{d-1} of an NEE path), the
  * implicit ones recovered by inverse sampling with lobe numbers xi_lobe[0..1] (y_{k-1}, x_k).
- * 0 on success, else an enum mutate_reason + 1. */
+ * u->pss must point to the caller's storage of PATH_MAX_PSS numbers (the vector is written
+ * there; path_sample.h: numbers out of line). 0 on success, else an enum mutate_reason + 1. */
 int mutate_explicit(const restir_context *c, const path_vertex *y1, const path_sample *y, const real xi_lobe[2],
                     path_sample *u);
 /* Inverse sampling (§4): the numbers u[0..2] with which vertex v samples world direction w
@@ -118,7 +119,8 @@ int mutate_bsdf_vertices(const path_sample *y);
  * y): xi[j] perturbs pss number j (j < 3 (d-1)), xi_lobe[0..1] draw the lobe numbers of the
  * determined vertices. On success (return -1) *z is the recorded proposal and *ratio =
  * T(z->y)/T(y->z) (Mutations Eq. 20 for rv/pp with a reconnection vertex, else 1); otherwise
- * the enum mutate_reject (T = 0). */
+ * the enum mutate_reject (T = 0). z->pss must point to the caller's storage of PATH_MAX_PSS
+ * numbers, not u's (the perturbed vector is written there). */
 int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sample *u, int strategy, const real *xi,
                    const real xi_lobe[2], path_sample *z, real *ratio);
 
@@ -136,9 +138,10 @@ real mutate_eq20_ratio(const real z[3], const real y[3]);
 /* N iterations of Algorithm 3 with `strategy` (enum mutate_strategy) on reservoir r of the
  * pixel with primary hit y1, numbers from RNG_MUTATE at (key, vertex = stage). ablation:
  * RESTIR_ABLATE_MUTATION_W keeps W (no Eq. 16), RESTIR_ABLATE_RV_KERNEL accepts with the
- * kernel ratio taken as 1. */
+ * kernel ratio taken as 1. An accepted sample's numbers go to pss_home (PATH_MAX_PSS
+ * numbers: the row of r in its buffer, reservoir_buffer_pss_row; path_sample.h). */
 void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key key, int stage, int strategy,
-                      int iterations, reservoir *r, mutate_stats *st);
+                      int iterations, reservoir *r, real *pss_home, mutate_stats *st);
 
 /* Mutations Fig. 8: of the n reservoirs, how many hold a sample (identity, x_k and explicit
  * numbers) that another reservoir holds too; *valid receives the number of non-empty ones. */

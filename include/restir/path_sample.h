@@ -108,8 +108,16 @@ typedef struct {
      * still come from the replay identity. Each in [0, 1). For an NEE path (technique NEE) the
      * slots of vertex d-1, which samples no BSDF, hold (unused, u_2, u_3): they replace the
      * RNG_NEE numbers 2-3 that place the point on the light (path_nee_numbers); the light
-     * selection numbers 0-1 always come from the replay identity. */
-    real pss[PATH_MAX_PSS];
+     * selection numbers 0-1 always come from the replay identity.
+     *
+     * OUT OF LINE (issue 17: 360 B of a 576-B reservoir, used only by --mutations): pss points
+     * to PATH_MAX_PSS numbers, or is NULL for a vector of zeros (a sample no mutation touched).
+     * The numbers are never written through a copied sample: a copy by value shares them, and
+     * whoever changes them gives the sample its own storage first (path_sample_copy_pss).
+     * Reservoir buffers keep every sample's numbers in their own rows (reservoir.h,
+     * reservoir_buffer_keep_pss), so a sample copied from one buffer into another takes its
+     * numbers along when the stage that wrote it is done. */
+    real *pss;
 } path_sample;
 
 /* An empty sample: technique NONE, length 0, no reconnection, all lobes NONE, zeros. */
@@ -124,11 +132,17 @@ int path_sample_is_valid(const path_sample *s);
 unsigned path_sample_rc_lobe(const path_sample *s);
 /* Sets F and the target p̂ = luminance(F) together (the one place they are paired). */
 void path_sample_set_contribution(path_sample *s, rgb F);
+/* to[0..PATH_MAX_PSS-1] = the sample's explicit numbers (zeros where s->pss is NULL). */
+void path_sample_copy_pss(const path_sample *s, real *to);
+/* Moves the numbers into `home` (PATH_MAX_PSS numbers owned by whoever holds the sample,
+ * e.g. a reservoir buffer's row): copies them unless they are there already, and points
+ * s->pss at home. A sample without numbers (pss NULL) stays NULL. */
+void path_sample_keep_pss(path_sample *s, real *home);
 
 /* Structural consistency (enum ranges, 2 <= d <= 16, 2 <= k <= d, lobes present exactly
  * on x1..x_{d-1}, PATH_LOBE_NEE exactly at x_{d-1} of NEE paths, n_pss <= PATH_MAX_PSS with
  * each number in [0,1), finite non-negative pdfs/radiance/contribution, unit normal and
- * direction at x_k). `what` prefixes the message (e.g. "file: record 17"). Returns 0 if
+ * direction at x_k, pss set if n_pss > 0). `what` prefixes the message (e.g. "file: record 17"). Returns 0 if
  * consistent. */
 int path_sample_check(const path_sample *s, const char *what, rerror *e);
 

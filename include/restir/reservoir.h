@@ -30,6 +30,8 @@
 #define RESTIR_RESERVOIR_H
 
 #include <stdint.h>
+#include <stddef.h>
+#include "restir/error.h"
 #include "restir/path_sample.h"
 
 typedef struct {
@@ -78,5 +80,21 @@ real ris_candidate_weight(real target, real ucw, real n_trees);
 
 /* The pixel estimate F(Y) * W_Y (GRIS Eq. 3; averaged over frames it is GRIS Eq. 47). */
 rgb reservoir_estimate(const reservoir *r);
+
+/* ---- reservoir buffers (one reservoir per pixel) and their primary-sample rows
+ * The explicit numbers of mutated samples live out of line (path_sample.h). A buffer that
+ * can hold mutated samples is allocated with rows: after its n reservoirs come n rows of
+ * PATH_MAX_PSS numbers, row p belonging to reservoir p, in the same block (free() frees
+ * both, and swapping two buffer pointers swaps their rows too). Runs without mutations
+ * allocate no rows (issue 17: 224 instead of 576 B per reservoir). */
+reservoir *reservoir_buffer_alloc(size_t n, int pss_rows, rerror *e);
+/* Row p of a buffer of n reservoirs allocated with rows. */
+real *reservoir_buffer_pss_row(reservoir *rs, size_t n, size_t p);
+/* Every sample of the buffer (allocated with rows) takes its numbers into its own row
+ * (path_sample_keep_pss). A stage that writes a buffer leaves samples pointing into the
+ * rows of the buffers it read (a shift or a copy by value shares the numbers); this is
+ * called when the stage is done, before anything writes those buffers again. On `threads`
+ * workers (threads.h). */
+void reservoir_buffer_keep_pss(reservoir *rs, size_t n, int threads);
 
 #endif

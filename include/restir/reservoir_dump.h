@@ -35,14 +35,16 @@ typedef struct {
 size_t reservoir_record_size(uint32_t flags);
 /* Encodes one record into buf[reservoir_record_size(flags)]. */
 void reservoir_record_encode(const reservoir *r, uint32_t flags, unsigned char *buf);
-/* Decodes one record (no validation; see path_sample_check). */
-void reservoir_record_decode(const unsigned char *buf, uint32_t flags, reservoir *r);
+/* Decodes one record (no validation; see path_sample_check). With RESERVOIR_DUMP_FLAG_PSS
+ * the PATH_MAX_PSS numbers go to pss (r->y.pss points there); else pss is unused. */
+void reservoir_record_decode(const unsigned char *buf, uint32_t flags, reservoir *r, real *pss);
 
 /* Writes info->width * info->height reservoirs to `path` (atomically). The records carry
  * the primary-sample vectors iff some sample has n_pss > 0. A tag without its NUL within
  * the first 17 bytes (longer than 16 characters) is an error. */
 int reservoir_dump_write(const char *path, const reservoir *rs, const reservoir_dump_info *info, rerror *e);
-/* Reads a dump; *out is malloc'ed (free() it) with info->width * info->height entries. */
+/* Reads a dump; *out is malloc'ed (free() it) with info->width * info->height entries; with
+ * primary-sample vectors it is a buffer with rows (reservoir_buffer_alloc) holding them. */
 int reservoir_dump_read(const char *path, reservoir **out, reservoir_dump_info *info, rerror *e);
 
 #endif

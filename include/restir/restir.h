@@ -109,8 +109,9 @@ typedef struct {
 /* Bytes per pixel of every per-pixel buffer of a ReSTIR run (issue 17; docs/performance.md).
  * Per-thread workspaces and per-scene data are not per pixel and not counted. */
 typedef struct {
-    unsigned reservoir;          /* sizeof(reservoir), of which reservoir_pss is the pss[] vector */
-    unsigned reservoir_pss;
+    unsigned reservoir;          /* sizeof(reservoir) */
+    unsigned reservoir_pss;      /* per reservoir buffer: its primary-sample rows (reservoir.h;
+                                    --mutations only), counted in reservoirs_* */
     unsigned reservoirs_initial, reservoirs_spatial, reservoirs_previous; /* 0 when not allocated */
     unsigned gbuffer, gbuffer_previous;
     unsigned accumulation, vector_shade, reuse_cells;

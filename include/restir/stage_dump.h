@@ -53,6 +53,8 @@ typedef struct stage_io_s {
     uint32_t frame;                        /* the frame in progress */
     int failed;
     rerror err;                            /* the first failure (sticky) */
+    int pss_rows;                          /* set by the pipeline: its reservoir buffers have
+                                              primary-sample rows (reservoir.h) */
 } stage_io;
 
 /* What restart and diff-dump read of a dump's manifest.json. */

@@ -22,4 +22,10 @@ int parallel_tiles(int width, int height, int tile_size, int threads, tile_fn fn
 /* Runs fn(ctx, i, worker) for every i in [0, count), in chunks, with `threads` workers. */
 int parallel_items(long count, int threads, item_fn fn, void *ctx);
 
+/* CPU seconds the workers of every parallel_tiles / parallel_items call so far have spent
+ * in their tiles (all callers; the calling thread only waits while workers run). The
+ * process's CPU time minus this is its serial part (issue 17: the Amdahl bound of thread
+ * scaling, `restir bench scaling`). */
+double threads_parallel_cpu_seconds(void);
+
 #endif

@@ -309,12 +309,13 @@ int bench_mutations(FILE *out, const scene *s, const char *name, const restir_op
                 (unsigned long long)m->rejected_mh);
         for (i = 0; i < MUTATE_REJECT_COUNT; ++i)
             fprintf(out, "%s\"%s\": %llu", i ? ", " : "", mutate_reject_names[i], (unsigned long long)m->rejected[i]);
-        /* Reservoir storage (Mutations §4.3 "Reservoir storage"): the in-memory reservoir is
-         * fixed; what the strategy makes a pixel keep is the explicit numbers pss[] (mean over
-         * the chains' final samples). */
+        /* Reservoir storage (Mutations §4.3 "Reservoir storage"): in memory the reservoir and
+         * its buffer's primary-sample row (reservoir.h; mutation runs only), the same for every
+         * strategy; what the strategy makes a pixel keep is the explicit numbers pss[] (mean
+         * over the chains' final samples). */
         fprintf(out, "},\n   \"bytes_per_pixel\": {\"reservoir_in_memory\": %u, \"pss_kept_mean\": %.1f, \"pss_max\": %u, "
                      "\"dump_record_with_pss\": %u}}",
-                (unsigned)sizeof(reservoir),
+                (unsigned)(sizeof(reservoir) + PATH_MAX_PSS * sizeof(real)),
                 m->pixels ? (double)m->pss_numbers / (double)m->pixels * (double)sizeof(real) : 0.0,
                 (unsigned)(PATH_MAX_PSS * sizeof(real)), (unsigned)reservoir_record_size(RESERVOIR_DUMP_FLAG_PSS));
         fflush(out);

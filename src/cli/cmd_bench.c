@@ -12,6 +12,7 @@
 #include "restir/progress.h"
 #include "restir/pt.h"
 #include "restir/restir_bench.h"
+#include "restir/scaling_bench.h"
 #include "restir/stochastic_bench.h"
 #include "restir/threads.h"
 #include "scene_args.h"
@@ -24,6 +25,7 @@ typedef struct {
     int rays_size[2];
     int has_rays_size;
     int pairing, no_pair_step, rc_criterion, shading; /* bench restir: Enhanced switches */
+    int has_repeats;
 } bench_args;
 
 /* A benchmark over one prepared scene; `name` labels it in the JSON. */
@@ -236,6 +238,24 @@ static int bench_realtime_on(const scene *s, const char *name, const bench_args 
     return status ? 2 : 0;
 }
 
+/* Thread scaling (scaling_bench.h): the real-time preset, 4 frames at --size (default
+ * 512 x 512), 1 vs --threads (default 2) threads, --repeats rounds (default 3). */
+static int bench_scaling_on(const scene *s, const char *name, const bench_args *a, int *first)
+{
+    scene sized = *s;
+    restir_options o;
+    rerror e;
+    int status;
+    restir_options_default(&o);
+    restir_options_preset_gris_realtime(&o);
+    sized.width = a->has_rays_size ? a->rays_size[0] : 512;
+    sized.height = a->has_rays_size ? a->rays_size[1] : 512;
+    status = bench_scaling(stdout, &sized, name, &o, 4, a->rays.threads > 1 ? a->rays.threads : 2,
+                           a->has_repeats ? a->rays.repeats : 3, first, &e);
+    if (status) fprintf(stderr, "%s\n", e.msg);
+    return status ? 2 : 0;
+}
+
 /* Stochastic pairwise MIS and reuse cells at 256 x 256 (stochastic_bench.h). */
 static int bench_stochastic_on(const scene *s, const char *name, const bench_args *a, int *first)
 {
@@ -348,7 +368,7 @@ int cmd_bench(int argc, char **argv)
         const cli_option options[] = {
             {"--generated", OPT_INT, &a.generated, "bench rays on the generated displaced sphere of this subdivision (92: 100k tris)", NULL, 1, 2000, NULL},
             {"--threads", OPT_INT, &a.rays.threads, "thread count measured besides 1 (default: online cores)", NULL, 1, 256, NULL},
-            {"--repeats", OPT_INT, &a.rays.repeats, "timed repetitions; the median is reported", NULL, 1, 1000, NULL},
+            {"--repeats", OPT_INT, &a.rays.repeats, "timed repetitions; the median is reported", NULL, 1, 1000, &a.has_repeats},
             {"--size", OPT_SIZE, a.rays_size, "primary ray grid (default 512x512)", NULL, 0, 0, &a.has_rays_size},
             {"--seed", OPT_UINT32, &a.rays.seed, "seed of the jitter and bounce directions", NULL, 0, 0, NULL},
             {"--pairing", OPT_CHOICE, &a.pairing, "bench restir: spatial neighbours disk (default) or paired (Enhanced 3)",
@@ -364,7 +384,7 @@ int cmd_bench(int argc, char **argv)
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);
         if (status == 1) {
             cli_print_help(stdout, "bench",
-                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | stochastic [SCENE] | mutations [SCENE] | all [options]",
+                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | stochastic [SCENE] | mutations [SCENE] | scaling [SCENE] | all [options]",
                            options);
             return 0;
         }
@@ -377,10 +397,10 @@ int cmd_bench(int argc, char **argv)
     if (count < 1 ||
         (strcmp(positional[0], "rays") && strcmp(positional[0], "all") && strcmp(positional[0], "restir") &&
          strcmp(positional[0], "animation") && strcmp(positional[0], "realtime") && strcmp(positional[0], "stochastic") &&
-         strcmp(positional[0], "mutations")) ||
+         strcmp(positional[0], "mutations") && strcmp(positional[0], "scaling")) ||
         (!strcmp(positional[0], "rays") && count != 2 && !a.generated)) {
         fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]`, `animation [SCENE]`, "
-                        "`realtime [SCENE]`, `stochastic [SCENE]`, `mutations [SCENE]` or `all`\n");
+                        "`realtime [SCENE]`, `stochastic [SCENE]`, `mutations [SCENE]`, `scaling [SCENE]` or `all`\n");
         return 2;
     }
     printf("[\n");
@@ -393,6 +413,8 @@ int cmd_bench(int argc, char **argv)
         status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_stochastic_on, &a, &first);
     else if (!strcmp(positional[0], "mutations"))
         status = count > 1 ? on_file(positional[1], bench_mutations_on, &a, &first) : bench_mutations_all(&a, &first);
+    else if (!strcmp(positional[0], "scaling"))
+        status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_scaling_on, &a, &first);
     else if (!strcmp(positional[0], "realtime"))
         status = count > 1 ? on_file(positional[1], bench_realtime_on, &a, &first) : bench_realtime_animated(&a, &first);
     else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);

@@ -141,7 +141,7 @@ static int duplicates_of(const restir_result *r, image *img)
         free(count);
         return 2;
     }
-    duplication_counts(r->reservoirs, r->mean.width, r->mean.height, DUPLICATION_RADIUS, count);
+    duplication_counts(r->reservoirs, r->mean.width, r->mean.height, DUPLICATION_RADIUS, 1, count);
     for (i = 0; i < 3 * n; ++i) img->px[i] = (float)count[i / 3];
     free(count);
     return 0;

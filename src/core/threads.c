@@ -3,7 +3,28 @@
 #include "restir/threads.h"
 
 #include <pthread.h>
+#include <time.h>
 #include <unistd.h>
+
+/* CPU seconds spent by workers inside parallel regions (threads_parallel_cpu_seconds). */
+static pthread_mutex_t cpu_lock = PTHREAD_MUTEX_INITIALIZER;
+static double parallel_cpu;
+
+static double thread_cpu_seconds(void)
+{
+    struct timespec t;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t) != 0) return 0;
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+double threads_parallel_cpu_seconds(void)
+{
+    double s;
+    pthread_mutex_lock(&cpu_lock);
+    s = parallel_cpu;
+    pthread_mutex_unlock(&cpu_lock);
+    return s;
+}
 
 int threads_default(void)
 {
@@ -66,10 +87,15 @@ static void *worker_main(void *arg)
 {
     worker_arg *w = arg;
     long i;
+    double t0 = thread_cpu_seconds();
     while ((i = take_index(w->p)) >= 0) {
         run_unit(w->p, i, w->worker);
         finish_index(w->p);
     }
+    t0 = thread_cpu_seconds() - t0;
+    pthread_mutex_lock(&cpu_lock);
+    parallel_cpu += t0;
+    pthread_mutex_unlock(&cpu_lock);
     return NULL;
 }
 

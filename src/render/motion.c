@@ -9,6 +9,7 @@
  * point lands in must show the same object, at the same depth and orientation. */
 #include "restir/animation.h"
 #include "restir/gbuffer.h"
+#include "restir/threads.h"
 
 #include <math.h>
 
@@ -95,20 +96,47 @@ static void texel_motion(gbuffer_texel *t, const scene *s, int frame, const came
     t->prev_valid = previous_texel_agrees(gbuffer_at(prev, ix, iy), t->hit.object, xp, np, depth, th);
 }
 
+typedef struct {
+    gbuffer *cur;
+    const scene *s;
+    int frame, prev_frame;
+    const camera *prev_cam;
+    const gbuffer *prev;
+    const motion_thresholds *th;
+} motion_job;
+
+static void motion_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
+{
+    const motion_job *m = ctx;
+    double a[3][3], tr[3];
+    uint32_t cached = UINT32_MAX; /* per tile: the transform is a pure function of the object */
+    int x, y;
+    (void)worker;
+    for (y = y0; y < y1; ++y)
+        for (x = x0; x < x1; ++x)
+            texel_motion(&m->cur->texels[(long)y * m->cur->width + x], m->s, m->frame, m->prev_cam, m->prev_frame,
+                         m->prev, m->th, a, tr, &cached);
+}
+
 int gbuffer_motion(gbuffer *cur, const scene *s, int frame, const camera *prev_cam, int prev_frame,
-                   const gbuffer *prev, const motion_thresholds *th, rerror *e)
+                   const gbuffer *prev, const motion_thresholds *th, int threads, rerror *e)
 {
     motion_thresholds defaults;
-    double a[3][3], tr[3];
-    uint32_t cached = UINT32_MAX;
-    long i, n = (long)cur->width * cur->height;
+    motion_job m;
     if (!th) {
         motion_thresholds_default(&defaults);
         th = &defaults;
     }
     if (!prev || !prev->texels || prev->width != prev_cam->width || prev->height != prev_cam->height)
         return rerror_set(e, "gbuffer_motion: the previous G-buffer does not match the previous camera");
-    for (i = 0; i < n; ++i) texel_motion(&cur->texels[i], s, frame, prev_cam, prev_frame, prev, th, a, tr, &cached);
+    m.cur = cur;
+    m.s = s;
+    m.frame = frame;
+    m.prev_frame = prev_frame;
+    m.prev_cam = prev_cam;
+    m.prev = prev;
+    m.th = th;
+    parallel_tiles(cur->width, cur->height, 16, threads, motion_tile, &m, NULL, NULL);
     return 0;
 }
 
@@ -126,7 +154,7 @@ int gbuffer_build_with_motion(gbuffer *g, const scene *s, int frame, uint32_t se
     scene_free(&prev_s);
     if (status) return -1;
     status = gbuffer_build(g, s, &cc, seed, (uint32_t)frame, jitter, threads, e);
-    if (!status) status = gbuffer_motion(g, s, frame, &pc, frame - 1, &prev, NULL, e);
+    if (!status) status = gbuffer_motion(g, s, frame, &pc, frame - 1, &prev, NULL, threads, e);
     gbuffer_free(&prev);
     if (status) gbuffer_free(g);
     return status;

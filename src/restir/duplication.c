@@ -2,6 +2,7 @@
 #include "restir/duplication.h"
 
 #include <math.h>
+#include "restir/threads.h"
 
 int duplication_same_sample(const reservoir *a, const reservoir *b)
 {
@@ -9,26 +10,69 @@ int duplication_same_sample(const reservoir *a, const reservoir *b)
            a->y.seed == b->y.seed && a->y.pixel == b->y.pixel && a->y.sample == b->y.sample;
 }
 
-/* Enhanced §5 step 1 at one pixel: copies of p's sample in its window, p excluded. */
-static unsigned window_count(const reservoir *rs, int w, int h, int r, int x, int y)
+/* The identity of a reservoir's sample, compact: a 17 x 17 window of them fits in L1,
+ * where the window of 224-B reservoirs does not (issue 17: the map was 14% of a frame). */
+typedef struct {
+    uint32_t seed, pixel, sample, live; /* live: W > 0 and a valid sample */
+} sample_key;
+
+static sample_key key_of(const reservoir *r)
 {
-    const reservoir *self = &rs[(long)y * w + x];
-    unsigned n = 0;
-    int i, j;
-    if (!(self->W > 0)) return 0;
-    for (j = y - r; j <= y + r; ++j) {
-        if (j < 0 || j >= h) continue;
-        for (i = x - r; i <= x + r; ++i)
-            if (i >= 0 && i < w && (i != x || j != y) && duplication_same_sample(self, &rs[(long)j * w + i])) ++n;
-    }
-    return n;
+    sample_key k;
+    k.live = r->W > 0 && path_sample_is_valid(&r->y);
+    k.seed = r->y.seed;
+    k.pixel = r->y.pixel;
+    k.sample = r->y.sample;
+    return k;
 }
 
-void duplication_counts(const reservoir *rs, int w, int h, int r, uint16_t *count)
+/* duplication_same_sample on keys */
+static int same_key(const sample_key *a, const sample_key *b)
 {
-    int x, y;
-    for (y = 0; y < h; ++y)
-        for (x = 0; x < w; ++x) count[(long)y * w + x] = (uint16_t)window_count(rs, w, h, r, x, y);
+    return a->live && b->live && a->pixel == b->pixel && a->seed == b->seed && a->sample == b->sample;
+}
+
+typedef struct {
+    const reservoir *rs;
+    int w, h, r;
+    uint16_t *count;
+} counts_job;
+
+/* Enhanced §5 step 1 on one tile: the keys of the tile and its r-pixel apron (clipped at
+ * the image border), then per pixel the copies of its sample in its window, itself
+ * excluded. Each pixel writes only its own count: the same bytes for any thread count. */
+static void counts_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
+{
+    enum { SIDE = 16 + 2 * DUPLICATION_RADIUS }; /* tile (16, pipeline below) + apron */
+    const counts_job *job = ctx;
+    int r = job->r, ax0 = x0 - r < 0 ? 0 : x0 - r, ay0 = y0 - r < 0 ? 0 : y0 - r;
+    int ax1 = x1 + r > job->w ? job->w : x1 + r, ay1 = y1 + r > job->h ? job->h : y1 + r;
+    sample_key keys[SIDE * SIDE]; /* 16 KB */
+    int x, y, i, j;
+    (void)worker;
+    for (y = ay0; y < ay1; ++y)
+        for (x = ax0; x < ax1; ++x) keys[(y - ay0) * SIDE + (x - ax0)] = key_of(&job->rs[(long)y * job->w + x]);
+    for (y = y0; y < y1; ++y)
+        for (x = x0; x < x1; ++x) {
+            const sample_key *self = &keys[(y - ay0) * SIDE + (x - ax0)];
+            unsigned n = 0;
+            if (self->live)
+                for (j = y - r < ay0 ? ay0 : y - r; j <= y + r && j < ay1; ++j)
+                    for (i = x - r < ax0 ? ax0 : x - r; i <= x + r && i < ax1; ++i)
+                        n += (i != x || j != y) && same_key(self, &keys[(j - ay0) * SIDE + (i - ax0)]);
+            job->count[(long)y * job->w + x] = (uint16_t)n;
+        }
+}
+
+void duplication_counts(const reservoir *rs, int w, int h, int r, int threads, uint16_t *count)
+{
+    counts_job job;
+    job.rs = rs;
+    job.w = w;
+    job.h = h;
+    job.r = r;
+    job.count = count;
+    parallel_tiles(w, h, 16, threads, counts_tile, &job, NULL, NULL); /* 16: SIDE in counts_tile */
 }
 
 double duplication_score_denominator(int r) { return (double)(2 * r + 1) * (double)(2 * r + 1) - 1; }

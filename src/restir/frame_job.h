@@ -37,6 +37,7 @@ typedef struct frame_job_s {
     uint32_t frame;
     int pass;
     reservoir *initial, *pong;       /* ping-pong: pass p reads src, writes dst */
+    int pss_rows;                    /* the buffers have primary-sample rows (reservoir.h) */
     const reservoir *src;
     reservoir *dst;
     const reservoir *final;          /* what the frame shades */
@@ -57,8 +58,9 @@ typedef struct frame_job_s {
     path_vertex *pair_x1;            /* pair step: x1 of every pixel of the frame (built once) */
 } frame_job;
 
-/* Every stage of a frame calls this once its output reservoirs `rs` are complete: it
- * dumps them and/or replaces them by a dump (restart), as j->sio says (stage_dump.h).
+/* Every stage of a frame calls this once its output reservoirs `rs` are complete: their
+ * samples take their explicit numbers into rs's own rows (reservoir_buffer_keep_pss; the
+ * buffers they were shifted or copied from are intact until the next stage), and it dumps them and/or replaces them by a dump (restart), as j->sio says (stage_dump.h).
  * A new stage plugs into the golden-oracle kit with this one line. */
 void pipeline_stage_done(frame_job *j, const char *name, reservoir *rs);
 /* Restart from a dump (--from-stage S): 1 if stage `name` is not computed in this frame

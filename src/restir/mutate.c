@@ -112,8 +112,10 @@ int mutate_explicit(const restir_context *c, const path_vertex *y1, const path_s
 {
     path_trunk t;
     int nb = mutate_bsdf_vertices(y), k = y->rc_k, v;
-    real n[4];
+    real n[4], *store = u->pss; /* the caller's storage (mutate.h) */
     *u = *y;
+    path_sample_copy_pss(y, store);
+    u->pss = store;
     for (v = 1; v <= nb; ++v) { /* the numbers the sample replays (identity or explicit) */
         path_bsdf_numbers(y, v, n);
         set_numbers(u, v, n);
@@ -202,9 +204,11 @@ int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sa
 {
     path_trunk ty, tz;
     path_end end;
-    real n[3], a_y[3], a_z[3];
+    real n[3], a_y[3], a_z[3], *store = z->pss; /* the caller's storage, not u's (mutate.h) */
     int nb = mutate_bsdf_vertices(u), k = u->rc_k, j;
     *z = *u;
+    path_sample_copy_pss(u, store);
+    z->pss = store;
     *ratio = 1;
     if (strategy == MUTATE_FP || k == PATH_RC_NONE) {
         /* fp (pp without reconnection vertex: "the full path is mutated"): symmetric. */
@@ -258,9 +262,9 @@ static int skip_reason(int strategy, const path_sample *y)
  * acceptance Eq. 14 / Eq. 19, the UCW update of Eq. 16 applied per accepted step (App. A
  * Eq. 23; the product telescopes to Eq. 16). */
 void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key key, int stage, int strategy,
-                      int iterations, reservoir *r, mutate_stats *st)
+                      int iterations, reservoir *r, real *pss_home, mutate_stats *st)
 {
-    real xi[PATH_MAX_PSS];
+    real xi[PATH_MAX_PSS], u_numbers[PATH_MAX_PSS], z_numbers[PATH_MAX_PSS];
     int it, j, why;
     st->pixels++;
     why = !(r->W > 0) || !(r->y.target > 0) ? MUTATE_SKIP_EMPTY : skip_reason(strategy, &r->y);
@@ -275,6 +279,8 @@ void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key ke
         real ratio, a, xl[2], xc[2];
         uint32_t slot = 64u * (uint32_t)it;
         int nv = numbered_vertices(&r->y);
+        u.pss = u_numbers;
+        z.pss = z_numbers;
         for (j = 0; j < 2; ++j) {
             xc[j] = rng_u(key, RNG_MUTATE, (uint32_t)stage, slot + MUTATE_SLOT_LOBE_CURRENT + (uint32_t)j);
             xl[j] = rng_u(key, RNG_MUTATE, (uint32_t)stage, slot + MUTATE_SLOT_LOBE_PROPOSAL + (uint32_t)j);
@@ -314,6 +320,7 @@ void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key ke
         st->accepted++;
         if (c->ablation != RESTIR_ABLATE_MUTATION_W) r->W = mutate_weight(r->W, r->y.target, z.target);
         r->y = z;
+        path_sample_keep_pss(&r->y, pss_home); /* z_numbers is the next proposal's storage */
     }
     st->pss_numbers += r->y.n_pss;
 }
@@ -342,21 +349,32 @@ static uint64_t sample_hash(const path_sample *y)
     return h;
 }
 
-static int cmp_u64(const void *a, const void *b)
+/* LSD radix sort of n keys, 8 bits per pass, through tmp[n] (issue 17: qsort of a 512 x 512
+ * frame's hashes was 2% of a real-time frame, all of it serial; this is a few ms). */
+static void radix_sort_u64(uint64_t *a, uint64_t *tmp, size_t n)
 {
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
+    int shift;
+    for (shift = 0; shift < 64; shift += 8) {
+        size_t count[257] = {0}, i;
+        uint64_t *t;
+        for (i = 0; i < n; ++i) count[((a[i] >> shift) & 0xFF) + 1]++;
+        for (i = 1; i < 257; ++i) count[i] += count[i - 1];
+        for (i = 0; i < n; ++i) tmp[count[(a[i] >> shift) & 0xFF]++] = a[i];
+        t = a; /* the sorted pass becomes the input of the next (8 passes: ends in a) */
+        a = tmp;
+        tmp = t;
+    }
 }
 
 uint64_t mutate_count_duplicates(const reservoir *r, size_t n, uint64_t *valid)
 {
-    uint64_t *h = malloc((n ? n : 1) * sizeof *h), dup = 0;
+    uint64_t *h = malloc(2 * (n ? n : 1) * sizeof *h), dup = 0;
     size_t i, m = 0, run;
     *valid = 0;
     if (!h) return 0;
     for (i = 0; i < n; ++i)
         if (path_sample_is_valid(&r[i].y) && r[i].W > 0) h[m++] = sample_hash(&r[i].y);
-    qsort(h, m, sizeof *h, cmp_u64);
+    radix_sort_u64(h, h + m, m);
     for (i = 0; i < m; i += run) {
         for (run = 1; i + run < m && h[i + run] == h[i]; ++run) {}
         if (run > 1) dup += run;

@@ -10,6 +10,7 @@ void path_sample_clear(path_sample *s)
     memset(s->lobe, PATH_LOBE_NONE, sizeof s->lobe);
     s->technique = PATH_TECH_NONE;
     s->rc_k = PATH_RC_NONE;
+    s->pss = NULL; /* no explicit numbers: a vector of zeros (path_sample.h) */
 }
 
 void path_sample_begin(path_sample *s, uint32_t seed, uint32_t pixel, uint32_t sample)
@@ -34,6 +35,19 @@ void path_sample_set_contribution(path_sample *s, rgb F)
 {
     s->F = F;
     s->target = luminance(F);
+}
+
+void path_sample_copy_pss(const path_sample *s, real *to)
+{
+    int i;
+    for (i = 0; i < PATH_MAX_PSS; ++i) to[i] = s->pss ? s->pss[i] : 0;
+}
+
+void path_sample_keep_pss(path_sample *s, real *home)
+{
+    if (!s->pss || s->pss == home) return;
+    memcpy(home, s->pss, PATH_MAX_PSS * sizeof *home);
+    s->pss = home;
 }
 
 static int finite_nonneg(real v) { return isfinite(v) && v >= 0; }
@@ -95,6 +109,7 @@ static int check_pss(const path_sample *s, const char *what, rerror *e)
 {
     int i;
     if (s->n_pss > PATH_MAX_PSS) return rerror_set(e, "%s: n_pss = %d > %d", what, s->n_pss, PATH_MAX_PSS);
+    if (s->n_pss > 0 && !s->pss) return rerror_set(e, "%s: n_pss = %d without numbers", what, s->n_pss);
     for (i = 0; i < s->n_pss; ++i)
         if (!(s->pss[i] >= 0 && s->pss[i] < 1))
             return rerror_set(e, "%s: pss[%d] = %g is not in [0, 1)", what, i, (double)s->pss[i]);

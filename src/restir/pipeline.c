@@ -163,7 +163,7 @@ static void stage_duplication(pipeline *pl, const reservoir *final, restir_stats
 {
     duplication_summary sum;
     long n = (long)pl->j.s->width * pl->j.s->height;
-    duplication_counts(final, pl->j.s->width, pl->j.s->height, DUPLICATION_RADIUS, pl->dup);
+    duplication_counts(final, pl->j.s->width, pl->j.s->height, DUPLICATION_RADIUS, pl->j.o->threads, pl->dup);
     duplication_summarize(pl->dup, n, &sum);
     duplication_summary_add(&times->correlation, &sum);
     times->ms_correlation += frame_lap_ms(t);
@@ -184,6 +184,7 @@ static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             path_vertex v;
             if (!frame_primary_vertex(j->s, &j->g, p, &v)) continue;
             mutate_reservoir(&j->ctx, &v, key, pl->mutate_stage, j->o->mutation, j->o->mutations, &pl->out[p],
+                             reservoir_buffer_pss_row(pl->out, (size_t)j->s->width * (size_t)j->s->height, (size_t)p),
                              &w->st.mutate);
         }
 }
@@ -257,7 +258,7 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     camera_init(&pl->cam, scene_camera_at(j->s, frame), j->s->width, j->s->height);
     if (frame_stage_gbuffer(j, &pl->cam, times, &t, e)) return -1;
     if (pl->has_prev &&
-        gbuffer_motion(&j->g, j->s, frame, &pl->prev_cam, pl->prev_frame, &pl->prev_g, NULL, e))
+        gbuffer_motion(&j->g, j->s, frame, &pl->prev_cam, pl->prev_frame, &pl->prev_g, NULL, j->o->threads, e))
         return -1;
     times->ms_motion += frame_lap_ms(&t);
     if (j->sio) stage_io_gbuffer(j->sio, &j->g);
@@ -279,10 +280,12 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
     }
     if (j->o->spatial_passes > 0) stage_mutate(pl, final, MUTATE_AFTER_SPATIAL, times, &t);
-    { /* Mutations Fig. 8: duplicated samples among the shaded reservoirs */
+    { /* Mutations Fig. 8: duplicated samples among the shaded reservoirs (timed with the
+       * duplication map: a statistic of the same kind, not shading) */
         uint64_t valid;
         times->mutate.duplicates += mutate_count_duplicates(final, (size_t)j->s->width * (size_t)j->s->height, &valid);
         times->mutate.final_valid += valid;
+        times->ms_correlation += frame_lap_ms(&t);
     }
     frame_stage_shade(j, final, times, &t);
     stage_duplication(pl, final, times, &t);
@@ -365,8 +368,9 @@ static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
                           q->first - 1, q->last - 1);
     }
     memcpy(pl->prev, rs, pixels * sizeof *rs);
+    reservoir_buffer_keep_pss(pl->prev, pixels, j->o->threads); /* the numbers, before rs's rows are freed */
     free(rs);
-    duplication_counts(pl->prev, j->s->width, j->s->height, DUPLICATION_RADIUS, pl->dup); /* --dedup reads it */
+    duplication_counts(pl->prev, j->s->width, j->s->height, DUPLICATION_RADIUS, j->o->threads, pl->dup); /* --dedup reads it */
     j->frame = (uint32_t)k;
     if (pose_frame(pl, k, e)) return -1;
     camera_init(&pl->prev_cam, scene_camera_at(j->s, k), j->s->width, j->s->height);
@@ -446,9 +450,13 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     if (!status && restir_pairing_build(&j->no, o, textures, e)) status = -1;
     j->max_domains = neighbor_candidate_count(&j->no) + 1;
     pixels = (size_t)s->width * (size_t)s->height;
-    j->initial = rmalloc(pixels, sizeof *j->initial, e);
-    j->pong = rmalloc(pixels, sizeof *j->pong, e);
-    pl.prev = rmalloc(pixels, sizeof *pl.prev, e);
+    /* primary-sample rows (reservoir.h) where samples with explicit numbers can appear:
+     * mutations, or reservoirs read from a checkpoint or a stage dump */
+    j->pss_rows = o->mutations > 0 || q->resume || (q->stages && q->stages->from_dir);
+    if (j->sio) j->sio->pss_rows = j->pss_rows;
+    j->initial = reservoir_buffer_alloc(pixels, j->pss_rows, e);
+    j->pong = reservoir_buffer_alloc(pixels, j->pss_rows, e);
+    pl.prev = reservoir_buffer_alloc(pixels, j->pss_rows, e);
     j->sum = rcalloc(3 * pixels, sizeof *j->sum, e);
     pl.dup = rcalloc(pixels, sizeof *pl.dup, e);
     pl.age = rcalloc(pixels, sizeof *pl.age, e);

@@ -2,6 +2,7 @@
 #include "restir/reservoir.h"
 
 #include <math.h>
+#include "restir/threads.h"
 
 void reservoir_init(reservoir *r)
 {
@@ -74,4 +75,32 @@ rgb reservoir_estimate(const reservoir *r)
 {
     if (!path_sample_is_valid(&r->y) || r->W == 0) return rgb_gray(0);
     return rgb_scale(r->y.F, r->W);
+}
+
+reservoir *reservoir_buffer_alloc(size_t n, int pss_rows, rerror *e)
+{
+    /* sizeof(reservoir) is a multiple of the alignment of real, so the rows are aligned */
+    return rmalloc(n ? n : 1, sizeof(reservoir) + (pss_rows ? PATH_MAX_PSS * sizeof(real) : 0), e);
+}
+
+real *reservoir_buffer_pss_row(reservoir *rs, size_t n, size_t p) { return (real *)(void *)(rs + n) + p * PATH_MAX_PSS; }
+
+typedef struct {
+    reservoir *rs;
+    size_t n;
+} keep_job;
+
+static void keep_item(void *ctx, long p, int worker)
+{
+    keep_job *k = ctx;
+    (void)worker;
+    path_sample_keep_pss(&k->rs[p].y, reservoir_buffer_pss_row(k->rs, k->n, (size_t)p));
+}
+
+void reservoir_buffer_keep_pss(reservoir *rs, size_t n, int threads)
+{
+    keep_job k;
+    k.rs = rs;
+    k.n = n;
+    parallel_items((long)n, threads, keep_item, &k); /* each item writes its own row only */
 }

@@ -74,10 +74,10 @@ void reservoir_record_encode(const reservoir *r, uint32_t flags, unsigned char *
     put_rgb(&p, s->F);
     le_put_f64(&p, s->target);
     if (flags & RESERVOIR_DUMP_FLAG_PSS)
-        for (i = 0; i < PATH_MAX_PSS; ++i) le_put_f64(&p, s->pss[i]);
+        for (i = 0; i < PATH_MAX_PSS; ++i) le_put_f64(&p, s->pss ? s->pss[i] : 0); /* NULL: zeros (path_sample.h) */
 }
 
-void reservoir_record_decode(const unsigned char *buf, uint32_t flags, reservoir *r)
+void reservoir_record_decode(const unsigned char *buf, uint32_t flags, reservoir *r, real *pss)
 {
     path_sample *s = &r->y;
     const unsigned char *p = buf;
@@ -114,8 +114,10 @@ void reservoir_record_decode(const unsigned char *buf, uint32_t flags, reservoir
     s->light_pdf = (real)le_get_f64(&p);
     s->F = get_rgb(&p);
     s->target = (real)le_get_f64(&p);
-    if (flags & RESERVOIR_DUMP_FLAG_PSS)
-        for (i = 0; i < PATH_MAX_PSS; ++i) s->pss[i] = (real)le_get_f64(&p);
+    if (flags & RESERVOIR_DUMP_FLAG_PSS) {
+        for (i = 0; i < PATH_MAX_PSS; ++i) pss[i] = (real)le_get_f64(&p);
+        s->pss = pss;
+    }
 }
 
 /* ---- header ---- */
@@ -228,7 +230,9 @@ static int read_records(FILE *fp, const char *path, reservoir *out, uint64_t cou
         if (fread(record, 1, size, fp) != size)
             return rerror_at(e, path, 0, "file is short: record %llu of %llu is missing", (unsigned long long)i,
                              (unsigned long long)count);
-        reservoir_record_decode(record, flags, &out[i]);
+        reservoir_record_decode(record, flags, &out[i],
+                                (flags & RESERVOIR_DUMP_FLAG_PSS) ? reservoir_buffer_pss_row(out, (size_t)count, (size_t)i)
+                                                                  : NULL);
         snprintf(what, sizeof what, "%s: record %llu", path, (unsigned long long)i);
         if (path_sample_check(&out[i].y, what, e)) return -1;
         if (!(out[i].wsum >= 0) || !(out[i].W >= 0) || !(out[i].confidence >= 0))
@@ -259,7 +263,7 @@ int reservoir_dump_read(const char *path, reservoir **out, reservoir_dump_info *
                   (unsigned long long)(RESERVOIR_DUMP_HEADER_SIZE + count * reservoir_record_size(info->flags)));
         goto fail;
     }
-    *out = rmalloc((size_t)count, sizeof **out, e);
+    *out = reservoir_buffer_alloc((size_t)count, (info->flags & RESERVOIR_DUMP_FLAG_PSS) != 0, e);
     if (!*out) goto fail;
     if (read_records(fp, path, *out, count, info->flags, e)) {
         free(*out);

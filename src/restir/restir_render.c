@@ -691,12 +691,16 @@ static void mutate_stats_write_json(FILE *out, const mutate_stats *m, double ms,
 
 void restir_memory_per_pixel(const restir_options *o, int sequence, restir_memory *m)
 {
+    unsigned per_buffer;
     memset(m, 0, sizeof *m);
     m->reservoir = (unsigned)sizeof(reservoir);
-    m->reservoir_pss = (unsigned)(PATH_MAX_PSS * sizeof(real));
-    m->reservoirs_initial = m->reservoir;
-    m->reservoirs_spatial = sequence || o->spatial_passes > 0 ? m->reservoir : 0; /* ping-pong */
-    m->reservoirs_previous = sequence ? m->reservoir : 0;                         /* temporal input */
+    /* the primary-sample rows of every buffer (reservoir.h), allocated by mutation runs only
+     * (and by sequences that read a checkpoint or a stage dump) */
+    m->reservoir_pss = sequence && o->mutations > 0 ? (unsigned)(PATH_MAX_PSS * sizeof(real)) : 0;
+    per_buffer = m->reservoir + m->reservoir_pss;
+    m->reservoirs_initial = per_buffer;
+    m->reservoirs_spatial = sequence || o->spatial_passes > 0 ? per_buffer : 0; /* ping-pong */
+    m->reservoirs_previous = sequence ? per_buffer : 0;                         /* temporal input */
     m->gbuffer = (unsigned)sizeof(gbuffer_texel);
     m->gbuffer_previous = sequence ? m->gbuffer : 0;
     m->accumulation = (unsigned)(3 * sizeof(double));

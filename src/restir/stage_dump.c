@@ -153,6 +153,12 @@ static int restart_load(stage_io *io, const char *name, reservoir *rs, int width
                          info.width, info.height, info.frame, info.tag, width, height, (unsigned)io->frame, name);
     }
     memcpy(rs, in, (size_t)width * (size_t)height * sizeof *rs);
+    if (io->pss_rows) {
+        reservoir_buffer_keep_pss(rs, (size_t)width * (size_t)height, 1); /* before in's rows are freed */
+    } else if (info.flags & RESERVOIR_DUMP_FLAG_PSS) {
+        free(in);
+        return rerror_at(&io->err, path, 0, "holds primary-sample vectors, the run has no rows for them");
+    }
     free(in);
     io->restarted++;
     return 0;
@@ -570,5 +576,8 @@ int pipeline_stage_skipped(const frame_job *j, const char *name) { return stage_
 
 void pipeline_stage_done(frame_job *j, const char *name, reservoir *rs)
 {
+    /* a stage a restart skips did not write rs (restart_load keeps the numbers it reads) */
+    if (j->pss_rows && !pipeline_stage_skipped(j, name))
+        reservoir_buffer_keep_pss(rs, (size_t)j->s->width * (size_t)j->s->height, j->o->threads);
     if (j->sio) stage_io_reservoirs(j->sio, name, rs, j->s->width, j->s->height);
 }
