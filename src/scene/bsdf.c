@@ -198,6 +198,8 @@ static int finish_sample(const lobe_ops *ops, const lobe_view *v, vec3 wi_view, 
     if (ops->delta_coefficient) {
         s->f_cos = ops->delta_coefficient(v);
         s->pdf = 1;
+    } else if (ops->eval_pdf) {
+        ops->eval_pdf(v, wi_view, &s->f_cos, &s->pdf);
     } else {
         s->f_cos = ops->eval(v, wi_view);
         s->pdf = ops->pdf(v, wi_view);
