@@ -35,19 +35,17 @@ for sc in cornell ajar shadow; do
 done
 
 # 3. ReSTIR ms per stage (wall clock, from --stats), base vs new, interleaved.
-stage_ms() { # bin json -> "gbuffer initial spatial temporal shade" (ms summed over frames)
-    nice -n 5 "$1" render "$here/scenes/cornell.scene" --method restir --preset gris-realtime --sequence 0..3 \
-        --size 128x128 --threads 1 -o "$out/stage.pfm" --stats "$2" > /dev/null 2>&1
-    tr -d '\n' < "$2" | sed 's/.*"milliseconds": {\([^}]*\)}.*/\1/' |
-        sed 's/"gbuffer": \([0-9.]*\), "initial": \([0-9.]*\), "spatial": \[\([0-9.]*\)[^]]*\], "temporal": \([0-9.]*\), "shade": \([0-9.]*\).*/\1 \2 \3 \4 \5/'
+stage_ms() { # bin name -> "gbuffer initial spatial temporal shade" (ms summed over frames)
+    sh "$here/tools/stage_ms.sh" "$1" "$here/scenes/cornell.scene" "$out/$2" --method restir --preset gris-realtime \
+        --sequence 0..3 --size 128x128 --threads 1
 }
 : > "$out/stages.rows"
 i=0
 while [ $i -lt "$rounds" ]; do
     if [ $((i % 2)) -eq 0 ]; then
-        a=$(stage_ms "$base" "$out/a.json"); b=$(stage_ms "$new" "$out/b.json")
+        a=$(stage_ms "$base" a); b=$(stage_ms "$new" b)
     else
-        b=$(stage_ms "$new" "$out/b.json"); a=$(stage_ms "$base" "$out/a.json")
+        b=$(stage_ms "$new" b); a=$(stage_ms "$base" a)
     fi
     echo "$a $b" >> "$out/stages.rows"
     i=$((i + 1))

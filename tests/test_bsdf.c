@@ -196,16 +196,25 @@ TEST(bsdf_sample_consistent_with_eval)
         for (i = 0; i < 2000; ++i) {
             vec3 wo = random_direction(16, (uint32_t)i);
             vec2 u = v2(test_u(17, (uint32_t)i, 0), test_u(17, (uint32_t)i, 1));
-            bsdf_sample_record s;
-            real p[BSDF_MAX_LOBES], sum = 0;
-            int l;
-            if (!bsdf_sample(&b, wo, test_u(17, (uint32_t)i, 2), u, &s)) continue;
+            bsdf_sample_record s, g;
+            real ul = test_u(17, (uint32_t)i, 2), p[BSDF_MAX_LOBES], sum = 0;
+            int l, ok = bsdf_sample(&b, wo, ul, u, &s);
             bsdf_lobe_probabilities(&b, wo, p);
+            /* The path vertex's shortcuts (docs/performance.md) are exact: P(l|wo) given
+             * once (bsdf_sample_given), the sampled lobe's pdf taken from the sample
+             * (bsdf_pdf_given) give bsdf_sample and bsdf_pdf bit for bit. */
+            CHECK(bsdf_sample_given(&b, wo, p, ul, u, &g) == ok);
+            CHECK(bsdf_pdf_given(&b, wo, p, wo, -1, 0) == bsdf_pdf(&b, wo, wo));
+            if (!ok) continue;
+            CHECK(g.wi.x == s.wi.x && g.wi.y == s.wi.y && g.wi.z == s.wi.z && g.lobe == s.lobe && g.pdf == s.pdf);
+            CHECK(g.weight.r == s.weight.r && g.weight.g == s.weight.g && g.weight.b == s.weight.b);
             CHECK(s.lobe_prob == p[s.lobe]);
             CHECK(rel_diff(s.weight.g, s.f_cos.g / (s.lobe_prob * s.pdf)) < 1e-5);
             if (s.is_delta) continue;
-            CHECK(rel_diff(bsdf_lobe_eval(&b, s.lobe, wo, s.wi).g, s.f_cos.g) < 1e-5);
-            CHECK(rel_diff(bsdf_lobe_pdf(&b, s.lobe, wo, s.wi), s.pdf) < 1e-5);
+            /* eval and pdf of the sampled direction are the sample's own f and pdf, exactly */
+            CHECK(bsdf_lobe_eval(&b, s.lobe, wo, s.wi).g == s.f_cos.g);
+            CHECK(bsdf_lobe_pdf(&b, s.lobe, wo, s.wi) == s.pdf);
+            CHECK(bsdf_pdf_given(&b, wo, p, s.wi, s.lobe, s.pdf) == bsdf_pdf(&b, wo, s.wi));
             for (l = 0; l < bsdf_lobe_count(&b); ++l) sum += p[l] * bsdf_lobe_pdf(&b, l, wo, s.wi);
             CHECK(rel_diff(bsdf_pdf(&b, wo, s.wi), sum) < 1e-5);
         }

@@ -131,6 +131,15 @@ real bsdf_pdf(const bsdf *b, vec3 wo, vec3 wi);
  * s->weight = f_l cos / (P(l|wo) pdf_l) (one-sample lobe selection). */
 int bsdf_sample(const bsdf *b, vec3 wo, real u_lobe, vec2 u, bsdf_sample_record *s);
 
+/* ---- the same with P(l|wo) computed once per vertex (p = bsdf_lobe_probabilities(b, wo)) ----
+ * Bit for bit the functions above; a path vertex needs P(l|wo) for NEE, lobe selection,
+ * sampling and the all-lobe pdf, and computes it once (docs/performance.md). */
+int bsdf_sample_given(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], real u_lobe, vec2 u,
+                      bsdf_sample_record *s);
+/* bsdf_pdf; if known_lobe >= 0, pdf_known_lobe(wi) is not recomputed but known_pdf is used
+ * (the pdf of the sample that produced wi, bsdf_sample_record.pdf). */
+real bsdf_pdf_given(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], vec3 wi, int known_lobe, real known_pdf);
+
 /* ---- the local shading frame ---- */
 typedef struct { vec3 t, b, n; } shading_frame;
 

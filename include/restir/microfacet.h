@@ -29,6 +29,8 @@ real ggx_G2_separable(vec3 wo, vec3 wi, vec3 m, real alpha);
 
 /* Visible normal distribution D_wo(m) (density of m w.r.t. solid angle); wo.z > 0. */
 real ggx_vndf_pdf(vec3 wo, vec3 m, real alpha);
+/* The same from its factors wo.m, G1(wo, m) and D(m), for a caller that already has them. */
+real ggx_vndf_pdf_terms(vec3 wo, real wo_m, real g1_wo, real d);
 /* Heitz 2018: m ~ D_wo from u in [0,1)^2 (polar disk mapping as in the paper). */
 vec3 ggx_vndf_sample(vec3 wo, vec2 u, real alpha);
 /* Inverse: the u that ggx_vndf_sample maps to m. Returns 0 if m is not visible

@@ -60,10 +60,12 @@ typedef struct {
     shading_frame frame; /* z = ns */
     vec3 wo_local;
     bsdf b;
+    real lobe_p[BSDF_MAX_LOBES]; /* P(l|wo), bsdf_lobe_probabilities(&b, wo_local) */
     int can_nee;         /* 1 if some lobe with P(l|wo) > 0 is not a Dirac */
 } path_vertex;
 
-/* Builds vertex x_i from the hit of the ray that arrived along direction ray_dir. */
+/* Builds vertex x_i from the hit of the ray that arrived along direction ray_dir. A vertex
+ * built by hand must fill lobe_p too (the functions below read it instead of recomputing). */
 void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir);
 
 /* Radiance leaving x_i towards x_{i-1}: Ke if x_i lies on the front face of a light,

@@ -4,7 +4,6 @@
 
 void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir)
 {
-    real p[BSDF_MAX_LOBES];
     int l, n;
     v->hit = *h;
     v->position = v3_from_f(h->position);
@@ -14,12 +13,13 @@ void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3
     v->frame = shading_frame_make(v->ns);
     v->wo_local = shading_frame_to_local(&v->frame, v->wo);
     v->b = bsdf_from_material(&s->materials[h->material]);
+    /* P(l|wo), once: NEE, lobe selection, sampling and the all-lobe pdf all need it. */
+    bsdf_lobe_probabilities(&v->b, v->wo_local, v->lobe_p);
     /* NEE can only reach the non-Dirac lobes; skip it where there are none. */
-    bsdf_lobe_probabilities(&v->b, v->wo_local, p);
     n = bsdf_lobe_count(&v->b);
     v->can_nee = 0;
     for (l = 0; l < n; ++l)
-        if (p[l] > 0 && !bsdf_lobe_is_delta(&v->b, l)) v->can_nee = 1;
+        if (v->lobe_p[l] > 0 && !bsdf_lobe_is_delta(&v->b, l)) v->can_nee = 1;
 }
 
 rgb path_vertex_emitted(const path_context *c, const path_vertex *v)
@@ -51,17 +51,16 @@ rgb path_vertex_eval(const path_vertex *v, vec3 wi)
 real path_vertex_pdf(const path_vertex *v, vec3 wi)
 {
     vec3 wl = shading_frame_to_local(&v->frame, wi);
-    return bsdf_pdf(&v->b, v->wo_local, wl);
+    return bsdf_pdf_given(&v->b, v->wo_local, v->lobe_p, wl, -1, 0);
 }
 
 int path_vertex_eval_lobe(const path_vertex *v, int lobe, vec3 wi, rgb *f_cos, real *pdf)
 {
-    real p[BSDF_MAX_LOBES];
+    const real *p = v->lobe_p;
     vec3 wl = shading_frame_to_local(&v->frame, wi);
     *f_cos = rgb_gray(0);
     *pdf = 0;
     if (lobe < 0 || lobe >= bsdf_lobe_count(&v->b) || bsdf_lobe_is_delta(&v->b, lobe)) return 0;
-    bsdf_lobe_probabilities(&v->b, v->wo_local, p);
     if (!(p[lobe] > 0) || !sides_consistent(v, wi, wl)) return 0;
     /* The same f and pdf as a sample of this direction (bsdf.c finish_sample). */
     *f_cos = bsdf_lobe_eval(&v->b, lobe, v->wo_local, wl);
@@ -117,15 +116,16 @@ int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index
 int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out)
 {
     bsdf_sample_record s;
-    if (!bsdf_sample(&v->b, v->wo_local, u_lobe, u, &s)) return 0;
+    if (!bsdf_sample_given(&v->b, v->wo_local, v->lobe_p, u_lobe, u, &s)) return 0;
     out->wi = shading_frame_to_world(&v->frame, s.wi);
     if (!sides_consistent(v, out->wi, s.wi)) return 0;
     out->lobe = s.lobe;
     out->is_delta = s.is_delta;
     out->weight = s.weight;
     out->pdf_lobe = s.lobe_prob * s.pdf;
-    /* GRIS §7.6: the MIS weight of a BSDF-sampled path uses the pdf summed over all lobes. */
-    out->pdf_all = s.is_delta ? 0 : bsdf_pdf(&v->b, v->wo_local, s.wi);
+    /* GRIS §7.6: the MIS weight of a BSDF-sampled path uses the pdf summed over all lobes
+     * (the sampled lobe's pdf is s.pdf: not evaluated again). */
+    out->pdf_all = s.is_delta ? 0 : bsdf_pdf_given(&v->b, v->wo_local, v->lobe_p, s.wi, s.lobe, s.pdf);
     return 1;
 }
 

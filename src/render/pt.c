@@ -101,34 +101,36 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
     rng_key key = rng_key_make(o->seed, (uint32_t)(py * j->cam.width + px), sample);
     ray r = primary_ray(&j->cam, px, py, o->seed, sample, o->jitter);
     surface_hit h;
-    path_vertex v, next;
+    path_vertex vertices[2], *v = &vertices[0], *next = &vertices[1], *swap;
     rgb L, beta = rgb_gray(1);
     int i;
     ++*rays;
     if (!scene_intersect(j->s, &r, &h)) return rgb_gray(0);
-    path_vertex_make(&v, j->s, &h, v3_from_f(r.dir));
+    path_vertex_make(v, j->s, &h, v3_from_f(r.dir));
     /* emission at x1 is added directly (docs/design.md, Conventions); it is the path of length 1 */
-    L = o->min_depth <= 1 ? path_vertex_emitted(&j->ctx, &v) : rgb_gray(0);
+    L = o->min_depth <= 1 ? path_vertex_emitted(&j->ctx, v) : rgb_gray(0);
     /* At x_i, both NEE and the BSDF bounce make paths of length i + 1 <= max_depth; those
      * shorter than min_depth are traced (the walk needs them) but not counted. */
     for (i = 1; i < o->max_depth; ++i) {
         bsdf_bounce b;
         int counted = i + 1 >= o->min_depth;
-        if (counted && j->ctx.strategy != PT_STRATEGY_BSDF && v.can_nee) {
+        if (counted && j->ctx.strategy != PT_STRATEGY_BSDF && v->can_nee) {
             nee_sample n;
-            int lit = vertex_sample_light(&j->ctx, &v, key, (uint32_t)i, &n);
+            int lit = vertex_sample_light(&j->ctx, v, key, (uint32_t)i, &n);
             *rays += (uint64_t)n.shadow_ray;
             if (lit) L = rgb_add(L, rgb_mul(beta, rgb_scale(n.contribution, path_mis_weight_nee(&j->ctx, n.pdf_light, n.pdf_bsdf))));
         }
-        if (!vertex_sample_bsdf(&v, key, (uint32_t)i, &b)) break;
+        if (!vertex_sample_bsdf(v, key, (uint32_t)i, &b)) break;
         beta = rgb_mul(beta, b.weight);
         if (rgb_is_black(beta) || !roulette_survives(j, key, i, &beta)) break;
-        r = scene_spawn_ray(v.hit.position, v.hit.ng, v3f_from(b.wi), v3f_from(v.wo));
+        r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
         ++*rays;
         if (!scene_intersect(j->s, &r, &h)) break;
-        path_vertex_make(&next, j->s, &h, v3_from_f(r.dir));
-        if (counted) L = rgb_add(L, rgb_mul(beta, emitter_hit(j, &v, &next, &b)));
+        path_vertex_make(next, j->s, &h, v3_from_f(r.dir));
+        if (counted) L = rgb_add(L, rgb_mul(beta, emitter_hit(j, v, next, &b)));
+        swap = v; /* x_{i+1} becomes the current vertex without copying it */
         v = next;
+        next = swap;
     }
     return L;
 }

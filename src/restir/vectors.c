@@ -605,6 +605,7 @@ static void in_vertex(const double *in, path_vertex *v)
     v->frame = shading_frame_make(v->ns);
     v->wo_local = shading_frame_to_local(&v->frame, v->wo);
     v->b = in_bsdf(in);
+    bsdf_lobe_probabilities(&v->b, v->wo_local, v->lobe_p);
 }
 static unsigned in_lobe(double l) { return l == -1 ? PATH_LOBE_NEE : l == -2 ? PATH_LOBE_NONE : (unsigned)l; }
 

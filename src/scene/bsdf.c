@@ -14,7 +14,11 @@ static int is_dielectric(enum material_type t) { return t == MAT_DIELECTRIC || t
 
 static real clamp_real(real x, real lo, real hi) { return x < lo ? lo : (x > hi ? hi : x); }
 
-static rgb nonnegative(rgb c) { return rgb_make(fmax(c.r, 0), fmax(c.g, 0), fmax(c.b, 0)); }
+/* x > 0 ? x : 0 is fmax(x, 0) (NaN gives 0) without a libm call per vertex; only a -0
+ * may come out as +0, which no product or comparison downstream tells apart. */
+static real nonnegative_real(real x) { return x > 0 ? x : 0; }
+
+static rgb nonnegative(rgb c) { return rgb_make(nonnegative_real(c.r), nonnegative_real(c.g), nonnegative_real(c.b)); }
 
 /* Dielectrics need |ior - 1| >= 1e-3: at ior = 1 the refraction half vector
  * (Walter et al. 2007 Eq. 16) degenerates. A non-positive ior means "none" (1). */
@@ -137,16 +141,23 @@ void bsdf_lobe_probabilities(const bsdf *b, vec3 wo, real p[BSDF_MAX_LOBES])
     p[0] = 1 - p[1];
 }
 
-int bsdf_select_lobe(const bsdf *b, vec3 wo, real u_lobe)
+/* bsdf_select_lobe with P(l|wo) already computed (p). */
+static int select_lobe_given(const bsdf *b, const real p[BSDF_MAX_LOBES], real u_lobe)
 {
-    real p[BSDF_MAX_LOBES], upper = 0;
+    real upper = 0;
     int l, last = bsdf_lobe_count(b) - 1;
-    bsdf_lobe_probabilities(b, wo, p);
     for (l = 0; l < last; ++l) {
         upper += p[l];
         if (u_lobe < upper) return l;
     }
     return last;
+}
+
+int bsdf_select_lobe(const bsdf *b, vec3 wo, real u_lobe)
+{
+    real p[BSDF_MAX_LOBES];
+    bsdf_lobe_probabilities(b, wo, p);
+    return select_lobe_given(b, p, u_lobe);
 }
 
 void bsdf_lobe_interval(const bsdf *b, vec3 wo, int lobe, real *lo, real *hi)
@@ -187,6 +198,8 @@ static int finish_sample(const lobe_ops *ops, const lobe_view *v, vec3 wi_view, 
     if (ops->delta_coefficient) {
         s->f_cos = ops->delta_coefficient(v);
         s->pdf = 1;
+    } else if (ops->eval_pdf) {
+        ops->eval_pdf(v, wi_view, &s->f_cos, &s->pdf);
     } else {
         s->f_cos = ops->eval(v, wi_view);
         s->pdf = ops->pdf(v, wi_view);
@@ -196,20 +209,28 @@ static int finish_sample(const lobe_ops *ops, const lobe_view *v, vec3 wi_view, 
     return finite_rgb(s->weight);
 }
 
-int bsdf_lobe_sample(const bsdf *b, int lobe, vec3 wo, vec2 u, bsdf_sample_record *s)
+/* bsdf_lobe_sample with P(l|wo) already computed (p). */
+static int lobe_sample_given(const bsdf *b, int lobe, vec3 wo, const real p[BSDF_MAX_LOBES], vec2 u,
+                             bsdf_sample_record *s)
 {
     lobe_view v;
-    real p[BSDF_MAX_LOBES], flip = make_view(b, wo, &v);
+    real flip = make_view(b, wo, &v);
     const lobe_ops *ops = ops_of(bsdf_lobe_kind_of(b, lobe));
     vec3 wi;
     if (!flip) return 0;
-    bsdf_lobe_probabilities(b, wo, p);
     if (!(p[lobe] > 0) || !ops->sample(&v, u, &wi)) return 0;
     s->wi = flip_z(wi, flip);
     s->lobe = lobe;
     s->is_delta = ops->delta_coefficient != NULL;
     s->lobe_prob = p[lobe];
     return finish_sample(ops, &v, wi, s);
+}
+
+int bsdf_lobe_sample(const bsdf *b, int lobe, vec3 wo, vec2 u, bsdf_sample_record *s)
+{
+    real p[BSDF_MAX_LOBES];
+    bsdf_lobe_probabilities(b, wo, p);
+    return lobe_sample_given(b, lobe, wo, p, u, s);
 }
 
 /* Largest real below 1: inverses land on the half-open square [0,1)^2 like the samplers' inputs. */
@@ -242,15 +263,31 @@ rgb bsdf_eval(const bsdf *b, vec3 wo, vec3 wi)
 
 real bsdf_pdf(const bsdf *b, vec3 wo, vec3 wi)
 {
-    real p[BSDF_MAX_LOBES], sum = 0;
-    int l;
+    real p[BSDF_MAX_LOBES];
     bsdf_lobe_probabilities(b, wo, p);
+    return bsdf_pdf_given(b, wo, p, wi, -1, 0);
+}
+
+/* known_lobe's pdf_l(wi) is taken as known_pdf (a sampled direction's own pdf: the
+ * same function of the same arguments, so the same value; docs/performance.md). */
+real bsdf_pdf_given(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], vec3 wi, int known_lobe, real known_pdf)
+{
+    real sum = 0;
+    int l;
     for (l = 0; l < bsdf_lobe_count(b); ++l)
-        if (p[l] > 0) sum += p[l] * bsdf_lobe_pdf(b, l, wo, wi);
+        if (p[l] > 0) sum += p[l] * (l == known_lobe && valid_direction(wi) ? known_pdf : bsdf_lobe_pdf(b, l, wo, wi));
     return sum;
 }
 
 int bsdf_sample(const bsdf *b, vec3 wo, real u_lobe, vec2 u, bsdf_sample_record *s)
 {
-    return bsdf_lobe_sample(b, bsdf_select_lobe(b, wo, u_lobe), wo, u, s);
+    real p[BSDF_MAX_LOBES];
+    bsdf_lobe_probabilities(b, wo, p);
+    return bsdf_sample_given(b, wo, p, u_lobe, u, s);
+}
+
+int bsdf_sample_given(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], real u_lobe, vec2 u,
+                      bsdf_sample_record *s)
+{
+    return lobe_sample_given(b, select_lobe_given(b, p, u_lobe), wo, p, u, s);
 }

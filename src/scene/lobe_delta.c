@@ -44,6 +44,6 @@ static rgb refraction_coefficient(const lobe_view *v)
     return rgb_scale(v->b->specular, t / (v->eta * v->eta));
 }
 
-const lobe_ops lobe_delta_reflection_ops = {delta_eval, delta_pdf, mirror_sample, NULL, mirror_coefficient};
+const lobe_ops lobe_delta_reflection_ops = {delta_eval, delta_pdf, mirror_sample, NULL, mirror_coefficient, NULL};
 const lobe_ops lobe_delta_transmission_ops = {delta_eval, delta_pdf, refraction_sample, NULL,
-                                              refraction_coefficient};
+                                              refraction_coefficient, NULL};

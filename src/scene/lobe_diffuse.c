@@ -40,4 +40,4 @@ static int diffuse_inverse(const lobe_view *v, vec3 wi, vec2 *u)
     return 1;
 }
 
-const lobe_ops lobe_diffuse_ops = {diffuse_eval, diffuse_pdf, diffuse_sample, diffuse_inverse, NULL};
+const lobe_ops lobe_diffuse_ops = {diffuse_eval, diffuse_pdf, diffuse_sample, diffuse_inverse, NULL, NULL};

@@ -23,24 +23,36 @@ static int reflection_half_vector(vec3 wo, vec3 wi, vec3 *m)
     return 1;
 }
 
-/* Walter et al. 2007 Eq. 20 times |wi.z|: f cos = F(wo.m) D(m) G2 / (4 wo.z). */
-static rgb glossy_reflection_eval(const lobe_view *v, vec3 wi)
+/* Walter et al. 2007 Eq. 20 times |wi.z|: f cos = F(wo.m) D(m) G2 / (4 wo.z), and the
+ * VNDF density times the reflection Jacobian 1/(4 wo.m) (Eq. 14). Both need m, D(m) and
+ * G1(wo, m): one pass fills whichever of f_cos and pdf is not NULL. */
+static void glossy_reflection_eval_pdf(const lobe_view *v, vec3 wi, rgb *f_cos, real *pdf)
 {
     vec3 m;
-    real a = v->b->alpha, dg;
-    if (!reflection_half_vector(v->wo, wi, &m)) return rgb_gray(0);
-    dg = ggx_D(m, a) * ggx_G2_separable(v->wo, wi, m, a) / (4 * v->wo.z);
-    return rgb_scale(lobe_specular_fresnel(v, v3_dot(v->wo, m)), dg);
+    real a = v->b->alpha, d, g1_wo, wo_m;
+    if (f_cos) *f_cos = rgb_gray(0);
+    if (pdf) *pdf = 0;
+    if (!reflection_half_vector(v->wo, wi, &m)) return;
+    d = ggx_D(m, a);
+    g1_wo = ggx_G1(v->wo, m, a);
+    wo_m = v3_dot(v->wo, m);
+    /* D G2 with G2 = G1(wo) G1(wi): ggx_G2_separable's product, in its order */
+    if (f_cos) *f_cos = rgb_scale(lobe_specular_fresnel(v, wo_m), d * (g1_wo * ggx_G1(wi, m, a)) / (4 * v->wo.z));
+    if (pdf && wo_m > 0) *pdf = ggx_vndf_pdf_terms(v->wo, wo_m, g1_wo, d) / (4 * wo_m);
 }
 
-/* VNDF density times the reflection Jacobian 1/(4 wo.m) (Walter et al. 2007 Eq. 14). */
+static rgb glossy_reflection_eval(const lobe_view *v, vec3 wi)
+{
+    rgb f;
+    glossy_reflection_eval_pdf(v, wi, &f, NULL);
+    return f;
+}
+
 static real glossy_reflection_pdf(const lobe_view *v, vec3 wi)
 {
-    vec3 m;
-    real wo_m;
-    if (!reflection_half_vector(v->wo, wi, &m)) return 0;
-    wo_m = v3_dot(v->wo, m);
-    return wo_m > 0 ? ggx_vndf_pdf(v->wo, m, v->b->alpha) / (4 * wo_m) : 0;
+    real p;
+    glossy_reflection_eval_pdf(v, wi, NULL, &p);
+    return p;
 }
 
 static int glossy_reflection_sample(const lobe_view *v, vec2 u, vec3 *wi)
@@ -74,29 +86,40 @@ static int transmission_half_vector(const lobe_view *v, vec3 wi, vec3 *m)
 }
 
 /* Walter et al. 2007 Eq. 21 (radiance; n_o = 1, n_i = eta) times |wi.z|:
- * f cos = Ks (1 - F(wo.m)) D G2 |wi.m| (wo.m) / (wo.z (wo.m + eta wi.m)^2). */
-static rgb glossy_transmission_eval(const lobe_view *v, vec3 wi)
+ * f cos = Ks (1 - F(wo.m)) D G2 |wi.m| (wo.m) / (wo.z (wo.m + eta wi.m)^2), and the VNDF
+ * density times the refraction Jacobian eta^2 |wi.m| / (wo.m + eta wi.m)^2 (Eq. 17).
+ * One pass fills whichever of f_cos and pdf is not NULL (shared: m, D, G1(wo, m)). */
+static void glossy_transmission_eval_pdf(const lobe_view *v, vec3 wi, rgb *f_cos, real *pdf)
 {
     vec3 m;
-    real a = v->b->alpha, wo_m, wi_m, denom, t;
-    if (!transmission_half_vector(v, wi, &m)) return rgb_gray(0);
+    real a = v->b->alpha, wo_m, wi_m, denom, d, g1_wo, t;
+    if (f_cos) *f_cos = rgb_gray(0);
+    if (pdf) *pdf = 0;
+    if (!transmission_half_vector(v, wi, &m)) return;
     wo_m = v3_dot(v->wo, m);
     wi_m = v3_dot(wi, m);
     denom = wo_m + v->eta * wi_m;
-    t = (1 - fresnel_dielectric(wo_m, v->eta)) * ggx_D(m, a) * ggx_G2_separable(v->wo, wi, m, a);
-    return rgb_scale(v->b->specular, t * (-wi_m) * wo_m / (v->wo.z * denom * denom));
+    d = ggx_D(m, a);
+    g1_wo = ggx_G1(v->wo, m, a);
+    if (f_cos) {
+        t = (1 - fresnel_dielectric(wo_m, v->eta)) * d * (g1_wo * ggx_G1(wi, m, a)); /* D G2, G2 = G1 G1 */
+        *f_cos = rgb_scale(v->b->specular, t * (-wi_m) * wo_m / (v->wo.z * denom * denom));
+    }
+    if (pdf) *pdf = ggx_vndf_pdf_terms(v->wo, wo_m, g1_wo, d) * v->eta * v->eta * (-wi_m) / (denom * denom);
 }
 
-/* VNDF density times the refraction Jacobian eta^2 |wi.m| / (wo.m + eta wi.m)^2
- * (Walter et al. 2007 Eq. 17). */
+static rgb glossy_transmission_eval(const lobe_view *v, vec3 wi)
+{
+    rgb f;
+    glossy_transmission_eval_pdf(v, wi, &f, NULL);
+    return f;
+}
+
 static real glossy_transmission_pdf(const lobe_view *v, vec3 wi)
 {
-    vec3 m;
-    real wi_m, denom;
-    if (!transmission_half_vector(v, wi, &m)) return 0;
-    wi_m = v3_dot(wi, m);
-    denom = v3_dot(v->wo, m) + v->eta * wi_m;
-    return ggx_vndf_pdf(v->wo, m, v->b->alpha) * v->eta * v->eta * (-wi_m) / (denom * denom);
+    real p;
+    glossy_transmission_eval_pdf(v, wi, NULL, &p);
+    return p;
 }
 
 static int glossy_transmission_sample(const lobe_view *v, vec2 u, vec3 *wi)
@@ -115,6 +138,8 @@ static int glossy_transmission_inverse(const lobe_view *v, vec3 wi, vec2 *u)
 }
 
 const lobe_ops lobe_glossy_reflection_ops = {glossy_reflection_eval, glossy_reflection_pdf,
-                                             glossy_reflection_sample, glossy_reflection_inverse, NULL};
+                                             glossy_reflection_sample, glossy_reflection_inverse, NULL,
+                                             glossy_reflection_eval_pdf};
 const lobe_ops lobe_glossy_transmission_ops = {glossy_transmission_eval, glossy_transmission_pdf,
-                                               glossy_transmission_sample, glossy_transmission_inverse, NULL};
+                                               glossy_transmission_sample, glossy_transmission_inverse, NULL,
+                                               glossy_transmission_eval_pdf};

@@ -21,6 +21,9 @@ typedef struct {
     int (*sample)(const lobe_view *v, vec2 u, vec3 *wi);  /* direction only */
     int (*inverse)(const lobe_view *v, vec3 wi, vec2 *u); /* NULL for delta */
     rgb (*delta_coefficient)(const lobe_view *v);         /* NULL for non-delta */
+    /* eval and pdf of one direction in one pass, bit for bit the two above (a sampled
+     * direction needs both); NULL where the two share no work. */
+    void (*eval_pdf)(const lobe_view *v, vec3 wi, rgb *f_cos, real *pdf);
 } lobe_ops;
 
 extern const lobe_ops lobe_diffuse_ops;

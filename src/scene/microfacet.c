@@ -49,7 +49,13 @@ real ggx_vndf_pdf(vec3 wo, vec3 m, real alpha)
 {
     real wo_m = v3_dot(wo, m);
     if (wo.z <= 0 || wo_m <= 0) return 0;
-    return ggx_G1(wo, m, alpha) * wo_m * ggx_D(m, alpha) / wo.z;
+    return ggx_vndf_pdf_terms(wo, wo_m, ggx_G1(wo, m, alpha), ggx_D(m, alpha));
+}
+
+real ggx_vndf_pdf_terms(vec3 wo, real wo_m, real g1_wo, real d)
+{
+    if (wo.z <= 0 || wo_m <= 0) return 0;
+    return g1_wo * wo_m * d / wo.z;
 }
 
 /* The orthonormal basis (T1, T2, Vh) of the hemisphere configuration (Heitz 2018 §4). */
