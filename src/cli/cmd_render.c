@@ -507,6 +507,8 @@ static int check_method_options(const render_args *a, const cli_option *options,
         {"--spp", "restir averages --frames N frames (or --time-limit) of --candidates N path trees"},
         {"--spatial-passes", "the path tracer has no reuse; --method restir"},
         {"--aov", "--method aov --aov CHANNEL"},
+        {"--light-ris", "ReSTIR PT with light RIS is not implemented yet: docs/enhanced.md section 6"},
+        {"--light-tiles", "ReSTIR PT with light RIS is not implemented yet: docs/enhanced.md section 6"},
     };
     static const char *const pt_rows_restir_shares[] = {"--max-depth", "--time-limit", "--checkpoint", "--resume"};
     int r, i, h;
@@ -681,7 +683,7 @@ int cmd_render(int argc, char **argv)
             {"--from-stage", OPT_STRING, &a.from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
-            {"--ablate", OPT_STRING, &a.ablate, "a deliberately broken estimator: pt: light-pdf|mis-sum|mis-lobe, restir: jacobian|light-pdf|...", NULL, 0, 0, NULL},
+            {"--ablate", OPT_STRING, &a.ablate, "a deliberately broken estimator: pt: light-pdf|mis-sum|mis-lobe|light-ris-pdf, restir: jacobian|light-pdf|...", NULL, 0, 0, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
     }

@@ -1,0 +1,202 @@
+/* Light RIS for NEE (Enhanced §6.1; include/restir/light_ris.h, docs/enhanced.md §6): the
+ * path tracer with light RIS (with and without light tiles) estimates the plain path
+ * tracer's image; one candidate is the plain sampler bit for bit up to rounding; the
+ * wrong light pdf in the BSDF side's MIS weight (--ablate light-ris-pdf) is rejected. */
+#include <math.h>
+#include <string.h>
+#include "restir/check.h"
+#include "restir/light_ris.h"
+#include "restir/pt.h"
+#include "test.h"
+
+static int load(const char *path, int res, scene *s)
+{
+    rerror e;
+    if (scene_load(s, path, &e) || scene_prepare(s, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
+    s->width = s->height = res;
+    return 0;
+}
+
+/* K runs of `base` (disjoint sample ranges of one seed) as one side of restir check. */
+static int light_side(const scene *s, const pt_options *base, uint32_t seed, int runs, check_side *side)
+{
+    rerror e;
+    int k;
+    if (check_side_begin_runs(side, s->width, s->height, 8, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
+    for (k = 0; k < runs; ++k) {
+        pt_options o = *base;
+        pt_result r;
+        int status;
+        o.seed = seed;
+        o.sample_offset = (uint32_t)k * base->spp;
+        status = pt_render(s, &o, &r, &e);
+        if (!status) {
+            status = check_side_add_run(side, &r.mean, "run", &e);
+            pt_result_free(&r);
+        }
+        if (status) {
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            check_side_free(side);
+            return -1;
+        }
+    }
+    if (check_side_end_runs(side, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        check_side_free(side);
+        return -1;
+    }
+    return 0;
+}
+
+static void options(pt_options *o, int depth, uint32_t spp)
+{
+    pt_options_default(o);
+    o->max_depth = depth;
+    o->spp = spp;
+    o->threads = 2;
+}
+
+/* a against the plain path tracer (8 runs each, 8×8 blocks, level 1e-3); expect_different
+ * says which verdict the test requires. */
+static void compare_with_plain(const scene *s, const pt_options *a, int expect_different, const char *what)
+{
+    pt_options plain = *a;
+    check_side sa, sb;
+    check_options opt;
+    check_result c;
+    rerror e;
+    int status;
+    plain.light_ris = plain.light_tiles = 0;
+    plain.ablations = 0;
+    if (light_side(s, a, test_seed() * 131u + 7, 8, &sa)) return;
+    if (light_side(s, &plain, test_seed() * 131u + 8, 8, &sb)) {
+        check_side_free(&sa);
+        return;
+    }
+    check_options_default(&opt);
+    opt.alpha = 1e-3;
+    status = check_compare(&sa, &sb, &opt, &c, &e);
+    check_side_free(&sa);
+    check_side_free(&sb);
+    CHECKF(status == 0, "%s", e.msg);
+    check_result_free(&c);
+    test_margin(c.worst.z);
+    if (expect_different)
+        CHECKF(c.different, "%s not detected: mean p = %.3g (lum %.5g vs %.5g), worst block z %.2f", what,
+               c.global.p, c.lum_a.mean, c.lum_b.mean, c.worst.z);
+    else
+        CHECKF(!c.different,
+               "%s vs plain NEE: mean p = %.3g (lum %.5g vs %.5g), %ld of %ld blocks rejected, worst block (%d,%d) "
+               "ch %d z %.2f",
+               what, c.global.p, c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.x, c.worst.y,
+               c.worst.channel, c.worst.z);
+}
+
+/* M = 1 everywhere (N = 1): candidate 0 uses the plain sampler's numbers and p̃ = p̂/(p̂/p_0)
+ * = p_0, and the BSDF side has no fresh candidates, so the image is the plain one up to
+ * rounding (exact, not statistical). */
+TEST(light_ris_one_candidate_is_the_plain_sampler)
+{
+    scene s;
+    pt_options o;
+    pt_result plain, ris;
+    rerror e;
+    size_t i;
+    double worst = 0;
+    if (load("scenes/many-lights.scene", 16, &s)) return;
+    options(&o, 4, 4);
+    o.seed = test_seed();
+    CHECKF(pt_render(&s, &o, &plain, &e) == 0, "%s", e.msg);
+    o.light_ris = 1;
+    CHECKF(pt_render(&s, &o, &ris, &e) == 0, "%s", e.msg);
+    for (i = 0; i < 3 * (size_t)s.width * s.height; ++i) {
+        double a = plain.state.sum[i], b = ris.state.sum[i];
+        double rel = fabs(a - b) / fmax(fabs(a), 1e-30);
+        if (rel > worst) worst = rel;
+    }
+    pt_result_free(&plain);
+    pt_result_free(&ris);
+    scene_free(&s);
+    CHECKF(worst < (sizeof(real) == 4 ? 1e-3 : 1e-9), "N = 1 differs from the plain sampler by %.3g (relative)",
+           worst);
+}
+
+/* The decay schedule of Enhanced §7: max(1, N / B^2) candidates at x_B. */
+TEST(light_ris_candidate_schedule)
+{
+    path_context c;
+    memset(&c, 0, sizeof c);
+    CHECK(light_ris_count(&c, 1) == 0);
+    c.light_ris = 32;
+    CHECK(light_ris_count(&c, 1) == 32 && light_ris_count(&c, 2) == 8 && light_ris_count(&c, 3) == 3);
+    CHECK(light_ris_count(&c, 4) == 2 && light_ris_count(&c, 5) == 1 && light_ris_count(&c, 200) == 1);
+    CHECK(light_ris_count(&c, 5000) == 1);
+}
+
+/* Tile entries are addressed: the same (seed, frame, tile, entry) gives the same light
+ * sample, another frame another one; the tile of a path depends on its 8×8 screen tile
+ * and its frame only. */
+TEST(light_tiles_are_addressed)
+{
+    scene s;
+    light_set ls;
+    light_sample a, b;
+    path_context c;
+    rerror e;
+    int differ = 0, f;
+    if (load("scenes/many-lights.scene", 16, &s)) return;
+    CHECKF(lights_build(&ls, &s, &e) == 0, "%s", e.msg);
+    CHECK(light_tile_entry(&ls, 3, 5, 17, 1023, &a) && light_tile_entry(&ls, 3, 5, 17, 1023, &b));
+    CHECK(a.triangle == b.triangle && a.position.x == b.position.x && a.position.z == b.position.z);
+    for (f = 6; f < 10; ++f) {
+        CHECK(light_tile_entry(&ls, 3, (uint32_t)f, 17, 1023, &b));
+        differ += a.triangle != b.triangle;
+    }
+    CHECK(differ > 0);
+    memset(&c, 0, sizeof c);
+    c.image_width = 20;
+    /* pixels (0,0) and (7,7) share a screen tile; so do (8,0) and (15,7) */
+    CHECK(light_tile_of(&c, rng_key_make(1, 0, 4)) == light_tile_of(&c, rng_key_make(1, 7 * 20 + 7, 4)));
+    CHECK(light_tile_of(&c, rng_key_make(1, 8, 4)) == light_tile_of(&c, rng_key_make(1, 7 * 20 + 15, 4)));
+    lights_free(&ls);
+    scene_free(&s);
+}
+
+/* Light RIS (N = 32 at x1, the paper's count) against the plain sampler on the
+ * many-lights hall: direct and one-bounce light (d <= 3), where the NEE/BSDF MIS weights
+ * carry p̃ on both sides. Then the same with light tiles, and the ablation. */
+TEST(light_ris_unbiased_many_lights)
+{
+    scene s;
+    pt_options o;
+    if (load("scenes/many-lights.scene", 24, &s)) return;
+    options(&o, 3, 16);
+    o.light_ris = 32;
+    compare_with_plain(&s, &o, 0, "light RIS N = 32");
+    o.light_tiles = 1;
+    if (!test_has_failed()) compare_with_plain(&s, &o, 0, "light RIS N = 32 with tiles");
+    o.light_tiles = 0;
+    o.ablations = PT_ABLATE_LIGHT_RIS_PDF;
+    if (!test_has_failed()) compare_with_plain(&s, &o, 1, "ablation light-ris-pdf");
+    scene_free(&s);
+}
+
+/* The glossy Cornell box (one area light): longer paths (d <= 5), N = 8, with tiles. */
+TEST(light_ris_unbiased_cornell_glossy)
+{
+    scene s;
+    pt_options o;
+    if (load("scenes/cornell-glossy.scene", 24, &s)) return;
+    options(&o, 5, 16);
+    o.light_ris = 8;
+    compare_with_plain(&s, &o, 0, "light RIS N = 8");
+    o.light_tiles = 1;
+    if (!test_has_failed()) compare_with_plain(&s, &o, 0, "light RIS N = 8 with tiles");
+    scene_free(&s);
+}
