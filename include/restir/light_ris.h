@@ -63,4 +63,17 @@ int light_ris_sample(const path_context *c, const path_vertex *v, rng_key path, 
 real light_ris_pdf_hit(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
                        uint32_t tri, vec3 y, vec3 ny);
 
+/* ---- what the ReSTIR PT shifts need (docs/enhanced.md §6, "Shifts") ---- */
+
+/* p̃(y; Z) with Z the NEE candidates of the path at x_i (its own addresses; y must be one of
+ * them, which the caller guarantees by construction): the selection probability of y
+ * times M p_0(y), so a ratio of two of these at different x_i (or different incoming
+ * directions at x_i) is the ratio P'_s/P_s of the selection interval's lengths. */
+real light_ris_pdf_nee(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+                       uint32_t tri, vec3 y, vec3 ny);
+/* The NEE candidate of the path at x_i whose direction from x_i is exactly wi (the selected
+ * one, recovered from the stored direction of a reconnection at k = d-1). 0 if none is. */
+int light_ris_candidate_towards(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+                                vec3 wi, light_sample *out);
+
 #endif

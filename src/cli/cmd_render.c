@@ -507,10 +507,9 @@ static int check_method_options(const render_args *a, const cli_option *options,
         {"--spp", "restir averages --frames N frames (or --time-limit) of --candidates N path trees"},
         {"--spatial-passes", "the path tracer has no reuse; --method restir"},
         {"--aov", "--method aov --aov CHANNEL"},
-        {"--light-ris", "ReSTIR PT with light RIS is not implemented yet: docs/enhanced.md section 6"},
-        {"--light-tiles", "ReSTIR PT with light RIS is not implemented yet: docs/enhanced.md section 6"},
     };
-    static const char *const pt_rows_restir_shares[] = {"--max-depth", "--time-limit", "--checkpoint", "--resume"};
+    static const char *const pt_rows_restir_shares[] = {"--max-depth", "--time-limit", "--checkpoint", "--resume",
+                                                        "--light-ris", "--light-tiles"};
     int r, i, h;
     for (r = 0; r < nrows; ++r) {
         if (rows[r].method == a->method) continue;
@@ -518,7 +517,7 @@ static int check_method_options(const render_args *a, const cli_option *options,
             const char *hint = "see restir render --help";
             int shared = 0;
             if (!given[i]) continue;
-            for (h = 0; h < 4 && rows[r].method == METHOD_PT; ++h)
+            for (h = 0; h < 6 && rows[r].method == METHOD_PT; ++h)
                 shared |= !strcmp(options[i].name, pt_rows_restir_shares[h]);
             if (shared) continue; /* restir takes them; aov: checked below */
             for (h = 0; h < (int)(sizeof hints / sizeof hints[0]); ++h)
@@ -530,7 +529,7 @@ static int check_method_options(const render_args *a, const cli_option *options,
     }
     if (a->method == METHOD_AOV) {
         static const char *const lighting[] = {"--max-depth", "--time-limit", "--checkpoint", "--resume", "--ablate",
-                                               "--runs"};
+                                               "--runs", "--light-ris", "--light-tiles"};
         for (h = 0; h < (int)(sizeof lighting / sizeof lighting[0]); ++h)
             if (cli_given(options, given, lighting[h])) {
                 fprintf(stderr, "restir render: %s applies to --method pt and --method restir, not --method aov\n",
@@ -619,6 +618,10 @@ static int apply_shared_options(render_args *a, const cli_option *options, const
 {
     if (apply_sequence_options(a) || apply_stage_options(a) || apply_aov_options(a)) return 2;
     if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.o.time_limit; /* --time-limit */
+    if (a->method == METHOD_RESTIR) { /* --light-ris N, --light-tiles */
+        a->restir.light_ris = a->pt.o.light_ris;
+        a->restir.light_tiles = a->pt.o.light_tiles;
+    }
     if (a->method == METHOD_RESTIR && cli_given(options, given, "--max-depth")) {
         if (a->pt.o.max_depth < 2 || a->pt.o.max_depth > PATH_MAX_LENGTH) {
             fprintf(stderr, "restir render: --max-depth: restir needs 2..%d, got %d\n", PATH_MAX_LENGTH,
@@ -732,6 +735,13 @@ int cmd_render(int argc, char **argv)
     if (status) return status;
     status = load_scene_for_command("render", positional[0], &a.overrides, &s, &t.load, &t.prepare);
     if (status) return status;
+    if (a.method == METHOD_RESTIR && a.restir.light_ris > 0 && a.sequence && scene_is_animated(&s)) {
+        /* rc_retrace_suffix re-derives a moved x_k's light point with the plain sampler */
+        fprintf(stderr, "restir render: --light-ris with --sequence needs a static scene (%s is animated; "
+                        "docs/enhanced.md section 6)\n", s.path);
+        scene_free(&s);
+        return 2;
+    }
     if (scene_is_animated(&s) && scene_pose_at(&s, a.frame, &e)) { /* objects at --frame (animation.h) */
         fprintf(stderr, "%s\n", e.msg);
         scene_free(&s);

@@ -50,8 +50,8 @@ int render_pt_options(cli_option *rows, render_pt_args *a)
         {"--checkpoint-every", OPT_REAL, &o->checkpoint_interval, "pt: also write the checkpoint every SECONDS", NULL, 0, 1e9, NULL},
         {"--resume", OPT_STRING, &o->resume_path, "pt: continue this checkpoint up to --spp", NULL, 0, 0, NULL},
         {"--progressive", OPT_INT, &a->progressive, "pt: rewrite the output PFM every N passes", NULL, 0, 1e9, NULL},
-        {"--light-ris", OPT_INT, &o->light_ris, "pt: NEE by light RIS, N candidates at x1 and max(1, N/B^2) at x_B (Enhanced 6.1; default 0 = off)", NULL, 0, LIGHT_RIS_MAX, NULL},
-        {"--light-tiles", OPT_FLAG, &o->light_tiles, "pt: with --light-ris, candidates from 128 light tiles x 1024 samples, one tile per 8x8 pixels per sample", NULL, 0, 0, NULL},
+        {"--light-ris", OPT_INT, &o->light_ris, "pt, restir: NEE by light RIS, N candidates at x1 and max(1, N/B^2) at x_B (Enhanced 6.1; default 0 = off)", NULL, 0, LIGHT_RIS_MAX, NULL},
+        {"--light-tiles", OPT_FLAG, &o->light_tiles, "pt, restir: with --light-ris, candidates from 128 light tiles x 1024 samples, one tile per 8x8 pixels per sample", NULL, 0, 0, NULL},
     };
     memcpy(rows, r, sizeof r);
     return RENDER_PT_OPTION_ROWS;

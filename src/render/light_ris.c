@@ -152,3 +152,48 @@ real light_ris_pdf_hit(const path_context *c, const path_vertex *v, rng_key path
     }
     return phat * (real)m / sum; /* p̃(y; {y} ∪ Z') */
 }
+
+/* Σ_j p̂(z_j)/p_0(z_j) over the NEE candidates at x_i, in candidate order (the same sum as
+ * light_ris_sample, so that a shift to the sample's own vertex reproduces 1/W exactly). */
+static real nee_candidate_sum(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+                              int m)
+{
+    uint32_t tile = c->light_tiles ? light_tile_of(c, path) : 0;
+    real sum = 0;
+    int j;
+    for (j = 0; j < m; ++j) {
+        light_sample z;
+        light_eval e;
+        sum += nee_candidate(c, path, vertex_index, 4u * (uint32_t)j, tile, &z) ? sample_ratio(c, v, &z, &e) : 0;
+    }
+    return sum;
+}
+
+real light_ris_pdf_nee(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+                       uint32_t tri, vec3 y, vec3 ny)
+{
+    int m = light_ris_count(c, vertex_index);
+    uint32_t l;
+    real sum;
+    light_eval e;
+    if (tri >= c->lights->triangle_count || (l = c->lights->light_of_triangle[tri]) == LIGHT_NONE) return 0;
+    if (m > LIGHT_RIS_MAX) m = LIGHT_RIS_MAX;
+    if (!(target_ratio(c, v, tri, y, ny, c->lights->lights[l].emission, &e) > 0)) return 0;
+    sum = nee_candidate_sum(c, v, path, vertex_index, m);
+    return sum > 0 ? e.phat * (real)m / sum : 0;
+}
+
+int light_ris_candidate_towards(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+                                vec3 wi, light_sample *out)
+{
+    int m = light_ris_count(c, vertex_index), j;
+    uint32_t tile = c->light_tiles ? light_tile_of(c, path) : 0;
+    if (m > LIGHT_RIS_MAX) m = LIGHT_RIS_MAX;
+    for (j = 0; j < m; ++j) {
+        light_eval e;
+        if (!nee_candidate(c, path, vertex_index, 4u * (uint32_t)j, tile, out)) continue;
+        if (!(sample_ratio(c, v, out, &e) > 0)) continue; /* never selected */
+        if (e.wi.x == wi.x && e.wi.y == wi.y && e.wi.z == wi.z) return 1;
+    }
+    return 0;
+}
