@@ -124,9 +124,9 @@ void render_pt_stats_json(FILE *out, const render_pt_args *a, const pt_result *r
 {
     fprintf(out,
             "  \"pt\": {\"spp\": %u, \"sample_offset\": %u, \"max_depth\": %d, \"min_depth\": %d, \"strategy\": \"%s\", "
-            "\"ablate\": \"%s\", \"russian_roulette\": %d, \"seconds\": %.6f, \"paths\": %llu, \"rays\": %llu, "
+            "\"ablate\": \"%s\", \"russian_roulette\": %d, \"light_ris\": %d, \"light_tiles\": %d, \"seconds\": %.6f, \"paths\": %llu, \"rays\": %llu, "
             "\"paths_per_second\": %.1f, \"nonfinite_samples\": %llu, \"stopped\": %d},\n",
             r->state.spp, r->state.sample_offset, a->o.max_depth, a->o.min_depth, pt_strategy_names[a->o.strategy],
-            ablation_name(a->o.ablations), a->o.russian_roulette, r->seconds, (unsigned long long)r->paths, (unsigned long long)r->rays,
+            ablation_name(a->o.ablations), a->o.russian_roulette, a->o.light_ris, a->o.light_tiles, r->seconds, (unsigned long long)r->paths, (unsigned long long)r->rays,
             r->seconds > 0 ? (double)r->paths / r->seconds : 0.0, (unsigned long long)r->state.nonfinite, r->stopped);
 }

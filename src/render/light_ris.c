@@ -81,7 +81,8 @@ static int nee_candidate(const path_context *c, rng_key path, uint32_t vertex, u
 }
 
 /* RIS (Talbot et al. 2005; Enhanced §6.1): M candidates of p_0, w_j = p̂(z_j)/(M p_0(z_j)),
- * z_s selected with probability w_s/Σw, W = Σw / p̂(z_s); the estimate is f(z_s) V Le W. */
+ * z_s selected with probability w_s/Σw, W = Σw / p̂(z_s); the estimate is f(z_s) V Le W
+ * (in the notation of the seeds: Mutations Eqs. 5-6, 8, with q = p_0). */
 int light_ris_sample(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
                      nee_sample *out)
 {

@@ -821,6 +821,6 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
     else
         fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis], o->mcap);
-    fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d}", o->mutations,
-            mutate_strategy_names[o->mutation], o->mutate_after);
+    fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d, \"light_ris\": %d, \"light_tiles\": %s}", o->mutations,
+            mutate_strategy_names[o->mutation], o->mutate_after, o->light_ris, o->light_tiles ? "true" : "false");
 }
