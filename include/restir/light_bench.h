@@ -10,7 +10,8 @@
 /* One JSON object on `out`: ns per NEE sample at the primary hits of a 64 × 64 view
  * (selection, target evaluation and the one shadow ray), plain sampler vs light RIS with N
  * candidates (with tiles or not), the fraction of NEE samples that return light, and the
- * time to fill one frame's 128 × 1024 light tiles. Single thread. */
+ * time to fill one frame's 128 × 1024 light tiles. Single thread; the minimum of interleaved
+ * repetitions. */
 int bench_light_selection(FILE *out, const scene *s, const char *name, int light_ris, int light_tiles, rerror *e);
 
 #endif
