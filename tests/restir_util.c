@@ -89,13 +89,11 @@ int rt_restir_side(const scene *s, const restir_options *o, int runs, int block,
     return 0;
 }
 
-static int pt_run_ris(const scene *s, uint32_t seed, uint32_t offset, uint32_t spp, int depth, int frame,
-                      int light_ris, pt_result *r)
+static int pt_run(const scene *s, uint32_t seed, uint32_t offset, uint32_t spp, int depth, int frame, pt_result *r)
 {
     pt_options o;
     rerror e;
     pt_options_default(&o);
-    o.light_ris = light_ris;
     o.frame = frame;
     o.seed = seed;
     o.sample_offset = offset;
@@ -109,20 +107,18 @@ static int pt_run_ris(const scene *s, uint32_t seed, uint32_t offset, uint32_t s
     return 0;
 }
 
-static int pt_run(const scene *s, uint32_t seed, uint32_t offset, uint32_t spp, int depth, int frame, pt_result *r)
-{
-    return pt_run_ris(s, seed, offset, spp, depth, frame, 0, r);
-}
-
-int rt_pt_side_light_ris(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int light_ris, int block,
-                         check_side *side)
+int rt_pt_side_options(const scene *s, const pt_options *base, int runs, int block, check_side *side)
 {
     int k;
     if (side_begin(s, block, side)) return -1;
     for (k = 0; k < runs; ++k) {
+        pt_options o = *base;
         pt_result r;
+        rerror e;
         int status;
-        if (pt_run_ris(s, seed, (uint32_t)k * spp, spp, max_depth, 0, light_ris, &r)) {
+        o.sample_offset = base->sample_offset + (uint32_t)k * base->spp;
+        if (pt_render(s, &o, &r, &e)) {
+            test_fail(__FILE__, __LINE__, "pt_render: %s", e.msg);
             check_side_free(side);
             return -1;
         }

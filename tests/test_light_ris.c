@@ -7,52 +7,8 @@
 #include "restir/check.h"
 #include "restir/light_ris.h"
 #include "restir/pt.h"
+#include "restir_util.h"
 #include "test.h"
-
-static int load(const char *path, int res, scene *s)
-{
-    rerror e;
-    if (scene_load(s, path, &e) || scene_prepare(s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    s->width = s->height = res;
-    return 0;
-}
-
-/* K runs of `base` (disjoint sample ranges of one seed) as one side of restir check. */
-static int light_side(const scene *s, const pt_options *base, uint32_t seed, int runs, check_side *side)
-{
-    rerror e;
-    int k;
-    if (check_side_begin_runs(side, s->width, s->height, 8, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    for (k = 0; k < runs; ++k) {
-        pt_options o = *base;
-        pt_result r;
-        int status;
-        o.seed = seed;
-        o.sample_offset = (uint32_t)k * base->spp;
-        status = pt_render(s, &o, &r, &e);
-        if (!status) {
-            status = check_side_add_run(side, &r.mean, "run", &e);
-            pt_result_free(&r);
-        }
-        if (status) {
-            test_fail(__FILE__, __LINE__, "%s", e.msg);
-            check_side_free(side);
-            return -1;
-        }
-    }
-    if (check_side_end_runs(side, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        check_side_free(side);
-        return -1;
-    }
-    return 0;
-}
 
 static void options(pt_options *o, int depth, uint32_t spp)
 {
@@ -62,28 +18,33 @@ static void options(pt_options *o, int depth, uint32_t spp)
     o->threads = 2;
 }
 
-/* a against the plain path tracer (8 runs each, 8×8 blocks, level 1e-3); expect_different
- * says which verdict the test requires. */
-static void compare_with_plain(const scene *s, const pt_options *a, int expect_different, const char *what)
+/* The plain path tracer with a's depth and spp: 8 runs, 8×8 blocks. */
+static int plain_side(const scene *s, const pt_options *a, check_side *side)
 {
     pt_options plain = *a;
-    check_side sa, sb;
+    plain.light_ris = plain.light_tiles = 0;
+    plain.ablations = 0;
+    plain.seed = test_seed() * 131u + 8;
+    return rt_pt_side_options(s, &plain, 8, 8, side);
+}
+
+/* a (8 runs) against the plain side (level 1e-3); expect_different says which verdict the
+ * test requires. */
+static void compare_with_plain(const scene *s, const check_side *plain, const pt_options *a, int expect_different,
+                               const char *what)
+{
+    pt_options a_seeded = *a;
+    check_side sa;
     check_options opt;
     check_result c;
     rerror e;
     int status;
-    plain.light_ris = plain.light_tiles = 0;
-    plain.ablations = 0;
-    if (light_side(s, a, test_seed() * 131u + 7, 8, &sa)) return;
-    if (light_side(s, &plain, test_seed() * 131u + 8, 8, &sb)) {
-        check_side_free(&sa);
-        return;
-    }
+    a_seeded.seed = test_seed() * 131u + 7;
+    if (rt_pt_side_options(s, &a_seeded, 8, 8, &sa)) return;
     check_options_default(&opt);
     opt.alpha = 1e-3;
-    status = check_compare(&sa, &sb, &opt, &c, &e);
+    status = check_compare(&sa, plain, &opt, &c, &e);
     check_side_free(&sa);
-    check_side_free(&sb);
     CHECKF(status == 0, "%s", e.msg);
     check_result_free(&c);
     test_margin(c.worst.z);
@@ -109,7 +70,7 @@ TEST(light_ris_one_candidate_is_the_plain_sampler)
     rerror e;
     size_t i;
     double worst = 0;
-    if (load("scenes/many-lights.scene", 16, &s)) return;
+    if (rt_load_scene("scenes/many-lights.scene", 16, &s)) return;
     options(&o, 4, 4);
     o.seed = test_seed();
     CHECKF(pt_render(&s, &o, &plain, &e) == 0, "%s", e.msg);
@@ -150,7 +111,7 @@ TEST(light_tiles_are_addressed)
     path_context c;
     rerror e;
     int differ = 0, f;
-    if (load("scenes/many-lights.scene", 16, &s)) return;
+    if (rt_load_scene("scenes/many-lights.scene", 16, &s)) return;
     CHECKF(lights_build(&ls, &s, &e) == 0, "%s", e.msg);
     CHECK(light_tile_entry(&ls, 3, 5, 17, 1023, &a) && light_tile_entry(&ls, 3, 5, 17, 1023, &b));
     CHECK(a.triangle == b.triangle && a.position.x == b.position.x && a.position.z == b.position.z);
@@ -175,15 +136,19 @@ TEST(light_ris_unbiased_many_lights)
 {
     scene s;
     pt_options o;
-    if (load("scenes/many-lights.scene", 24, &s)) return;
+    check_side plain;
+    if (rt_load_scene("scenes/many-lights.scene", 24, &s)) return;
     options(&o, 3, 16);
-    o.light_ris = 32;
-    compare_with_plain(&s, &o, 0, "light RIS N = 32");
-    o.light_tiles = 1;
-    if (!test_has_failed()) compare_with_plain(&s, &o, 0, "light RIS N = 32 with tiles");
-    o.light_tiles = 0;
-    o.ablations = PT_ABLATE_LIGHT_RIS_PDF;
-    if (!test_has_failed()) compare_with_plain(&s, &o, 1, "ablation light-ris-pdf");
+    if (plain_side(&s, &o, &plain) == 0) {
+        o.light_ris = 32;
+        compare_with_plain(&s, &plain, &o, 0, "light RIS N = 32");
+        o.light_tiles = 1;
+        if (!test_has_failed()) compare_with_plain(&s, &plain, &o, 0, "light RIS N = 32 with tiles");
+        o.light_tiles = 0;
+        o.ablations = PT_ABLATE_LIGHT_RIS_PDF;
+        if (!test_has_failed()) compare_with_plain(&s, &plain, &o, 1, "ablation light-ris-pdf");
+        check_side_free(&plain);
+    }
     scene_free(&s);
 }
 
@@ -192,11 +157,15 @@ TEST(light_ris_unbiased_cornell_glossy)
 {
     scene s;
     pt_options o;
-    if (load("scenes/cornell-glossy.scene", 24, &s)) return;
+    check_side plain;
+    if (rt_load_scene("scenes/cornell-glossy.scene", 24, &s)) return;
     options(&o, 5, 16);
-    o.light_ris = 8;
-    compare_with_plain(&s, &o, 0, "light RIS N = 8");
-    o.light_tiles = 1;
-    if (!test_has_failed()) compare_with_plain(&s, &o, 0, "light RIS N = 8 with tiles");
+    if (plain_side(&s, &o, &plain) == 0) {
+        o.light_ris = 8;
+        compare_with_plain(&s, &plain, &o, 0, "light RIS N = 8");
+        o.light_tiles = 1;
+        if (!test_has_failed()) compare_with_plain(&s, &plain, &o, 0, "light RIS N = 8 with tiles");
+        check_side_free(&plain);
+    }
     scene_free(&s);
 }

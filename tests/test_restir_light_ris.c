@@ -165,9 +165,16 @@ static void cases(const lr_case *m, int n, int res, int runs, uint32_t spp, int 
 {
     scene s;
     check_side pt;
+    pt_options ref;
     int i;
     if (rt_load_scene("scenes/many-lights.scene", res, &s)) return;
-    if (rt_pt_side_light_ris(&s, test_seed() * 7919u + 11, runs, spp, m[0].depth, 8, block, &pt)) {
+    pt_options_default(&ref);
+    ref.seed = test_seed() * 7919u + 11;
+    ref.spp = spp;
+    ref.max_depth = m[0].depth;
+    ref.light_ris = 8;
+    ref.threads = 2;
+    if (rt_pt_side_options(&s, &ref, runs, block, &pt)) {
         scene_free(&s);
         return;
     }
