@@ -169,3 +169,30 @@ TEST(light_ris_unbiased_cornell_glossy)
     }
     scene_free(&s);
 }
+
+/* Bad light-RIS options: exit 2 with one message, no output file (docs/cli.md). */
+TEST(light_ris_cli_bad_options_exit_2)
+{
+    static const char *const cases[] = {
+        "render scenes/cornell.scene --light-tiles",                           /* tiles without RIS */
+        "render scenes/cornell.scene --light-ris 5000",                        /* out of range */
+        "render scenes/cornell.scene --method aov --aov normal --light-ris 4", /* not a lighting method */
+        "render scenes/cornell.scene --method restir --light-ris 4 --mutations 1 --sequence 0..1",
+        "render scenes/shadow.scene --method restir --light-ris 4 --sequence 0..1", /* animated objects */
+    };
+    char out[4096], dest[1024];
+    size_t i;
+    snprintf(dest, sizeof dest, "%s", test_tmp_path("lr-bad.pfm"));
+    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        int status;
+        remove(dest);
+        status = test_cli(out, sizeof out, "%s --size 8x8 --quiet -o %s --no-png", cases[i], dest);
+        CHECKF(status == 2 && !test_file_exists(dest), "'%s': exit %d, output %s: %s", cases[i], status,
+               test_file_exists(dest) ? "written" : "none", out);
+    }
+    CHECKF(test_cli(out, sizeof out,
+                    "render scenes/cornell.scene --light-ris 4 --light-tiles --size 8x8 --spp 1 --quiet -o %s --no-png",
+                    dest) == 0 &&
+               test_file_exists(dest),
+           "%s", out);
+}
