@@ -3,6 +3,8 @@
  * tracer's image; one candidate is the plain sampler bit for bit up to rounding; the
  * wrong light pdf in the BSDF side's MIS weight (--ablate light-ris-pdf) is rejected. */
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "restir/check.h"
 #include "restir/light_ris.h"
@@ -18,6 +20,30 @@ static void options(pt_options *o, int depth, uint32_t spp)
     o->threads = 2;
 }
 
+/* The ablation a against the correct light RIS side ref rendered with the SAME numbers (a's
+ * seed; 16 runs each): paired (check_compare_paired, run k against run k), so only the
+ * changed MIS weight of the BSDF hits differs between the sides. Must be rejected. */
+static void ablation_paired(const scene *s, const check_side *ref, const pt_options *a, const char *what)
+{
+    check_side sa;
+    check_options opt;
+    check_result c;
+    rerror e;
+    int status;
+    if (rt_pt_side_options(s, a, 16, 8, &sa)) return;
+    check_options_default(&opt);
+    opt.alpha = 1e-3;
+    status = check_compare_paired(&sa, ref, &opt, &c, &e);
+    check_side_free(&sa);
+    CHECKF(status == 0, "%s", e.msg);
+    check_result_free(&c);
+    test_margin(fabs(rt_mean_z(&c)) > fabs(c.worst.z) ? rt_mean_z(&c) : c.worst.z);
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  %s (paired): mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n",
+                what, rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+    CHECKF(c.different, "%s not detected (paired): mean z %.2f, worst block z %.2f", what, rt_mean_z(&c), c.worst.z);
+}
+
 /* The plain path tracer with a's depth and spp: 8 runs, 8×8 blocks. */
 static int plain_side(const scene *s, const pt_options *a, check_side *side)
 {
@@ -28,10 +54,10 @@ static int plain_side(const scene *s, const pt_options *a, check_side *side)
     return rt_pt_side_options(s, &plain, 8, 8, side);
 }
 
-/* a (8 runs) against the plain side (level 1e-3); expect_different says which verdict the
+/* a (8 runs) against the side ref (level 1e-3); expect_different says which verdict the
  * test requires. */
-static void compare_with_plain(const scene *s, const check_side *plain, const pt_options *a, int expect_different,
-                               const char *what)
+static void compare_with(const scene *s, const check_side *ref, const pt_options *a, int expect_different,
+                         const char *what)
 {
     pt_options a_seeded = *a;
     check_side sa;
@@ -43,17 +69,20 @@ static void compare_with_plain(const scene *s, const check_side *plain, const pt
     if (rt_pt_side_options(s, &a_seeded, 8, 8, &sa)) return;
     check_options_default(&opt);
     opt.alpha = 1e-3;
-    status = check_compare(&sa, plain, &opt, &c, &e);
+    status = check_compare(&sa, ref, &opt, &c, &e);
     check_side_free(&sa);
     CHECKF(status == 0, "%s", e.msg);
     check_result_free(&c);
-    test_margin(c.worst.z);
+    test_margin(fabs(rt_mean_z(&c)) > fabs(c.worst.z) ? rt_mean_z(&c) : c.worst.z);
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
+                rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
     if (expect_different)
         CHECKF(c.different, "%s not detected: mean p = %.3g (lum %.5g vs %.5g), worst block z %.2f", what,
                c.global.p, c.lum_a.mean, c.lum_b.mean, c.worst.z);
     else
         CHECKF(!c.different,
-               "%s vs plain NEE: mean p = %.3g (lum %.5g vs %.5g), %ld of %ld blocks rejected, worst block (%d,%d) "
+               "%s vs the reference side: mean p = %.3g (lum %.5g vs %.5g), %ld of %ld blocks rejected, worst block (%d,%d) "
                "ch %d z %.2f",
                what, c.global.p, c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.x, c.worst.y,
                c.worst.channel, c.worst.z);
@@ -131,7 +160,8 @@ TEST(light_tiles_are_addressed)
 
 /* Light RIS (N = 32 at x1, the paper's count) against the plain sampler on the
  * many-lights hall: direct and one-bounce light (d <= 3), where the NEE/BSDF MIS weights
- * carry p̃ on both sides. Then the same with light tiles, and the ablation. */
+ * carry p̃ on both sides. Then the same with light tiles; the ablation is compared with the
+ * correct light RIS, paired (the same numbers on both sides). */
 TEST(light_ris_unbiased_many_lights)
 {
     scene s;
@@ -140,14 +170,20 @@ TEST(light_ris_unbiased_many_lights)
     if (rt_load_scene("scenes/many-lights.scene", 24, &s)) return;
     options(&o, 3, 16);
     if (plain_side(&s, &o, &plain) == 0) {
+        check_side ris;
         o.light_ris = 32;
-        compare_with_plain(&s, &plain, &o, 0, "light RIS N = 32");
+        compare_with(&s, &plain, &o, 0, "light RIS N = 32");
         o.light_tiles = 1;
-        if (!test_has_failed()) compare_with_plain(&s, &plain, &o, 0, "light RIS N = 32 with tiles");
-        o.light_tiles = 0;
-        o.ablations = PT_ABLATE_LIGHT_RIS_PDF;
-        if (!test_has_failed()) compare_with_plain(&s, &plain, &o, 1, "ablation light-ris-pdf");
+        if (!test_has_failed()) compare_with(&s, &plain, &o, 0, "light RIS N = 32 with tiles");
         check_side_free(&plain);
+        o.light_tiles = 0;
+        o.seed = test_seed() * 131u + 9;
+        o.spp = 8; /* 16 runs of 8: a paired z saturates near 5 with 8 runs (7 dof) */
+        if (!test_has_failed() && rt_pt_side_options(&s, &o, 16, 8, &ris) == 0) {
+            o.ablations = PT_ABLATE_LIGHT_RIS_PDF;
+            ablation_paired(&s, &ris, &o, "ablation light-ris-pdf vs light RIS");
+            check_side_free(&ris);
+        }
     }
     scene_free(&s);
 }
@@ -162,9 +198,9 @@ TEST(light_ris_unbiased_cornell_glossy)
     options(&o, 5, 16);
     if (plain_side(&s, &o, &plain) == 0) {
         o.light_ris = 8;
-        compare_with_plain(&s, &plain, &o, 0, "light RIS N = 8");
+        compare_with(&s, &plain, &o, 0, "light RIS N = 8");
         o.light_tiles = 1;
-        if (!test_has_failed()) compare_with_plain(&s, &plain, &o, 0, "light RIS N = 8 with tiles");
+        if (!test_has_failed()) compare_with(&s, &plain, &o, 0, "light RIS N = 8 with tiles");
         check_side_free(&plain);
     }
     scene_free(&s);
