@@ -517,7 +517,7 @@ static int check_method_options(const render_args *a, const cli_option *options,
             const char *hint = "see restir render --help";
             int shared = 0;
             if (!given[i]) continue;
-            for (h = 0; h < 6 && rows[r].method == METHOD_PT; ++h)
+            for (h = 0; h < (int)(sizeof pt_rows_restir_shares / sizeof *pt_rows_restir_shares) && rows[r].method == METHOD_PT; ++h)
                 shared |= !strcmp(options[i].name, pt_rows_restir_shares[h]);
             if (shared) continue; /* restir takes them; aov: checked below */
             for (h = 0; h < (int)(sizeof hints / sizeof hints[0]); ++h)
@@ -735,13 +735,6 @@ int cmd_render(int argc, char **argv)
     if (status) return status;
     status = load_scene_for_command("render", positional[0], &a.overrides, &s, &t.load, &t.prepare);
     if (status) return status;
-    if (a.method == METHOD_RESTIR && a.restir.light_ris > 0 && a.sequence && scene_is_animated(&s)) {
-        /* rc_retrace_suffix re-derives a moved x_k's light point with the plain sampler */
-        fprintf(stderr, "restir render: --light-ris with --sequence needs a static scene (%s is animated; "
-                        "docs/enhanced.md section 6)\n", s.path);
-        scene_free(&s);
-        return 2;
-    }
     if (scene_is_animated(&s) && scene_pose_at(&s, a.frame, &e)) { /* objects at --frame (animation.h) */
         fprintf(stderr, "%s\n", e.msg);
         scene_free(&s);
