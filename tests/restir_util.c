@@ -107,6 +107,31 @@ static int pt_run(const scene *s, uint32_t seed, uint32_t offset, uint32_t spp, 
     return 0;
 }
 
+int rt_pt_side_options(const scene *s, const pt_options *base, int runs, int block, check_side *side)
+{
+    int k;
+    if (side_begin(s, block, side)) return -1;
+    for (k = 0; k < runs; ++k) {
+        pt_options o = *base;
+        pt_result r;
+        rerror e;
+        int status;
+        o.sample_offset = base->sample_offset + (uint32_t)k * base->spp;
+        if (pt_render(s, &o, &r, &e)) {
+            test_fail(__FILE__, __LINE__, "pt_render: %s", e.msg);
+            check_side_free(side);
+            return -1;
+        }
+        status = side_add(side, &r.mean);
+        pt_result_free(&r);
+        if (status || (k + 1 == runs && side_end(side))) {
+            check_side_free(side);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int block,
                check_side *side)
 {

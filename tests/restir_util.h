@@ -24,6 +24,9 @@ int rt_restir_side(const scene *s, const restir_options *o, int runs, int block,
  * paths of length >= 3. */
 int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int block,
                check_side *side);
+/* K runs of the path tracer with the options `base` (its seed, spp per run, depth, light RIS,
+ * ablations, ...): run k takes the samples [base->sample_offset + k spp, ... + spp). */
+int rt_pt_side_options(const scene *s, const pt_options *base, int runs, int block, check_side *side);
 /* rt_pt_side with the camera at keyframe time `frame`. */
 int rt_pt_side_at(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int frame,
                   int block, check_side *side);

@@ -53,6 +53,12 @@ int generate_ajar_swing(scene *s, int still_camera, rerror *e);
  * Metres. */
 int generate_corridor(scene *s, rerror *e);
 
+/* Fills a zeroed scene with the many-lights hall (docs/scenes.md): 1000 small square
+ * emitters of 15 radiances over three decades on the ceiling and the long walls of an
+ * 8 x 4 x 20 m hall with pillars, a glossy floor and a copper block (light RIS, Enhanced
+ * §6.1). Metres. */
+int generate_many_lights(scene *s, rerror *e);
+
 /* Writes a scene file for s (atomically): `comment` (may be NULL, may hold several lines)
  * as # lines, `mesh MESH_NAME`, the camera (or its keyframes), the object animation, the size and one `material` line per
  * material with every field, so the scene file alone states the materials. */

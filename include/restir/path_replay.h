@@ -53,10 +53,11 @@ enum shift_failure trunk_replay(path_trunk *t, const restir_context *c, const pa
 rgb nee_path_contribution(const path_context *c, rgb beta, const nee_sample *n);
 /* The contribution of a BSDF path whose bounce b at `from` hit the emitter `hit`:
  * beta_hit * Le * w_bsdf (0 if hit does not emit towards from). *light_pdf receives the
- * NEE pdf of that emitter point seen from `from` (0 after a Dirac bounce: NEE cannot
- * produce the path). */
+ * NEE pdf of that emitter point seen from `from` = x_{from_index} of the path with base key
+ * `path` (0 after a Dirac bounce: NEE cannot produce the path; with light RIS the estimate
+ * p̃ of path_light_pdf_hit, from the path's own numbers). */
 rgb emitter_path_contribution(const path_context *c, rgb beta_hit, const path_vertex *from, const path_vertex *hit,
-                              const bsdf_bounce *b, real *light_pdf);
+                              const bsdf_bounce *b, rng_key path, int from_index, real *light_pdf);
 
 /* How a full path ends. */
 typedef struct {

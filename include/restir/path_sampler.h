@@ -32,9 +32,12 @@ enum pt_ablation {
     PT_ABLATE_LIGHT_PDF = 1u << 0, /* "light-pdf": the light pdf is 5% too large everywhere */
     PT_ABLATE_MIS_SUM = 1u << 1,   /* "mis-sum": NEE uses the balance heuristic, BSDF hits the
                                       power heuristic; the weights no longer sum to one */
-    PT_ABLATE_MIS_LOBE = 1u << 2   /* "mis-lobe": the BSDF hit's MIS weight uses the pdf of the
+    PT_ABLATE_MIS_LOBE = 1u << 2,  /* "mis-lobe": the BSDF hit's MIS weight uses the pdf of the
                                       sampled lobe P(l) pdf_l instead of the all-lobe pdf
                                       (contradicts GRIS §7.6); biased on multi-lobe materials */
+    PT_ABLATE_LIGHT_RIS_PDF = 1u << 3 /* "light-ris-pdf": with light RIS, the BSDF hit's MIS weight
+                                      uses the base light pdf p_0 while NEE uses p̃ = 1/W: the
+                                      weights no longer sum to one (docs/enhanced.md §6) */
 };
 
 /* Which techniques contribute (each alone is an unbiased estimator of the same image). */
@@ -49,6 +52,9 @@ typedef struct {
     const light_set *lights;
     enum pt_strategy strategy;
     unsigned ablations; /* enum pt_ablation bits */
+    int light_ris;      /* N: NEE by light RIS with N candidates at x1 (light_ris.h); 0 = plain p_0 */
+    int light_tiles;    /* 1: light RIS candidates come from light tiles (light_ris.h) */
+    int image_width;    /* pixels per image row: a path's 8×8 screen tile (light tiles only) */
 } path_context;
 
 /* One surface vertex x_i, prepared for shading. */
@@ -101,7 +107,8 @@ typedef struct {
 } nee_sample;
 
 /* Samples a light point for vertex x_i (vertex_index = i) and tests visibility. Returns 1
- * if the contribution is nonzero, 0 otherwise (no light, occluded, back side, f = 0). */
+ * if the contribution is nonzero, 0 otherwise (no light, occluded, back side, f = 0).
+ * With c->light_ris > 0 this is light RIS (light_ris.h): pdf_light is then p̃ = 1/W. */
 int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
                         nee_sample *out);
 /* The same from explicit numbers u[0..1] (light selection), u[2..3] (point on the light):
@@ -129,6 +136,11 @@ int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_b
 real path_mis_balance(real p_this, real p_other);
 /* Weight of an NEE sample with light pdf p_light and all-lobe BSDF pdf p_bsdf. */
 real path_mis_weight_nee(const path_context *c, real p_light, real p_bsdf);
+/* The NEE pdf of the emitter point `hit` reached by BSDF sampling from x_i = `from`
+ * (vertex_index = i, path = the path's base key), for its MIS weight: path_light_pdf, or
+ * with light RIS the estimate p̃ of light_ris_pdf_hit (p_0 under the light-ris-pdf ablation). */
+real path_light_pdf_hit(const path_context *c, const path_vertex *from, const path_vertex *hit, rng_key path,
+                        uint32_t vertex_index);
 /* Weight of a BSDF-sampled emitter hit after bounce b, whose light pdf is p_light. */
 real path_mis_weight_bsdf_hit(const path_context *c, const bsdf_bounce *b, real p_light);
 

@@ -27,7 +27,7 @@
 
 /* NULL-terminated name tables for the CLI (index = enum value / bit position). */
 extern const char *const pt_strategy_names[];  /* "mis", "nee", "bsdf" */
-extern const char *const pt_ablation_names[];  /* "light-pdf", "mis-sum", "mis-lobe" */
+extern const char *const pt_ablation_names[];  /* "light-pdf", "mis-sum", "mis-lobe", "light-ris-pdf" */
 /* The ablation bit for a name, or 0 if unknown. */
 unsigned pt_ablation_from_name(const char *name);
 
@@ -59,6 +59,8 @@ typedef struct {
     int rr_min_depth;       /* roulette decides continuation after vertex x_i for i >= this (default 3) */
     int jitter;             /* 1: sub-pixel jitter from RNG_CAMERA; 0: pixel centres (default) */
     unsigned ablations;     /* enum pt_ablation bits */
+    int light_ris;          /* N > 0: NEE by light RIS, N candidates at x1 (light_ris.h); 0 = plain (default) */
+    int light_tiles;        /* 1: light RIS candidates from light tiles (needs light_ris) */
     int frame;              /* camera keyframe time */
     int threads;            /* >= 1 */
     int quiet;              /* no progress bar */

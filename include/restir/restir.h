@@ -104,6 +104,9 @@ typedef struct {
     int mutations;              /* N Metropolis-Hastings iterations per pixel and stage (default 0: off) */
     int mutation;               /* enum mutate_strategy (default rv, Mutations §4.3) */
     int mutate_after;           /* enum mutate_stage bits (default MUTATE_AFTER_TEMPORAL, Mutations §3) */
+    /* light RIS for NEE (light_ris.h; Enhanced §6.1): */
+    int light_ris;              /* N candidates at x1 (0: the plain light sampler, default) */
+    int light_tiles;            /* 1: candidates from light tiles */
 } restir_options;
 
 /* Bytes per pixel of every per-pixel buffer of a ReSTIR run (issue 17; docs/performance.md).

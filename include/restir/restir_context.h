@@ -82,11 +82,14 @@ enum restir_ablation {
                                    the pre-pass shift X_0 -> partner (p̂_{<-d}(X_0) taken as 0) */,
     RESTIR_ABLATE_MUTATION_W = 9, /* "mutation-w": an accepted MCMC mutation keeps W (no
                                    Mutations Eq. 16 update p̂(x^0)/p̂(x^k)) */
-    RESTIR_ABLATE_RV_KERNEL = 10   /* "rv-kernel": the path mutations' kernel ratio
+    RESTIR_ABLATE_RV_KERNEL = 10,  /* "rv-kernel": the path mutations' kernel ratio
                                    T(z->x)/T(x->z) of Mutations Eq. 20 taken as 1 (a symmetric
                                    kernel) */
+    RESTIR_ABLATE_LIGHT_RIS_PDF = 11 /* "light-ris-pdf": with --light-ris, the BSDF side's MIS
+                                   weight uses p_0 while NEE uses p̃ = 1/W (pt's ablation of the
+                                   same name, in every path contribution ReSTIR evaluates) */
 };
-#define RESTIR_ABLATION_COUNT 11
+#define RESTIR_ABLATION_COUNT 12
 
 /* Reconnection criterion (connectability.h). gris (GRIS §7.4-7.5, §8.3; Enhanced §2.3):
  * x_{k-1} and x_k must be rough for their lobes and ||x_k - x_{k-1}|| >= min_distance.

@@ -7,6 +7,8 @@
 #include "args.h"
 #include "restir/animation.h"
 #include "restir/bench.h"
+#include "restir/light_bench.h"
+#include "restir/light_ris.h"
 #include "restir/generate.h"
 #include "restir/generate_rooms.h"
 #include "restir/progress.h"
@@ -26,6 +28,7 @@ typedef struct {
     int has_rays_size;
     int pairing, no_pair_step, rc_criterion, shading; /* bench restir: Enhanced switches */
     int has_repeats;
+    int light_ris, light_tiles;                       /* bench restir: light RIS (Enhanced 6.1) */
 } bench_args;
 
 /* A benchmark over one prepared scene; `name` labels it in the JSON. */
@@ -117,8 +120,14 @@ static int bench_restir_on(const scene *s, const char *name, const bench_args *a
     o.no_pair_step = a->no_pair_step;
     o.rc_criterion = a->rc_criterion;
     o.shading = a->shading;
+    o.light_ris = a->light_ris;
+    o.light_tiles = a->light_tiles;
     sized.width = sized.height = 64;
     status = bench_restir(stdout, &sized, name, &o, first, &e);
+    if (!status && a->light_ris > 0) {
+        next_object(first);
+        status = bench_light_selection(stdout, s, name, a->light_ris, a->light_tiles, &e);
+    }
     if (!status) {
         sized.width = sized.height = 32;
         status = bench_restir_equal_time(stdout, &sized, name, &o, 4096, 3, first, &e);
@@ -379,6 +388,8 @@ int cmd_bench(int argc, char **argv)
              rc_mode_names, 0, 0, NULL},
             {"--shading", OPT_CHOICE, &a.shading, "bench restir: pixel estimate scalar or vector (Enhanced 6.3)",
              restir_shading_names, 0, 0, NULL},
+            {"--light-ris", OPT_INT, &a.light_ris, "bench restir: NEE by light RIS with N candidates at x1 (Enhanced 6.1); also times the light selection", NULL, 0, LIGHT_RIS_MAX, NULL},
+            {"--light-tiles", OPT_FLAG, &a.light_tiles, "bench restir, with --light-ris: candidates from light tiles", NULL, 0, 0, NULL},
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);

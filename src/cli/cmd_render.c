@@ -520,7 +520,8 @@ static int check_method_options(const render_args *a, const cli_option *options,
         {"--spatial-passes", "the path tracer has no reuse; --method restir"},
         {"--aov", "--method aov --aov CHANNEL"},
     };
-    static const char *const pt_rows_restir_shares[] = {"--max-depth", "--time-limit", "--checkpoint", "--resume"};
+    static const char *const pt_rows_restir_shares[] = {"--max-depth", "--time-limit", "--checkpoint", "--resume",
+                                                        "--light-ris", "--light-tiles"};
     int r, i, h;
     for (r = 0; r < nrows; ++r) {
         if (rows[r].method == a->method) continue;
@@ -528,7 +529,7 @@ static int check_method_options(const render_args *a, const cli_option *options,
             const char *hint = "see restir render --help";
             int shared = 0;
             if (!given[i]) continue;
-            for (h = 0; h < 4 && rows[r].method == METHOD_PT; ++h)
+            for (h = 0; h < (int)(sizeof pt_rows_restir_shares / sizeof *pt_rows_restir_shares) && rows[r].method == METHOD_PT; ++h)
                 shared |= !strcmp(options[i].name, pt_rows_restir_shares[h]);
             if (shared) continue; /* restir takes them; aov: checked below */
             for (h = 0; h < (int)(sizeof hints / sizeof hints[0]); ++h)
@@ -540,7 +541,7 @@ static int check_method_options(const render_args *a, const cli_option *options,
     }
     if (a->method == METHOD_AOV) {
         static const char *const lighting[] = {"--max-depth", "--time-limit", "--checkpoint", "--resume", "--ablate",
-                                               "--runs"};
+                                               "--runs", "--light-ris", "--light-tiles"};
         for (h = 0; h < (int)(sizeof lighting / sizeof lighting[0]); ++h)
             if (cli_given(options, given, lighting[h])) {
                 fprintf(stderr, "restir render: %s applies to --method pt and --method restir, not --method aov\n",
@@ -629,6 +630,10 @@ static int apply_shared_options(render_args *a, const cli_option *options, const
 {
     if (apply_sequence_options(a) || apply_stage_options(a) || apply_aov_options(a)) return 2;
     if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.o.time_limit; /* --time-limit */
+    if (a->method == METHOD_RESTIR) { /* --light-ris N, --light-tiles */
+        a->restir.light_ris = a->pt.o.light_ris;
+        a->restir.light_tiles = a->pt.o.light_tiles;
+    }
     if (a->method == METHOD_RESTIR && cli_given(options, given, "--max-depth")) {
         if (a->pt.o.max_depth < 2 || a->pt.o.max_depth > PATH_MAX_LENGTH) {
             fprintf(stderr, "restir render: --max-depth: restir needs 2..%d, got %d\n", PATH_MAX_LENGTH,
@@ -693,7 +698,7 @@ int cmd_render(int argc, char **argv)
             {"--from-stage", OPT_STRING, &a.from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
-            {"--ablate", OPT_STRING, &a.ablate, "a deliberately broken estimator: pt: light-pdf|mis-sum|mis-lobe, restir: jacobian|light-pdf|...", NULL, 0, 0, NULL},
+            {"--ablate", OPT_STRING, &a.ablate, "a deliberately broken estimator: pt: light-pdf|mis-sum|mis-lobe|light-ris-pdf, restir: jacobian|light-pdf|...", NULL, 0, 0, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
     }

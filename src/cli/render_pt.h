@@ -18,7 +18,7 @@ void render_pt_args_default(render_pt_args *a);
  * every lighting method.) */
 int render_pt_set_ablation(render_pt_args *a, const char *name);
 /* Writes the PT option rows into rows[] (room for RENDER_PT_OPTION_ROWS); returns the count. */
-#define RENDER_PT_OPTION_ROWS 11
+#define RENDER_PT_OPTION_ROWS 13
 int render_pt_options(cli_option *rows, render_pt_args *a);
 
 /* Renders s with the path tracer (a->o with seed, threads, jitter, frame and quiet set by

@@ -2,6 +2,8 @@
  * balance-heuristic MIS weights of GRIS Eq. 49 (include/restir/path_sampler.h). */
 #include "restir/path_sampler.h"
 
+#include "restir/light_ris.h"
+
 void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir)
 {
     int l, n;
@@ -78,6 +80,7 @@ int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key pat
                         nee_sample *out)
 {
     real u[4];
+    if (c->light_ris > 0) return light_ris_sample(c, v, path, vertex_index, out);
     rng_u_slots(path, RNG_NEE, vertex_index, 0, 4, u);
     return vertex_sample_light_numbers(c, v, u, out);
 }
@@ -104,6 +107,15 @@ int vertex_sample_light_numbers(const path_context *c, const path_vertex *v, con
     /* Solid-angle form of the NEE estimator: f|cos| Le / p_light(ω). */
     out->contribution = rgb_scale(rgb_mul(out->f_cos, out->emitted), 1 / out->pdf_light);
     return 1;
+}
+
+real path_light_pdf_hit(const path_context *c, const path_vertex *from, const path_vertex *hit, rng_key path,
+                        uint32_t vertex_index)
+{
+    uint32_t tri = hit->hit.triangle;
+    if (c->light_ris > 0 && !(c->ablations & PT_ABLATE_LIGHT_RIS_PDF))
+        return light_ris_pdf_hit(c, from, path, vertex_index, tri, hit->position, hit->ng);
+    return path_light_pdf(c, tri, from->position, hit->position, hit->ng);
 }
 
 int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index, bsdf_bounce *out)

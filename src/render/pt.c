@@ -6,11 +6,12 @@
 #include <string.h>
 #include "restir/camera.h"
 #include "restir/gbuffer.h"
+#include "restir/light_ris.h"
 #include "restir/progress.h"
 #include "restir/threads.h"
 
 const char *const pt_strategy_names[] = {"mis", "nee", "bsdf", NULL};
-const char *const pt_ablation_names[] = {"light-pdf", "mis-sum", "mis-lobe", NULL};
+const char *const pt_ablation_names[] = {"light-pdf", "mis-sum", "mis-lobe", "light-ris-pdf", NULL};
 
 unsigned pt_ablation_from_name(const char *name)
 {
@@ -47,6 +48,9 @@ int pt_options_validate(const pt_options *o, rerror *e)
         return rerror_set(e, "pt: give a sample count (spp > 0) or a time limit");
     if (!(o->time_limit >= 0) || !(o->checkpoint_interval >= 0))
         return rerror_set(e, "pt: negative time limit or checkpoint interval");
+    if (o->light_ris < 0 || o->light_ris > LIGHT_RIS_MAX)
+        return rerror_set(e, "pt: --light-ris %d is outside 0..%d candidates", o->light_ris, LIGHT_RIS_MAX);
+    if (o->light_tiles && o->light_ris == 0) return rerror_set(e, "pt: --light-tiles needs --light-ris N");
     if ((uint64_t)o->sample_offset + o->spp > UINT32_MAX)
         return rerror_set(e, "pt: sample indices %u + %u exceed 2^32 - 1", o->sample_offset, o->spp);
     return 0;
@@ -71,13 +75,14 @@ typedef struct {
 } pass_job;
 
 /* The emitter at x_{i+1}, reached by BSDF sampling from x_i, weighted against NEE. */
-static rgb emitter_hit(const pass_job *j, const path_vertex *from, const path_vertex *hit, const bsdf_bounce *b)
+static rgb emitter_hit(const pass_job *j, const path_vertex *from, const path_vertex *hit, const bsdf_bounce *b,
+                       rng_key key, int i)
 {
     rgb le = path_vertex_emitted(&j->ctx, hit);
     real p_light = 0;
     if (rgb_is_black(le)) return le;
     if (!b->is_delta && j->ctx.strategy == PT_STRATEGY_MIS)
-        p_light = path_light_pdf(&j->ctx, hit->hit.triangle, from->position, hit->position, hit->ng);
+        p_light = path_light_pdf_hit(&j->ctx, from, hit, key, (uint32_t)i);
     return rgb_scale(le, path_mis_weight_bsdf_hit(&j->ctx, b, p_light));
 }
 
@@ -127,7 +132,7 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
         ++*rays;
         if (!scene_intersect(j->s, &r, &h)) break;
         path_vertex_make(next, j->s, &h, v3_from_f(r.dir));
-        if (counted) L = rgb_add(L, rgb_mul(beta, emitter_hit(j, v, next, &b)));
+        if (counted) L = rgb_add(L, rgb_mul(beta, emitter_hit(j, v, next, &b, key, i)));
         swap = v; /* x_{i+1} becomes the current vertex without copying it */
         v = next;
         next = swap;
@@ -296,6 +301,9 @@ int pt_render(const scene *s, const pt_options *o, pt_result *out, rerror *e)
     j.ctx.lights = &lights;
     j.ctx.strategy = o->strategy;
     j.ctx.ablations = o->ablations;
+    j.ctx.light_ris = o->light_ris;
+    j.ctx.light_tiles = o->light_tiles;
+    j.ctx.image_width = s->width;
     j.st = &out->state;
     j.workers = rcalloc((size_t)o->threads, sizeof *j.workers, e);
     if (!j.workers || start_state(s, o, &out->state, e)) status = -1;

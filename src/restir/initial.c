@@ -84,7 +84,8 @@ static void stream_tree(const restir_context *c, const initial_options *o, const
         if (trunk_trace(&t, c->path.scene) != SHIFT_OK) break;
         {
             real light_pdf;
-            rgb F = emitter_path_contribution(&c->path, t.beta[i + 1], &t.v[i], &t.v[i + 1], &t.b[i], &light_pdf);
+            rgb F = emitter_path_contribution(&c->path, t.beta[i + 1], &t.v[i], &t.v[i + 1], &t.b[i], key, i,
+                                               &light_pdf);
             if (!rgb_is_black(F)) offer(cs, o, key, sample, i + 1, PATH_TECH_BSDF, F, survival, st);
         }
     }

@@ -1,6 +1,8 @@
 /* Paths from their random numbers, vertex by vertex (include/restir/path_replay.h). */
 #include "restir/path_replay.h"
 
+#include "restir/light_ris.h"
+
 void trunk_begin(path_trunk *t, const path_vertex *x1)
 {
     t->n = 1;
@@ -77,13 +79,13 @@ rgb nee_path_contribution(const path_context *c, rgb beta, const nee_sample *n)
 /* GRIS Eq. 49 for a BSDF path: w_bsdf = p_bsdf / (p_bsdf + p_light), with the all-lobe
  * BSDF pdf and the NEE pdf of the hit point seen from `from`. */
 rgb emitter_path_contribution(const path_context *c, rgb beta_hit, const path_vertex *from, const path_vertex *hit,
-                              const bsdf_bounce *b, real *light_pdf)
+                              const bsdf_bounce *b, rng_key path, int from_index, real *light_pdf)
 {
     rgb le = path_vertex_emitted(c, hit);
     *light_pdf = 0;
     if (rgb_is_black(le)) return le;
     if (!b->is_delta && c->strategy == PT_STRATEGY_MIS)
-        *light_pdf = path_light_pdf(c, hit->hit.triangle, from->position, hit->position, hit->ng);
+        *light_pdf = path_light_pdf_hit(c, from, hit, path, (uint32_t)from_index);
     return rgb_mul(beta_hit, rgb_scale(le, path_mis_weight_bsdf_hit(c, b, *light_pdf)));
 }
 
@@ -95,8 +97,15 @@ enum shift_failure trunk_finish(path_trunk *t, const restir_context *c, const pa
         const path_vertex *v = &t->v[d - 1];
         /* The path tracer draws NEE only where a non-Dirac lobe can receive it. */
         real u[4];
+        int lit;
         path_nee_numbers(s, u);
-        if (!v->can_nee || !vertex_sample_light_numbers(&c->path, v, u, &end->nee)) return SHIFT_FAIL_NEE;
+        /* Light RIS: the candidates and the selection number are the path's own (its replay
+         * identity); the selected index may differ at another x_{d-1}: that is the PSS map
+         * (docs/enhanced.md §6, "Shifts"). */
+        lit = v->can_nee && (c->path.light_ris > 0
+                                 ? light_ris_sample(&c->path, v, path_sample_key(s), (uint32_t)(d - 1), &end->nee)
+                                 : vertex_sample_light_numbers(&c->path, v, u, &end->nee));
+        if (!lit) return SHIFT_FAIL_NEE;
         end->F = nee_path_contribution(&c->path, t->beta[d - 1], &end->nee);
         end->light_pdf = end->nee.pdf_light;
         return rgb_is_black(end->F) ? SHIFT_FAIL_NEE : SHIFT_OK;
@@ -106,7 +115,7 @@ enum shift_failure trunk_finish(path_trunk *t, const restir_context *c, const pa
         if ((why = trunk_sample(t, u)) != SHIFT_OK) return why;
         if ((why = trunk_trace(t, c->path.scene)) != SHIFT_OK) return why;
         end->F = emitter_path_contribution(&c->path, t->beta[d], &t->v[d - 1], &t->v[d], &t->b[d - 1],
-                                           &end->light_pdf);
+                                           path_sample_key(s), d - 1, &end->light_pdf);
         return rgb_is_black(end->F) ? SHIFT_FAIL_REPLAY_NO_LIGHT : SHIFT_OK;
     }
 }

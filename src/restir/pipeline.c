@@ -306,6 +306,10 @@ static int validate_sequence(const scene *s, const restir_options *o, const rest
     if (q->resume && q->accumulate) return rerror_set(e, "restir: a sequence with --accumulate cannot be resumed");
     if ((uint64_t)((uint64_t)q->last + 1) * (uint64_t)o->candidates > UINT32_MAX)
         return rerror_set(e, "restir: --sequence %d..%d x path trees exceeds 2^32 sample indices", q->first, q->last);
+    /* rc_retrace_suffix re-derives a moved x_k's light point with the plain light sampler */
+    if (o->light_ris > 0 && scene_is_animated(s))
+        return rerror_set(e, "restir: --light-ris with --sequence needs a static scene (%s has moving objects; "
+                             "docs/enhanced.md section 6)", s->path);
     return 0;
 }
 

@@ -1,6 +1,8 @@
 /* Reconnection to x_k and the recording of a selected path (include/restir/reconnection.h). */
 #include "restir/reconnection.h"
 
+#include "restir/light_ris.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -37,6 +39,18 @@ static real last_light_pdf(const restir_context *c, const path_sample *x, real r
     return c->ablation == RESTIR_ABLATE_LIGHT_PDF ? x->light_pdf : recomputed;
 }
 
+/* The NEE pdf of the light point y (triangle tri, normal ny) seen from x_{d-1} = from: the
+ * light sampler's p_light, or with light RIS p̃(y; Z) from the sample's own candidates at
+ * vertex d-1. Under RIS that is M p_0(y) P_s, the PSS density of selecting y given the
+ * candidates (the selection number's interval has length P_s), so in the Jacobian its
+ * ratio is P'_s/P_s: the analogue of Enhanced Eq. 2's light-density ratio (docs/enhanced.md §6). */
+static real nee_pdf(const path_context *pc, const path_vertex *from, const path_sample *x, uint32_t tri, vec3 y,
+                    vec3 ny)
+{
+    if (pc->light_ris > 0) return light_ris_pdf_nee(pc, from, path_sample_key(x), (uint32_t)(x->length - 1), tri, y, ny);
+    return path_light_pdf(pc, tri, from->position, y, ny);
+}
+
 /* x_k = x_d is an NEE light vertex sampled from y_{k-1} = y_{d-1}: the NEE estimate
  * f_all|cos| Le / p_light times w_nee (GRIS Eq. 49) with the light pdf from y_{d-1}. */
 static enum shift_failure reconnect_nee_light(const restir_context *c, const path_vertex *prev,
@@ -48,7 +62,7 @@ static enum shift_failure reconnect_nee_light(const restir_context *c, const pat
     if (!prev->can_nee) return SHIFT_FAIL_BSDF_ZERO;
     f_cos = path_vertex_eval(prev, t->direction);
     le = path_vertex_emitted(pc, xk);
-    t->pdf_prev = path_light_pdf(pc, x->rc_triangle, prev->position, xk->position, xk->ng);
+    t->pdf_prev = nee_pdf(pc, prev, x, x->rc_triangle, xk->position, xk->ng);
     t->light_pdf = last_light_pdf(c, x, t->pdf_prev);
     t->radiance = le;
     if (rgb_is_black(f_cos)) return SHIFT_FAIL_BSDF_ZERO;
@@ -69,14 +83,41 @@ static rgb emitter_from_prev(const restir_context *c, const path_vertex *prev, c
     memset(&b, 0, sizeof b);
     b.pdf_lobe = pdf_lobe;
     b.pdf_all = path_vertex_pdf(prev, t->direction);
-    t->light_pdf = last_light_pdf(c, x, path_light_pdf(pc, x->rc_triangle, prev->position, xk->position, xk->ng));
+    t->light_pdf = last_light_pdf(c, x, path_light_pdf_hit(pc, prev, xk, path_sample_key(x), (uint32_t)(x->length - 1)));
     t->radiance = le;
     return rgb_scale(le, path_mis_weight_bsdf_hit(pc, &b, t->light_pdf));
 }
 
+/* Light RIS at x_k = x_{d-1} seen from the new incoming direction (its target p̂ holds the
+ * BSDF, so the candidates' weights move with w'_{k-1}). NEE: the selected candidate is the
+ * one along w_k; its p̃ is the new NEE pdf and, as M p_0 P_s, the Jacobian's p_k (the
+ * selection number's interval maps linearly: P'_s/P_s). BSDF: the emitter hit along w_k,
+ * found again by the path sampler's ray, and its p̃ from the sample's fresh candidates. */
+static enum shift_failure ris_at_last_vertex(const restir_context *c, const path_vertex *xk, const path_sample *x,
+                                             real *light_pdf)
+{
+    const path_context *pc = &c->path;
+    rng_key key = path_sample_key(x);
+    uint32_t k = x->rc_k;
+    if (x->lobe[k] == PATH_LOBE_NEE) {
+        light_sample z;
+        if (!light_ris_candidate_towards(pc, xk, key, k, x->rc_wo, &z)) return SHIFT_FAIL_NEE;
+        *light_pdf = light_ris_pdf_nee(pc, xk, key, k, z.triangle, v3_from_f(z.position), v3_from_f(z.normal));
+    } else {
+        ray r = scene_spawn_ray(xk->hit.position, xk->hit.ng, v3f_from(x->rc_wo), v3f_from(xk->wo));
+        surface_hit h;
+        path_vertex hit;
+        if (!scene_intersect(pc->scene, &r, &h)) return SHIFT_FAIL_REPLAY_MISS;
+        path_vertex_make(&hit, pc->scene, &h, v3_from_f(r.dir));
+        *light_pdf = path_light_pdf_hit(pc, xk, &hit, key, k);
+    }
+    return *light_pdf > 0 || x->lobe[k] != PATH_LOBE_NEE ? SHIFT_OK : SHIFT_FAIL_ZERO;
+}
+
 /* The part of the path from x_k on, seen from the new incoming direction -w'_{k-1}:
  * the BSDF at x_k is re-evaluated (pitfall 5, docs/restir-pt.md §11), and when x_k = x_{d-1} so is the
- * final MIS weight (x_{d-1} stays, so its light pdf is still the stored one). */
+ * final MIS weight (x_{d-1} stays, so its light pdf is still the stored one, except under
+ * light RIS: ris_at_last_vertex). */
 static enum shift_failure suffix_at_xk(const restir_context *c, const path_vertex *xk, const path_sample *x,
                                        rc_terms *t, rgb *suffix)
 {
@@ -85,17 +126,21 @@ static enum shift_failure suffix_at_xk(const restir_context *c, const path_verte
     unsigned lobe = x->lobe[k];
     t->light_pdf = x->light_pdf;
     t->radiance = x->rc_radiance;
+    if (k == d - 1 && c->path.light_ris > 0) {
+        enum shift_failure why = ris_at_last_vertex(c, xk, x, &t->light_pdf);
+        if (why != SHIFT_OK) return why;
+    }
     if (lobe == PATH_LOBE_NEE) { /* k = d-1: NEE from x_k to the stored light point */
         rgb f_cos;
         real p_bsdf;
-        t->pdf_k = 1;
-        if (!(x->light_pdf > 0)) return SHIFT_FAIL_ZERO;
+        t->pdf_k = c->path.light_ris > 0 ? t->light_pdf : 1;
+        if (!(t->light_pdf > 0)) return SHIFT_FAIL_ZERO;
         if (!xk->can_nee) return SHIFT_FAIL_BSDF_ZERO;
         f_cos = path_vertex_eval(xk, x->rc_wo);
         if (rgb_is_black(f_cos)) return SHIFT_FAIL_BSDF_ZERO;
         p_bsdf = path_vertex_pdf(xk, x->rc_wo);
-        *suffix = rgb_scale(rgb_scale(rgb_mul(f_cos, x->rc_radiance), 1 / x->light_pdf),
-                            path_mis_weight_nee(pc, x->light_pdf, p_bsdf));
+        *suffix = rgb_scale(rgb_scale(rgb_mul(f_cos, x->rc_radiance), 1 / t->light_pdf),
+                            path_mis_weight_nee(pc, t->light_pdf, p_bsdf));
     } else {
         rgb w;
         enum shift_failure why = lobe_bounce(xk, lobe, x->rc_wo, &w, &t->pdf_k);
@@ -105,7 +150,7 @@ static enum shift_failure suffix_at_xk(const restir_context *c, const path_verte
             memset(&b, 0, sizeof b);
             b.pdf_lobe = t->pdf_k;
             b.pdf_all = path_vertex_pdf(xk, x->rc_wo);
-            *suffix = rgb_mul(w, rgb_scale(x->rc_radiance, path_mis_weight_bsdf_hit(pc, &b, x->light_pdf)));
+            *suffix = rgb_mul(w, rgb_scale(x->rc_radiance, path_mis_weight_bsdf_hit(pc, &b, t->light_pdf)));
         } else {
             *suffix = rgb_mul(w, x->rc_radiance);
         }

@@ -6,7 +6,7 @@
 const char *const restir_shift_names[] = {"reconnection", "replay", "hybrid", NULL};
 const char *const restir_ablation_names[] = {"none", "jacobian", "light-pdf", "temporal-target", "temporal-suffix",
                                                 "stochastic-p", "footprint-base-only", "dual-mv-vertex",
-                                                "pair-mis", "mutation-w", "rv-kernel", NULL};
+                                                "pair-mis", "mutation-w", "rv-kernel", "light-ris-pdf", NULL};
 const char *const rc_mode_names[] = {"gris", "footprint", NULL};
 
 /* Index = enum shift_failure. */

@@ -2,6 +2,8 @@
  * (GRIS §6.3 step 3), shading, frames averaged with GRIS Eq. 47 (include/restir/restir.h). */
 #include "restir/restir.h"
 
+#include "restir/light_ris.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -181,6 +183,15 @@ int restir_options_validate(const restir_options *o, rerror *e)
     if (o->mutate_after & ~(MUTATE_AFTER_INITIAL | MUTATE_AFTER_TEMPORAL | MUTATE_AFTER_SPATIAL))
         return rerror_set(e, "restir: unknown mutation stage bits %#x", (unsigned)o->mutate_after);
     if (!(o->mcap > 0)) return rerror_set(e, "restir: M-cap %g (must be > 0, or inf)", o->mcap);
+    if (o->light_ris < 0 || o->light_ris > LIGHT_RIS_MAX)
+        return rerror_set(e, "restir: --light-ris %d is outside 0..%d candidates", o->light_ris, LIGHT_RIS_MAX);
+    if (o->light_tiles && o->light_ris == 0) return rerror_set(e, "restir: --light-tiles needs --light-ris N");
+    /* The MCMC mutations perturb the light point's two numbers (path_nee_numbers); under
+     * light RIS the NEE vertex is a discrete choice among candidates, which they do not
+     * define a mutation of (docs/enhanced.md §6). */
+    if (o->light_ris > 0 && o->mutations > 0)
+        return rerror_set(e, "restir: --mutations cannot be combined with --light-ris (no mutation of a light-RIS "
+                             "NEE vertex is defined; docs/enhanced.md section 6)");
     return correlation_options_validate(o, e);
 }
 
@@ -190,7 +201,10 @@ void restir_context_for(restir_context *c, const scene *s, const light_set *ligh
     c->path.scene = s;
     c->path.lights = lights;
     c->path.strategy = PT_STRATEGY_MIS;
-    c->path.ablations = 0;
+    c->path.ablations = o->ablation == RESTIR_ABLATE_LIGHT_RIS_PDF ? PT_ABLATE_LIGHT_RIS_PDF : 0;
+    c->path.light_ris = o->light_ris;
+    c->path.light_tiles = o->light_tiles;
+    c->path.image_width = s->width;
     c->shift = o->shift;
     c->rc.roughness_threshold = (real)o->roughness_threshold;
     c->rc.min_distance = rc_min_distance_for_scene(s, (real)o->distance_threshold);
@@ -811,6 +825,6 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
     else
         fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis], o->mcap);
-    fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d}", o->mutations,
-            mutate_strategy_names[o->mutation], o->mutate_after);
+    fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d, \"light_ris\": %d, \"light_tiles\": %s}", o->mutations,
+            mutate_strategy_names[o->mutation], o->mutate_after, o->light_ris, o->light_tiles ? "true" : "false");
 }

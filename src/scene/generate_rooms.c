@@ -13,6 +13,7 @@
 #include <string.h>
 #include "restir/animation.h"
 #include "restir/atomic_file.h"
+#include "restir/rng.h"
 #include "restir/scene_builder.h"
 #include "restir/triangulate.h"
 
@@ -755,4 +756,112 @@ int generate_write_scene_file(const scene *s, const char *scene_path, const char
     if (atomic_file_open(&f, scene_path, e)) return -1;
     write_scene_text(f.fp, s, mesh_name, comment);
     return atomic_file_commit(&f, e);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* The many-lights hall (light RIS, Enhanced §6.1; docs/scenes.md)                     */
+
+/* Hall (metres): x in [0, 8], y in [0, 4], z in [0, 20]; the camera at z = 0.6 looks
+ * down it. Lights: MANY_LIGHTS_COUNT squares of 0.12 m on the ceiling (facing down) and
+ * on the two long walls (facing in), each of one of MANY_LIGHTS_LEVELS radiances spread
+ * log-uniformly over three decades, in three tints: their powers differ by 1000×, so
+ * light selection by power (p_0) still sends most samples to lights that a given point
+ * hardly sees, which is where RIS with an unshadowed target helps. Occluders: eight
+ * pillars and a glossy copper block; the floor is glossy plastic. */
+#define MANY_LIGHTS_COUNT 1000
+#define MANY_LIGHTS_LEVELS 15
+#define ML_W 8.0
+#define ML_H 4.0
+#define ML_D 20.0
+#define ML_SIZE 0.12
+
+static const material_spec many_lights_surfaces[] = {
+    {"wall", MAT_LAMBERT, {0.70, 0.68, 0.65}, {0, 0, 0}, {0, 0, 0}, 1, 1.5},
+    {"floor", MAT_PLASTIC, {0.25, 0.22, 0.20}, {1, 1, 1}, {0, 0, 0}, 0.15, 1.5},
+    {"pillar", MAT_PLASTIC, {0.50, 0.45, 0.40}, {1, 1, 1}, {0, 0, 0}, 0.4, 1.5},
+    {"copper", MAT_CONDUCTOR, {0, 0, 0}, {0.95, 0.64, 0.54}, {0, 0, 0}, 0.2, 1.5},
+};
+
+static const char *const many_lights_names[MANY_LIGHTS_LEVELS] = {
+    "light00", "light01", "light02", "light03", "light04", "light05", "light06", "light07",
+    "light08", "light09", "light10", "light11", "light12", "light13", "light14"};
+
+/* Light level k: radiance 0.1 · 10^(3k/(LEVELS-1)) (0.1 .. 100), tint k mod 3. */
+static void many_lights_materials(mesh_writer *m)
+{
+    static const double tint[3][3] = {{1.0, 0.85, 0.6}, {0.75, 0.85, 1.0}, {1.0, 1.0, 1.0}};
+    material_spec specs[MANY_LIGHTS_LEVELS];
+    int k;
+    define_materials(m, many_lights_surfaces, (int)(sizeof many_lights_surfaces / sizeof *many_lights_surfaces));
+    for (k = 0; k < MANY_LIGHTS_LEVELS; ++k) {
+        double radiance = 0.1 * pow(10.0, 3.0 * k / (MANY_LIGHTS_LEVELS - 1));
+        int c;
+        memset(&specs[k], 0, sizeof specs[k]);
+        specs[k].name = many_lights_names[k];
+        specs[k].type = MAT_LAMBERT;
+        for (c = 0; c < 3; ++c) specs[k].ke[c] = radiance * tint[k % 3][c];
+        specs[k].roughness = 1;
+        specs[k].ior = 1.5;
+    }
+    define_materials(m, specs, MANY_LIGHTS_LEVELS);
+}
+
+/* One light square 1 cm off a wall: centre c, facing along +-axis `axis` (sign), the
+ * square spanning the two other axes. */
+static void many_lights_square(mesh_writer *m, int axis, int sign, double w, double u, double v)
+{
+    const double h = ML_SIZE / 2;
+    uint32_t a = axis_vertex(m, axis, w, u - h, v - h), b = axis_vertex(m, axis, w, u + h, v - h);
+    uint32_t c = axis_vertex(m, axis, w, u + h, v + h), d = axis_vertex(m, axis, w, u - h, v + h);
+    /* (u) x (v) = +axis: keep the order to face +axis, reverse it to face -axis. */
+    if (sign > 0) quad(m, a, b, c, d);
+    else quad(m, a, d, c, b);
+}
+
+static void many_lights_emitters(mesh_writer *m)
+{
+    int i;
+    for (i = 0; i < MANY_LIGHTS_COUNT && !m->failed; ++i) {
+        /* Placement and level from addressed numbers (stream RNG_TEST: a tool, not an estimator). */
+        rng_key key = rng_key_make(2026, (uint32_t)i, 0);
+        double where = rng_u(key, RNG_TEST, 0, 0), a = rng_u(key, RNG_TEST, 0, 1), b = rng_u(key, RNG_TEST, 0, 2);
+        int level = (int)(rng_u(key, RNG_TEST, 0, 3) * MANY_LIGHTS_LEVELS);
+        use(m, many_lights_names[level < MANY_LIGHTS_LEVELS ? level : MANY_LIGHTS_LEVELS - 1], "lights");
+        if (where < 0.5) /* ceiling, facing down (-y); axis y: u = z, v = x */
+            many_lights_square(m, 1, -1, ML_H - 0.01, 0.3 + a * (ML_D - 0.6), 0.3 + b * (ML_W - 0.6));
+        else if (where < 0.75) /* left wall x = 0, facing +x; axis x: u = y, v = z */
+            many_lights_square(m, 0, 1, 0.01, 0.3 + a * (ML_H - 0.6), 0.3 + b * (ML_D - 0.6));
+        else /* right wall x = W, facing -x */
+            many_lights_square(m, 0, -1, ML_W - 0.01, 0.3 + a * (ML_H - 0.6), 0.3 + b * (ML_D - 0.6));
+    }
+}
+
+int generate_many_lights(scene *s, rerror *e)
+{
+    const double t = 0.2;
+    mesh_writer m;
+    int i;
+    if (writer_begin(&m, s, "generated:many-lights", e)) return -1;
+    many_lights_materials(&m);
+    /* The shell: slabs reach 2t beyond the interior, walls t beyond along z and into the
+     * slabs, the end walls into the side walls (no coplanar overlapping faces). */
+    use(&m, "floor", "floor");
+    box(&m, -2 * t, -t, -2 * t, ML_W + 2 * t, 0, ML_D + 2 * t);
+    use(&m, "wall", "ceiling");
+    box(&m, -2 * t, ML_H, -2 * t, ML_W + 2 * t, ML_H + t, ML_D + 2 * t);
+    use(&m, "wall", "walls");
+    box(&m, -t, -0.5 * t, -1.5 * t, 0, ML_H + 0.5 * t, ML_D + 1.5 * t);
+    box(&m, ML_W, -0.5 * t, -1.5 * t, ML_W + t, ML_H + 0.5 * t, ML_D + 1.5 * t);
+    box(&m, -0.5 * t, -0.7 * t, ML_D, ML_W + 0.5 * t, ML_H + 0.7 * t, ML_D + t);
+    box(&m, -0.5 * t, -0.7 * t, -t, ML_W + 0.5 * t, ML_H + 0.7 * t, 0);
+    use(&m, "pillar", "pillars");
+    for (i = 0; i < 8; ++i) {
+        double x = (i & 1) ? 5.6 : 2.0, z = 4.0 + 4.0 * (i / 2);
+        box(&m, x, -0.01, z, x + 0.4, ML_H + 0.01, z + 0.4);
+    }
+    use(&m, "copper", "block");
+    turned_box(&m, 3.6, 9.0, 0.8, 0.8, 30, -0.01, 0.9);
+    many_lights_emitters(&m);
+    set_camera(s, 4.0, 1.7, 0.6, 4.0, 1.3, 20.0, 60);
+    return writer_end(&m);
 }
