@@ -43,8 +43,10 @@ enum {
     BVH_STACK_SIZE = (BVH_WIDTH - 1) * 96 + 1
 };
 
-/* SAH constants: cost of one node traversal and one triangle test, in the same unit. */
-static const double SAH_TRAVERSAL_COST = 1.0;
+/* SAH constants: cost of one node traversal and one leaf block test (4 triangles as
+ * lanes), in the same unit. 2 : 1 measured best of 0.5, 1, 2, 3, 4 on the bunny's rays
+ * (docs/performance.md); the tree shape never changes a hit (ties go to the lowest index). */
+static const double SAH_TRAVERSAL_COST = 2.0;
 static const double SAH_TRIANGLE_COST = 1.0;
 
 #define COUNT_MASK 0xffffffu
