@@ -39,7 +39,7 @@ typedef struct {
  * bounds[3..5][k] = max x, y, z; count[k] > 0: a leaf of count[k] triangles stored in
  * the (count[k] + 3) / 4 leaf blocks from block child[k]; count[k] == 0: the wide node
  * child[k], or no child if child[k] is BVH_WIDE_EMPTY (its box is empty too). */
-#define BVH_WIDTH 4
+#define BVH_WIDTH 8
 #define BVH_WIDE_EMPTY UINT32_MAX
 typedef struct {
     float bounds[6][BVH_WIDTH];

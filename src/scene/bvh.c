@@ -852,8 +852,8 @@ static inline void prefetch_child(const bvh *b, uint32_t child, uint32_t count)
 #ifdef __GNUC__
     const char *at = count > 0 ? (const char *)&b->blocks[child] : (const char *)&b->wide[child];
     size_t size = count > 0 ? sizeof(bvh_leaf_block) : sizeof(bvh_wide_node);
-    __builtin_prefetch(at);
-    __builtin_prefetch(at + 64);
+    size_t line;
+    for (line = 0; line < size; line += 64) __builtin_prefetch(at + line);
     __builtin_prefetch(at + size - 1);
 #else
     (void)b;
