@@ -3,7 +3,7 @@
  * (main at ea610ee: binary BVH, one hash per random number). Fixed seed 1 on purpose (the
  * recorded checksums are for that seed; SEED= does not apply). Covers the path tracer on
  * the Cornell box (GGX plastic + Lambert), on the glass scene (delta lobes, ~3k
- * triangles) and on a generated displaced sphere (4.8k triangles: the 4-wide BVH), and the
+ * triangles) and on a generated displaced sphere (4.8k triangles: the wide BVH), and the
  * ReSTIR PT frame (initial resampling + spatial reuse) on the Cornell box. A deliberate
  * one-ulp change anywhere in these paths changes the checksum. */
 #include <stdio.h>
@@ -65,7 +65,7 @@ TEST(speed_images_bit_identical_to_recorded)
     }
 }
 
-/* The 4-wide tree (bvh.h) covers every triangle exactly once, through leaf blocks that
+/* The wide tree (bvh.h) covers every triangle exactly once, through leaf blocks that
  * hold its vertices and repeat a leaf's last triangle in unused lanes; its child boxes
  * contain their triangles, and its depth stays within the binary tree's (the traversal
  * stack is sized by that). */

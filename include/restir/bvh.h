@@ -1,5 +1,6 @@
 /* Bounding volume hierarchy over triangles: binned-SAH build, 32-byte flattened
- * nodes collapsed to 4-wide nodes, ordered stack traversal, watertight ray/triangle test (Woop et al. 2013).
+ * nodes collapsed to 8-wide nodes with 4-triangle leaf blocks, ordered stack traversal,
+ * watertight ray/triangle test (Woop et al. 2013), four triangles at a time.
  * Geometry is float (docs/design.md, Conventions). */
 #ifndef RESTIR_BVH_H
 #define RESTIR_BVH_H
@@ -32,9 +33,10 @@ typedef struct {
     uint32_t count_axis; /* leaf: primitive count (>0) in the low 24 bits; interior: axis << 24 */
 } bvh_node;
 
-/* The traversal's node: the binary tree above collapsed to 4 children per node
- * (BVH4; docs/performance.md), 128 bytes = two cache lines. Structure of arrays, so the
- * four slab tests are one loop the compiler can vectorise. The child boxes are exactly
+/* The traversal's node: the binary tree above collapsed to BVH_WIDTH = 8 children per
+ * node (BVH8; docs/performance.md), 256 bytes = four cache lines (allocated on a 64-byte
+ * boundary). Structure of arrays, so the eight slab tests are one loop the compiler can
+ * vectorise. The child boxes are exactly
  * the binary tree's node boxes. Per child k: bounds[0..2][k] = min x, y, z and
  * bounds[3..5][k] = max x, y, z; count[k] > 0: a leaf of count[k] triangles stored in
  * the (count[k] + 3) / 4 leaf blocks from block child[k]; count[k] == 0: the wide node
@@ -61,7 +63,7 @@ typedef struct {
 typedef struct {
     bvh_node *nodes;        /* the binary SAH tree (the build's output) */
     size_t node_count;
-    bvh_wide_node *wide;    /* the same tree, 4-wide, what the queries traverse */
+    bvh_wide_node *wide;    /* the same tree, BVH_WIDTH wide, what the queries traverse */
     size_t wide_count;
     uint32_t *prim_order;   /* leaf slots of the binary tree -> original triangle index */
     bvh_leaf_block *blocks; /* the wide tree's leaves: triangles inline, in traversal order */

@@ -3,15 +3,18 @@
  * Build: top-down binned SAH (Wald 2007, "On fast construction of SAH-based bounding
  * volume hierarchies"): BVH_BINS = 16 centroid bins per axis, all three axes tried at
  * every node, leaves of at most BVH_MAX_LEAF = 8 triangles, a node becomes a leaf when
- * the SAH says splitting does not pay. Nodes are stored depth-first: the left child of
- * an interior node is the next node, the right child is at `offset`.
+ * the SAH says splitting does not pay; the SAH counts a leaf's cost in blocks of 4
+ * triangles (sah_blocks). Nodes are stored depth-first: the left child of an interior
+ * node is the next node, the right child is at `offset`.
  *
- * Collapse: the binary tree is then collapsed to 4-wide nodes (BVH4) with the very same
- * boxes; queries traverse those (fewer, larger nodes: fewer dependent cache misses for
- * incoherent rays; docs/performance.md has the measurements).
+ * Collapse: the binary tree is then collapsed to BVH_WIDTH = 8 wide nodes (BVH8) with the
+ * very same boxes, and each leaf's triangles are copied into leaf blocks of 4 (vertices
+ * inline, structure of arrays); queries traverse those (fewer, larger nodes: fewer
+ * dependent cache misses for incoherent rays; docs/performance.md has the measurements).
  *
  * Traversal: one stack; of the children a ray enters, the nearest is visited first
- * (by entry distance). The box test is made conservative with respect to the
+ * (by entry distance). A leaf block's four triangles are tested as four lanes of one
+ * loop (watertight_lanes), bit-identical to the scalar test. The box test is made conservative with respect to the
  * rounding of both the slab test and the watertight triangle test (see ray_setup),
  * so the BVH finds exactly what a loop over all triangles finds.
  *
@@ -316,7 +319,7 @@ static void triangle_box(const vec3f *v, box3 *bx, float centroid[3])
 }
 
 /* ------------------------------------------------------------------------------- */
-/* Collapse to 4-wide nodes                                                         */
+/* Collapse to wide nodes and leaf blocks                                           */
 
 static double node_area(const bvh_node *n)
 {
@@ -351,7 +354,7 @@ static uint32_t make_leaf_blocks(bvh *b, const vec3f *tri_vertices, uint32_t slo
 
 /* Wide node `at` from the binary subtree of `kids[0..n)`: while there are fewer than
  * BVH_WIDTH children, the interior child with the largest surface area (the one a ray is
- * most likely to enter) is replaced by its two children (the usual BVH2 -> BVH4
+ * most likely to enter) is replaced by its two children (the usual BVH2 -> BVH4/BVH8
  * collapse, e.g. Wald et al. 2008, "Getting rid of packets"). The boxes are the binary
  * nodes' own boxes, so the traversal tests the same boxes, only fewer at a time. */
 static void collapse_node(bvh *b, const vec3f *tri_vertices, size_t at, uint32_t kids[BVH_WIDTH], int n)
