@@ -76,6 +76,8 @@ typedef struct {
 /* Builds over tri_count triangles given as 3 consecutive vertices each. */
 int bvh_build(bvh *b, const vec3f *tri_vertices, size_t tri_count, rerror *e);
 void bvh_free(bvh *b);
+/* Bytes of every array the BVH holds (binary nodes, wide nodes, leaf blocks, leaf order). */
+size_t bvh_memory_bytes(const bvh *b);
 
 /* Closest hit with t in (r->tmin, r->tmax). Returns 1 on a hit. */
 int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h);

@@ -524,6 +524,12 @@ void bvh_free(bvh *b)
     memset(b, 0, sizeof *b);
 }
 
+size_t bvh_memory_bytes(const bvh *b)
+{
+    return b->node_count * sizeof *b->nodes + b->wide_count * sizeof *b->wide + b->block_count * sizeof *b->blocks +
+           b->prim_count * sizeof *b->prim_order;
+}
+
 /* ------------------------------------------------------------------------------- */
 /* Per-ray precomputation                                                            */
 
