@@ -12,7 +12,10 @@
 #   make fuzz            libFuzzer harnesses of tests/fuzz (clang; FUZZ_RUNS, FUZZ_TARGETS)
 #   make valgrind        the quick suite's CLI paths under valgrind memcheck
 #   make tradeoffs       docs/tradeoffs.md: time against error for every knob (~20 min)
-# Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir
+# Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir  NATIVE=1
+#   NATIVE=1 compiles the same portable C for this machine's vector ISA (-march=native,
+#   build/native): bit-identical output (-ffp-contract=off still forbids contracting
+#   products into FMAs), faster traversal (docs/performance.md, "BVH traversal").
 #   DEBUG=1 checks the estimator's invariants after every GRIS step and aborts with
 #   file:line on a failure (include/restir/invariant.h; docs/statistics.md).
 
@@ -21,6 +24,7 @@ SANITIZE ?= 0
 FUZZ ?= 0
 WERROR ?= 0
 DEBUG ?= 0
+NATIVE ?= 0
 
 ifeq ($(SANITIZE),1)
 BUILD_SAN := /san
@@ -34,7 +38,10 @@ endif
 ifeq ($(FUZZ),1)
 BUILD_FUZZ := /fuzz
 endif
-BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)$(BUILD_DEBUG)$(BUILD_FUZZ)
+ifeq ($(NATIVE),1)
+BUILD_NATIVE := /native
+endif
+BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)$(BUILD_DEBUG)$(BUILD_FUZZ)$(BUILD_NATIVE)
 
 CFLAGS ?= -O2
 CFLAGS += -std=c99 -Wall -Wextra -Wpedantic -ffp-contract=off -D_POSIX_C_SOURCE=200809L
@@ -54,6 +61,9 @@ LDFLAGS += -fsanitize=address,undefined
 endif
 ifeq ($(WERROR),1)
 CFLAGS += -Werror
+endif
+ifeq ($(NATIVE),1)
+CFLAGS += -march=native
 endif
 ifeq ($(DEBUG),1)
 CPPFLAGS += -DRESTIR_DEBUG
