@@ -832,6 +832,7 @@ static inline unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n,
     const float ix = s->inv[0], iy = s->inv[1], iz = s->inv[2], tmin = s->tmin;
     const float ncx = s->near_c[0], ncy = s->near_c[1], ncz = s->near_c[2];
     const float fcx = s->far_c[0], fcy = s->far_c[1], fcz = s->far_c[2];
+    static const unsigned lane_bit[BVH_WIDTH] = {1, 2, 4, 8, 16, 32, 64, 128}; /* BVH_WIDTH = 8 */
     float tnear[BVH_WIDTH], tfar[BVH_WIDTH];
     unsigned mask = 0;
     int k;
@@ -852,9 +853,10 @@ static inline unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n,
         tnear[k] = tn;
         tfar[k] = tf;
     }
+    /* The mask as an OR of per-lane bits (vectorised too: compare, and, reduce). */
     for (k = 0; k < BVH_WIDTH; ++k) {
         entry[k] = tnear[k];
-        mask |= (unsigned)(tnear[k] <= tfar[k]) << k;
+        mask |= lane_bit[k] & (0u - (unsigned)(tnear[k] <= tfar[k]));
     }
     return mask;
 }
