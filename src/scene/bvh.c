@@ -12,9 +12,10 @@
  * inline, structure of arrays); queries traverse those (fewer, larger nodes: fewer
  * dependent cache misses for incoherent rays; docs/performance.md has the measurements).
  *
- * Traversal: one stack; of the children a ray enters, the nearest is visited first
- * (by entry distance). A leaf block's four triangles are tested as four lanes of one
- * loop (watertight_lanes), bit-identical to the scalar test. The box test is made conservative with respect to the
+ * Traversal: one stack of wide nodes; of the inner children a ray enters, the nearest is
+ * visited first (by entry distance); the leaf children it enters are tested where they
+ * are found, without a push and a pop. A leaf block's four triangles are tested as four
+ * lanes of one loop (watertight_lanes), bit-identical to the scalar test. The box test is made conservative with respect to the
  * rounding of both the slab test and the watertight triangle test (see ray_setup),
  * so the BVH finds exactly what a loop over all triangles finds.
  *
@@ -810,11 +811,11 @@ unsigned ray_triangle4_watertight(const ray *r, const vec3f v[BVH_LANES][3], flo
 /* ------------------------------------------------------------------------------- */
 /* Traversal                                                                        */
 
-/* A stack entry: a child still to visit (a wide node, or a leaf of `count` triangles)
- * and where the ray enters its box, so that a closest hit found meanwhile can cull it
- * without touching it again. */
+/* A stack entry: a wide node still to visit and where the ray enters its box, so that a
+ * closest hit found meanwhile can cull it without touching it again. (Leaves never go on
+ * the stack: they are tested where they are found, push_children_*.) */
 typedef struct {
-    uint32_t child, count;
+    uint32_t node;
     float tnear;
 } stack_entry;
 
@@ -861,21 +862,18 @@ static inline unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n,
     return mask;
 }
 
-/* Starts loading a child that was just pushed: its wide node, or its leaf's vertices.
- * Memory latency dominates incoherent rays (docs/performance.md); a cache hint changes
- * no result, and without the GCC/Clang builtin it does nothing. */
-static inline void prefetch_child(const bvh *b, uint32_t child, uint32_t count)
+/* Starts loading a wide node that was just pushed, every cache line of it. Memory latency
+ * dominates incoherent rays (docs/performance.md); a cache hint changes no result, and
+ * without the GCC/Clang builtin it does nothing. */
+static inline void prefetch_node(const bvh *b, uint32_t node)
 {
 #ifdef __GNUC__
-    const char *at = count > 0 ? (const char *)&b->blocks[child] : (const char *)&b->wide[child];
-    size_t size = count > 0 ? sizeof(bvh_leaf_block) : sizeof(bvh_wide_node);
+    const char *at = (const char *)&b->wide[node];
     size_t line;
-    for (line = 0; line < size; line += 64) __builtin_prefetch(at + line);
-    __builtin_prefetch(at + size - 1);
+    for (line = 0; line < sizeof(bvh_wide_node); line += 64) __builtin_prefetch(at + line);
 #else
     (void)b;
-    (void)child;
-    (void)count;
+    (void)node;
 #endif
 }
 
@@ -886,30 +884,16 @@ static inline int enters(const bvh_wide_node *n, unsigned mask, int k)
     return ((mask >> k) & 1u) && !(n->count[k] == 0 && n->child[k] == BVH_WIDE_EMPTY);
 }
 
-/* Inserts a child into stack[base..top), kept sorted by decreasing entry distance, and
- * starts loading it. */
-static HOT_INLINE void push_sorted(const bvh *b, stack_entry *stack, int base, int *top, uint32_t child,
-                                   uint32_t count, float tnear)
+/* Inserts a wide node into stack[base..top), kept sorted by decreasing entry distance
+ * (so that the nearest is visited next; the order only affects the speed: the closest hit
+ * and its tie-break do not depend on it), and starts loading it. */
+static HOT_INLINE void push_sorted(const bvh *b, stack_entry *stack, int base, int *top, uint32_t node, float tnear)
 {
     int j;
     for (j = (*top)++; j > base && stack[j - 1].tnear < tnear; --j) stack[j] = stack[j - 1];
-    stack[j].child = child;
-    stack[j].count = count;
+    stack[j].node = node;
     stack[j].tnear = tnear;
-    prefetch_child(b, child, count);
-}
-
-/* Pushes the children of wide node n that the ray enters before tfar_limit, the farthest
- * first, so that the nearest is visited next (the order only affects the speed: the
- * closest hit and its tie-break do not depend on it). */
-static HOT_INLINE void push_children(const ray_setup *s, const bvh *b, const bvh_wide_node *n, float tfar_limit,
-                                     stack_entry *stack, int *top)
-{
-    float entry[BVH_WIDTH];
-    unsigned mask = wide_overlaps(s, n, tfar_limit, entry);
-    int k, base = *top;
-    for (k = 0; k < BVH_WIDTH; ++k)
-        if (enters(n, mask, k)) push_sorted(b, stack, base, top, n->child[k], n->count[k], entry[k]);
+    prefetch_node(b, node);
 }
 
 /* Any hit in the leaf of `count` triangles from block `first`. */
@@ -935,62 +919,91 @@ static HOT_INLINE int push_children_any_hit(const ray_setup *s, const bvh *b, co
     for (k = 0; k < BVH_WIDTH; ++k) {
         if (!enters(n, mask, k)) continue;
         if (n->count[k] == 0)
-            push_sorted(b, stack, base, top, n->child[k], 0, entry[k]);
+            push_sorted(b, stack, base, top, n->child[k], entry[k]);
         else if (leaf_occludes(s, b, n->child[k], n->count[k]))
             return 1;
     }
     return 0;
 }
 
+/* The closest hit so far. */
+typedef struct {
+    int found;
+    float t, b1, b2;
+    uint32_t tri;
+} closest_hit;
+
+/* Tests the leaf of `count` triangles from block `first` against the closest hit c. */
+static HOT_INLINE void leaf_closest(const ray_setup *s, const bvh *b, uint32_t first, uint32_t count, closest_hit *c)
+{
+    uint32_t block, end;
+    for (block = first, end = first + (count + BVH_LANES - 1) / BVH_LANES; block < end; ++block) {
+        lane_hits lh;
+        unsigned mask = watertight_lanes(s, &b->blocks[block], &lh);
+        int k;
+        for (k = 0; mask && k < BVH_LANES; ++k) {
+            uint32_t tri = b->blocks[block].tri[k];
+            float t = lh.t[k];
+            if (!((mask >> k) & 1u)) continue;
+            /* Closest t; among exactly equal t the lowest triangle index, so that the
+             * answer does not depend on the tree (nor on the lane or visiting order). */
+            if (!c->found || t < c->t || (t == c->t && tri < c->tri)) {
+                c->found = 1;
+                c->t = t;
+                c->b1 = lh.v[k] / lh.det[k];
+                c->b2 = lh.w[k] / lh.det[k];
+                c->tri = tri;
+            }
+        }
+    }
+}
+
+/* push_children for closest-hit queries, with the leaf children tested where found
+ * (as push_children_any_hit). */
+static HOT_INLINE void push_children_closest(const ray_setup *s, const bvh *b, const bvh_wide_node *n,
+                                             stack_entry *stack, int *top, closest_hit *c)
+{
+    float entry[BVH_WIDTH];
+    unsigned mask = wide_overlaps(s, n, c->t, entry);
+    int k, base = *top;
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        if (!enters(n, mask, k)) continue;
+        if (n->count[k] == 0)
+            push_sorted(b, stack, base, top, n->child[k], entry[k]);
+        else
+            leaf_closest(s, b, n->child[k], n->count[k], c);
+    }
+}
+
 int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
 {
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
-    int top = 0, found = 0;
-    float best_t = r->tmax, best_b1 = 0, best_b2 = 0, t_root;
-    uint32_t best_tri = BVH_NO_HIT;
+    int top = 0;
+    float t_root;
+    closest_hit c;
 
     h->tri = BVH_NO_HIT;
+    c.found = 0;
+    c.t = r->tmax;
+    c.b1 = c.b2 = 0;
+    c.tri = BVH_NO_HIT;
     if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
     setup_box_test(&s, &b->nodes[0]);
-    if (!box_overlaps(&s, &b->nodes[0], best_t, &t_root)) return 0;
-    stack[top].child = 0;
-    stack[top].count = 0;
+    if (!box_overlaps(&s, &b->nodes[0], c.t, &t_root)) return 0;
+    stack[top].node = 0;
     stack[top++].tnear = t_root;
     while (top > 0) {
         stack_entry at = stack[--top];
-        uint32_t block, end;
         /* Culled: the ray can only enter this box beyond the closest hit so far. */
-        if (at.tnear > best_t) continue;
-        if (at.count == 0) {
-            push_children(&s, b, &b->wide[at.child], best_t, stack, &top);
-            continue;
-        }
-        for (block = at.child, end = at.child + (at.count + BVH_LANES - 1) / BVH_LANES; block < end; ++block) {
-            lane_hits lh;
-            unsigned mask = watertight_lanes(&s, &b->blocks[block], &lh);
-            int k;
-            for (k = 0; mask && k < BVH_LANES; ++k) {
-                uint32_t tri = b->blocks[block].tri[k];
-                float t = lh.t[k];
-                if (!((mask >> k) & 1u)) continue;
-                /* Closest t; among exactly equal t the lowest triangle index, so that the
-                 * answer does not depend on the tree (nor on the lane order). */
-                if (!found || t < best_t || (t == best_t && tri < best_tri)) {
-                    found = 1;
-                    best_t = t;
-                    best_b1 = lh.v[k] / lh.det[k];
-                    best_b2 = lh.w[k] / lh.det[k];
-                    best_tri = tri;
-                }
-            }
-        }
+        if (at.tnear > c.t) continue;
+        push_children_closest(&s, b, &b->wide[at.node], stack, &top, &c);
     }
-    if (!found) return 0;
-    h->t = best_t;
-    h->b1 = best_b1;
-    h->b2 = best_b2;
-    h->tri = best_tri;
+    if (!c.found) return 0;
+    h->t = c.t;
+    h->b1 = c.b1;
+    h->b2 = c.b2;
+    h->tri = c.tri;
     return 1;
 }
 
@@ -1004,12 +1017,11 @@ int bvh_occluded(const bvh *b, const ray *r)
     if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
     setup_box_test(&s, &b->nodes[0]);
     if (!box_overlaps(&s, &b->nodes[0], s.tmax, &t_root)) return 0;
-    stack[top].child = 0;
-    stack[top].count = 0;
+    stack[top].node = 0;
     stack[top++].tnear = t_root;
     /* Only wide nodes are ever on this stack: leaf children are tested where found. */
     while (top > 0)
-        if (push_children_any_hit(&s, b, &b->wide[stack[--top].child], stack, &top)) return 1;
+        if (push_children_any_hit(&s, b, &b->wide[stack[--top].node], stack, &top)) return 1;
     return 0;
 }
 
