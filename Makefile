@@ -12,9 +12,12 @@
 #   make fuzz            libFuzzer harnesses of tests/fuzz (clang; FUZZ_RUNS, FUZZ_TARGETS)
 #   make valgrind        the quick suite's CLI paths under valgrind memcheck
 #   make tradeoffs       docs/tradeoffs.md: time against error for every knob (~20 min)
-# Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir
+# Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir  LTO=1  NATIVE=1
 #   LTO=1 links with link-time optimisation (cross-file inlining; the same output bit for
 #   bit, 6-13% faster, but every relink takes ~40 s instead of ~1 s: docs/performance.md).
+#   NATIVE=1 compiles the same portable C for this machine's vector ISA (-march=native,
+#   build/native): bit-identical output (-ffp-contract=off still forbids contracting
+#   products into FMAs), faster traversal (docs/performance.md, "BVH traversal").
 #   DEBUG=1 checks the estimator's invariants after every GRIS step and aborts with
 #   file:line on a failure (include/restir/invariant.h; docs/statistics.md).
 
@@ -23,6 +26,7 @@ SANITIZE ?= 0
 FUZZ ?= 0
 WERROR ?= 0
 DEBUG ?= 0
+NATIVE ?= 0
 
 ifeq ($(SANITIZE),1)
 BUILD_SAN := /san
@@ -40,7 +44,10 @@ LTO ?= 0
 ifeq ($(LTO),1)
 BUILD_LTO := /lto
 endif
-BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)$(BUILD_DEBUG)$(BUILD_FUZZ)$(BUILD_LTO)
+ifeq ($(NATIVE),1)
+BUILD_NATIVE := /native
+endif
+BUILD ?= build$(BUILD_SAN)$(BUILD_PREC)$(BUILD_DEBUG)$(BUILD_FUZZ)$(BUILD_LTO)$(BUILD_NATIVE)
 
 CFLAGS ?= -O2
 CFLAGS += -std=c99 -Wall -Wextra -Wpedantic -ffp-contract=off -D_POSIX_C_SOURCE=200809L
@@ -66,6 +73,9 @@ ifeq ($(LTO),1)
 LTO_FLAG := $(if $(findstring clang,$(CC)),-flto,-flto=auto)
 CFLAGS += $(LTO_FLAG)
 LDFLAGS += $(LTO_FLAG)
+endif
+ifeq ($(NATIVE),1)
+CFLAGS += -march=native
 endif
 ifeq ($(DEBUG),1)
 CPPFLAGS += -DRESTIR_DEBUG

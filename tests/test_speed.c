@@ -3,7 +3,7 @@
  * (main at ea610ee: binary BVH, one hash per random number). Fixed seed 1 on purpose (the
  * recorded checksums are for that seed; SEED= does not apply). Covers the path tracer on
  * the Cornell box (GGX plastic + Lambert), on the glass scene (delta lobes, ~3k
- * triangles) and on a generated displaced sphere (4.8k triangles: the 4-wide BVH), and the
+ * triangles) and on a generated displaced sphere (4.8k triangles: the wide BVH), and the
  * ReSTIR PT frame (initial resampling + spatial reuse) on the Cornell box. A deliberate
  * one-ulp change anywhere in these paths changes the checksum. */
 #include <stdio.h>
@@ -65,30 +65,45 @@ TEST(speed_images_bit_identical_to_recorded)
     }
 }
 
-/* The 4-wide tree (bvh.h) covers every leaf slot exactly once, its child boxes contain
- * their triangles, and its depth stays within the binary tree's (the traversal stack is
- * sized by that). */
-static int wide_walk(const bvh *b, uint32_t at, int depth, unsigned char *seen, int *max_depth)
+/* The wide tree (bvh.h) covers every triangle exactly once, through leaf blocks that
+ * hold its vertices and repeat a leaf's last triangle in unused lanes; its child boxes
+ * contain their triangles, and its depth stays within the binary tree's (the traversal
+ * stack is sized by that). */
+static int wide_leaf_ok(const bvh *b, const scene *s, const bvh_wide_node *n, int k, unsigned char *seen)
+{
+    uint32_t i, blocks = (n->count[k] + BVH_LANES - 1) / BVH_LANES;
+    int ok = n->child[k] + blocks <= b->block_count;
+    for (i = 0; ok && i < BVH_LANES * blocks; ++i) {
+        const bvh_leaf_block *q = &b->blocks[n->child[k] + i / BVH_LANES];
+        int lane = (int)(i % BVH_LANES), c;
+        uint32_t tri = q->tri[lane];
+        ok &= tri < s->triangle_count;
+        if (!ok) break;
+        if (i < n->count[k]) seen[tri]++;
+        else ok &= tri == q->tri[lane - 1]; /* the last triangle repeated */
+        for (c = 0; c < 3; ++c) {
+            vec3f v = s->positions[s->triangles[tri].v[c]];
+            ok &= v.x == q->v[3 * c][lane] && v.y == q->v[3 * c + 1][lane] && v.z == q->v[3 * c + 2][lane];
+            ok &= v.x >= n->bounds[0][k] && v.x <= n->bounds[3][k] && v.y >= n->bounds[1][k] &&
+                  v.y <= n->bounds[4][k] && v.z >= n->bounds[2][k] && v.z <= n->bounds[5][k];
+        }
+    }
+    return ok;
+}
+
+static int wide_walk(const bvh *b, const scene *s, uint32_t at, int depth, unsigned char *seen, int *max_depth)
 {
     const bvh_wide_node *n = &b->wide[at];
     int k, ok = 1;
     if (depth > *max_depth) *max_depth = depth;
     for (k = 0; k < BVH_WIDTH; ++k) {
-        uint32_t slot;
         if (n->count[k] == 0 && n->child[k] == BVH_WIDE_EMPTY) continue;
         if (n->count[k] == 0) {
             ok &= n->child[k] > at && n->child[k] < b->wide_count;
-            if (ok) ok &= wide_walk(b, n->child[k], depth + 1, seen, max_depth);
+            if (ok) ok &= wide_walk(b, s, n->child[k], depth + 1, seen, max_depth);
             continue;
         }
-        for (slot = n->child[k]; slot < n->child[k] + n->count[k] && slot < b->prim_count; ++slot) {
-            const vec3f *v = &b->leaf_vertices[3 * (size_t)slot];
-            int c;
-            seen[slot]++;
-            for (c = 0; c < 3; ++c)
-                ok &= v[c].x >= n->bounds[0][k] && v[c].x <= n->bounds[3][k] && v[c].y >= n->bounds[1][k] &&
-                      v[c].y <= n->bounds[4][k] && v[c].z >= n->bounds[2][k] && v[c].z <= n->bounds[5][k];
-        }
+        ok &= wide_leaf_ok(b, s, n, k, seen);
     }
     return ok;
 }
@@ -102,12 +117,13 @@ TEST(bvh_wide_tree_covers_every_leaf_slot_once)
     int depth = 0;
     memset(&s, 0, sizeof s);
     CHECKF(generate_displaced_sphere(&s, 24, &e) == 0 && scene_prepare(&s, &e) == 0, "%s", e.msg);
-    seen = calloc(s.accel.prim_count, 1);
+    seen = calloc(s.triangle_count, 1);
     CHECK(seen != NULL && s.accel.wide_count >= 1 && s.accel.wide_count < s.accel.node_count);
+    CHECK(s.accel.prim_count == s.triangle_count); /* no degenerate triangles */
     if (seen) {
-        CHECK(wide_walk(&s.accel, 0, 0, seen, &depth));
-        for (i = 0; i < s.accel.prim_count; ++i) once += seen[i] == 1;
-        CHECKF(once == s.accel.prim_count, "%zu of %zu leaf slots reached exactly once", once, s.accel.prim_count);
+        CHECK(wide_walk(&s.accel, &s, 0, 0, seen, &depth));
+        for (i = 0; i < s.triangle_count; ++i) once += seen[i] == 1;
+        CHECKF(once == s.triangle_count, "%zu of %zu triangles reached exactly once", once, s.triangle_count);
         CHECKF(depth <= s.accel.depth, "wide depth %d > binary depth %d", depth, s.accel.depth);
     }
     free(seen);

@@ -505,12 +505,12 @@ int scene_clone(scene *dst, const scene *src, rerror *e)
     dst->accel = *b;
     dst->accel.nodes = NULL;
     dst->accel.prim_order = NULL;
-    dst->accel.leaf_vertices = NULL;
+    dst->accel.blocks = NULL;
     dst->accel.wide = NULL;
     if (copy_array((void **)&dst->accel.nodes, b->nodes, b->node_count, sizeof *b->nodes, e) ||
         copy_array((void **)&dst->accel.wide, b->wide, b->wide_count, sizeof *b->wide, e) ||
         copy_array((void **)&dst->accel.prim_order, b->prim_order, b->prim_count, sizeof *b->prim_order, e) ||
-        copy_array((void **)&dst->accel.leaf_vertices, b->leaf_vertices, 3 * b->prim_count, sizeof(vec3f), e))
+        copy_array((void **)&dst->accel.blocks, b->blocks, b->block_count, sizeof *b->blocks, e))
         goto fail;
     return 0;
 fail:
