@@ -161,12 +161,14 @@ EBASE="--method restir --candidates 1 --spatial-passes 3 --neighbors 3 --radius 
 # to it (the coordinator: ENH_EXTRA="--light-ris 32 --light-tiles" once light RIS is merged).
 ENH="--rc-criterion footprint --pairing paired --shading vector --force-nee-reconnection ${ENH_EXTRA:-}"
 
-# cpu_run PFM JSON SCENE OPTS...: one render on 1 thread; prints its CPU seconds
+# cpu_run PFM JSON SCENE OPTS...: one render on 1 thread; prints its CPU seconds (the time
+# file is per PART, so that PARTs can run at once into one OUT_DIR)
+TF=$OUT/t.$PART.txt
 cpu_run() {
     o=$1; j=$2; shift 2
     # shellcheck disable=SC2086
-    /usr/bin/time -f "%U %S %e" -o "$OUT/t.txt" "$R" render "$@" --threads 1 --quiet --no-png -o "$o" --stats "$j" >/dev/null
-    awk '{ printf "%.3f", $1 + $2 }' "$OUT/t.txt"
+    /usr/bin/time -f "%U %S %e" -o "$TF" "$R" render "$@" --threads 1 --quiet --no-png -o "$o" --stats "$j" >/dev/null
+    awk '{ printf "%.3f", $1 + $2 }' "$TF"
 }
 # frames_for SCENE OPTS...: "N MS": N frames cost BUDGET CPU seconds at MS CPU ms per frame, the
 # marginal cost of a frame from 1 and 3 frames of seed 99. One-time costs (scene load, BVH, the
@@ -243,7 +245,7 @@ $EXTRA_ROWS"
                     cpu_run "$OUT/rt.pfm" "$OUT/rt.json" "$scene" --method restir --preset gris-realtime $opts --seed "$s" \
                         --size "${SIZE}x${SIZE}" --sequence "0..$last" >/dev/null
                     # the sequence's stage times (the first "milliseconds" object) scaled by CPU / wall, and the CPU ms
-                    tr -d '\n' <"$OUT/rt.json" | awk -v tf="$OUT/t.txt" 'function num(s, key,   r) {
+                    tr -d '\n' <"$OUT/rt.json" | awk -v tf="$TF" 'function num(s, key,   r) {
                             if (!match(s, "\"" key "\": \\[?[-0-9.e+]+")) return 0
                             r = substr(s, RSTART, RLENGTH); sub(/.*: \[?/, "", r); return r + 0 }
                         { getline tl <tf; split(tl, t, " "); c = 1000 * (t[1] + t[2]); k = (t[3] > 0 ? c / (1000 * t[3]) : 1)
@@ -279,14 +281,16 @@ fi
 # criterion). GRIS settings: d_min in FP_DMIN (fractions of the diagonal; 0.02 is our default;
 # 0.0013 x 60.4 m = 8 cm is the paper's rule, 2 % of the shortest scene dimension, 4 m),
 # footprint: c in FP_C (0.02 is the paper's).
+FP_VIEWS=${FP_VIEWS:-hall hall-far} # near view first; hall-glossy hall-glossy-far: the floor at roughness 0.15
 if [ "$PART" = all ] || [ "$PART" = footprint ]; then
-    sh scripts/results_enhanced_ref.sh "$OUT" "$R" "$ESIZE" "$REF_SPP" "$REF_THREADS" scenes/hall.scene scenes/hall-far.scene
-    echo "#### hall near and far, ${ESIZE}², $BUDGET CPU s per render (--threads 1), seeds $ESEEDS"
+    # shellcheck disable=SC2046
+    sh scripts/results_enhanced_ref.sh "$OUT" "$R" "$ESIZE" "$REF_SPP" "$REF_THREADS" $(printf 'scenes/%s.scene ' $FP_VIEWS)
+    echo "#### $FP_VIEWS, ${ESIZE}², $BUDGET CPU s per render (--threads 1), seeds $ESEEDS"
     echo
     echo "| view | criterion | frames | CPU ms per frame | CPU s | MAPE | relMSE | k = 2 | no rc vertex | mean k | shifts refused by the criterion |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
     : >"$OUT/fp.best"
-    for view in hall hall-far; do
+    for view in $FP_VIEWS; do
         scene=scenes/$view.scene
         settings=""
         for d in ${FP_DMIN:-0.0013 0.005 0.02 0.08}; do settings="$settings gris:$d"; done
@@ -303,15 +307,17 @@ if [ "$PART" = all ] || [ "$PART" = footprint ]; then
                 t=$(cpu_run "$OUT/fp.pfm" "$OUT/fp.json" "$scene" $EBASE $opts --size "${ESIZE}x${ESIZE}" --seed "$s" --frames "$T")
                 "$R" compare "$OUT/fp.pfm" "$OUT/ref/$view.pfm" >"$OUT/fp.cmp"
                 echo "$t $(awk '$1 == "mape" { m = $2 } $1 == "relmse" { r = $2 } END { print m, r }' "$OUT/fp.cmp")" \
-                    "$(rc_stats "$OUT/fp.json")" >>"$OUT/fp.rows" # cpu, mape, relmse, k2, none, mean k, refused
+                    "$(rc_stats "$OUT/fp.json") $T $F" >>"$OUT/fp.rows" # cpu, mape, relmse, k2, none, mean k, refused, frames, ms
+
             done
             echo "| $view | $label | $T | $F | $(col 1 "$OUT/fp.rows" 2) | $(col 2 "$OUT/fp.rows") | $(col 3 "$OUT/fp.rows") |" \
                 "$(col 4 "$OUT/fp.rows" 3) | $(col 5 "$OUT/fp.rows" 3) | $(col 6 "$OUT/fp.rows" 2) | $(col 7 "$OUT/fp.rows" 3) |"
             awk -v v="$view" -v l="$label" '{ m += $2; r += $3 } END { print v "|" l "|" m / NR "|" r / NR }' "$OUT/fp.rows" >>"$OUT/fp.best"
+            cp "$OUT/fp.rows" "$OUT/fp.$view.$crit-$v.rows"
         done
     done
     echo
-    for view in hall hall-far; do
+    for view in $FP_VIEWS; do
         awk -v v="$view" '{ printf "%s: reference %d spp, its own relMSE %.2g, MAPE %.3g (from its two halves)\n", v, $3, $1, $2 }' \
             "$OUT/ref/$view.self"
     done
@@ -319,7 +325,7 @@ if [ "$PART" = all ] || [ "$PART" = footprint ]; then
     # the best setting of each family per view (by mean relMSE, then by mean MAPE)
     for m in 4 3; do
         [ "$m" = 4 ] && mn=relMSE || mn=MAPE
-        for view in hall hall-far; do
+        for view in $FP_VIEWS; do
             for fam in gris footprint; do
                 awk -F'|' -v v="$view" -v f="$fam" -v c="$m" '$1 == v && index($2, f) == 1 && (b == "" || $c < bv) { b = $2; bv = $c }
                     END { printf "best %s by mean %s in %s: %s (%.4g)\n", f, "'"$mn"'", v, b, bv }' "$OUT/fp.best"
@@ -328,6 +334,29 @@ if [ "$PART" = all ] || [ "$PART" = footprint ]; then
     done
     echo
     rm -f "$OUT/fp.rows" "$OUT/fp.cmp" "$OUT/fp.pfm" "$OUT/fp.json" "$OUT/c.pfm" "$OUT/c.json"
+fi
+# PART=footprint (or fpsummary, from the rows a footprint run left in OUT_DIR): each setting's
+# error divided by the GRIS default's (d_min 0.02) on the same seed, mean ± 95 % t half-width.
+# The seeds address the same initial candidates under every setting, so the ratio cancels
+# most of the noise the unpaired columns above carry.
+if [ "$PART" = all ] || [ "$PART" = footprint ] || [ "$PART" = fpsummary ]; then
+    echo "| view | criterion | MAPE / default's (per seed) | relMSE / default's | MAPE × √time / default's | relMSE × time / default's |"
+    echo "| --- | --- | --- | --- | --- | --- |"
+    for view in $FP_VIEWS; do
+        for f in "$OUT"/fp."$view".*.rows; do
+            [ -f "$f" ] || continue
+            st=${f#"$OUT/fp.$view."}; st=${st%.rows}; crit=${st%%-*}; v=${st#*-}
+            [ "$crit" = gris ] && label="gris, d_min $v" || label="footprint, c = $v"
+            # time = the render's measured CPU seconds (column 1): the whole frames make the budgets
+            # differ by up to one frame; relMSE × time and MAPE × √time correct for it
+            paste "$f" "$OUT/fp.$view.gris-0.02.rows" | awk '{ a = $1; b = $10
+                print $2 / $11, $3 / $12, $2 * sqrt(a) / ($11 * sqrt(b)), $3 * a / ($12 * b) }' >"$OUT/fp.ratio"
+            echo "| $view | $label | $(col 1 "$OUT/fp.ratio" 3) | $(col 2 "$OUT/fp.ratio" 3) | $(col 3 "$OUT/fp.ratio" 3) |" \
+                "$(col 4 "$OUT/fp.ratio" 3) |"
+        done
+    done
+    echo
+    rm -f "$OUT/fp.ratio"
 fi
 
 # ---- equal-time error, GRIS baseline vs Enhanced, every shipped scene ----------------------
@@ -357,7 +386,7 @@ if [ "$PART" = all ] || [ "$PART" = equaltime ]; then
                 t=$(cpu_run "$OUT/et.pfm" "$OUT/et.json" "$scene" $EBASE $opts --size "${ESIZE}x${ESIZE}" --seed "$s" --frames "$T")
                 "$R" compare "$OUT/et.pfm" "$OUT/ref/$name.pfm" >"$OUT/et.cmp"
                 echo "$t $(awk '$1 == "mape" { m = $2 } $1 == "relmse" { r = $2 } $1 == "flip_hdr" { f = $2 } END { print m, r, f }' \
-                    "$OUT/et.cmp")" >>"$OUT/et.rows"
+                    "$OUT/et.cmp") $T $F" >>"$OUT/et.rows" # cpu, mape, relmse, flip, frames, ms
             done
             echo "| $name | $label | $T | $F | $(col 1 "$OUT/et.rows" 2) | $(col 2 "$OUT/et.rows") | $(col 3 "$OUT/et.rows") |" \
                 "$(col 4 "$OUT/et.rows") | $(awk '{ printf "%d, %.2g", $3, $1 }' "$OUT/ref/$name.self") |"
@@ -367,4 +396,22 @@ if [ "$PART" = all ] || [ "$PART" = equaltime ]; then
     echo
     rm -f "$OUT/et.rows" "$OUT/et.cmp" "$OUT/et.pfm" "$OUT/et.json" "$OUT/c.pfm" "$OUT/c.json"
 fi
-rm -f "$OUT/t.txt"
+# PART=equaltime (or etsummary, from the rows an equaltime run left in OUT_DIR): GRIS's error
+# divided by Enhanced's on the same seed (> 1: Enhanced is better), mean ± 95 % t half-width.
+if [ "$PART" = all ] || [ "$PART" = equaltime ] || [ "$PART" = etsummary ]; then
+    # time-normalised: relMSE × time and MAPE × √time, time = the render's measured CPU seconds
+    # (the whole frames make the two budgets differ by up to one frame; Enhanced's time includes
+    # building the reuse textures, ≈ 0.05 s at 128²)
+    echo "| scene | MAPE GRIS / Enhanced (per seed) | relMSE GRIS / Enhanced | HDR-FLIP GRIS / Enhanced | MAPE × √time | relMSE × time |"
+    echo "| --- | --- | --- | --- | --- | --- |"
+    for f in "$OUT"/et.*.GRI.rows; do
+        name=${f#"$OUT/et."}; name=${name%.GRI.rows}
+        paste "$f" "$OUT/et.$name.Enh.rows" | awk '{ a = $1; b = $7
+            print $2 / $8, $3 / $9, $4 / $10, $2 * sqrt(a) / ($8 * sqrt(b)), $3 * a / ($9 * b) }' >"$OUT/et.ratio"
+        echo "| $name | $(col 1 "$OUT/et.ratio" 2) | $(col 2 "$OUT/et.ratio" 2) | $(col 3 "$OUT/et.ratio" 2) |" \
+            "$(col 4 "$OUT/et.ratio" 2) | $(col 5 "$OUT/et.ratio" 2) |"
+    done
+    echo
+    rm -f "$OUT/et.ratio"
+fi
+rm -f "$TF"
