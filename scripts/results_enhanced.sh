@@ -18,6 +18,9 @@
 #   footprint  the footprint criterion against GRIS thresholds on scenes/hall (near) and
 #              hall-far at equal CPU time: error and reconnection rates
 #   equaltime  equal-time MAPE, relMSE and HDR-FLIP of GRIS against Enhanced on every scene
+#   fpsummary, etsummary  only the paired-by-seed ratio tables, from the rows of earlier runs
+#   control    (only when asked for) the paired ratios with a deliberately broken estimator
+#              (--ablate) against the correct one: do they see it?
 # Differences from the paper's Table 1: CPU, not GPU; no replay compaction, code micro-
 # optimisation or Russian-roulette rows (not separate features here), no light-RIS row yet.
 # LIGHT RIS (after merging the light-RIS branch): the row is ready, not yet run:
@@ -413,5 +416,33 @@ if [ "$PART" = all ] || [ "$PART" = equaltime ] || [ "$PART" = etsummary ]; then
     done
     echo
     rm -f "$OUT/et.ratio"
+fi
+
+# ---- control: do the paired error ratios see a broken estimator? -------------------------
+# The same frames and seeds with and without a deliberately broken estimator (--ablate; the
+# ablations are biased): the ratio broken / correct per seed, as in the summaries above.
+# Rows "scene|frames|correct options|ablation".
+if [ "$PART" = control ]; then
+    CONTROL_ROWS=${CONTROL_ROWS:-"hall|10|--rc-criterion footprint|footprint-base-only
+hall|10|--rc-criterion footprint|jacobian
+cornell|8|$ENH|pair-mis"}
+    echo "| scene | configuration | ablation | frames | MAPE broken / correct (per seed) | relMSE broken / correct |"
+    echo "| --- | --- | --- | --- | --- | --- |"
+    echo "$CONTROL_ROWS" | while IFS='|' read -r name T opts abl; do
+        : >"$OUT/ctl.rows"
+        for s in $ESEEDS; do
+            for a in none "$abl"; do
+                # shellcheck disable=SC2086
+                cpu_run "$OUT/ctl.pfm" "$OUT/ctl.json" "scenes/$name.scene" $EBASE $opts --ablate "$a" --size "${ESIZE}x${ESIZE}" \
+                    --seed "$s" --frames "$T" >/dev/null
+                "$R" compare "$OUT/ctl.pfm" "$OUT/ref/$name.pfm" | awk '$1 == "mape" { m = $2 } $1 == "relmse" { r = $2 }
+                    END { printf "%s %s ", m, r }'
+            done
+            echo
+        done | awk '{ print $3 / $1, $4 / $2 }' >"$OUT/ctl.rows"
+        echo "| $name | ${opts:-GRIS} | $abl | $T | $(col 1 "$OUT/ctl.rows" 3) | $(col 2 "$OUT/ctl.rows" 3) |"
+    done
+    echo
+    rm -f "$OUT/ctl.rows" "$OUT/ctl.pfm" "$OUT/ctl.json"
 fi
 rm -f "$TF"
