@@ -449,21 +449,21 @@ TEST(scenes_cli_generate)
     scene_free(&s);
 }
 
-/* scenes/hall.scene, hall-far.scene and their hall-glossy variants (scripts/gen_hall.sh;
+/* scenes/hall.scene, hall-far.scene, hall-wide.scene and the hall-glossy variants (scripts/gen_hall.sh;
  * the near/far footprint comparison of docs/results.md) load and render: 8 x 8 offline
  * ReSTIR PT (the near view with the Enhanced features), every pixel finite and
  * non-negative, some light. */
 TEST(scenes_hall_smoke)
 {
     static const char *const files[] = {"scenes/hall.scene", "scenes/hall-far.scene", "scenes/hall-glossy.scene",
-                                        "scenes/hall-glossy-far.scene"};
+                                        "scenes/hall-glossy-far.scene", "scenes/hall-wide.scene"};
     static const char *const options[] = {"--rc-criterion footprint --pairing paired --shading vector --force-nee-reconnection",
-                                          "", "", ""};
+                                          "", "", "", ""};
     char pfm[1024];
     image img;
     rerror e;
     int channels, i, x, y, c;
-    for (i = 0; i < 4; ++i) {
+    for (i = 0; i < 5; ++i) {
         double sum = 0;
         int bad = 0;
         snprintf(pfm, sizeof pfm, "%s", test_tmp_path("hall.pfm"));
