@@ -1,18 +1,33 @@
 #!/bin/sh
-# Enhanced Table 1 in spirit (docs/results.md, "ReSTIR PT Enhanced: cost per stage"):
-# milliseconds per stage of one offline ReSTIR PT frame at SIZE x SIZE as the Enhanced
-# features of this branch are switched on in turn, from the GRIS baseline. Every number is
-# the mean over SEEDS seeds with a 95% t interval (half-width), from the renders' own
-# --stats. Not part of `make test`.
+# ReSTIR PT Enhanced measured on our scenes (docs/results.md, "ReSTIR PT Enhanced"): Table 1
+# in spirit, the paired pass against the disk pass, the footprint criterion on a near and a
+# far view, and equal-time error of the GRIS baseline against Enhanced. Every number is the
+# mean over seeds with a 95% t interval (half-width). Not part of `make test`.
 #   sh scripts/results_enhanced.sh [OUT_DIR] [BUILD_DIR]
-# Differences from the paper's Table 1: CPU, not GPU; one frame, 1 path tree, 1 spatial
-# pass with 3 neighbours (R = 10) and pairwise MIS, no temporal reuse; no equal-time error
-# (MAPE, FLIP) columns yet.
-# PART=pairs (or all, the default) adds "the paired pass against the disk pass": CPU
-# milliseconds per spatial pass (process user + system time of a K-pass render minus the
-# same render with 0 passes, so the reuse-texture build and everything but the passes
-# cancel; --threads 1, so CPU time is the pass's cost whatever the machine's load), and
-# the shifts per pixel and pass from --stats.
+# PART selects one part (default all; about an hour on a shared 2-core machine, most of it the
+# path-traced references, which are cached in OUT_DIR/ref):
+#   table1rt   Table 1 in CPU time: ms per stage of the real-time pipeline (gris-realtime) at
+#              SIZE² as the features are switched on in turn; LIGHT_RIS / EXTRA_ROWS add rows
+#   table1     (only when asked for) the same for one offline frame, wall-clock stage timers (THREADS; superseded by
+#              table1rt: under load its intervals cover the differences between rows)
+#   pairs      the paired pass against the disk pass: CPU milliseconds per spatial pass
+#              (process user + system time of a K-pass render minus the same render with 0
+#              passes, so the reuse-texture build and everything but the passes cancel;
+#              --threads 1, so CPU time is the pass's cost whatever the machine's load), and
+#              the shifts per pixel and pass from --stats
+#   footprint  the footprint criterion against GRIS thresholds on scenes/hall (near) and
+#              hall-far at equal CPU time: error and reconnection rates
+#   equaltime  equal-time MAPE, relMSE and HDR-FLIP of GRIS against Enhanced on every scene
+#   fpsummary, etsummary  only the paired-by-seed ratio tables, from the rows of earlier runs
+#   control    (only when asked for) the paired ratios with a deliberately broken estimator
+#              (--ablate) against the correct one: do they see it?
+# Differences from the paper's Table 1: CPU, not GPU; no replay compaction, code micro-
+# optimisation or Russian-roulette rows (not separate features here), no light-RIS row yet.
+# LIGHT RIS (after merging the light-RIS branch): the row is ready, not yet run:
+#   PART=table1rt TABLE1_SCENES="scenes/many-lights.scene scenes/cornell-glossy.scene" \
+#       LIGHT_RIS="--light-ris 32 --light-tiles" sh scripts/results_enhanced.sh
+# adds "+ light RIS (§6.1)" on top of the last row; ENH_EXTRA="--light-ris 32 --light-tiles"
+# adds it to the Enhanced configuration of PART=equaltime (ET_SCENES to add the scene).
 set -eu
 OUT=${1:-out/results-enhanced}
 R=${2:-build}/restir
@@ -48,7 +63,7 @@ set -- \
     "+ vector shading (§6.3)|--rc-criterion footprint --pairing paired --shading vector" \
     "+ forced NEE reconnection (§6.2.3)|--rc-criterion footprint --pairing paired --shading vector --force-nee-reconnection"
 
-if [ "$PART" = all ] || [ "$PART" = table1 ]; then
+if [ "$PART" = table1 ]; then # not in "all"
 for scene in $SCENES; do
     name=$(basename "$scene" .scene)
     echo "### $name, ${SIZE}², threads $THREADS, seeds $SEEDS"
@@ -132,52 +147,302 @@ if [ "$PART" = all ] || [ "$PART" = pairs ]; then
     rm -f "$OUT/time.txt"
 fi
 
-# ---- the footprint criterion on a near and a far view (Enhanced Figs. 10-12 in spirit) ----
-# The same glossy scene from the default camera ("near") and from 4.75x the distance with the
-# field of view narrowed to keep the framing ("far"): the primary footprint grows with the
-# distance, d_min (a fraction of the scene diagonal) does not. Equal wall time per render
-# (BUDGET seconds, --time-limit; the machine is shared, so "equal time" is approximate),
-# MAPE against a path-traced reference (REF_SPP), and the fraction of initial samples that
-# reconnect at k = 2 and the mean reconnection index k (from --stats).
-if [ "$PART" = all ] || [ "$PART" = footprint ]; then
-    FS=${FSIZE:-64}
-    BUDGET=${BUDGET:-5}
-    REF_SPP=${REF_SPP:-2048}
-    scene=scenes/cornell-glossy.scene
-    echo "### cornell-glossy near and far, ${FS}², ${BUDGET} s per render, reference $REF_SPP spp, seeds $SEEDS"
-    echo
-    echo "| view | criterion | MAPE | initial samples reconnecting at k = 2 | mean k (reconnecting samples) | frames in the budget |"
-    echo "| --- | --- | --- | --- | --- | --- |"
-    for view in near far; do
-        if [ "$view" = near ]; then V="--eye 278,273,-800 --target 278,273,0 --fov 39.3076481"
-        else V="--eye 278,273,-3800 --target 278,273,0 --fov 9.2"; fi
-        # shellcheck disable=SC2086
-        "$R" render "$scene" $V --method pt --spp "$REF_SPP" --size "${FS}x${FS}" --threads "$THREADS" --quiet --no-png \
-            -o "$OUT/ref-$view.pfm" >/dev/null
-        for crit in "gris, d_min 0.02 (default)|--rc-criterion gris" "gris, d_min 0.005|--rc-criterion gris --distance-threshold 0.005" \
-            "gris, d_min 0.08|--rc-criterion gris --distance-threshold 0.08" "footprint, c = 0.02|--rc-criterion footprint"; do
-            label=${crit%%|*}
-            opts=${crit#*|}
-            : >"$OUT/fp.rows"
+
+# ---- shared by the PARTs below (table1rt, footprint, equaltime) --------------------------
+# Timed renders run with --threads 1 and are charged their process CPU time (user + system,
+# /usr/bin/time): the machine is shared, so wall clock would measure the other jobs.
+ESIZE=${ESIZE:-128}       # image size of the error measurements (Table 1 asks 256²)
+BUDGET=${BUDGET:-2}       # CPU seconds per error render
+ESEEDS=${ESEEDS:-1 2 3 4 5}
+REF_SPP=${REF_SPP:-4096}  # path-traced references: scripts/results_enhanced_ref.sh
+REF_THREADS=${REF_THREADS:-2}
+# Offline ReSTIR PT of the error PARTs: the mean of independent frames (GRIS Eq. 47), one path
+# tree per frame, 3 spatial passes of 3 neighbours in radius 10, pairwise-defensive, hybrid.
+EBASE="--method restir --candidates 1 --spatial-passes 3 --neighbors 3 --radius 10 --mis pairwise-defensive --shift hybrid"
+# The Enhanced configuration (there is no Enhanced preset): paired spatial reuse with the pair
+# step, the footprint criterion, vector shading, forced NEE reconnection; ENH_EXTRA is added
+# to it (the coordinator: ENH_EXTRA="--light-ris 32 --light-tiles" once light RIS is merged).
+ENH="--rc-criterion footprint --pairing paired --shading vector --force-nee-reconnection ${ENH_EXTRA:-}"
+
+# cpu_run PFM JSON SCENE OPTS...: one render on 1 thread; prints its CPU seconds (the time
+# file is per PART, so that PARTs can run at once into one OUT_DIR)
+TF=$OUT/t.$PART.txt
+cpu_run() {
+    o=$1; j=$2; shift 2
+    # shellcheck disable=SC2086
+    /usr/bin/time -f "%U %S %e" -o "$TF" "$R" render "$@" --threads 1 --quiet --no-png -o "$o" --stats "$j" >/dev/null
+    awk '{ printf "%.3f", $1 + $2 }' "$TF"
+}
+# frames_for SCENE OPTS...: "N MS": N frames cost BUDGET CPU seconds at MS CPU ms per frame, the
+# marginal cost of a frame from 1 and 3 frames of seed 99. One-time costs (scene load, BVH, the
+# reuse textures of --pairing paired, which a real-time renderer precomputes) are not charged.
+frames_for() {
+    t1=$(cpu_run "$OUT/c.pfm" "$OUT/c.json" "$@" --seed 99 --frames 1)
+    t3=$(cpu_run "$OUT/c.pfm" "$OUT/c.json" "$@" --seed 99 --frames 3)
+    awk -v a="$t1" -v b="$t3" -v B="$BUDGET" 'BEGIN { f = (b - a) / 2; if (f < 0.005) f = b / 3; if (f < 0.005) f = 0.005
+        n = int(B / f + 0.5); printf "%d %.0f\n", (n < 1 ? 1 : n), 1000 * f }'
+}
+# metric TEST REF NAME: one line of `restir compare` (mape, relmse, flip_hdr, ...)
+metric() { "$R" compare "$1" "$2" | awk -v k="$3" '$1 == k { print $2 }'; }
+# rc_stats JSON: share of the selected initial samples reconnecting at k = 2, share with no
+# reconnection vertex, mean k of the reconnecting ones, share of the spatial shifts refused by
+# the offset path's criterion (rc_earlier + rc_prev + rc_roughness + rc_distance + rc_footprint)
+rc_stats() {
+    tr -d '\n' <"$1" | awk 'function num(s, key,   r) {
+            if (!match(s, "\"" key "\": [-0-9.e+]+")) return 0
+            r = substr(s, RSTART, RLENGTH); sub(/.*: /, "", r); return r + 0 }
+        { ini = substr($0, index($0, "\"initial\": {\"pixels\""))
+          sel = num(ini, "selected")
+          match(ini, /"selected_by_reconnection_index": \[[0-9, ]*\]/)
+          a = substr(ini, RSTART, RLENGTH); sub(/.*\[/, "", a); sub(/\].*/, "", a); n = split(a, idx, /, */)
+          rec = 0; sk = 0; for (j = 3; j <= n; ++j) { rec += idx[j]; sk += (j - 1) * idx[j] } # idx[1]: none, idx[3]: k = 2
+          sp = substr($0, index($0, "\"spatial\": {\"passes\""))
+          so = substr(sp, index(sp, "\"shift_outcomes\"")); so = substr(so, 1, index(so, "}"))
+          sh = num(sp, "shifts")
+          rc = num(so, "rc_earlier") + num(so, "rc_prev") + num(so, "rc_roughness") + num(so, "rc_distance") + num(so, "rc_footprint")
+          printf "%.4f %.4f %.3f %.4f\n", idx[3] / sel, idx[1] / sel, (rec > 0 ? sk / rec : 0), (sh > 0 ? rc / sh : 0) }'
+}
+col() { awk -v c="$1" '{ print $c }' "$2" | mean_ci "${3:-4}"; }
+
+# ---- Table 1 in CPU time: the real-time pipeline, per stage (Enhanced Table 1) -----------
+# --preset gris-realtime (1 path tree, temporal reuse with cap 20, 1 spatial pass of 3
+# neighbours in radius 20), a still camera, SIZE², --threads 1. Per seed two runs, frame 0 alone
+# and frames 0..RT_FRAMES-1; their difference / (RT_FRAMES - 1) is the cost of one frame with
+# temporal history, without one-time costs (scene load, BVH, the reuse textures). The stage
+# timers of src/restir/pipeline.c are wall clock (CLOCK_MONOTONIC); each run's stage times are
+# scaled by the run's CPU time / wall time (under load the other jobs stretch all stages alike
+# on one thread), so the columns are CPU ms per frame; "frame" is the process CPU time per
+# frame and "shade and other" the frame minus the other columns (shading, motion vectors, the
+# copy of the reservoirs for the next frame, --stats counting). "duplication statistics" is
+# the duplication map of every frame (docs/correlation.md; --stats "correlation"), which only
+# --dedup uses: a diagnostic the paper's pipeline does not have. Rows: set -- below; LIGHT_RIS (e.g. "--light-ris 32
+# --light-tiles", after merging lightris; with TABLE1_SCENES=the many-lights scene) adds the
+# light-RIS row on top of the last one, and EXTRA_ROWS adds rows "label|options" (one a line).
+if [ "$PART" = all ] || [ "$PART" = table1rt ]; then
+    RT_FRAMES=${RT_FRAMES:-8}
+    ALL_ENH="--rc-criterion footprint --pairing paired --shading vector --force-nee-reconnection"
+    ROWS="GRIS baseline (gris-realtime: disk, gris criterion, scalar)|
++ footprint criterion (§4)|--rc-criterion footprint
++ paired neighbours (§3, pattern only)|--rc-criterion footprint --pairing paired --no-pair-step
++ pair step (§3, 2 shifts per pair)|--rc-criterion footprint --pairing paired
++ vector shading (§6.3)|--rc-criterion footprint --pairing paired --shading vector
++ forced NEE reconnection (§6.2.3)|$ALL_ENH"
+    [ -z "${LIGHT_RIS:-}" ] || ROWS="$ROWS
++ light RIS (§6.1)|$ALL_ENH $LIGHT_RIS"
+    [ -z "${EXTRA_ROWS:-}" ] || ROWS="$ROWS
+$EXTRA_ROWS"
+    for scene in ${TABLE1_SCENES:-scenes/cornell-glossy.scene scenes/hall.scene}; do
+        name=$(basename "$scene" .scene)
+        echo "#### $name, ${SIZE}², gris-realtime, frames 0..$((RT_FRAMES - 1)), threads 1, seeds $SEEDS (CPU ms per frame)"
+        echo
+        echo "| configuration | G-buffer | initial | temporal | spatial | duplication statistics | shade and other | frame | ratio to baseline |"
+        echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+        base_total=""
+        echo "$ROWS" | while IFS='|' read -r label opts; do
+            : >"$OUT/rt.rows"
             for s in $SEEDS; do
-                # shellcheck disable=SC2086
-                "$R" render "$scene" $V --method restir --candidates 1 --spatial-passes 1 --neighbors 3 --radius 10 \
-                    --mis pairwise-defensive --shift hybrid $opts --time-limit "$BUDGET" --seed "$s" --size "${FS}x${FS}" \
-                    --threads "$THREADS" --quiet --no-png -o "$OUT/fp.pfm" --stats "$OUT/fp.json" >/dev/null
-                mape=$("$R" compare "$OUT/fp.pfm" "$OUT/ref-$view.pfm" | awk '$1 == "mape" { print $2 }')
-                # the stats JSON spans lines: flatten it first
-                rc=$(tr -d '\n' <"$OUT/fp.json" |
-                    sed -n 's/.*"initial": {[^}]*"selected": \([0-9]*\),.*"selected_by_reconnection_index": \[\([0-9, ]*\)\].*/\1,\2/p' |
-                    awk -F, '{ n = 0; s = 0; for (k = 4; k <= NF; ++k) { n += $k; s += (k - 2) * $k }
-                               printf "%.4f %.3f", $4 / $1, (n > 0 ? s / n : 0) }')
-                frames=$(tr -d '\n' <"$OUT/fp.json" | sed -n 's/.*"stats": *{ *"frames": \([0-9]*\),.*/\1/p')
-                echo "$mape $rc $frames" >>"$OUT/fp.rows" # mape, k=2 share, mean k, frames
+                # per seed: frame 0 alone and frames 0..F-1; their difference is frames 1..F-1 (all
+                # with temporal history), without the one-time costs (load, BVH, reuse textures)
+                for last in 0 $((RT_FRAMES - 1)); do
+                    # shellcheck disable=SC2086
+                    cpu_run "$OUT/rt.pfm" "$OUT/rt.json" "$scene" --method restir --preset gris-realtime $opts --seed "$s" \
+                        --size "${SIZE}x${SIZE}" --sequence "0..$last" >/dev/null
+                    # the sequence's stage times (the first "milliseconds" object) scaled by CPU / wall, and the CPU ms
+                    tr -d '\n' <"$OUT/rt.json" | awk -v tf="$TF" 'function num(s, key,   r) {
+                            if (!match(s, "\"" key "\": \\[?[-0-9.e+]+")) return 0
+                            r = substr(s, RSTART, RLENGTH); sub(/.*: \[?/, "", r); return r + 0 }
+                        { getline tl <tf; split(tl, t, " "); c = 1000 * (t[1] + t[2]); k = (t[3] > 0 ? c / (1000 * t[3]) : 1)
+                          ms = substr($0, index($0, "\"milliseconds\": {")); ms = substr(ms, 1, index(ms, "}"))
+                          co = substr($0, index($0, "\"correlation\": {")); co = substr(co, 1, index(co, "}"))
+                          printf "%.3f %.3f %.3f %.3f %.3f %.3f ", k * num(ms, "gbuffer"), k * num(ms, "initial"),
+                              k * num(ms, "temporal"), k * num(ms, "spatial"), k * num(co, "milliseconds"), c }'
+                done | awk -v F="$RT_FRAMES" '{ n = F - 1
+                    g = ($7 - $1) / n; i = ($8 - $2) / n; tp = ($9 - $3) / n; sp = ($10 - $4) / n; co = ($11 - $5) / n
+                    f = ($12 - $6) / n
+                    printf "%.3f %.3f %.3f %.3f %.3f %.3f %.3f\n", g, i, tp, sp, co, f - g - i - tp - sp - co, f }' >>"$OUT/rt.rows"
             done
-            echo "| $view | $label | $(awk '{ print $1 }' "$OUT/fp.rows" | mean_ci 4) |" \
-                "$(awk '{ print $2 }' "$OUT/fp.rows" | mean_ci 3) | $(awk '{ print $3 }' "$OUT/fp.rows" | mean_ci 3) |" \
-                "$(awk '{ print $4 }' "$OUT/fp.rows" | mean_ci 0) |"
+            mean_total=$(awk '{ s += $7 } END { print s / NR }' "$OUT/rt.rows")
+            [ -n "$base_total" ] || base_total=$mean_total
+            ratio=$(awk -v a="$mean_total" -v b="$base_total" 'BEGIN { printf "%.2f", a / b }')
+            echo "| $label | $(col 1 "$OUT/rt.rows" 1) | $(col 2 "$OUT/rt.rows" 1) | $(col 3 "$OUT/rt.rows" 1) |" \
+                "$(col 4 "$OUT/rt.rows" 1) | $(col 5 "$OUT/rt.rows" 1) | $(col 6 "$OUT/rt.rows" 1) | $(col 7 "$OUT/rt.rows" 1) | $ratio |"
+        done
+        echo
+    done
+    rm -f "$OUT/rt.rows" "$OUT/rt.pfm" "$OUT/rt.json"
+fi
+
+# ---- the footprint criterion on a near and a far view (Enhanced Figs. 10-12 in spirit) ----
+# scenes/hall.scene (near: the floor 5 m ahead, fov 60) and scenes/hall-far.scene (far: the same
+# stretch of floor 30 m ahead, fov 12): a 60 m hall with a glossy conductor floor (GGX α ≈ 0.2),
+# so the GRIS d_min = 0.02 × diagonal is 1.2 m in both views while the primary footprint (and
+# the spread of the neighbours' primary hits) differs by (30/5)². Equal CPU time: per view and
+# setting, the frame count whose CPU time is BUDGET (frames_for, seed 99), then ESEEDS renders
+# of that many frames; ESIZE², EBASE. MAPE / relMSE against REF_SPP path-traced references whose
+# own error is printed below the table. Reconnection rates are from each render's --stats
+# (initial samples: k = 2 share, no reconnection, mean k; spatial shifts refused by the offset's
+# criterion). GRIS settings: d_min in FP_DMIN (fractions of the diagonal; 0.02 is our default;
+# 0.0013 x 60.4 m = 8 cm is the paper's rule, 2 % of the shortest scene dimension, 4 m),
+# footprint: c in FP_C (0.02 is the paper's).
+FP_VIEWS=${FP_VIEWS:-hall hall-far} # near view first; hall-glossy hall-glossy-far: the floor at roughness 0.15
+if [ "$PART" = all ] || [ "$PART" = footprint ]; then
+    # shellcheck disable=SC2046
+    sh scripts/results_enhanced_ref.sh "$OUT" "$R" "$ESIZE" "$REF_SPP" "$REF_THREADS" $(printf 'scenes/%s.scene ' $FP_VIEWS)
+    echo "#### $FP_VIEWS, ${ESIZE}², $BUDGET CPU s per render (--threads 1), seeds $ESEEDS"
+    echo
+    echo "| view | criterion | frames | CPU ms per frame | CPU s | MAPE | relMSE | k = 2 | no rc vertex | mean k | shifts refused by the criterion |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    : >"$OUT/fp.best"
+    for view in $FP_VIEWS; do
+        scene=scenes/$view.scene
+        settings=""
+        for d in ${FP_DMIN:-0.0013 0.005 0.02 0.08}; do settings="$settings gris:$d"; done
+        for c in ${FP_C:-0.005 0.02 0.08}; do settings="$settings footprint:$c"; done
+        for st in $settings; do
+            crit=${st%%:*}; v=${st#*:}
+            if [ "$crit" = gris ]; then opts="--rc-criterion gris --distance-threshold $v"; label="gris, d_min $v"
+            else opts="--rc-criterion footprint --footprint-c $v"; label="footprint, c = $v"; fi
+            # shellcheck disable=SC2086
+            set -- $(frames_for "$scene" $EBASE $opts --size "${ESIZE}x${ESIZE}"); T=$1; F=$2
+            : >"$OUT/fp.rows"
+            for s in $ESEEDS; do
+                # shellcheck disable=SC2086
+                t=$(cpu_run "$OUT/fp.pfm" "$OUT/fp.json" "$scene" $EBASE $opts --size "${ESIZE}x${ESIZE}" --seed "$s" --frames "$T")
+                "$R" compare "$OUT/fp.pfm" "$OUT/ref/$view.pfm" >"$OUT/fp.cmp"
+                echo "$t $(awk '$1 == "mape" { m = $2 } $1 == "relmse" { r = $2 } END { print m, r }' "$OUT/fp.cmp")" \
+                    "$(rc_stats "$OUT/fp.json") $T $F" >>"$OUT/fp.rows" # cpu, mape, relmse, k2, none, mean k, refused, frames, ms
+
+            done
+            echo "| $view | $label | $T | $F | $(col 1 "$OUT/fp.rows" 2) | $(col 2 "$OUT/fp.rows") | $(col 3 "$OUT/fp.rows") |" \
+                "$(col 4 "$OUT/fp.rows" 3) | $(col 5 "$OUT/fp.rows" 3) | $(col 6 "$OUT/fp.rows" 2) | $(col 7 "$OUT/fp.rows" 3) |"
+            awk -v v="$view" -v l="$label" '{ m += $2; r += $3 } END { print v "|" l "|" m / NR "|" r / NR }' "$OUT/fp.rows" >>"$OUT/fp.best"
+            cp "$OUT/fp.rows" "$OUT/fp.$view.$crit-$v.rows"
         done
     done
     echo
-    rm -f "$OUT/fp.rows"
+    for view in $FP_VIEWS; do
+        awk -v v="$view" '{ printf "%s: reference %d spp, its own relMSE %.2g, MAPE %.3g (from its two halves)\n", v, $3, $1, $2 }' \
+            "$OUT/ref/$view.self"
+    done
+    echo
+    # the best setting of each family per view (by mean relMSE, then by mean MAPE)
+    for m in 4 3; do
+        [ "$m" = 4 ] && mn=relMSE || mn=MAPE
+        for view in $FP_VIEWS; do
+            for fam in gris footprint; do
+                awk -F'|' -v v="$view" -v f="$fam" -v c="$m" '$1 == v && index($2, f) == 1 && (b == "" || $c < bv) { b = $2; bv = $c }
+                    END { printf "best %s by mean %s in %s: %s (%.4g)\n", f, "'"$mn"'", v, b, bv }' "$OUT/fp.best"
+            done
+        done
+    done
+    echo
+    rm -f "$OUT/fp.rows" "$OUT/fp.cmp" "$OUT/fp.pfm" "$OUT/fp.json" "$OUT/c.pfm" "$OUT/c.json"
 fi
+# PART=footprint (or fpsummary, from the rows a footprint run left in OUT_DIR): each setting's
+# error divided by the GRIS default's (d_min 0.02) on the same seed, mean ± 95 % t half-width.
+# The seeds address the same initial candidates under every setting, so the ratio cancels
+# most of the noise the unpaired columns above carry.
+if [ "$PART" = all ] || [ "$PART" = footprint ] || [ "$PART" = fpsummary ]; then
+    echo "| view | criterion | MAPE / default's (per seed) | relMSE / default's | MAPE × √time / default's | relMSE × time / default's |"
+    echo "| --- | --- | --- | --- | --- | --- |"
+    for view in $FP_VIEWS; do
+        for f in "$OUT"/fp."$view".*.rows; do
+            [ -f "$f" ] || continue
+            st=${f#"$OUT/fp.$view."}; st=${st%.rows}; crit=${st%%-*}; v=${st#*-}
+            [ "$crit" = gris ] && label="gris, d_min $v" || label="footprint, c = $v"
+            # time = the render's measured CPU seconds (column 1): the whole frames make the budgets
+            # differ by up to one frame; relMSE × time and MAPE × √time correct for it
+            paste "$f" "$OUT/fp.$view.gris-0.02.rows" | awk '{ a = $1; b = $10
+                print $2 / $11, $3 / $12, $2 * sqrt(a) / ($11 * sqrt(b)), $3 * a / ($12 * b) }' >"$OUT/fp.ratio"
+            echo "| $view | $label | $(col 1 "$OUT/fp.ratio" 3) | $(col 2 "$OUT/fp.ratio" 3) | $(col 3 "$OUT/fp.ratio" 3) |" \
+                "$(col 4 "$OUT/fp.ratio" 3) |"
+        done
+    done
+    echo
+    rm -f "$OUT/fp.ratio"
+fi
+
+# ---- equal-time error, GRIS baseline vs Enhanced, every shipped scene ----------------------
+# Offline pipeline (EBASE): the frames are independent, so a CPU-time budget buys a whole
+# number of frames and the error of their mean falls as 1 / frames (relMSE); the real-time
+# pipeline's frames are correlated through temporal reuse and its per-frame error cannot be
+# bought at equal time. Per scene and configuration, frames_for picks the frame count whose CPU
+# time is BUDGET; ESEEDS renders; MAPE, relMSE and HDR-FLIP (src/metrics/flip.c) against the
+# REF_SPP reference, whose own relMSE (from its two halves) is printed in the last column.
+if [ "$PART" = all ] || [ "$PART" = equaltime ]; then
+    ET_SCENES=${ET_SCENES:-scenes/cornell.scene scenes/cornell-glossy.scene scenes/glass.scene scenes/ajar.scene scenes/corridor.scene scenes/pillars.scene scenes/shadow.scene scenes/hall.scene}
+    # shellcheck disable=SC2086
+    sh scripts/results_enhanced_ref.sh "$OUT" "$R" "$ESIZE" "$REF_SPP" "$REF_THREADS" $ET_SCENES
+    echo "#### ${ESIZE}², $BUDGET CPU s per render (--threads 1), seeds $ESEEDS"
+    echo
+    echo "| scene | configuration | frames | CPU ms per frame | CPU s | MAPE | relMSE | HDR-FLIP | reference: spp, own relMSE |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    for scene in $ET_SCENES; do
+        name=$(basename "$scene" .scene)
+        for cfg in "GRIS baseline|" "Enhanced|$ENH"; do
+            label=${cfg%%|*}; opts=${cfg#*|}
+            # shellcheck disable=SC2086
+            set -- $(frames_for "$scene" $EBASE $opts --size "${ESIZE}x${ESIZE}"); T=$1; F=$2
+            : >"$OUT/et.rows"
+            for s in $ESEEDS; do
+                # shellcheck disable=SC2086
+                t=$(cpu_run "$OUT/et.pfm" "$OUT/et.json" "$scene" $EBASE $opts --size "${ESIZE}x${ESIZE}" --seed "$s" --frames "$T")
+                "$R" compare "$OUT/et.pfm" "$OUT/ref/$name.pfm" >"$OUT/et.cmp"
+                echo "$t $(awk '$1 == "mape" { m = $2 } $1 == "relmse" { r = $2 } $1 == "flip_hdr" { f = $2 } END { print m, r, f }' \
+                    "$OUT/et.cmp") $T $F" >>"$OUT/et.rows" # cpu, mape, relmse, flip, frames, ms
+            done
+            echo "| $name | $label | $T | $F | $(col 1 "$OUT/et.rows" 2) | $(col 2 "$OUT/et.rows") | $(col 3 "$OUT/et.rows") |" \
+                "$(col 4 "$OUT/et.rows") | $(awk '{ printf "%d, %.2g", $3, $1 }' "$OUT/ref/$name.self") |"
+            cp "$OUT/et.rows" "$OUT/et.$name.$(echo "$label" | cut -c1-3).rows"
+        done
+    done
+    echo
+    rm -f "$OUT/et.rows" "$OUT/et.cmp" "$OUT/et.pfm" "$OUT/et.json" "$OUT/c.pfm" "$OUT/c.json"
+fi
+# PART=equaltime (or etsummary, from the rows an equaltime run left in OUT_DIR): GRIS's error
+# divided by Enhanced's on the same seed (> 1: Enhanced is better), mean ± 95 % t half-width.
+if [ "$PART" = all ] || [ "$PART" = equaltime ] || [ "$PART" = etsummary ]; then
+    # time-normalised: relMSE × time and MAPE × √time, time = the render's measured CPU seconds
+    # (the whole frames make the two budgets differ by up to one frame; Enhanced's time includes
+    # building the reuse textures, ≈ 0.05 s at 128²)
+    echo "| scene | MAPE GRIS / Enhanced (per seed) | relMSE GRIS / Enhanced | HDR-FLIP GRIS / Enhanced | MAPE × √time | relMSE × time |"
+    echo "| --- | --- | --- | --- | --- | --- |"
+    for f in "$OUT"/et.*.GRI.rows; do
+        name=${f#"$OUT/et."}; name=${name%.GRI.rows}
+        paste "$f" "$OUT/et.$name.Enh.rows" | awk '{ a = $1; b = $7
+            print $2 / $8, $3 / $9, $4 / $10, $2 * sqrt(a) / ($8 * sqrt(b)), $3 * a / ($9 * b) }' >"$OUT/et.ratio"
+        echo "| $name | $(col 1 "$OUT/et.ratio" 2) | $(col 2 "$OUT/et.ratio" 2) | $(col 3 "$OUT/et.ratio" 2) |" \
+            "$(col 4 "$OUT/et.ratio" 2) | $(col 5 "$OUT/et.ratio" 2) |"
+    done
+    echo
+    rm -f "$OUT/et.ratio"
+fi
+
+# ---- control: do the paired error ratios see a broken estimator? -------------------------
+# The same frames and seeds with and without a deliberately broken estimator (--ablate; the
+# ablations are biased): the ratio broken / correct per seed, as in the summaries above.
+# Rows "scene|frames|correct options|ablation".
+if [ "$PART" = control ]; then
+    CONTROL_ROWS=${CONTROL_ROWS:-"hall|10|--rc-criterion footprint|footprint-base-only
+hall|10|--rc-criterion footprint|jacobian
+cornell|8|$ENH|pair-mis"}
+    echo "| scene | configuration | ablation | frames | MAPE broken / correct (per seed) | relMSE broken / correct |"
+    echo "| --- | --- | --- | --- | --- | --- |"
+    echo "$CONTROL_ROWS" | while IFS='|' read -r name T opts abl; do
+        : >"$OUT/ctl.rows"
+        for s in $ESEEDS; do
+            for a in none "$abl"; do
+                # shellcheck disable=SC2086
+                cpu_run "$OUT/ctl.pfm" "$OUT/ctl.json" "scenes/$name.scene" $EBASE $opts --ablate "$a" --size "${ESIZE}x${ESIZE}" \
+                    --seed "$s" --frames "$T" >/dev/null
+                "$R" compare "$OUT/ctl.pfm" "$OUT/ref/$name.pfm" | awk '$1 == "mape" { m = $2 } $1 == "relmse" { r = $2 }
+                    END { printf "%s %s ", m, r }'
+            done
+            echo
+        done | awk '{ print $3 / $1, $4 / $2 }' >"$OUT/ctl.rows"
+        echo "| $name | ${opts:-GRIS} | $abl | $T | $(col 1 "$OUT/ctl.rows" 3) | $(col 2 "$OUT/ctl.rows" 3) |"
+    done
+    echo
+    rm -f "$OUT/ctl.rows" "$OUT/ctl.pfm" "$OUT/ctl.json"
+fi
+rm -f "$TF"

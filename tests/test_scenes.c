@@ -8,6 +8,7 @@
 #include <string.h>
 #include "restir/generate.h"
 #include "restir/generate_rooms.h"
+#include "restir/image.h"
 #include "restir/pt.h"
 #include "test.h"
 
@@ -446,4 +447,39 @@ TEST(scenes_cli_generate)
     CHECKF(scene_load(&s, scene_path, &e) == 0, "%s", e.msg);
     CHECK(s.has_camera && scene_emitter_count(&s) == 2); /* one 1 x 1 quad light: two triangles */
     scene_free(&s);
+}
+
+/* scenes/hall.scene, hall-far.scene, hall-wide.scene and the hall-glossy variants (scripts/gen_hall.sh;
+ * the near/far footprint comparison of docs/results.md) load and render: 8 x 8 offline
+ * ReSTIR PT (the near view with the Enhanced features), every pixel finite and
+ * non-negative, some light. */
+TEST(scenes_hall_smoke)
+{
+    static const char *const files[] = {"scenes/hall.scene", "scenes/hall-far.scene", "scenes/hall-glossy.scene",
+                                        "scenes/hall-glossy-far.scene", "scenes/hall-wide.scene"};
+    static const char *const options[] = {"--rc-criterion footprint --pairing paired --shading vector --force-nee-reconnection",
+                                          "", "", "", ""};
+    char pfm[1024];
+    image img;
+    rerror e;
+    int channels, i, x, y, c;
+    for (i = 0; i < 5; ++i) {
+        double sum = 0;
+        int bad = 0;
+        snprintf(pfm, sizeof pfm, "%s", test_tmp_path("hall.pfm"));
+        CHECKF(test_cli(out, sizeof out,
+                        "render %s --method restir --size 8x8 --frames 2 %s -o %s --no-png --quiet", files[i], options[i],
+                        pfm) == 0,
+               "%s", out);
+        CHECKF(!pfm_read(pfm, &img, &channels, &e), "%s", e.msg);
+        for (y = 0; y < img.height; ++y)
+            for (x = 0; x < img.width; ++x)
+                for (c = 0; c < 3; ++c) {
+                    float v = image_pixel(&img, x, y)[c];
+                    bad += !(v >= 0 && v < 1e30f);
+                    sum += v;
+                }
+        CHECKF(bad == 0 && sum > 0, "%s: %d bad values, sum %g", files[i], bad, sum);
+        image_free(&img);
+    }
 }
