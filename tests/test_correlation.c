@@ -356,6 +356,28 @@ TEST(correlation_cli_biased_labels_and_duplicates_aov)
                    prefix) == 2);
 }
 
+/* Without --stats the CLI skips the duplication map unless something reads it: --dedup's
+ * cap and --aov duplicates still get it (the frames equal those rendered with --stats),
+ * and a plain sequence's frames are the same bytes either way. */
+TEST(correlation_duplication_map_only_when_read)
+{
+    static const char *const variants[] = {"--dedup", "--aov duplicates", ""};
+    char a[1024], b[1024], fa[1200], fb[1200];
+    size_t i;
+    snprintf(a, sizeof a, "%s", test_tmp_path("corr-map-stats"));
+    snprintf(b, sizeof b, "%s", test_tmp_path("corr-map-nostats"));
+    for (i = 0; i < sizeof variants / sizeof variants[0]; ++i) {
+        const char *common = "render scenes/pillars.scene --size 24x24 --method restir --preset gris-realtime "
+                             "--sequence 0..3 --max-depth 3 --no-png --quiet";
+        CHECKF(test_cli(out, sizeof out, "%s %s -o %s.pfm --stats %s.json", common, variants[i], a, a) == 0, "%s",
+               out);
+        CHECKF(test_cli(out, sizeof out, "%s %s -o %s.pfm", common, variants[i], b) == 0, "%s", out);
+        snprintf(fa, sizeof fa, "%s.0003.pfm", a);
+        snprintf(fb, sizeof fb, "%s.0003.pfm", b);
+        CHECKF(test_files_equal(fa, fb), "'%s': frame 3 differs without --stats", variants[i]);
+    }
+}
+
 /* compare --bias's statistics (bias_runs.h) on synthetic runs: unbiased noise measures
  * mean(|bias|/ref) at its noise floor and a rel_bias interval containing 0; a planted +3%
  * is measured as 3% with an interval that excludes 0 and lies above the floor. */

@@ -98,6 +98,10 @@ typedef struct {
     int motion_vectors;         /* enum restir_motion_vectors (default single; dual: Enhanced §6.4) */
     double boiling_filter;      /* RTXDI boiling filter strength s in (0, 1], 0 = off: BIASED */
     int output_aov;             /* enum restir_output: what the frame images hold (--aov duplicates|age) */
+    int no_duplicate_stats;     /* 1: skip the per-frame duplication map and the Mutations Fig. 8
+                                   duplicate count when nothing reads them (no --dedup, no
+                                   --aov duplicates): the "correlation" and mutation duplicate
+                                   counters of restir_stats stay 0 (default 0: computed) */
     volatile sig_atomic_t *stop_flag; /* checked between frames (NULL: never): nonzero ends the
                                          render after at least one frame (the CLI's SIGINT/SIGTERM) */
     /* MCMC mutations (mutate.h; Mutations Algorithm 3), real-time pipeline only: */

@@ -502,6 +502,9 @@ static void apply_common_options(render_args *a)
     a->pt.o.quiet = a->restir.quiet = a->quiet;
     a->pt.o.frame = a->frame;
     a->restir.stop_flag = &stop_requested;
+    /* The duplicate counters are reported by --stats only (--dedup and --aov duplicates
+     * read the map themselves). */
+    a->restir.no_duplicate_stats = !a->stats;
 }
 
 /* Rows [first, end) of options[] belong to one method (or, aov: need --method aov). */

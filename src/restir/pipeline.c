@@ -280,15 +280,18 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
     }
     if (j->o->spatial_passes > 0) stage_mutate(pl, final, MUTATE_AFTER_SPATIAL, times, &t);
-    { /* Mutations Fig. 8: duplicated samples among the shaded reservoirs (timed with the
-       * duplication map: a statistic of the same kind, not shading) */
+    if (!j->o->no_duplicate_stats) { /* Mutations Fig. 8: duplicated samples among the shaded
+       * reservoirs (timed with the duplication map: a statistic of the same kind, not shading) */
         uint64_t valid;
         times->mutate.duplicates += mutate_count_duplicates(final, (size_t)j->s->width * (size_t)j->s->height, &valid);
         times->mutate.final_valid += valid;
         times->ms_correlation += frame_lap_ms(&t);
     }
     frame_stage_shade(j, final, times, &t);
-    stage_duplication(pl, final, times, &t);
+    /* The map is read by the next frame's --dedup cap and by --aov duplicates; otherwise it
+     * is only a statistic (13% of a 256² real-time frame: docs/performance.md). */
+    if (!j->o->no_duplicate_stats || j->o->dedup || j->o->output_aov == RESTIR_OUTPUT_DUPLICATES)
+        stage_duplication(pl, final, times, &t);
     keep_as_previous(pl, final);
     return 0;
 }
