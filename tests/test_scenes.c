@@ -483,3 +483,53 @@ TEST(scenes_hall_smoke)
         image_free(&img);
     }
 }
+
+/* The atrium (generate_atrium.c; the Sponza-like interior of the traversal yardstick):
+ * a quarter of a million triangles, every object a union of closed solids with outward
+ * faces (curtains, columns, the 229-corner arcade walls included), the camera inside the
+ * courtyard, the same triangles on a second call, and a few paths through it that find
+ * light and stay finite (32 x 24, 2 spp). */
+TEST(scenes_atrium_closed_deterministic_lit)
+{
+    scene s, t;
+    rerror e;
+    double volume;
+    const char *problem;
+    uint32_t o;
+    CHECKF(generate_atrium(&s, &e) == 0, "%s", e.msg);
+    CHECKF(s.triangle_count > 250000 && s.triangle_count < 280000, "%zu triangles", s.triangle_count);
+    CHECK(s.object_count == 13 && s.has_camera && scene_emitter_count(&s) == 24);
+    for (o = 0; o < s.object_count; ++o) {
+        problem = check_closed_outward(&s, o, &volume);
+        CHECKF(!problem, "atrium %s: %s", s.object_names[o], problem);
+    }
+    CHECK(fabs(s.camera.eye.x) < 15 && fabs(s.camera.eye.z) < 6 && s.camera.eye.y > 0 && s.camera.eye.y < 5);
+    CHECKF(generate_atrium(&t, &e) == 0, "%s", e.msg);
+    CHECK(t.triangle_count == s.triangle_count && t.position_count == s.position_count);
+    if (t.triangle_count == s.triangle_count && t.position_count == s.position_count) {
+        CHECK(!memcmp(t.positions, s.positions, s.position_count * sizeof *s.positions));
+        CHECK(!memcmp(t.triangles, s.triangles, s.triangle_count * sizeof *s.triangles));
+    }
+    scene_free(&t);
+    scene_free(&s);
+    {
+        const char *obj = test_tmp_path("gen/atrium.obj");
+        char scene_path[4200], pfm[4200];
+        image img;
+        int channels, i, bad = 0;
+        double sum = 0;
+        snprintf(scene_path, sizeof scene_path, "%.*s.scene", (int)(strlen(obj) - 4), obj);
+        snprintf(pfm, sizeof pfm, "%s", test_tmp_path("atrium.pfm"));
+        CHECKF(test_cli(out, sizeof out, "generate atrium -o %s", obj) == 0, "%s", out);
+        CHECKF(test_cli(out, sizeof out, "render %s --method pt --size 32x24 --spp 2 --threads 2 -o %s", scene_path, pfm) == 0,
+               "%s", out);
+        CHECKF(pfm_read(pfm, &img, &channels, &e) == 0, "%s", e.msg);
+        for (i = 0; i < img.width * img.height * 3; ++i) {
+            double v = img.px[i];
+            if (!(v >= 0 && isfinite(v))) bad++;
+            sum += v;
+        }
+        CHECK(bad == 0 && sum > 0);
+        image_free(&img);
+    }
+}

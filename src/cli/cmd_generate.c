@@ -1,4 +1,4 @@
-/* restir generate ajar|glass|corridor|sphere|pillars|shadow|ajar-swing|ajar-swing-still|many-lights -o OUT.obj: writes a generated scene as OUT.obj,
+/* restir generate ajar|glass|corridor|sphere|pillars|shadow|ajar-swing|ajar-swing-still|many-lights|atrium -o OUT.obj: writes a generated scene as OUT.obj,
  * OUT.mtl and OUT.scene (docs/scenes.md). */
 #include <stdio.h>
 #include <string.h>
@@ -15,11 +15,11 @@ typedef struct {
     int angle_seen, subdivisions_seen;
 } generate_args;
 
-#define GENERATE_KINDS_TEXT "ajar, glass, corridor, sphere, pillars, shadow, ajar-swing, ajar-swing-still, many-lights"
+#define GENERATE_KINDS_TEXT "ajar, glass, corridor, sphere, pillars, shadow, ajar-swing, ajar-swing-still, many-lights, atrium"
 
 static int known_kind(const char *kind)
 {
-    static const char *const kinds[] = {"ajar", "glass", "corridor", "sphere", "pillars", "shadow", "ajar-swing", "ajar-swing-still", "many-lights"};
+    static const char *const kinds[] = {"ajar", "glass", "corridor", "sphere", "pillars", "shadow", "ajar-swing", "ajar-swing-still", "many-lights", "atrium"};
     size_t i;
     for (i = 0; i < sizeof kinds / sizeof *kinds; ++i)
         if (!strcmp(kind, kinds[i])) return 1;
@@ -85,6 +85,13 @@ static void describe(const char *kind, const generate_args *a, char *out, size_t
                  "pillars, a glossy floor and a copper block; light RIS for NEE (Enhanced 6.1, docs/scenes.md). Metres.\n"
                  "Written by: restir generate many-lights -o %s",
                  base_name(a->output));
+    else if (!strcmp(kind, "atrium"))
+        snprintf(out, size,
+                 "Atrium: a generated Sponza-like interior (no Sponza in ../shared/data): a courtyard between two-storey\n"
+                 "arcades of fluted columns, curtains, balusters and planters under a sky panel and a small sun;\n"
+                 "the traversal yardstick's interior (docs/scenes.md 11). Metres.\n"
+                 "Written by: restir generate atrium -o %s",
+                 base_name(a->output));
     else
         snprintf(out, size, "Displaced sphere benchmark scene (generate.h).\nWritten by: restir generate sphere --subdivisions %d -o %s",
                  a->subdivisions, base_name(a->output));
@@ -100,6 +107,7 @@ static int generate_kind(const char *kind, const generate_args *a, scene *s, rer
     if (!strcmp(kind, "ajar-swing-still")) return generate_ajar_swing(s, 1, e);
     if (!strcmp(kind, "corridor")) return generate_corridor(s, e);
     if (!strcmp(kind, "many-lights")) return generate_many_lights(s, e);
+    if (!strcmp(kind, "atrium")) return generate_atrium(s, e);
     return generate_displaced_sphere(s, a->subdivisions, e);
 }
 

@@ -1,12 +1,12 @@
 /* The generated rooms of generate_rooms.h (docs/scenes.md).
  *
- * Building blocks: closed solids (prisms over a polygon, UV spheres) whose faces share
- * their vertices, so each solid is watertight under the BVH's watertight ray/triangle
- * test, and whose faces point outward. Solids that meet interpenetrate instead of
+ * Building blocks: the closed solids of mesh_writer.h (watertight, outward faces).
+ * Solids that meet interpenetrate instead of
  * touching: a wall reaches into the floor slab and into the walls it joins, so a
  * junction has no crack for light to pass, and the extents are chosen so that no two
  * faces of different solids lie in one plane where they overlap (no coplanar faces). */
 #include "restir/generate_rooms.h"
+#include "restir/mesh_writer.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -16,232 +16,6 @@
 #include "restir/rng.h"
 #include "restir/scene_builder.h"
 #include "restir/triangulate.h"
-
-#define PI_D 3.14159265358979323846
-#define MAX_PRISM_CORNERS 16
-
-/* Appends geometry to a scene. The first failure is remembered (m->failed, message in
- * *m->e) and every later call does nothing, so the scene descriptions below read as
- * plain lists of solids with one check at the end. */
-typedef struct {
-    scene_builder b;
-    triangulator tri;
-    uint32_t material, object;
-    rerror *e;
-    int failed;
-} mesh_writer;
-
-typedef struct {
-    const char *name;
-    enum material_type type;
-    double kd[3], ks[3], ke[3];
-    double roughness, ior;
-} material_spec;
-
-static uint32_t vertex(mesh_writer *m, double x, double y, double z)
-{
-    uint32_t index = (uint32_t)m->b.s->position_count;
-    if (m->failed) return 0;
-    if (builder_add_position(&m->b, v3f((float)x, (float)y, (float)z), m->e)) m->failed = 1;
-    return index;
-}
-
-/* A point given by its coordinate w along `axis` and (u, v) on the two following axes
- * (cyclically: u = axis+1, v = axis+2, so that u x v = +axis). */
-static uint32_t axis_vertex(mesh_writer *m, int axis, double w, double u, double v)
-{
-    double c[3];
-    c[axis] = w;
-    c[(axis + 1) % 3] = u;
-    c[(axis + 2) % 3] = v;
-    return vertex(m, c[0], c[1], c[2]);
-}
-
-/* Triangle a, b, c: the front face is the side of (b - a) x (c - a). */
-static void face(mesh_writer *m, uint32_t a, uint32_t b, uint32_t c)
-{
-    triangle t;
-    if (m->failed) return;
-    t.v[0] = a, t.v[1] = b, t.v[2] = c;
-    t.n[0] = t.n[1] = t.n[2] = -1;
-    t.material = m->material;
-    t.object = m->object;
-    if (builder_add_triangle(&m->b, &t, m->e)) m->failed = 1;
-}
-
-static void quad(mesh_writer *m, uint32_t a, uint32_t b, uint32_t c, uint32_t d)
-{
-    face(m, a, b, c);
-    face(m, a, c, d);
-}
-
-static void define_materials(mesh_writer *m, const material_spec *specs, int count)
-{
-    int i;
-    for (i = 0; i < count && !m->failed; ++i) {
-        const material_spec *p = &specs[i];
-        uint32_t index;
-        material *mat;
-        if (builder_material(&m->b, p->name, &index, m->e)) {
-            m->failed = 1;
-            return;
-        }
-        mat = &m->b.s->materials[index];
-        mat->type = p->type;
-        mat->diffuse = rgb_make((real)p->kd[0], (real)p->kd[1], (real)p->kd[2]);
-        mat->specular = rgb_make((real)p->ks[0], (real)p->ks[1], (real)p->ks[2]);
-        mat->emission = rgb_make((real)p->ke[0], (real)p->ke[1], (real)p->ke[2]);
-        mat->roughness = (real)p->roughness;
-        mat->ior = (real)p->ior;
-    }
-}
-
-/* The material and object of the faces that follow (the material must be defined). */
-static void use(mesh_writer *m, const char *material_name, const char *object_name)
-{
-    if (m->failed) return;
-    if (builder_material(&m->b, material_name, &m->material, m->e) ||
-        builder_object(&m->b, object_name, &m->object, m->e))
-        m->failed = 1;
-}
-
-/* A polygon cap: the corners (vertex indices) in counter-clockwise order seen from the
- * side the cap faces, triangulated by ear clipping (which keeps the winding). */
-static void cap(mesh_writer *m, const uint32_t *ring, int n, int reversed)
-{
-    vec3f corners[MAX_PRISM_CORNERS];
-    uint32_t order[MAX_PRISM_CORNERS], tri[3 * MAX_PRISM_CORNERS];
-    size_t count, k;
-    int i;
-    if (m->failed) return;
-    for (i = 0; i < n; ++i) {
-        order[i] = ring[reversed ? n - 1 - i : i];
-        corners[i] = m->b.s->positions[order[i]];
-    }
-    if (triangulate_polygon(&m->tri, corners, (size_t)n, tri, &count, m->e)) {
-        m->failed = 1;
-        return;
-    }
-    for (k = 0; k < count; ++k) face(m, order[tri[3 * k]], order[tri[3 * k + 1]], order[tri[3 * k + 2]]);
-}
-
-/* A closed prism: the simple polygon of n corners uv[2i], uv[2i+1], given as (u, v)
- * coordinates on the two axes after `axis` (see axis_vertex), swept along `axis` from lo to hi (lo < hi). Faces
- * point outward whatever the polygon's winding: a counter-clockwise polygon in (u, v)
- * has its area normal along +axis, so the top cap keeps the order, the bottom cap
- * reverses it, and the side quad over edge e (from corner i to i+1) has normal
- * e x (+axis), which points out of a counter-clockwise polygon. */
-static void prism(mesh_writer *m, const double *uv, int n, int axis, double lo, double hi)
-{
-    uint32_t bottom[MAX_PRISM_CORNERS], top[MAX_PRISM_CORNERS];
-    double twice_area = 0;
-    int i;
-    if (n < 3 || n > MAX_PRISM_CORNERS) {
-        if (!m->failed) rerror_set(m->e, "generate: prism with %d corners", n);
-        m->failed = 1;
-        return;
-    }
-    for (i = 0; i < n; ++i)
-        twice_area += uv[2 * i] * uv[2 * ((i + 1) % n) + 1] - uv[2 * ((i + 1) % n)] * uv[2 * i + 1];
-    for (i = 0; i < n; ++i) {
-        const double *p = uv + 2 * (twice_area < 0 ? n - 1 - i : i);
-        bottom[i] = axis_vertex(m, axis, lo, p[0], p[1]);
-        top[i] = axis_vertex(m, axis, hi, p[0], p[1]);
-    }
-    for (i = 0; i < n; ++i) quad(m, bottom[i], bottom[(i + 1) % n], top[(i + 1) % n], top[i]);
-    cap(m, top, n, 0);
-    cap(m, bottom, n, 1);
-}
-
-/* An axis-aligned box [x0, x1] x [y0, y1] x [z0, z1] with outward faces. */
-static void box(mesh_writer *m, double x0, double y0, double z0, double x1, double y1, double z1)
-{
-    /* Footprint in the (u, v) = (z, x) plane of axis y. */
-    const double footprint[4][2] = {{z0, x0}, {z1, x0}, {z1, x1}, {z0, x1}};
-    prism(m, footprint[0], 4, 1, y0, y1);
-}
-
-/* A box standing on the y axis whose footprint, the rectangle [0, size_x] x [-size_z, 0]
- * in local coordinates (a, b), is turned about the vertical axis through (pivot_x,
- * pivot_z) so that the local +a direction becomes (cos t, -sin t) in (x, z) and +b
- * becomes (sin t, cos t): a proper rotation, which keeps the faces outward. */
-static void turned_box(mesh_writer *m, double pivot_x, double pivot_z, double size_x, double size_z, double turn_degrees,
-                       double y0, double y1)
-{
-    const double local[4][2] = {{0, -size_z}, {size_x, -size_z}, {size_x, 0}, {0, 0}};
-    double footprint[4][2], c = cos(turn_degrees * PI_D / 180), s = sin(turn_degrees * PI_D / 180);
-    int i;
-    for (i = 0; i < 4; ++i) {
-        double a = local[i][0], b = local[i][1];
-        double x = pivot_x + a * c + b * s, z = pivot_z - a * s + b * c;
-        footprint[i][0] = z; /* (u, v) = (z, x) for axis y */
-        footprint[i][1] = x;
-    }
-    prism(m, footprint[0], 4, 1, y0, y1);
-}
-
-/* A UV sphere (outward faces): `rings` bands in the polar angle from +y, `segments`
- * sectors in azimuth; the poles are single shared vertices. 2 * segments * (rings - 1)
- * triangles, closed. */
-static void uv_sphere(mesh_writer *m, double cx, double cy, double cz, double r, int segments, int rings)
-{
-    uint32_t north = vertex(m, cx, cy + r, cz), south = vertex(m, cx, cy - r, cz), first = north + 2;
-    int k, j;
-    for (k = 1; k < rings; ++k) {
-        double theta = PI_D * k / rings;
-        for (j = 0; j < segments; ++j) {
-            double phi = 2 * PI_D * j / segments;
-            vertex(m, cx + r * sin(theta) * cos(phi), cy + r * cos(theta), cz + r * sin(theta) * sin(phi));
-        }
-    }
-#define RING_VERTEX(k, j) (first + (uint32_t)(((k) - 1) * segments + ((j) % segments)))
-    for (j = 0; j < segments; ++j) {
-        /* Going around +y with increasing azimuth is clockwise seen from outside at the
-         * north pole, so the caps and bands list j + 1 before j there (and after j at the
-         * south pole). */
-        face(m, north, RING_VERTEX(1, j + 1), RING_VERTEX(1, j));
-        for (k = 1; k + 1 < rings; ++k)
-            quad(m, RING_VERTEX(k, j), RING_VERTEX(k, j + 1), RING_VERTEX(k + 1, j + 1), RING_VERTEX(k + 1, j));
-        face(m, south, RING_VERTEX(rings - 1, j), RING_VERTEX(rings - 1, j + 1));
-    }
-#undef RING_VERTEX
-}
-
-static int writer_begin(mesh_writer *m, scene *s, const char *name, rerror *e)
-{
-    memset(s, 0, sizeof *s);
-    memset(m, 0, sizeof *m);
-    m->e = e;
-    snprintf(s->path, sizeof s->path, "%s", name);
-    return builder_init(&m->b, s, NULL, e);
-}
-
-/* Checks the result (no failure, no triangle dropped as degenerate), frees the
- * builder's tables and, on failure, the scene. */
-static int writer_end(mesh_writer *m)
-{
-    scene *s = m->b.s;
-    if (!m->failed && m->b.degenerate_triangles)
-        m->failed = rerror_set(m->e, "%s: %zu degenerate triangles", s->path, m->b.degenerate_triangles) != 0;
-    builder_finish(&m->b);
-    triangulator_free(&m->tri);
-    if (m->failed) {
-        scene_free(s);
-        return -1;
-    }
-    return 0;
-}
-
-static void set_camera(scene *s, double ex, double ey, double ez, double tx, double ty, double tz, double fov)
-{
-    s->has_camera = 1;
-    s->camera.eye = v3((real)ex, (real)ey, (real)ez);
-    s->camera.target = v3((real)tx, (real)ty, (real)tz);
-    s->camera.up = v3(0, 1, 0);
-    s->camera.fov_y_degrees = (real)fov;
-    s->width = 512;
-    s->height = 512;
-}
 
 /* ------------------------------------------------------------------------------- */
 /* The door ajar                                                                      */
@@ -287,20 +61,20 @@ static void ajar_shell(mesh_writer *m)
     const double divider[8][2] = {{across_x0, across_y0}, {AJ_OPEN_X0, across_y0}, {AJ_OPEN_X0, AJ_OPEN_TOP},
                                   {AJ_OPEN_X1, AJ_OPEN_TOP}, {AJ_OPEN_X1, across_y0}, {across_x1, across_y0},
                                   {across_x1, across_y1}, {across_x0, across_y1}};
-    use(m, "floor", "floor");
-    box(m, -2 * t, -t, -2 * t, AJ_W + 2 * t, 0, AJ_Z_END + 2 * t);
-    use(m, "wall", "ceiling");
-    box(m, -2 * t, AJ_H, -2 * t, AJ_W + 2 * t, AJ_H + t, AJ_Z_END + 2 * t);
-    use(m, "wall", "wall_left");
-    box(m, -t, side_y0, -1.5 * t, 0, side_y1, AJ_Z_END + 1.5 * t);
-    use(m, "wall", "wall_right");
-    box(m, AJ_W, side_y0, -1.5 * t, AJ_W + t, side_y1, AJ_Z_END + 1.5 * t);
-    use(m, "wall", "wall_front");
-    box(m, across_x0, across_y0, -t, across_x1, across_y1, 0);
-    use(m, "wall", "wall_back");
-    box(m, across_x0, across_y0, AJ_Z_END, across_x1, across_y1, AJ_Z_END + t);
-    use(m, "wall", "wall_dividing");
-    prism(m, divider[0], 8, 2, AJ_D1, AJ_D1 + t);
+    mesh_use(m, "floor", "floor");
+    mesh_box(m, -2 * t, -t, -2 * t, AJ_W + 2 * t, 0, AJ_Z_END + 2 * t);
+    mesh_use(m, "wall", "ceiling");
+    mesh_box(m, -2 * t, AJ_H, -2 * t, AJ_W + 2 * t, AJ_H + t, AJ_Z_END + 2 * t);
+    mesh_use(m, "wall", "wall_left");
+    mesh_box(m, -t, side_y0, -1.5 * t, 0, side_y1, AJ_Z_END + 1.5 * t);
+    mesh_use(m, "wall", "wall_right");
+    mesh_box(m, AJ_W, side_y0, -1.5 * t, AJ_W + t, side_y1, AJ_Z_END + 1.5 * t);
+    mesh_use(m, "wall", "wall_front");
+    mesh_box(m, across_x0, across_y0, -t, across_x1, across_y1, 0);
+    mesh_use(m, "wall", "wall_back");
+    mesh_box(m, across_x0, across_y0, AJ_Z_END, across_x1, across_y1, AJ_Z_END + t);
+    mesh_use(m, "wall", "wall_dividing");
+    mesh_prism(m, divider[0], 8, 2, AJ_D1, AJ_D1 + t);
 }
 
 /* The door leaf, hinged on the vertical axis through its back edge on the hinge side
@@ -310,8 +84,8 @@ static void ajar_door(mesh_writer *m, double angle_degrees)
 {
     const double hinge_x = AJ_OPEN_X0 - AJ_LAP, hinge_z = AJ_D1 + AJ_EMBED;
     const double width = (AJ_OPEN_X1 + AJ_LAP) - hinge_x;
-    use(m, "door", "door");
-    turned_box(m, hinge_x, hinge_z, width, AJ_DOOR_T, angle_degrees, -0.02, AJ_OPEN_TOP + AJ_LAP);
+    mesh_use(m, "door", "door");
+    mesh_turned_box(m, hinge_x, hinge_z, width, AJ_DOOR_T, angle_degrees, -0.02, AJ_OPEN_TOP + AJ_LAP);
 }
 
 /* Furniture of the dark room: a glossy table with a copper box on it and a blue box on
@@ -321,17 +95,17 @@ static void ajar_furniture(mesh_writer *m)
 {
     const double x0 = 0.6, x1 = 1.8, z0 = 1.8, z1 = 2.6, top0 = 0.72, top1 = 0.76, leg = 0.06, inset = 0.04;
     int i;
-    use(m, "table", "table_top");
-    box(m, x0, top0, z0, x1, top1, z1);
-    use(m, "dark", "table_legs");
+    mesh_use(m, "table", "table_top");
+    mesh_box(m, x0, top0, z0, x1, top1, z1);
+    mesh_use(m, "dark", "table_legs");
     for (i = 0; i < 4; ++i) {
         double lx = (i & 1) ? x1 - inset - leg : x0 + inset, lz = (i & 2) ? z1 - inset - leg : z0 + inset;
-        box(m, lx, -0.01, lz, lx + leg, top0 + 0.02, lz + leg);
+        mesh_box(m, lx, -0.01, lz, lx + leg, top0 + 0.02, lz + leg);
     }
-    use(m, "copper", "copper_box");
-    box(m, 1.0, top1 - 0.01, 2.0, 1.25, 1.0, 2.25);
-    use(m, "blue", "blue_box");
-    turned_box(m, 3.05, 2.35, 0.5, 0.5, 25, -0.01, 0.45);
+    mesh_use(m, "copper", "copper_box");
+    mesh_box(m, 1.0, top1 - 0.01, 2.0, 1.25, 1.0, 2.25);
+    mesh_use(m, "blue", "blue_box");
+    mesh_turned_box(m, 3.05, 2.35, 0.5, 0.5, 25, -0.01, 0.45);
 }
 
 /* The emitter: a panel 1 cm in front of the lit room's back wall, facing the doorway
@@ -340,12 +114,12 @@ static void ajar_light(mesh_writer *m)
 {
     const double z = AJ_Z_END - 0.01, x0 = 0.8, x1 = 3.4, y0 = 0.5, y1 = 2.0;
     uint32_t a, b, c, d;
-    use(m, "light", "light");
-    a = vertex(m, x0, y0, z);
-    b = vertex(m, x0, y1, z);
-    c = vertex(m, x1, y1, z);
-    d = vertex(m, x1, y0, z);
-    quad(m, a, b, c, d);
+    mesh_use(m, "light", "light");
+    a = mesh_vertex(m, x0, y0, z);
+    b = mesh_vertex(m, x0, y1, z);
+    c = mesh_vertex(m, x1, y1, z);
+    d = mesh_vertex(m, x1, y0, z);
+    mesh_quad(m, a, b, c, d);
 }
 
 int generate_ajar(scene *s, double door_angle_degrees, rerror *e)
@@ -358,14 +132,14 @@ int generate_ajar(scene *s, double door_angle_degrees, rerror *e)
                           AJAR_MAX_DOOR_ANGLE);
     }
     snprintf(name, sizeof name, "generated:ajar(%g)", door_angle_degrees);
-    if (writer_begin(&m, s, name, e)) return -1;
-    define_materials(&m, ajar_materials, (int)(sizeof ajar_materials / sizeof *ajar_materials));
+    if (mesh_writer_begin(&m, s, name, e)) return -1;
+    mesh_define_materials(&m, ajar_materials, (int)(sizeof ajar_materials / sizeof *ajar_materials));
     ajar_shell(&m);
     ajar_door(&m, door_angle_degrees);
     ajar_furniture(&m);
     ajar_light(&m);
-    set_camera(s, 0.45, 1.55, 0.35, 2.9, 0.85, 3.6, 62);
-    return writer_end(&m);
+    mesh_set_camera(s, 0.45, 1.55, 0.35, 2.9, 0.85, 3.6, 62);
+    return mesh_writer_end(&m);
 }
 
 /* ------------------------------------------------------------------------------- */
@@ -393,17 +167,17 @@ static void glass_room_walls(mesh_writer *m)
 {
     uint32_t c[8];
     int i;
-    use(m, "white", "floor");
-    for (i = 0; i < 8; ++i) c[i] = vertex(m, (i & 1) ? GR_W : 0, (i & 2) ? GR_H : 0, (i & 4) ? GR_D : 0);
-    quad(m, c[0], c[4], c[5], c[1]); /* floor y = 0: (z) x (x) = +y */
-    use(m, "white", "ceiling");
-    quad(m, c[2], c[3], c[7], c[6]); /* y = H: (x) x (z) = -y */
-    use(m, "white", "back_wall");
-    quad(m, c[4], c[6], c[7], c[5]); /* z = D: (y) x (x) = -z */
-    use(m, "green", "right_wall");
-    quad(m, c[0], c[2], c[6], c[4]); /* x = 0: (y) x (z) = +x */
-    use(m, "red", "left_wall");
-    quad(m, c[1], c[5], c[7], c[3]); /* x = W: (z) x (y) = -x */
+    mesh_use(m, "white", "floor");
+    for (i = 0; i < 8; ++i) c[i] = mesh_vertex(m, (i & 1) ? GR_W : 0, (i & 2) ? GR_H : 0, (i & 4) ? GR_D : 0);
+    mesh_quad(m, c[0], c[4], c[5], c[1]); /* floor y = 0: (z) x (x) = +y */
+    mesh_use(m, "white", "ceiling");
+    mesh_quad(m, c[2], c[3], c[7], c[6]); /* y = H: (x) x (z) = -y */
+    mesh_use(m, "white", "back_wall");
+    mesh_quad(m, c[4], c[6], c[7], c[5]); /* z = D: (y) x (x) = -z */
+    mesh_use(m, "green", "right_wall");
+    mesh_quad(m, c[0], c[2], c[6], c[4]); /* x = 0: (y) x (z) = +x */
+    mesh_use(m, "red", "left_wall");
+    mesh_quad(m, c[1], c[5], c[7], c[3]); /* x = W: (z) x (y) = -x */
 }
 
 int generate_glass_room(scene *s, rerror *e)
@@ -413,24 +187,24 @@ int generate_glass_room(scene *s, rerror *e)
      * reaches 1 mm below the floor so its base does not lie in the floor's plane. */
     const double block[4][2] = {{247, 423}, {296, 265}, {456, 314}, {406, 472}}; /* (u, v) = (z, x) */
     uint32_t a, b, c, d;
-    if (writer_begin(&m, s, "generated:glass_room", e)) return -1;
-    define_materials(&m, glass_room_materials, (int)(sizeof glass_room_materials / sizeof *glass_room_materials));
+    if (mesh_writer_begin(&m, s, "generated:glass_room", e)) return -1;
+    mesh_define_materials(&m, glass_room_materials, (int)(sizeof glass_room_materials / sizeof *glass_room_materials));
     glass_room_walls(&m);
     /* The small light 0.1 mm below the ceiling, centred like the Cornell light, facing
      * down: (x) x (z) = -y. */
-    use(&m, "light", "light");
-    a = vertex(&m, 258, GR_H - 0.1, 259.6);
-    b = vertex(&m, 298, GR_H - 0.1, 259.6);
-    c = vertex(&m, 298, GR_H - 0.1, 299.6);
-    d = vertex(&m, 258, GR_H - 0.1, 299.6);
-    quad(&m, a, b, c, d);
-    use(&m, "white", "tall_block");
-    prism(&m, block[0], 4, 1, -1, 330);
+    mesh_use(&m, "light", "light");
+    a = mesh_vertex(&m, 258, GR_H - 0.1, 259.6);
+    b = mesh_vertex(&m, 298, GR_H - 0.1, 259.6);
+    c = mesh_vertex(&m, 298, GR_H - 0.1, 299.6);
+    d = mesh_vertex(&m, 258, GR_H - 0.1, 299.6);
+    mesh_quad(&m, a, b, c, d);
+    mesh_use(&m, "white", "tall_block");
+    mesh_prism(&m, block[0], 4, 1, -1, 330);
     /* The glass sphere where the Cornell short block stands, 1 mm above the floor. */
-    use(&m, "glass", "glass_sphere");
-    uv_sphere(&m, 185, 101, 169, 100, 64, 32);
-    set_camera(s, 278, 273, -800, 278, 273, 0, 39.3076481);
-    return writer_end(&m);
+    mesh_use(&m, "glass", "glass_sphere");
+    mesh_uv_sphere(&m, 185, 101, 169, 100, 64, 32);
+    mesh_set_camera(s, 278, 273, -800, 278, 273, 0, 39.3076481);
+    return mesh_writer_end(&m);
 }
 
 /* ------------------------------------------------------------------------------- */
@@ -488,28 +262,28 @@ int generate_pillars(scene *s, rerror *e)
     mesh_writer m;
     camera_keyframe k[2];
     int i;
-    if (writer_begin(&m, s, "generated:pillars", e)) return -1;
-    define_materials(&m, pillar_materials, (int)(sizeof pillar_materials / sizeof *pillar_materials));
-    use(&m, "floor", "floor");
-    box(&m, -3, -0.1, -5.2, 3, 0, 2);
-    use(&m, "backdrop", "backdrop");
-    box(&m, -3, -0.05, -5.1, 3, 3, -5);
-    use(&m, "bars", "bars");
+    if (mesh_writer_begin(&m, s, "generated:pillars", e)) return -1;
+    mesh_define_materials(&m, pillar_materials, (int)(sizeof pillar_materials / sizeof *pillar_materials));
+    mesh_use(&m, "floor", "floor");
+    mesh_box(&m, -3, -0.1, -5.2, 3, 0, 2);
+    mesh_use(&m, "backdrop", "backdrop");
+    mesh_box(&m, -3, -0.05, -5.1, 3, 3, -5);
+    mesh_use(&m, "bars", "bars");
     for (i = 0; i < PILLARS_BARS; ++i) {
         double x = -1 + 0.5 * i;
-        box(&m, x - 0.06, -0.01, -2.05, x + 0.06, 2.5, -1.95);
+        mesh_box(&m, x - 0.06, -0.01, -2.05, x + 0.06, 2.5, -1.95);
     }
     /* A 3 x 1 m panel above the space between bars and backdrop, facing down:
      * (b - a) x (c - a) = (3, 0, 0) x (3, 0, 1) = -3 y. */
-    use(&m, "light", "light");
+    mesh_use(&m, "light", "light");
     {
-        uint32_t a = vertex(&m, -1.5, 2.9, -4.5), b = vertex(&m, 1.5, 2.9, -4.5), c = vertex(&m, 1.5, 2.9, -3.5),
-                 d = vertex(&m, -1.5, 2.9, -3.5);
-        quad(&m, a, b, c, d);
+        uint32_t a = mesh_vertex(&m, -1.5, 2.9, -4.5), b = mesh_vertex(&m, 1.5, 2.9, -4.5), c = mesh_vertex(&m, 1.5, 2.9, -3.5),
+                 d = mesh_vertex(&m, -1.5, 2.9, -3.5);
+        mesh_quad(&m, a, b, c, d);
     }
-    set_camera(s, -1, 1.2, 2.5, -1, 1.0, -5, 45);
+    mesh_set_camera(s, -1, 1.2, 2.5, -1, 1.0, -5, 45);
     s->width = s->height = 128;
-    if (writer_end(&m)) return -1;
+    if (mesh_writer_end(&m)) return -1;
     k[0].frame = 0;
     k[0].pose = pose_of(-1, 1.2, 2.5, -1, 1.0, -5, 45);
     k[1].frame = PILLARS_LAST_FRAME;
@@ -532,23 +306,23 @@ int generate_shadow(scene *s, rerror *e)
 {
     mesh_writer m;
     object_keyframe k[2];
-    if (writer_begin(&m, s, "generated:shadow", e)) return -1;
-    define_materials(&m, shadow_materials, (int)(sizeof shadow_materials / sizeof *shadow_materials));
-    use(&m, "floor", "floor");
-    box(&m, -2, -0.1, -2.2, 2, 0, 2);
-    use(&m, "wall", "wall");
-    box(&m, -2, -0.05, -2.1, 2, 2.5, -2);
-    use(&m, "mover", "mover");
-    box(&m, -0.3, 0.5, -0.3, 0.3, 1.1, 0.3);
-    use(&m, "light", "light");
+    if (mesh_writer_begin(&m, s, "generated:shadow", e)) return -1;
+    mesh_define_materials(&m, shadow_materials, (int)(sizeof shadow_materials / sizeof *shadow_materials));
+    mesh_use(&m, "floor", "floor");
+    mesh_box(&m, -2, -0.1, -2.2, 2, 0, 2);
+    mesh_use(&m, "wall", "wall");
+    mesh_box(&m, -2, -0.05, -2.1, 2, 2.5, -2);
+    mesh_use(&m, "mover", "mover");
+    mesh_box(&m, -0.3, 0.5, -0.3, 0.3, 1.1, 0.3);
+    mesh_use(&m, "light", "light");
     {
-        uint32_t a = vertex(&m, -0.4, 2.4, -0.4), b = vertex(&m, 0.4, 2.4, -0.4), c = vertex(&m, 0.4, 2.4, 0.4),
-                 d = vertex(&m, -0.4, 2.4, 0.4);
-        quad(&m, a, b, c, d);
+        uint32_t a = mesh_vertex(&m, -0.4, 2.4, -0.4), b = mesh_vertex(&m, 0.4, 2.4, -0.4), c = mesh_vertex(&m, 0.4, 2.4, 0.4),
+                 d = mesh_vertex(&m, -0.4, 2.4, 0.4);
+        mesh_quad(&m, a, b, c, d);
     }
-    set_camera(s, 0, 2.2, 3.5, 0, 0.4, -0.3, 50);
+    mesh_set_camera(s, 0, 2.2, 3.5, 0, 0.4, -0.3, 50);
     s->width = s->height = 128;
-    if (writer_end(&m)) return -1;
+    if (mesh_writer_end(&m)) return -1;
     /* The box crosses under the light from x = -1 to x = 1, turning a quarter turn. */
     k[0] = object_key(0, -1, 0, 0, 1, 0);
     k[1] = object_key(SHADOW_LAST_FRAME, 1, 0, 0, 1, 90);
@@ -621,16 +395,16 @@ static const material_spec corridor_materials[] = {
 static void corridor_tube(mesh_writer *m)
 {
     const double t = CO_T, x = CO_W / 2, z1 = CO_L + 0.01;
-    use(m, "glossy", "corridor_floor");
-    box(m, -x - 2 * t, -t, -2 * t, x + 2 * t, 0, z1);
-    use(m, "glossy", "corridor_ceiling");
-    box(m, -x - 2 * t, CO_H, -2 * t, x + 2 * t, CO_H + t, z1);
-    use(m, "mirror", "corridor_left");
-    box(m, -x - t, -0.5 * t, -1.5 * t, -x, CO_H + 0.5 * t, z1);
-    use(m, "mirror", "corridor_right");
-    box(m, x, -0.5 * t, -1.5 * t, x + t, CO_H + 0.5 * t, z1);
-    use(m, "dark", "corridor_cap");
-    box(m, -x - 0.5 * t, -0.7 * t, -t, x + 0.5 * t, CO_H + 0.7 * t, 0);
+    mesh_use(m, "glossy", "corridor_floor");
+    mesh_box(m, -x - 2 * t, -t, -2 * t, x + 2 * t, 0, z1);
+    mesh_use(m, "glossy", "corridor_ceiling");
+    mesh_box(m, -x - 2 * t, CO_H, -2 * t, x + 2 * t, CO_H + t, z1);
+    mesh_use(m, "mirror", "corridor_left");
+    mesh_box(m, -x - t, -0.5 * t, -1.5 * t, -x, CO_H + 0.5 * t, z1);
+    mesh_use(m, "mirror", "corridor_right");
+    mesh_box(m, x, -0.5 * t, -1.5 * t, x + t, CO_H + 0.5 * t, z1);
+    mesh_use(m, "dark", "corridor_cap");
+    mesh_box(m, -x - 0.5 * t, -0.7 * t, -t, x + 0.5 * t, CO_H + 0.7 * t, 0);
 }
 
 /* The room: slabs, walls (the front wall a U-shaped prism whose notch holds the
@@ -642,29 +416,29 @@ static void corridor_room(mesh_writer *m)
     const double front[8][2] = {{-ax, ay0}, {-nx, ay0}, {-nx, CO_H + 0.5 * t}, {nx, CO_H + 0.5 * t},
                                 {nx, ay0},  {ax, ay0},  {ax, ay1},           {-ax, ay1}};
     uint32_t a, b, c, d;
-    use(m, "floor", "room_floor");
-    box(m, -x - 2 * t, RO_Y0 - t, z0 - 2 * t, x + 2 * t, RO_Y0, z1 + 2 * t);
-    use(m, "white", "room_ceiling");
-    box(m, -x - 2 * t, RO_H, z0 - 2 * t, x + 2 * t, RO_H + t, z1 + 2 * t);
-    use(m, "red", "room_left");
-    box(m, -x - t, RO_Y0 - 0.5 * t, z0 - 1.5 * t, -x, RO_H + 0.5 * t, z1 + 1.5 * t);
-    use(m, "white", "room_right");
-    box(m, x, RO_Y0 - 0.5 * t, z0 - 1.5 * t, x + t, RO_H + 0.5 * t, z1 + 1.5 * t);
-    use(m, "white", "room_back");
-    box(m, -ax, ay0, z1, ax, ay1, z1 + t);
-    use(m, "white", "room_front");
-    prism(m, front[0], 8, 2, z0 - t, z0);
+    mesh_use(m, "floor", "room_floor");
+    mesh_box(m, -x - 2 * t, RO_Y0 - t, z0 - 2 * t, x + 2 * t, RO_Y0, z1 + 2 * t);
+    mesh_use(m, "white", "room_ceiling");
+    mesh_box(m, -x - 2 * t, RO_H, z0 - 2 * t, x + 2 * t, RO_H + t, z1 + 2 * t);
+    mesh_use(m, "red", "room_left");
+    mesh_box(m, -x - t, RO_Y0 - 0.5 * t, z0 - 1.5 * t, -x, RO_H + 0.5 * t, z1 + 1.5 * t);
+    mesh_use(m, "white", "room_right");
+    mesh_box(m, x, RO_Y0 - 0.5 * t, z0 - 1.5 * t, x + t, RO_H + 0.5 * t, z1 + 1.5 * t);
+    mesh_use(m, "white", "room_back");
+    mesh_box(m, -ax, ay0, z1, ax, ay1, z1 + t);
+    mesh_use(m, "white", "room_front");
+    mesh_prism(m, front[0], 8, 2, z0 - t, z0);
     /* The glass block stands 1 mm above the floor: no other surface may lie inside a
      * dielectric (a floor face inside the glass would be lit from within the medium). */
-    use(m, "rough_glass", "rough_glass_block");
-    box(m, -0.35, RO_Y0 + 0.001, z0 + 1.2, 0.45, 0.7, z0 + 1.6);
+    mesh_use(m, "rough_glass", "rough_glass_block");
+    mesh_box(m, -0.35, RO_Y0 + 0.001, z0 + 1.2, 0.45, 0.7, z0 + 1.6);
     /* The light: 1 x 1 m, 5 mm below the ceiling, facing down ((x) x (z) = -y). */
-    use(m, "light", "light");
-    a = vertex(m, -0.5, RO_H - 0.005, z0 + RO_D / 2 - 0.5);
-    b = vertex(m, 0.5, RO_H - 0.005, z0 + RO_D / 2 - 0.5);
-    c = vertex(m, 0.5, RO_H - 0.005, z0 + RO_D / 2 + 0.5);
-    d = vertex(m, -0.5, RO_H - 0.005, z0 + RO_D / 2 + 0.5);
-    quad(m, a, b, c, d);
+    mesh_use(m, "light", "light");
+    a = mesh_vertex(m, -0.5, RO_H - 0.005, z0 + RO_D / 2 - 0.5);
+    b = mesh_vertex(m, 0.5, RO_H - 0.005, z0 + RO_D / 2 - 0.5);
+    c = mesh_vertex(m, 0.5, RO_H - 0.005, z0 + RO_D / 2 + 0.5);
+    d = mesh_vertex(m, -0.5, RO_H - 0.005, z0 + RO_D / 2 + 0.5);
+    mesh_quad(m, a, b, c, d);
 }
 
 /* The camera: in the corridor 0.2 m from its cap, looking past the corridor's far
@@ -674,12 +448,12 @@ static void corridor_room(mesh_writer *m)
 int generate_corridor(scene *s, rerror *e)
 {
     mesh_writer m;
-    if (writer_begin(&m, s, "generated:corridor", e)) return -1;
-    define_materials(&m, corridor_materials, (int)(sizeof corridor_materials / sizeof *corridor_materials));
+    if (mesh_writer_begin(&m, s, "generated:corridor", e)) return -1;
+    mesh_define_materials(&m, corridor_materials, (int)(sizeof corridor_materials / sizeof *corridor_materials));
     corridor_tube(&m);
     corridor_room(&m);
-    set_camera(s, CORRIDOR_CAMERA);
-    return writer_end(&m);
+    mesh_set_camera(s, CORRIDOR_CAMERA);
+    return mesh_writer_end(&m);
 }
 
 /* ------------------------------------------------------------------------------- */
@@ -792,7 +566,7 @@ static void many_lights_materials(mesh_writer *m)
     static const double tint[3][3] = {{1.0, 0.85, 0.6}, {0.75, 0.85, 1.0}, {1.0, 1.0, 1.0}};
     material_spec specs[MANY_LIGHTS_LEVELS];
     int k;
-    define_materials(m, many_lights_surfaces, (int)(sizeof many_lights_surfaces / sizeof *many_lights_surfaces));
+    mesh_define_materials(m, many_lights_surfaces, (int)(sizeof many_lights_surfaces / sizeof *many_lights_surfaces));
     for (k = 0; k < MANY_LIGHTS_LEVELS; ++k) {
         double radiance = 0.1 * pow(10.0, 3.0 * k / (MANY_LIGHTS_LEVELS - 1));
         int c;
@@ -803,7 +577,7 @@ static void many_lights_materials(mesh_writer *m)
         specs[k].roughness = 1;
         specs[k].ior = 1.5;
     }
-    define_materials(m, specs, MANY_LIGHTS_LEVELS);
+    mesh_define_materials(m, specs, MANY_LIGHTS_LEVELS);
 }
 
 /* One light square 1 cm off a wall: centre c, facing along +-axis `axis` (sign), the
@@ -811,11 +585,11 @@ static void many_lights_materials(mesh_writer *m)
 static void many_lights_square(mesh_writer *m, int axis, int sign, double w, double u, double v)
 {
     const double h = ML_SIZE / 2;
-    uint32_t a = axis_vertex(m, axis, w, u - h, v - h), b = axis_vertex(m, axis, w, u + h, v - h);
-    uint32_t c = axis_vertex(m, axis, w, u + h, v + h), d = axis_vertex(m, axis, w, u - h, v + h);
+    uint32_t a = mesh_axis_vertex(m, axis, w, u - h, v - h), b = mesh_axis_vertex(m, axis, w, u + h, v - h);
+    uint32_t c = mesh_axis_vertex(m, axis, w, u + h, v + h), d = mesh_axis_vertex(m, axis, w, u - h, v + h);
     /* (u) x (v) = +axis: keep the order to face +axis, reverse it to face -axis. */
-    if (sign > 0) quad(m, a, b, c, d);
-    else quad(m, a, d, c, b);
+    if (sign > 0) mesh_quad(m, a, b, c, d);
+    else mesh_quad(m, a, d, c, b);
 }
 
 static void many_lights_emitters(mesh_writer *m)
@@ -826,7 +600,7 @@ static void many_lights_emitters(mesh_writer *m)
         rng_key key = rng_key_make(2026, (uint32_t)i, 0);
         double where = rng_u(key, RNG_TEST, 0, 0), a = rng_u(key, RNG_TEST, 0, 1), b = rng_u(key, RNG_TEST, 0, 2);
         int level = (int)(rng_u(key, RNG_TEST, 0, 3) * MANY_LIGHTS_LEVELS);
-        use(m, many_lights_names[level < MANY_LIGHTS_LEVELS ? level : MANY_LIGHTS_LEVELS - 1], "lights");
+        mesh_use(m, many_lights_names[level < MANY_LIGHTS_LEVELS ? level : MANY_LIGHTS_LEVELS - 1], "lights");
         if (where < 0.5) /* ceiling, facing down (-y); axis y: u = z, v = x */
             many_lights_square(m, 1, -1, ML_H - 0.01, 0.3 + a * (ML_D - 0.6), 0.3 + b * (ML_W - 0.6));
         else if (where < 0.75) /* left wall x = 0, facing +x; axis x: u = y, v = z */
@@ -841,27 +615,27 @@ int generate_many_lights(scene *s, rerror *e)
     const double t = 0.2;
     mesh_writer m;
     int i;
-    if (writer_begin(&m, s, "generated:many-lights", e)) return -1;
+    if (mesh_writer_begin(&m, s, "generated:many-lights", e)) return -1;
     many_lights_materials(&m);
     /* The shell: slabs reach 2t beyond the interior, walls t beyond along z and into the
      * slabs, the end walls into the side walls (no coplanar overlapping faces). */
-    use(&m, "floor", "floor");
-    box(&m, -2 * t, -t, -2 * t, ML_W + 2 * t, 0, ML_D + 2 * t);
-    use(&m, "wall", "ceiling");
-    box(&m, -2 * t, ML_H, -2 * t, ML_W + 2 * t, ML_H + t, ML_D + 2 * t);
-    use(&m, "wall", "walls");
-    box(&m, -t, -0.5 * t, -1.5 * t, 0, ML_H + 0.5 * t, ML_D + 1.5 * t);
-    box(&m, ML_W, -0.5 * t, -1.5 * t, ML_W + t, ML_H + 0.5 * t, ML_D + 1.5 * t);
-    box(&m, -0.5 * t, -0.7 * t, ML_D, ML_W + 0.5 * t, ML_H + 0.7 * t, ML_D + t);
-    box(&m, -0.5 * t, -0.7 * t, -t, ML_W + 0.5 * t, ML_H + 0.7 * t, 0);
-    use(&m, "pillar", "pillars");
+    mesh_use(&m, "floor", "floor");
+    mesh_box(&m, -2 * t, -t, -2 * t, ML_W + 2 * t, 0, ML_D + 2 * t);
+    mesh_use(&m, "wall", "ceiling");
+    mesh_box(&m, -2 * t, ML_H, -2 * t, ML_W + 2 * t, ML_H + t, ML_D + 2 * t);
+    mesh_use(&m, "wall", "walls");
+    mesh_box(&m, -t, -0.5 * t, -1.5 * t, 0, ML_H + 0.5 * t, ML_D + 1.5 * t);
+    mesh_box(&m, ML_W, -0.5 * t, -1.5 * t, ML_W + t, ML_H + 0.5 * t, ML_D + 1.5 * t);
+    mesh_box(&m, -0.5 * t, -0.7 * t, ML_D, ML_W + 0.5 * t, ML_H + 0.7 * t, ML_D + t);
+    mesh_box(&m, -0.5 * t, -0.7 * t, -t, ML_W + 0.5 * t, ML_H + 0.7 * t, 0);
+    mesh_use(&m, "pillar", "pillars");
     for (i = 0; i < 8; ++i) {
         double x = (i & 1) ? 5.6 : 2.0, z = 4.0 + 4.0 * (i / 2);
-        box(&m, x, -0.01, z, x + 0.4, ML_H + 0.01, z + 0.4);
+        mesh_box(&m, x, -0.01, z, x + 0.4, ML_H + 0.01, z + 0.4);
     }
-    use(&m, "copper", "block");
-    turned_box(&m, 3.6, 9.0, 0.8, 0.8, 30, -0.01, 0.9);
+    mesh_use(&m, "copper", "block");
+    mesh_turned_box(&m, 3.6, 9.0, 0.8, 0.8, 30, -0.01, 0.9);
     many_lights_emitters(&m);
-    set_camera(s, 4.0, 1.7, 0.6, 4.0, 1.3, 20.0, 60);
-    return writer_end(&m);
+    mesh_set_camera(s, 4.0, 1.7, 0.6, 4.0, 1.3, 20.0, 60);
+    return mesh_writer_end(&m);
 }
