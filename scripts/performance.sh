@@ -12,20 +12,28 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 mkdir -p "$out"
 echo "load: $(cat /proc/loadavg 2>/dev/null || uptime)" > "$out/load.txt"
 
-# 1. Path tracer, 1 thread, CPU time, every shipped scene (256x256, 2 spp).
+# The generated Sponza-like atrium (docs/scenes.md §11) is not shipped: NEW writes it, both
+# binaries render it (BASE predates the generator but loads the OBJ).
+mkdir -p "$out/atrium"
+"$new" generate atrium -o "$out/atrium/atrium.obj" > /dev/null
+scene_file() { # name -> path
+    if [ "$1" = atrium ]; then echo "$out/atrium/atrium.scene"; else echo "$here/scenes/$1.scene"; fi
+}
+
+# 1. Path tracer, 1 thread, CPU time, every shipped scene and the atrium (256x256, 2 spp).
 : > "$out/pt.txt"
-for sc in cornell cornell-glossy glass ajar corridor pillars shadow; do
+for sc in cornell cornell-glossy glass ajar corridor pillars shadow atrium; do
     printf '%-15s ' "$sc" >> "$out/pt.txt"
-    sh "$here/tools/ab_cmd.sh" "$base" "$new" "$rounds" render "$here/scenes/$sc.scene" --method pt --spp 2 \
+    sh "$here/tools/ab_cmd.sh" "$base" "$new" "$rounds" render "$(scene_file "$sc")" --method pt --spp 2 \
         --size 256x256 --threads 1 >> "$out/pt.txt"
 done
 
 # 2. ReSTIR PT, 1 thread, CPU time of a whole run: the offline frame (GRIS offline preset)
 #    and the real-time pipeline (4 frames of the real-time preset).
 : > "$out/restir.txt"
-for sc in cornell cornell-glossy glass ajar corridor pillars shadow; do
+for sc in cornell cornell-glossy glass ajar corridor pillars shadow atrium; do
     printf '%-15s offline  ' "$sc" >> "$out/restir.txt"
-    sh "$here/tools/ab_cmd.sh" "$base" "$new" "$rounds" render "$here/scenes/$sc.scene" --method restir \
+    sh "$here/tools/ab_cmd.sh" "$base" "$new" "$rounds" render "$(scene_file "$sc")" --method restir \
         --preset gris-offline --size 128x128 --threads 1 >> "$out/restir.txt"
 done
 for sc in cornell ajar shadow; do
