@@ -540,12 +540,11 @@ typedef struct {
      * other two (swapped when dir[kz] < 0 to keep the winding), shear sx, sy, sz. */
     int kx, ky, kz;
     float sx, sy, sz;
-    /* Slab test, t = face * inv + c: the inverse direction, per axis the byte offset
-     * of the near and the far face in a node (chosen by the direction's sign), and the
-     * constants c = -org * inv -+ slack / |dir| (see setup_box_test). */
+    /* Slab test, t = face * inv + c: the inverse direction, per axis the rows of the
+     * near and the far face in bvh_wide_node.bounds (chosen by the direction's sign),
+     * and the constants c = -org * inv -+ slack / |dir| (see setup_box_test). */
     float inv[3];
-    size_t near_face[3], far_face[3];
-    int near_row[3], far_row[3]; /* the same faces as rows of bvh_wide_node.bounds */
+    int near_row[3], far_row[3];
     float near_c[3], far_c[3];
     float tmin, tmax;
 } ray_setup;
@@ -556,9 +555,9 @@ static int largest_abs_axis(const float d[3])
     return ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
 }
 
-/* Triangle part of the setup. Returns 0 for a ray that cannot hit anything (zero or
- * non-finite direction, non-finite origin, empty range). */
-static int setup_triangle_test(ray_setup *s, const ray *r)
+/* The ray, its checks and the axes of the triangle test. Returns 0 for a ray that
+ * cannot hit anything (zero or non-finite direction, non-finite origin, empty range). */
+static HOT_INLINE int setup_axes(ray_setup *s, const ray *r)
 {
     s->org[0] = r->origin.x, s->org[1] = r->origin.y, s->org[2] = r->origin.z;
     s->dir[0] = r->dir.x, s->dir[1] = r->dir.y, s->dir[2] = r->dir.z;
@@ -575,6 +574,13 @@ static int setup_triangle_test(ray_setup *s, const ray *r)
         s->kx = s->ky;
         s->ky = t;
     }
+    return 1;
+}
+
+/* Triangle part of the setup (the scalar test's). Returns 0 as setup_axes. */
+static int setup_triangle_test(ray_setup *s, const ray *r)
+{
+    if (!setup_axes(s, r)) return 0;
     s->sx = s->dir[s->kx] / s->dir[s->kz];
     s->sy = s->dir[s->ky] / s->dir[s->kz];
     s->sz = 1.0f / s->dir[s->kz];
@@ -596,8 +602,9 @@ static float larger(float a, float b) { return a > b ? a : b; }
  * test would hit: the BVH finds exactly what a loop over all triangles finds. The
  * price is boxes larger by ~1e-6 of the scene's extent plus its distance from the
  * coordinate origin. (A NaN can only come from overflow at absurd coordinates; the
- * slab test then keeps the interval unchanged, which is conservative too.) */
-static void setup_box_test(ray_setup *s, const bvh_node *root)
+ * slab test then keeps the interval unchanged, which is conservative too.)
+ * recip[i] = 1 / dir[i] where |dir[i]| > 1e-30 (setup_traversal divides). */
+static void setup_box_test(ray_setup *s, const bvh_node *root, const float recip[3])
 {
     float reach = 0, magnitude = 0, slack;
     int i;
@@ -610,23 +617,35 @@ static void setup_box_test(ray_setup *s, const bvh_node *root)
         /* A zero component gets a huge finite inverse instead of infinity, so that
          * 0 * inv never makes a NaN and a parallel ray outside the slab is culled. */
         float d = s->dir[i];
-        float inv = fabsf(d) > 1e-30f ? 1.0f / d : copysignf(1e30f, d);
+        float inv = fabsf(d) > 1e-30f ? recip[i] : copysignf(1e30f, d);
         float slack_t = slack * fabsf(inv);
+        int negative = inv < 0;
         s->inv[i] = inv;
         s->near_c[i] = -s->org[i] * inv - slack_t;
         s->far_c[i] = -s->org[i] * inv + slack_t;
-        s->near_face[i] = (inv < 0 ? offsetof(bvh_node, max) : offsetof(bvh_node, min)) + (size_t)i * sizeof(float);
-        s->far_face[i] = (inv < 0 ? offsetof(bvh_node, min) : offsetof(bvh_node, max)) + (size_t)i * sizeof(float);
-        s->near_row[i] = inv < 0 ? 3 + i : i;
-        s->far_row[i] = inv < 0 ? i : 3 + i;
+        s->near_row[i] = i + 3 * negative;
+        s->far_row[i] = i + 3 - 3 * negative;
     }
 }
 
-/* The coordinate of a node's box face at a byte offset chosen once per ray. */
-static inline float face(const bvh_node *n, size_t byte_offset)
+/* The whole per-ray setup of a query: setup_triangle_test and setup_box_test sharing
+ * the reciprocal of the dominant direction component (the same division, so the same
+ * bits). Returns 0 as setup_axes. */
+static int setup_traversal(ray_setup *s, const ray *r, const bvh_node *root)
 {
-    return *(const float *)(const void *)((const char *)n + byte_offset);
+    float recip[3];
+    int i;
+    if (!setup_axes(s, r)) return 0;
+    for (i = 0; i < 3; ++i) recip[i] = 1.0f / (fabsf(s->dir[i]) > 1e-30f ? s->dir[i] : 1.0f);
+    s->sx = s->dir[s->kx] / s->dir[s->kz];
+    s->sy = s->dir[s->ky] / s->dir[s->kz];
+    s->sz = fabsf(s->dir[s->kz]) > 1e-30f ? recip[s->kz] : 1.0f / s->dir[s->kz];
+    setup_box_test(s, root, recip);
+    return 1;
 }
+
+/* The coordinate of a binary node's box face, by its row in bvh_wide_node.bounds. */
+static inline float face(const bvh_node *n, int row) { return row < 3 ? n->min[row] : n->max[row - 3]; }
 
 /* Conservative slab test (Kay & Kajiya 1986) against [tmin, tfar_limit], inclusive so
  * that hits tied in t with the current closest hit are still found. Writes the entry
@@ -634,17 +653,17 @@ static inline float face(const bvh_node *n, size_t byte_offset)
 static inline int box_overlaps(const ray_setup *s, const bvh_node *n, float tfar_limit, float *entry)
 {
     float tnear = s->tmin, tfar = tfar_limit, t;
-    t = face(n, s->near_face[0]) * s->inv[0] + s->near_c[0];
+    t = face(n, s->near_row[0]) * s->inv[0] + s->near_c[0];
     tnear = t > tnear ? t : tnear;
-    t = face(n, s->near_face[1]) * s->inv[1] + s->near_c[1];
+    t = face(n, s->near_row[1]) * s->inv[1] + s->near_c[1];
     tnear = t > tnear ? t : tnear;
-    t = face(n, s->near_face[2]) * s->inv[2] + s->near_c[2];
+    t = face(n, s->near_row[2]) * s->inv[2] + s->near_c[2];
     tnear = t > tnear ? t : tnear;
-    t = face(n, s->far_face[0]) * s->inv[0] + s->far_c[0];
+    t = face(n, s->far_row[0]) * s->inv[0] + s->far_c[0];
     tfar = t < tfar ? t : tfar;
-    t = face(n, s->far_face[1]) * s->inv[1] + s->far_c[1];
+    t = face(n, s->far_row[1]) * s->inv[1] + s->far_c[1];
     tfar = t < tfar ? t : tfar;
-    t = face(n, s->far_face[2]) * s->inv[2] + s->far_c[2];
+    t = face(n, s->far_row[2]) * s->inv[2] + s->far_c[2];
     tfar = t < tfar ? t : tfar;
     *entry = tnear;
     return tnear <= tfar;
@@ -988,8 +1007,7 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
     c.t = r->tmax;
     c.b1 = c.b2 = 0;
     c.tri = BVH_NO_HIT;
-    if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
-    setup_box_test(&s, &b->nodes[0]);
+    if (b->node_count == 0 || !setup_traversal(&s, r, &b->nodes[0])) return 0;
     if (!box_overlaps(&s, &b->nodes[0], c.t, &t_root)) return 0;
     stack[top].node = 0;
     stack[top++].tnear = t_root;
@@ -1014,8 +1032,7 @@ int bvh_occluded(const bvh *b, const ray *r)
     int top = 0;
     float t_root;
 
-    if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
-    setup_box_test(&s, &b->nodes[0]);
+    if (b->node_count == 0 || !setup_traversal(&s, r, &b->nodes[0])) return 0;
     if (!box_overlaps(&s, &b->nodes[0], s.tmax, &t_root)) return 0;
     stack[top].node = 0;
     stack[top++].tnear = t_root;
