@@ -8,9 +8,11 @@
  * node is the next node, the right child is at `offset`.
  *
  * Collapse: the binary tree is then collapsed to BVH_WIDTH = 8 wide nodes (BVH8) with the
- * very same boxes, and each leaf's triangles are copied into leaf blocks of 4 (vertices
- * inline, structure of arrays); queries traverse those (fewer, larger nodes: fewer
- * dependent cache misses for incoherent rays; docs/performance.md has the measurements).
+ * very same boxes, which binary nodes become wide nodes and leaves chosen by the SAH-optimal
+ * dynamic programme of Ylitie et al. 2017 (collapse_costs), and each leaf's triangles are
+ * copied into leaf blocks of 4 (vertices inline, structure of arrays); queries traverse
+ * those (fewer, larger nodes: fewer dependent cache misses for incoherent rays;
+ * docs/performance.md has the measurements).
  *
  * Traversal: one stack of wide nodes; of the inner children a ray enters, the nearest is
  * visited first (by entry distance); the leaf children it enters are tested where they
@@ -353,30 +355,108 @@ static uint32_t make_leaf_blocks(bvh *b, const vec3f *tri_vertices, uint32_t slo
     return first;
 }
 
-/* Wide node `at` from the binary subtree of `kids[0..n)`: while there are fewer than
- * BVH_WIDTH children, the interior child with the largest surface area (the one a ray is
- * most likely to enter) is replaced by its two children (the usual BVH2 -> BVH4/BVH8
- * collapse, e.g. Wald et al. 2008, "Getting rid of packets"). The boxes are the binary
- * nodes' own boxes, so the traversal tests the same boxes, only fewer at a time. */
-static void collapse_node(bvh *b, const vec3f *tri_vertices, size_t at, uint32_t kids[BVH_WIDTH], int n)
+/* SAH-optimal collapse (Ylitie, Karras, Laine 2017, "Efficient incoherent ray traversal
+ * on GPUs through compressed wide BVHs", Sec. 4.1): which binary nodes become the wide
+ * nodes and the leaves is chosen by dynamic programming over the binary tree, minimising
+ *     sum over wide nodes of WIDE_NODE_COST * area + sum over leaves of blocks * area.
+ * Per binary node, cost[j - 1] is the least cost of its subtree as at most j children of
+ * a wide node (j = 1..BVH_WIDTH); one child is a leaf (the subtree's triangles are
+ * contiguous leaf slots, so any subtree of at most BVH_MAX_LEAF triangles can be one) or
+ * a wide node whose BVH_WIDTH children are distributed over the two binary children.
+ * The boxes are still the binary nodes' own boxes; only which of them are tested changes. */
+static const float WIDE_NODE_COST = 2.0f;
+
+typedef struct {
+    float cost[BVH_WIDTH];
+    uint32_t first, count; /* the subtree's leaf slots */
+    int as_leaf;           /* cost[0] is the subtree as one leaf (else one wide node) */
+} collapse_cost;
+
+/* The least cost of subtree i as at most j children, split between its binary children
+ * l and r (Ylitie et al.'s distribute); *left = the children given to l. */
+static float distribute(const collapse_cost *cc, uint32_t l, uint32_t r, int j, int *left)
 {
+    float best = INFINITY;
     int k;
-    while (n < BVH_WIDTH) {
-        int best = -1;
-        double best_area = -1;
-        for (k = 0; k < n; ++k) {
-            const bvh_node *c = &b->nodes[kids[k]];
-            if ((c->count_axis & COUNT_MASK) == 0 && node_area(c) > best_area) {
-                best = k;
-                best_area = node_area(c);
-            }
+    *left = 1;
+    for (k = 1; k < j; ++k) {
+        float c = cc[l].cost[k - 1] + cc[r].cost[j - k - 1];
+        if (c < best) {
+            best = c;
+            *left = k;
         }
-        if (best < 0) break;
-        kids[n++] = b->nodes[kids[best]].offset;
-        kids[best] = kids[best] + 1;
+    }
+    return best;
+}
+
+/* Children before parents: node i's children have larger indices (depth-first order). */
+static void collapse_costs(const bvh *b, collapse_cost *cc)
+{
+    size_t i = b->node_count;
+    while (i-- > 0) {
+        const bvh_node *n = &b->nodes[i];
+        collapse_cost *c = &cc[i];
+        float area = (float)node_area(n), leaf;
+        int j, k;
+        if (n->count_axis & COUNT_MASK) {
+            c->first = n->offset;
+            c->count = n->count_axis & COUNT_MASK;
+            for (j = 0; j < BVH_WIDTH; ++j) c->cost[j] = (float)sah_blocks(c->count) * area;
+            c->as_leaf = 1;
+            continue;
+        }
+        c->first = cc[i + 1].first;
+        c->count = cc[i + 1].count + cc[n->offset].count;
+        leaf = c->count <= BVH_MAX_LEAF ? (float)sah_blocks(c->count) * area : INFINITY;
+        c->cost[0] = WIDE_NODE_COST * area + distribute(cc, (uint32_t)i + 1, n->offset, BVH_WIDTH, &k);
+        c->as_leaf = leaf <= c->cost[0];
+        if (c->as_leaf) c->cost[0] = leaf;
+        for (j = 2; j <= BVH_WIDTH; ++j) {
+            float d = distribute(cc, (uint32_t)i + 1, n->offset, j, &k);
+            c->cost[j - 1] = d < c->cost[j - 2] ? d : c->cost[j - 2];
+        }
+    }
+}
+
+/* A child of a wide node: binary node `node`, as a leaf or as a wide node. */
+typedef struct {
+    uint32_t node;
+    int leaf;
+} wide_kid;
+
+/* Appends the children of subtree i's best form as at most j children. */
+static int gather_kids(const bvh *b, const collapse_cost *cc, uint32_t i, int j, wide_kid *kids, int n)
+{
+    int k = 0;
+    /* The fewest children with the same cost (cost[] does not increase with j). */
+    while (j > 1 && cc[i].cost[j - 2] == cc[i].cost[j - 1]) --j;
+    if (j == 1 || (b->nodes[i].count_axis & COUNT_MASK)) {
+        kids[n].node = i;
+        kids[n].leaf = cc[i].as_leaf;
+        return n + 1;
+    }
+    distribute(cc, i + 1, b->nodes[i].offset, j, &k);
+    n = gather_kids(b, cc, i + 1, k, kids, n);
+    return gather_kids(b, cc, b->nodes[i].offset, j - k, kids, n);
+}
+
+/* Wide node `at` for binary node i (a leaf only at the root of a one-leaf tree). */
+static void collapse_node(bvh *b, const vec3f *tri_vertices, const collapse_cost *cc, size_t at, uint32_t i)
+{
+    wide_kid kids[BVH_WIDTH];
+    int n = 0, k;
+    if (b->nodes[i].count_axis & COUNT_MASK) {
+        kids[0].node = i;
+        kids[0].leaf = 1;
+        n = 1;
+    } else {
+        distribute(cc, i + 1, b->nodes[i].offset, BVH_WIDTH, &k);
+        n = gather_kids(b, cc, i + 1, k, kids, 0);
+        n = gather_kids(b, cc, b->nodes[i].offset, BVH_WIDTH - k, kids, n);
     }
     for (k = 0; k < BVH_WIDTH; ++k) {
         bvh_wide_node *w = &b->wide[at];
+        const bvh_node *c = &b->nodes[kids[k].node];
         int axis;
         if (k >= n) {
             for (axis = 0; axis < 3; ++axis) {
@@ -388,19 +468,17 @@ static void collapse_node(bvh *b, const vec3f *tri_vertices, size_t at, uint32_t
             continue;
         }
         for (axis = 0; axis < 3; ++axis) {
-            w->bounds[axis][k] = b->nodes[kids[k]].min[axis];
-            w->bounds[3 + axis][k] = b->nodes[kids[k]].max[axis];
+            w->bounds[axis][k] = c->min[axis];
+            w->bounds[3 + axis][k] = c->max[axis];
         }
-        w->count[k] = b->nodes[kids[k]].count_axis & COUNT_MASK;
-        if (w->count[k] > 0) {
-            w->child[k] = make_leaf_blocks(b, tri_vertices, b->nodes[kids[k]].offset, w->count[k]);
+        if (kids[k].leaf) {
+            w->count[k] = cc[kids[k].node].count;
+            w->child[k] = make_leaf_blocks(b, tri_vertices, cc[kids[k].node].first, w->count[k]);
         } else {
-            uint32_t grand[BVH_WIDTH];
             size_t child = b->wide_count++;
-            grand[0] = kids[k] + 1;
-            grand[1] = b->nodes[kids[k]].offset;
+            w->count[k] = 0;
             w->child[k] = (uint32_t)child;
-            collapse_node(b, tri_vertices, child, grand, 2);
+            collapse_node(b, tri_vertices, cc, child, kids[k].node);
         }
     }
 }
@@ -421,22 +499,20 @@ static void *aligned_copy(const void *from, size_t count, size_t size, rerror *e
  * and one for a root that is a leaf; at most one block per triangle). */
 static int collapse(bvh *b, const vec3f *tri_vertices, rerror *e)
 {
-    uint32_t kids[BVH_WIDTH];
     bvh_wide_node *shrunk;
     bvh_leaf_block *fewer;
+    collapse_cost *cc = rmalloc(b->node_count, sizeof *cc, e);
     b->wide = rmalloc(b->node_count, sizeof *b->wide, e);
     b->blocks = rmalloc(b->prim_count, sizeof *b->blocks, e);
-    if (!b->wide || !b->blocks) return -1;
+    if (!cc || !b->wide || !b->blocks) {
+        free(cc);
+        return -1;
+    }
+    collapse_costs(b, cc);
     b->wide_count = 1;
     b->block_count = 0;
-    if (b->nodes[0].count_axis & COUNT_MASK) {
-        kids[0] = 0;
-        collapse_node(b, tri_vertices, 0, kids, 1);
-    } else {
-        kids[0] = 1;
-        kids[1] = b->nodes[0].offset;
-        collapse_node(b, tri_vertices, 0, kids, 2);
-    }
+    collapse_node(b, tri_vertices, cc, 0, 0);
+    free(cc);
     /* Exact-size copies on cache-line boundaries: a wide node is then exactly two
      * lines, and a leaf block never straddles more lines than its size needs. */
     shrunk = aligned_copy(b->wide, b->wide_count, sizeof *b->wide, e);
