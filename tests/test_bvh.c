@@ -3,6 +3,7 @@
  * The reference for every BVH answer is a loop over all triangles with the same
  * watertight test: the BVH must return the very same triangle, t and barycentrics
  * (bit for bit), and the same any-hit answer. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -276,6 +277,150 @@ TEST(bvh_structure_valid)
     free(seen);
     bvh_free(&b);
     soup_free(&m);
+}
+
+/* ------------------------------------------------------------------------------- */
+/* The collapse to wide nodes is SAH-optimal                                        */
+
+/* bvh.c's collapse cost: a wide node costs WIDE_COST times its box's area, a leaf of n
+ * triangles ceil(n / 4) times its box's area, and a subtree of at most MAX_LEAF
+ * triangles may be one leaf (bvh.c: WIDE_NODE_COST, sah_blocks, BVH_MAX_LEAF). */
+enum { WIDE_COST = 2, MAX_LEAF = 8, MAX_CUTS = 1 << 16 };
+
+static double node_box_area(const bvh_node *n)
+{
+    double dx = (double)n->max[0] - n->min[0], dy = (double)n->max[1] - n->min[1];
+    double dz = (double)n->max[2] - n->min[2];
+    return dx < 0 || dy < 0 || dz < 0 ? 0 : 2 * (dx * dy + dy * dz + dz * dx);
+}
+
+static double box_rows_area(const bvh_wide_node *n, int k)
+{
+    double dx = (double)n->bounds[3][k] - n->bounds[0][k], dy = (double)n->bounds[4][k] - n->bounds[1][k];
+    double dz = (double)n->bounds[5][k] - n->bounds[2][k];
+    return 2 * (dx * dy + dy * dz + dz * dx);
+}
+
+/* The cost of the wide tree as built, walked independently of bvh_wide_sah_cost. */
+static double walk_wide_cost(const bvh *b, uint32_t at, double area)
+{
+    const bvh_wide_node *n = &b->wide[at];
+    double cost = WIDE_COST * area;
+    int k;
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        if (n->count[k] == 0 && n->child[k] == BVH_WIDE_EMPTY) continue;
+        cost += n->count[k] ? (double)((n->count[k] + 3) / 4) * box_rows_area(n, k)
+                            : walk_wide_cost(b, n->child[k], box_rows_area(n, k));
+    }
+    return cost;
+}
+
+/* Brute force: every cut of binary subtree x with at most BVH_WIDTH nodes (as lists of
+ * node indices), enumerated explicitly, no dynamic programme. */
+typedef struct {
+    uint32_t node[BVH_WIDTH];
+    int n;
+} cut;
+
+static int all_cuts(const bvh *b, uint32_t x, cut *out, int cap)
+{
+    const bvh_node *n = &b->nodes[x];
+    int count = 0, i, j;
+    out[count].node[0] = x;
+    out[count++].n = 1;
+    if ((n->count_axis & 0xffffffu) == 0) {
+        cut *l = malloc(MAX_CUTS * sizeof *l), *r = malloc(MAX_CUTS * sizeof *r);
+        int nl = all_cuts(b, x + 1, l, MAX_CUTS), nr = all_cuts(b, n->offset, r, MAX_CUTS);
+        for (i = 0; i < nl; ++i)
+            for (j = 0; j < nr; ++j) {
+                if (l[i].n + r[j].n > BVH_WIDTH) continue;
+                if (count == cap) {
+                    free(l);
+                    free(r);
+                    return -1;
+                }
+                out[count] = l[i];
+                memcpy(out[count].node + l[i].n, r[j].node, (size_t)r[j].n * sizeof r[j].node[0]);
+                out[count++].n = l[i].n + r[j].n;
+            }
+        free(l);
+        free(r);
+        if (nl < 0 || nr < 0) return -1;
+    }
+    return count;
+}
+
+static uint32_t subtree_triangles(const bvh *b, uint32_t x)
+{
+    const bvh_node *n = &b->nodes[x];
+    if (n->count_axis & 0xffffffu) return n->count_axis & 0xffffffu;
+    return subtree_triangles(b, x + 1) + subtree_triangles(b, n->offset);
+}
+
+/* The least cost of subtree x as one child (a leaf, or a wide node over the best cut of
+ * its two children), by brute force over the cuts; memoised in best[] (< 0: unknown). */
+static double best_one(const bvh *b, uint32_t x, double *best, int as_root)
+{
+    const bvh_node *n = &b->nodes[x];
+    uint32_t count = n->count_axis & 0xffffffu;
+    double leaf = INFINITY, wide = INFINITY;
+    if (!as_root && best[x] >= 0) return best[x];
+    if (count) {
+        leaf = (double)((count + 3) / 4) * node_box_area(n);
+        wide = WIDE_COST * node_box_area(n) + leaf; /* only the root of a one-leaf tree */
+    } else {
+        cut *l = malloc(MAX_CUTS * sizeof *l), *r = malloc(MAX_CUTS * sizeof *r);
+        int nl = all_cuts(b, x + 1, l, MAX_CUTS), nr = all_cuts(b, n->offset, r, MAX_CUTS), i, j, k;
+        uint32_t below = subtree_triangles(b, x);
+        if (below <= MAX_LEAF) leaf = (double)((below + 3) / 4) * node_box_area(n);
+        for (i = 0; i < nl; ++i)
+            for (j = 0; j < nr; ++j) {
+                double c = WIDE_COST * node_box_area(n);
+                if (l[i].n + r[j].n > BVH_WIDTH) continue;
+                for (k = 0; k < l[i].n; ++k) c += best_one(b, l[i].node[k], best, 0);
+                for (k = 0; k < r[j].n; ++k) c += best_one(b, r[j].node[k], best, 0);
+                wide = c < wide ? c : wide;
+            }
+        free(l);
+        free(r);
+        if (nl < 0 || nr < 0) return NAN;
+    }
+    if (as_root) return wide;
+    best[x] = leaf < wide ? leaf : wide;
+    return best[x];
+}
+
+/* The collapse (bvh.c collapse_costs, gather_kids) builds a wide tree whose cost is the
+ * minimum over every way of cutting the binary tree into wide nodes and leaves, found
+ * here by brute force on small random soups; and bvh_wide_sah_cost reports that cost. */
+TEST(bvh_collapse_is_sah_optimal)
+{
+    int trial, checked = 0;
+    for (trial = 0; trial < 200; ++trial) {
+        soup m = {0};
+        bvh b;
+        rerror e;
+        double *best, want, got, walked, root;
+        size_t i;
+        random_soup(&m, 200 + 4 * (uint32_t)trial, 8 + 6 * (trial % 80));
+        CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+        best = malloc(b.node_count * sizeof *best);
+        for (i = 0; i < b.node_count; ++i) best[i] = -1;
+        root = node_box_area(&b.nodes[0]);
+        want = best_one(&b, 0, best, 1) / root;
+        walked = walk_wide_cost(&b, 0, root) / root;
+        got = bvh_wide_sah_cost(&b);
+        if (want == want) {
+            checked++;
+            CHECKF(fabs(walked - want) <= 1e-5 * want, "trial %d (%zu triangles): wide tree cost %.7g, optimum %.7g",
+                   trial, m.count, walked, want);
+        }
+        CHECKF(fabs(got - walked) <= 1e-9 * walked, "trial %d: bvh_wide_sah_cost %.9g, walked %.9g", trial, got, walked);
+        free(best);
+        bvh_free(&b);
+        soup_free(&m);
+    }
+    CHECKF(checked >= 180, "only %d of 200 trees small enough for the brute force", checked);
 }
 
 /* ------------------------------------------------------------------------------- */

@@ -79,6 +79,10 @@ void bvh_free(bvh *b);
 /* Bytes of every array the BVH holds (binary nodes, wide nodes, leaf blocks, leaf order). */
 size_t bvh_memory_bytes(const bvh *b);
 
+/* The SAH cost of the wide tree as the collapse counts it (a wide node 2, a leaf block 1,
+ * each times its box's area), relative to the root's area. */
+double bvh_wide_sah_cost(const bvh *b);
+
 /* Closest hit with t in (r->tmin, r->tmax). Returns 1 on a hit. */
 int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h);
 /* Any hit with t in (r->tmin, r->tmax). Returns 1 if occluded. */

@@ -607,6 +607,33 @@ size_t bvh_memory_bytes(const bvh *b)
            b->prim_count * sizeof *b->prim_order;
 }
 
+/* The cost the collapse minimises (collapse_costs), of the wide subtree `at` whose box has
+ * the given area. */
+static double wide_cost(const bvh *b, uint32_t at, double area)
+{
+    const bvh_wide_node *n = &b->wide[at];
+    double cost = WIDE_NODE_COST * area;
+    int k;
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        box3 bx;
+        int axis;
+        if (n->count[k] == 0 && n->child[k] == BVH_WIDE_EMPTY) continue;
+        for (axis = 0; axis < 3; ++axis) {
+            bx.lo[axis] = n->bounds[axis][k];
+            bx.hi[axis] = n->bounds[3 + axis][k];
+        }
+        if (n->count[k] > 0) cost += sah_blocks(n->count[k]) * box_area(&bx);
+        else cost += wide_cost(b, n->child[k], box_area(&bx));
+    }
+    return cost;
+}
+
+double bvh_wide_sah_cost(const bvh *b)
+{
+    double root = b->node_count ? node_area(&b->nodes[0]) : 0;
+    return b->wide_count && root > 0 ? wide_cost(b, 0, root) / root : 0;
+}
+
 /* ------------------------------------------------------------------------------- */
 /* Per-ray precomputation                                                            */
 
