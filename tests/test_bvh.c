@@ -486,6 +486,69 @@ TEST(bvh_matches_brute_force_sphere)
 /* Degenerate triangles (repeated vertices, zero area, exactly collinear) are never hit;
  * axis-aligned triangles and axis-parallel rays (zero direction components, rays lying
  * in a triangle's plane) give no NaN and the same answers as brute force. */
+/* One ray through both builds of the queries (bvh.c: b->simd selects the AVX2 build of the
+ * same C, the portable build otherwise): the same answer, bit for bit. */
+static int simd_agrees(bvh *b, const ray *r, long *hits)
+{
+    bvh_hit hs, hp;
+    int ds, dp, os, op, simd = b->simd;
+    memset(&hs, 0, sizeof hs);
+    memset(&hp, 0, sizeof hp);
+    ds = bvh_intersect(b, r, &hs);
+    os = bvh_occluded(b, r);
+    b->simd = 0;
+    dp = bvh_intersect(b, r, &hp);
+    op = bvh_occluded(b, r);
+    b->simd = simd;
+    *hits += ds;
+    return ds == dp && os == op && hs.tri == hp.tri &&
+           (!ds || (memcmp(&hs.t, &hp.t, sizeof hs.t) == 0 && memcmp(&hs.b1, &hp.b1, sizeof hs.b1) == 0 &&
+                    memcmp(&hs.b2, &hp.b2, sizeof hs.b2) == 0));
+}
+
+/* The AVX2 build of the queries (runtime dispatch, bvh.c) returns exactly what the portable
+ * build returns: closest hits (triangle, t, barycentrics bit for bit) and any-hit answers,
+ * on a displaced sphere and a random soup, for random rays, rays aimed at vertices, axis-
+ * parallel rays and rays with a finite range ending near a hit. Where the CPU has no AVX2
+ * (or the build has no second path) both runs take the portable path. */
+TEST(bvh_simd_path_equals_portable_path)
+{
+    scene s;
+    soup m = {0};
+    bvh b;
+    rerror e;
+    long i, hits = 0;
+    size_t t;
+    int simd;
+    CHECKF(generate_displaced_sphere(&s, 14, &e) == 0, "%s", e.msg);
+    for (t = 0; t < s.triangle_count; ++t)
+        soup_add(&m, s.positions[s.triangles[t].v[0]], s.positions[s.triangles[t].v[1]],
+                 s.positions[s.triangles[t].v[2]]);
+    random_soup(&m, 50, 2000);
+    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+    simd = b.simd;
+    for (i = 0; i < 20000; ++i) {
+        vec3f o = urand_box(51, (uint32_t)i, -2.0f, 2.0f), d = urand_direction(52, (uint32_t)i);
+        ray r;
+        if (i % 4 == 1) d = v3f_sub(m.v[(size_t)i % (3 * m.count)], o); /* at a vertex */
+        if (i % 8 == 2) { /* axis-parallel: two zero components */
+            float c = urand(53, (uint32_t)i, 0) < 0.5f ? -1.0f : 1.0f;
+            d = i % 3 == 0 ? v3f(c, 0, 0) : (i % 3 == 1 ? v3f(0, c, 0) : v3f(0, 0, c));
+        }
+        r = make_ray(o, d);
+        if (i % 3 == 2) { /* a range that ends near the closest hit */
+            bvh_hit h;
+            if (bvh_intersect(&b, &r, &h)) r.tmax = h.t * (i % 2 ? 1.0f : 0.999999f);
+        }
+        CHECKF(simd_agrees(&b, &r, &hits), "ray %ld: AVX2 and portable builds disagree", i);
+    }
+    CHECKF(hits > 5000, "only %ld hits", hits);
+    if (!simd) printf("     (no AVX2 build of the queries here: both runs took the portable one)\n");
+    bvh_free(&b);
+    soup_free(&m);
+    free_generated_scene(&s);
+}
+
 TEST(bvh_degenerate_and_axis_aligned)
 {
     soup m = {0};

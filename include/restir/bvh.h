@@ -71,6 +71,8 @@ typedef struct {
     size_t prim_count;
     int depth;
     double sah_cost;
+    int simd; /* 1: the queries run their AVX2 build (x86-64, chosen at run time by bvh_build;
+               * bit-identical hits); 0: the portable build. Either may be set by hand. */
 } bvh;
 
 /* Builds over tri_count triangles given as 3 consecutive vertices each. */

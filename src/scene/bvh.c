@@ -321,6 +321,8 @@ static void triangle_box(const vec3f *v, box3 *bx, float centroid[3])
     for (k = 0; k < 3; ++k) centroid[k] = 0.5f * bx->lo[k] + 0.5f * bx->hi[k];
 }
 
+static int simd_available(void);
+
 /* ------------------------------------------------------------------------------- */
 /* Collapse to wide nodes and leaf blocks                                           */
 
@@ -579,6 +581,7 @@ int bvh_build(bvh *b, const vec3f *tri_vertices, size_t tri_count, rerror *e)
     }
     b->sah_cost = root_area > 0 ? bd.sah_cost / root_area : 0;
     if (collapse(b, tri_vertices, e)) goto fail;
+    b->simd = simd_available();
 done:
     free(prim_box);
     free(centroid);
@@ -945,7 +948,7 @@ typedef struct {
  * same order, hence the same conservative answers. Returns the bit mask of the children
  * the ray enters within [tmin, tfar_limit] and their entry distances. One loop over the
  * children without branches, which compilers vectorise. */
-static inline unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n, float tfar_limit,
+static HOT_INLINE unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n, float tfar_limit,
                                      float entry[BVH_WIDTH])
 {
     const float *near_x = n->bounds[s->near_row[0]], *near_y = n->bounds[s->near_row[1]];
@@ -1097,7 +1100,9 @@ static HOT_INLINE void push_children_closest(const ray_setup *s, const bvh *b, c
     }
 }
 
-int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
+/* The queries. Inlined into the public functions below, once as compiled for the
+ * build's target and, where available, once more for AVX2 (runtime dispatch). */
+static HOT_INLINE int intersect_query(const bvh *b, const ray *r, bvh_hit *h)
 {
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
@@ -1128,7 +1133,7 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
     return 1;
 }
 
-int bvh_occluded(const bvh *b, const ray *r)
+static HOT_INLINE int occluded_query(const bvh *b, const ray *r)
 {
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
@@ -1143,6 +1148,53 @@ int bvh_occluded(const bvh *b, const ray *r)
     while (top > 0)
         if (push_children_any_hit(&s, b, &b->wide[stack[--top].node], stack, &top)) return 1;
     return 0;
+}
+
+/* Runtime dispatch (as Embree dispatches to its AVX2 kernels): on x86-64 with GCC or Clang,
+ * the very same C of the two queries is compiled a second time for AVX2 (the 8-wide box
+ * loop becomes one instruction sequence instead of two SSE iterations; docs/performance.md),
+ * and bvh_build sets b->simd when the CPU has AVX2. No intrinsics: the compiler vectorises
+ * the same loops. Without FMA (-ffp-contract=off, and the AVX2 target does not enable it)
+ * every operation is the same IEEE single-precision operation in the same order, so both
+ * paths return bit-identical hits (test bvh_simd_path_equals_portable_path, which clears
+ * b->simd to run the portable path). */
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__AVX2__) && !defined(RESTIR_NO_SIMD_DISPATCH)
+#define BVH_AVX2_DISPATCH 1
+__attribute__((target("avx2"))) static int intersect_avx2(const bvh *b, const ray *r, bvh_hit *h)
+{
+    return intersect_query(b, r, h);
+}
+
+__attribute__((target("avx2"))) static int occluded_avx2(const bvh *b, const ray *r)
+{
+    return occluded_query(b, r);
+}
+#endif
+
+/* Whether the queries may run their AVX2 build (this CPU has it, and it was compiled). */
+static int simd_available(void)
+{
+#ifdef BVH_AVX2_DISPATCH
+    return __builtin_cpu_supports("avx2") != 0;
+#else
+    return 0;
+#endif
+}
+
+int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
+{
+#ifdef BVH_AVX2_DISPATCH
+    if (b->simd) return intersect_avx2(b, r, h);
+#endif
+    return intersect_query(b, r, h);
+}
+
+int bvh_occluded(const bvh *b, const ray *r)
+{
+#ifdef BVH_AVX2_DISPATCH
+    if (b->simd) return occluded_avx2(b, r);
+#endif
+    return occluded_query(b, r);
 }
 
 /* ------------------------------------------------------------------------------- */
