@@ -1,6 +1,7 @@
 /* Bounding volume hierarchy over triangles: binned-SAH build, 32-byte flattened
- * nodes collapsed to 8-wide nodes with 4-triangle leaf blocks, ordered stack traversal,
- * watertight ray/triangle test (Woop et al. 2013), four triangles at a time.
+ * nodes collapsed (SAH-optimally) to 8-wide nodes with 4-triangle leaf blocks, ordered
+ * stack traversal, watertight ray/triangle test (Woop et al. 2013), four triangles at a
+ * time.
  * Geometry is float (docs/design.md, Conventions). */
 #ifndef RESTIR_BVH_H
 #define RESTIR_BVH_H

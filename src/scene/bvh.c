@@ -19,7 +19,9 @@
  * are found, without a push and a pop. A leaf block's four triangles are tested as four
  * lanes of one loop (watertight_lanes), bit-identical to the scalar test. The box test is made conservative with respect to the
  * rounding of both the slab test and the watertight triangle test (see ray_setup),
- * so the BVH finds exactly what a loop over all triangles finds.
+ * so the BVH finds exactly what a loop over all triangles finds. On x86-64 (GCC, Clang)
+ * the two queries are also compiled for AVX2 and chosen at run time (b->simd; the same C,
+ * bit-identical answers; see bvh_intersect).
  *
  * Triangle test: Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection"
  * (JCGT 2(1)): translate to the ray origin, permute so the dominant direction axis is
