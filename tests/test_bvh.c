@@ -316,38 +316,49 @@ static double walk_wide_cost(const bvh *b, uint32_t at, double area)
 }
 
 /* Brute force: every cut of binary subtree x with at most BVH_WIDTH nodes (as lists of
- * node indices), enumerated explicitly, no dynamic programme. */
+ * node indices), enumerated explicitly (no dynamic programme), once per node. */
 typedef struct {
     uint32_t node[BVH_WIDTH];
     int n;
 } cut;
 
-static int all_cuts(const bvh *b, uint32_t x, cut *out, int cap)
+typedef struct {
+    cut *cuts;
+    int count; /* -1: more than MAX_CUTS (the tree is too large for the brute force) */
+    int done;
+} cut_list;
+
+static int cuts_of(const bvh *b, uint32_t x, cut_list *memo)
 {
     const bvh_node *n = &b->nodes[x];
-    int count = 0, i, j;
-    out[count].node[0] = x;
-    out[count++].n = 1;
+    cut_list *c = &memo[x];
+    int i, j, count = 1;
+    if (c->done) return c->count;
+    c->done = 1;
     if ((n->count_axis & 0xffffffu) == 0) {
-        cut *l = malloc(MAX_CUTS * sizeof *l), *r = malloc(MAX_CUTS * sizeof *r);
-        int nl = all_cuts(b, x + 1, l, MAX_CUTS), nr = all_cuts(b, n->offset, r, MAX_CUTS);
-        for (i = 0; i < nl; ++i)
-            for (j = 0; j < nr; ++j) {
-                if (l[i].n + r[j].n > BVH_WIDTH) continue;
-                if (count == cap) {
-                    free(l);
-                    free(r);
-                    return -1;
-                }
-                out[count] = l[i];
-                memcpy(out[count].node + l[i].n, r[j].node, (size_t)r[j].n * sizeof r[j].node[0]);
-                out[count++].n = l[i].n + r[j].n;
-            }
-        free(l);
-        free(r);
-        if (nl < 0 || nr < 0) return -1;
+        const cut_list *l = &memo[x + 1], *r = &memo[n->offset];
+        if (cuts_of(b, x + 1, memo) < 0 || cuts_of(b, n->offset, memo) < 0) return c->count = -1;
+        for (i = 0; i < l->count; ++i)
+            for (j = 0; j < r->count; ++j) count += l->cuts[i].n + r->cuts[j].n <= BVH_WIDTH;
+        if (count > MAX_CUTS) return c->count = -1;
     }
-    return count;
+    c->cuts = malloc((size_t)count * sizeof *c->cuts);
+    c->cuts[0].node[0] = x;
+    c->cuts[0].n = 1;
+    c->count = 1;
+    if ((n->count_axis & 0xffffffu) == 0) {
+        const cut_list *l = &memo[x + 1], *r = &memo[n->offset];
+        for (i = 0; i < l->count; ++i)
+            for (j = 0; j < r->count; ++j) {
+                cut *u = &c->cuts[c->count];
+                if (l->cuts[i].n + r->cuts[j].n > BVH_WIDTH) continue;
+                *u = l->cuts[i];
+                memcpy(u->node + u->n, r->cuts[j].node, (size_t)r->cuts[j].n * sizeof u->node[0]);
+                u->n += r->cuts[j].n;
+                c->count++;
+            }
+    }
+    return c->count;
 }
 
 static uint32_t subtree_triangles(const bvh *b, uint32_t x)
@@ -358,8 +369,9 @@ static uint32_t subtree_triangles(const bvh *b, uint32_t x)
 }
 
 /* The least cost of subtree x as one child (a leaf, or a wide node over the best cut of
- * its two children), by brute force over the cuts; memoised in best[] (< 0: unknown). */
-static double best_one(const bvh *b, uint32_t x, double *best, int as_root)
+ * its two children), by brute force over the cuts; memoised in best[] (< 0: unknown).
+ * As the root (as_root), x is a wide node. NAN if the tree is too large. */
+static double best_one(const bvh *b, uint32_t x, cut_list *memo, double *best, int as_root)
 {
     const bvh_node *n = &b->nodes[x];
     uint32_t count = n->count_axis & 0xffffffu;
@@ -369,21 +381,19 @@ static double best_one(const bvh *b, uint32_t x, double *best, int as_root)
         leaf = (double)((count + 3) / 4) * node_box_area(n);
         wide = WIDE_COST * node_box_area(n) + leaf; /* only the root of a one-leaf tree */
     } else {
-        cut *l = malloc(MAX_CUTS * sizeof *l), *r = malloc(MAX_CUTS * sizeof *r);
-        int nl = all_cuts(b, x + 1, l, MAX_CUTS), nr = all_cuts(b, n->offset, r, MAX_CUTS), i, j, k;
+        const cut_list *l = &memo[x + 1], *r = &memo[n->offset];
         uint32_t below = subtree_triangles(b, x);
+        int i, j, k;
+        if (cuts_of(b, x + 1, memo) < 0 || cuts_of(b, n->offset, memo) < 0) return NAN;
         if (below <= MAX_LEAF) leaf = (double)((below + 3) / 4) * node_box_area(n);
-        for (i = 0; i < nl; ++i)
-            for (j = 0; j < nr; ++j) {
+        for (i = 0; i < l->count; ++i)
+            for (j = 0; j < r->count; ++j) {
                 double c = WIDE_COST * node_box_area(n);
-                if (l[i].n + r[j].n > BVH_WIDTH) continue;
-                for (k = 0; k < l[i].n; ++k) c += best_one(b, l[i].node[k], best, 0);
-                for (k = 0; k < r[j].n; ++k) c += best_one(b, r[j].node[k], best, 0);
+                if (l->cuts[i].n + r->cuts[j].n > BVH_WIDTH) continue;
+                for (k = 0; k < l->cuts[i].n; ++k) c += best_one(b, l->cuts[i].node[k], memo, best, 0);
+                for (k = 0; k < r->cuts[j].n; ++k) c += best_one(b, r->cuts[j].node[k], memo, best, 0);
                 wide = c < wide ? c : wide;
             }
-        free(l);
-        free(r);
-        if (nl < 0 || nr < 0) return NAN;
     }
     if (as_root) return wide;
     best[x] = leaf < wide ? leaf : wide;
@@ -396,18 +406,20 @@ static double best_one(const bvh *b, uint32_t x, double *best, int as_root)
 TEST(bvh_collapse_is_sah_optimal)
 {
     int trial, checked = 0;
-    for (trial = 0; trial < 200; ++trial) {
+    for (trial = 0; trial < 400; ++trial) {
         soup m = {0};
         bvh b;
         rerror e;
         double *best, want, got, walked, root;
+        cut_list *memo;
         size_t i;
-        random_soup(&m, 200 + 4 * (uint32_t)trial, 8 + 6 * (trial % 80));
+        random_soup(&m, 200 + 4 * (uint32_t)trial, 8 + 6 * (trial % 100));
         CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
         best = malloc(b.node_count * sizeof *best);
+        memo = calloc(b.node_count, sizeof *memo);
         for (i = 0; i < b.node_count; ++i) best[i] = -1;
         root = node_box_area(&b.nodes[0]);
-        want = best_one(&b, 0, best, 1) / root;
+        want = best_one(&b, 0, memo, best, 1) / root;
         walked = walk_wide_cost(&b, 0, root) / root;
         got = bvh_wide_sah_cost(&b);
         if (want == want) {
@@ -416,11 +428,13 @@ TEST(bvh_collapse_is_sah_optimal)
                    trial, m.count, walked, want);
         }
         CHECKF(fabs(got - walked) <= 1e-9 * walked, "trial %d: bvh_wide_sah_cost %.9g, walked %.9g", trial, got, walked);
+        for (i = 0; i < b.node_count; ++i) free(memo[i].cuts);
+        free(memo);
         free(best);
         bvh_free(&b);
         soup_free(&m);
     }
-    CHECKF(checked >= 180, "only %d of 200 trees small enough for the brute force", checked);
+    CHECKF(checked >= 360, "only %d of 400 trees small enough for the brute force", checked);
 }
 
 /* ------------------------------------------------------------------------------- */
