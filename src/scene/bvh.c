@@ -752,31 +752,6 @@ static int setup_traversal(ray_setup *s, const ray *r, const bvh_node *root)
     return 1;
 }
 
-/* The coordinate of a binary node's box face, by its row in bvh_wide_node.bounds. */
-static inline float face(const bvh_node *n, int row) { return row < 3 ? n->min[row] : n->max[row - 3]; }
-
-/* Conservative slab test (Kay & Kajiya 1986) against [tmin, tfar_limit], inclusive so
- * that hits tied in t with the current closest hit are still found. Writes the entry
- * distance. Written so that a NaN slab distance leaves the interval unchanged. */
-static inline int box_overlaps(const ray_setup *s, const bvh_node *n, float tfar_limit, float *entry)
-{
-    float tnear = s->tmin, tfar = tfar_limit, t;
-    t = face(n, s->near_row[0]) * s->inv[0] + s->near_c[0];
-    tnear = t > tnear ? t : tnear;
-    t = face(n, s->near_row[1]) * s->inv[1] + s->near_c[1];
-    tnear = t > tnear ? t : tnear;
-    t = face(n, s->near_row[2]) * s->inv[2] + s->near_c[2];
-    tnear = t > tnear ? t : tnear;
-    t = face(n, s->far_row[0]) * s->inv[0] + s->far_c[0];
-    tfar = t < tfar ? t : tfar;
-    t = face(n, s->far_row[1]) * s->inv[1] + s->far_c[1];
-    tfar = t < tfar ? t : tfar;
-    t = face(n, s->far_row[2]) * s->inv[2] + s->far_c[2];
-    tfar = t < tfar ? t : tfar;
-    *entry = tnear;
-    return tnear <= tfar;
-}
-
 /* ------------------------------------------------------------------------------- */
 /* Watertight ray/triangle test (Woop, Benthin, Wald 2013)                          */
 
@@ -946,12 +921,14 @@ typedef struct {
     float tnear;
 } stack_entry;
 
-/* box_overlaps on the four children of a wide node at once: the same arithmetic in the
- * same order, hence the same conservative answers. Returns the bit mask of the children
- * the ray enters within [tmin, tfar_limit] and their entry distances. One loop over the
- * children without branches, which compilers vectorise. */
+/* Conservative slab tests (Kay & Kajiya 1986, t = face * inv + c with the slack of
+ * setup_box_test) of the eight children of a wide node against [tmin, tfar_limit],
+ * inclusive so that hits tied in t with the current closest hit are still found; a NaN
+ * slab distance leaves the interval unchanged. Returns the bit mask of the children the
+ * ray enters and their entry distances. One loop over the children without branches,
+ * which compilers vectorise. */
 static HOT_INLINE unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n, float tfar_limit,
-                                     float entry[BVH_WIDTH])
+                                         float entry[BVH_WIDTH])
 {
     const float *near_x = n->bounds[s->near_row[0]], *near_y = n->bounds[s->near_row[1]];
     const float *near_z = n->bounds[s->near_row[2]], *far_x = n->bounds[s->far_row[0]];
@@ -1109,7 +1086,6 @@ static HOT_INLINE int intersect_query(const bvh *b, const ray *r, bvh_hit *h)
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
     int top = 0;
-    float t_root;
     closest_hit c;
 
     h->tri = BVH_NO_HIT;
@@ -1118,9 +1094,10 @@ static HOT_INLINE int intersect_query(const bvh *b, const ray *r, bvh_hit *h)
     c.b1 = c.b2 = 0;
     c.tri = BVH_NO_HIT;
     if (b->node_count == 0 || !setup_traversal(&s, r, &b->nodes[0])) return 0;
-    if (!box_overlaps(&s, &b->nodes[0], c.t, &t_root)) return 0;
+    /* The root's box is not tested (its children's boxes are: measured faster, even
+     * for rays that miss the scene; docs/performance.md). */
     stack[top].node = 0;
-    stack[top++].tnear = t_root;
+    stack[top++].tnear = s.tmin;
     while (top > 0) {
         stack_entry at = stack[--top];
         /* Culled: the ray can only enter this box beyond the closest hit so far. */
@@ -1140,12 +1117,12 @@ static HOT_INLINE int occluded_query(const bvh *b, const ray *r)
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
     int top = 0;
-    float t_root;
 
     if (b->node_count == 0 || !setup_traversal(&s, r, &b->nodes[0])) return 0;
-    if (!box_overlaps(&s, &b->nodes[0], s.tmax, &t_root)) return 0;
+    /* The root's box is not tested (its children's boxes are: measured faster, even
+     * for rays that miss the scene; docs/performance.md). */
     stack[top].node = 0;
-    stack[top++].tnear = t_root;
+    stack[top++].tnear = s.tmin;
     /* Only wide nodes are ever on this stack: leaf children are tested where found. */
     while (top > 0)
         if (push_children_any_hit(&s, b, &b->wide[stack[--top].node], stack, &top)) return 1;
