@@ -3,6 +3,7 @@
  * The reference for every BVH answer is a loop over all triangles with the same
  * watertight test: the BVH must return the very same triangle, t and barycentrics
  * (bit for bit), and the same any-hit answer. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -279,6 +280,164 @@ TEST(bvh_structure_valid)
 }
 
 /* ------------------------------------------------------------------------------- */
+/* The collapse to wide nodes is SAH-optimal                                        */
+
+/* bvh.c's collapse cost: a wide node costs WIDE_COST times its box's area, a leaf of n
+ * triangles ceil(n / 4) times its box's area, and a subtree of at most MAX_LEAF
+ * triangles may be one leaf (bvh.c: WIDE_NODE_COST, sah_blocks, BVH_MAX_LEAF). */
+enum { WIDE_COST = 2, MAX_LEAF = 8, MAX_CUTS = 1 << 16 };
+
+static double node_box_area(const bvh_node *n)
+{
+    double dx = (double)n->max[0] - n->min[0], dy = (double)n->max[1] - n->min[1];
+    double dz = (double)n->max[2] - n->min[2];
+    return dx < 0 || dy < 0 || dz < 0 ? 0 : 2 * (dx * dy + dy * dz + dz * dx);
+}
+
+static double box_rows_area(const bvh_wide_node *n, int k)
+{
+    double dx = (double)n->bounds[3][k] - n->bounds[0][k], dy = (double)n->bounds[4][k] - n->bounds[1][k];
+    double dz = (double)n->bounds[5][k] - n->bounds[2][k];
+    return 2 * (dx * dy + dy * dz + dz * dx);
+}
+
+/* The cost of the wide tree as built, walked independently of bvh_wide_sah_cost. */
+static double walk_wide_cost(const bvh *b, uint32_t at, double area)
+{
+    const bvh_wide_node *n = &b->wide[at];
+    double cost = WIDE_COST * area;
+    int k;
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        if (n->count[k] == 0 && n->child[k] == BVH_WIDE_EMPTY) continue;
+        cost += n->count[k] ? (double)((n->count[k] + 3) / 4) * box_rows_area(n, k)
+                            : walk_wide_cost(b, n->child[k], box_rows_area(n, k));
+    }
+    return cost;
+}
+
+/* Brute force: every cut of binary subtree x with at most BVH_WIDTH nodes (as lists of
+ * node indices), enumerated explicitly (no dynamic programme), once per node. */
+typedef struct {
+    uint32_t node[BVH_WIDTH];
+    int n;
+} cut;
+
+typedef struct {
+    cut *cuts;
+    int count; /* -1: more than MAX_CUTS (the tree is too large for the brute force) */
+    int done;
+} cut_list;
+
+static int cuts_of(const bvh *b, uint32_t x, cut_list *memo)
+{
+    const bvh_node *n = &b->nodes[x];
+    cut_list *c = &memo[x];
+    int i, j, count = 1;
+    if (c->done) return c->count;
+    c->done = 1;
+    if ((n->count_axis & 0xffffffu) == 0) {
+        const cut_list *l = &memo[x + 1], *r = &memo[n->offset];
+        if (cuts_of(b, x + 1, memo) < 0 || cuts_of(b, n->offset, memo) < 0) return c->count = -1;
+        for (i = 0; i < l->count; ++i)
+            for (j = 0; j < r->count; ++j) count += l->cuts[i].n + r->cuts[j].n <= BVH_WIDTH;
+        if (count > MAX_CUTS) return c->count = -1;
+    }
+    c->cuts = malloc((size_t)count * sizeof *c->cuts);
+    c->cuts[0].node[0] = x;
+    c->cuts[0].n = 1;
+    c->count = 1;
+    if ((n->count_axis & 0xffffffu) == 0) {
+        const cut_list *l = &memo[x + 1], *r = &memo[n->offset];
+        for (i = 0; i < l->count; ++i)
+            for (j = 0; j < r->count; ++j) {
+                cut *u = &c->cuts[c->count];
+                if (l->cuts[i].n + r->cuts[j].n > BVH_WIDTH) continue;
+                *u = l->cuts[i];
+                memcpy(u->node + u->n, r->cuts[j].node, (size_t)r->cuts[j].n * sizeof u->node[0]);
+                u->n += r->cuts[j].n;
+                c->count++;
+            }
+    }
+    return c->count;
+}
+
+static uint32_t subtree_triangles(const bvh *b, uint32_t x)
+{
+    const bvh_node *n = &b->nodes[x];
+    if (n->count_axis & 0xffffffu) return n->count_axis & 0xffffffu;
+    return subtree_triangles(b, x + 1) + subtree_triangles(b, n->offset);
+}
+
+/* The least cost of subtree x as one child (a leaf, or a wide node over the best cut of
+ * its two children), by brute force over the cuts; memoised in best[] (< 0: unknown).
+ * As the root (as_root), x is a wide node. NAN if the tree is too large. */
+static double best_one(const bvh *b, uint32_t x, cut_list *memo, double *best, int as_root)
+{
+    const bvh_node *n = &b->nodes[x];
+    uint32_t count = n->count_axis & 0xffffffu;
+    double leaf = INFINITY, wide = INFINITY;
+    if (!as_root && best[x] >= 0) return best[x];
+    if (count) {
+        leaf = (double)((count + 3) / 4) * node_box_area(n);
+        wide = WIDE_COST * node_box_area(n) + leaf; /* only the root of a one-leaf tree */
+    } else {
+        const cut_list *l = &memo[x + 1], *r = &memo[n->offset];
+        uint32_t below = subtree_triangles(b, x);
+        int i, j, k;
+        if (cuts_of(b, x + 1, memo) < 0 || cuts_of(b, n->offset, memo) < 0) return NAN;
+        if (below <= MAX_LEAF) leaf = (double)((below + 3) / 4) * node_box_area(n);
+        for (i = 0; i < l->count; ++i)
+            for (j = 0; j < r->count; ++j) {
+                double c = WIDE_COST * node_box_area(n);
+                if (l->cuts[i].n + r->cuts[j].n > BVH_WIDTH) continue;
+                for (k = 0; k < l->cuts[i].n; ++k) c += best_one(b, l->cuts[i].node[k], memo, best, 0);
+                for (k = 0; k < r->cuts[j].n; ++k) c += best_one(b, r->cuts[j].node[k], memo, best, 0);
+                wide = c < wide ? c : wide;
+            }
+    }
+    if (as_root) return wide;
+    best[x] = leaf < wide ? leaf : wide;
+    return best[x];
+}
+
+/* The collapse (bvh.c collapse_costs, gather_kids) builds a wide tree whose cost is the
+ * minimum over every way of cutting the binary tree into wide nodes and leaves, found
+ * here by brute force on small random soups; and bvh_wide_sah_cost reports that cost. */
+TEST(bvh_collapse_is_sah_optimal)
+{
+    int trial, checked = 0;
+    for (trial = 0; trial < 400; ++trial) {
+        soup m = {0};
+        bvh b;
+        rerror e;
+        double *best, want, got, walked, root;
+        cut_list *memo;
+        size_t i;
+        random_soup(&m, 200 + 4 * (uint32_t)trial, 8 + 6 * (trial % 100));
+        CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+        best = malloc(b.node_count * sizeof *best);
+        memo = calloc(b.node_count, sizeof *memo);
+        for (i = 0; i < b.node_count; ++i) best[i] = -1;
+        root = node_box_area(&b.nodes[0]);
+        want = best_one(&b, 0, memo, best, 1) / root;
+        walked = walk_wide_cost(&b, 0, root) / root;
+        got = bvh_wide_sah_cost(&b);
+        if (want == want) {
+            checked++;
+            CHECKF(fabs(walked - want) <= 1e-5 * want, "trial %d (%zu triangles): wide tree cost %.7g, optimum %.7g",
+                   trial, m.count, walked, want);
+        }
+        CHECKF(fabs(got - walked) <= 1e-9 * walked, "trial %d: bvh_wide_sah_cost %.9g, walked %.9g", trial, got, walked);
+        for (i = 0; i < b.node_count; ++i) free(memo[i].cuts);
+        free(memo);
+        free(best);
+        bvh_free(&b);
+        soup_free(&m);
+    }
+    CHECKF(checked >= 360, "only %d of 400 trees small enough for the brute force", checked);
+}
+
+/* ------------------------------------------------------------------------------- */
 /* BVH == brute force                                                                */
 
 TEST(bvh_matches_brute_force_random_soup)
@@ -341,6 +500,69 @@ TEST(bvh_matches_brute_force_sphere)
 /* Degenerate triangles (repeated vertices, zero area, exactly collinear) are never hit;
  * axis-aligned triangles and axis-parallel rays (zero direction components, rays lying
  * in a triangle's plane) give no NaN and the same answers as brute force. */
+/* One ray through both builds of the queries (bvh.c: b->simd selects the AVX2 build of the
+ * same C, the portable build otherwise): the same answer, bit for bit. */
+static int simd_agrees(bvh *b, const ray *r, long *hits)
+{
+    bvh_hit hs, hp;
+    int ds, dp, os, op, simd = b->simd;
+    memset(&hs, 0, sizeof hs);
+    memset(&hp, 0, sizeof hp);
+    ds = bvh_intersect(b, r, &hs);
+    os = bvh_occluded(b, r);
+    b->simd = 0;
+    dp = bvh_intersect(b, r, &hp);
+    op = bvh_occluded(b, r);
+    b->simd = simd;
+    *hits += ds;
+    return ds == dp && os == op && hs.tri == hp.tri &&
+           (!ds || (memcmp(&hs.t, &hp.t, sizeof hs.t) == 0 && memcmp(&hs.b1, &hp.b1, sizeof hs.b1) == 0 &&
+                    memcmp(&hs.b2, &hp.b2, sizeof hs.b2) == 0));
+}
+
+/* The AVX2 build of the queries (runtime dispatch, bvh.c) returns exactly what the portable
+ * build returns: closest hits (triangle, t, barycentrics bit for bit) and any-hit answers,
+ * on a displaced sphere and a random soup, for random rays, rays aimed at vertices, axis-
+ * parallel rays and rays with a finite range ending near a hit. Where the CPU has no AVX2
+ * (or the build has no second path) both runs take the portable path. */
+TEST(bvh_simd_path_equals_portable_path)
+{
+    scene s;
+    soup m = {0};
+    bvh b;
+    rerror e;
+    long i, hits = 0;
+    size_t t;
+    int simd;
+    CHECKF(generate_displaced_sphere(&s, 14, &e) == 0, "%s", e.msg);
+    for (t = 0; t < s.triangle_count; ++t)
+        soup_add(&m, s.positions[s.triangles[t].v[0]], s.positions[s.triangles[t].v[1]],
+                 s.positions[s.triangles[t].v[2]]);
+    random_soup(&m, 50, 2000);
+    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+    simd = b.simd;
+    for (i = 0; i < 20000; ++i) {
+        vec3f o = urand_box(51, (uint32_t)i, -2.0f, 2.0f), d = urand_direction(52, (uint32_t)i);
+        ray r;
+        if (i % 4 == 1) d = v3f_sub(m.v[(size_t)i % (3 * m.count)], o); /* at a vertex */
+        if (i % 8 == 2) { /* axis-parallel: two zero components */
+            float c = urand(53, (uint32_t)i, 0) < 0.5f ? -1.0f : 1.0f;
+            d = i % 3 == 0 ? v3f(c, 0, 0) : (i % 3 == 1 ? v3f(0, c, 0) : v3f(0, 0, c));
+        }
+        r = make_ray(o, d);
+        if (i % 3 == 2) { /* a range that ends near the closest hit */
+            bvh_hit h;
+            if (bvh_intersect(&b, &r, &h)) r.tmax = h.t * (i % 2 ? 1.0f : 0.999999f);
+        }
+        CHECKF(simd_agrees(&b, &r, &hits), "ray %ld: AVX2 and portable builds disagree", i);
+    }
+    CHECKF(hits > 5000, "only %ld hits", hits);
+    if (!simd) printf("     (no AVX2 build of the queries here: both runs took the portable one)\n");
+    bvh_free(&b);
+    soup_free(&m);
+    free_generated_scene(&s);
+}
+
 TEST(bvh_degenerate_and_axis_aligned)
 {
     soup m = {0};

@@ -1,6 +1,7 @@
 /* Bounding volume hierarchy over triangles: binned-SAH build, 32-byte flattened
- * nodes collapsed to 8-wide nodes with 4-triangle leaf blocks, ordered stack traversal,
- * watertight ray/triangle test (Woop et al. 2013), four triangles at a time.
+ * nodes collapsed (SAH-optimally) to 8-wide nodes with 4-triangle leaf blocks, ordered
+ * stack traversal, watertight ray/triangle test (Woop et al. 2013), four triangles at a
+ * time.
  * Geometry is float (docs/design.md, Conventions). */
 #ifndef RESTIR_BVH_H
 #define RESTIR_BVH_H
@@ -71,6 +72,8 @@ typedef struct {
     size_t prim_count;
     int depth;
     double sah_cost;
+    int simd; /* 1: the queries run their AVX2 build (x86-64, chosen at run time by bvh_build;
+               * bit-identical hits); 0: the portable build. Either may be set by hand. */
 } bvh;
 
 /* Builds over tri_count triangles given as 3 consecutive vertices each. */
@@ -78,6 +81,10 @@ int bvh_build(bvh *b, const vec3f *tri_vertices, size_t tri_count, rerror *e);
 void bvh_free(bvh *b);
 /* Bytes of every array the BVH holds (binary nodes, wide nodes, leaf blocks, leaf order). */
 size_t bvh_memory_bytes(const bvh *b);
+
+/* The SAH cost of the wide tree as the collapse counts it (a wide node 2, a leaf block 1,
+ * each times its box's area), relative to the root's area. */
+double bvh_wide_sah_cost(const bvh *b);
 
 /* Closest hit with t in (r->tmin, r->tmax). Returns 1 on a hit. */
 int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h);

@@ -274,10 +274,11 @@ int bench_rays(const scene *s, const bench_rays_options *o, FILE *json_out, rerr
     fprintf(json_out,
             ", \"triangles\": %zu,\n \"bvh\": {\"nodes\": %zu, \"depth\": %d, \"sah_cost\": %.4f, "
             "\"leaf_triangles\": %zu, \"build_seconds\": %.4f, \"wide_nodes\": %zu, \"leaf_blocks\": %zu, "
-            "\"bytes_per_triangle\": %.1f},\n",
+            "\"bytes_per_triangle\": %.1f, \"wide_sah_cost\": %.4f},\n",
             s->triangle_count, s->accel.node_count, s->accel.depth, s->accel.sah_cost, s->accel.prim_count,
             build_seconds, s->accel.wide_count, s->accel.block_count,
-            (double)bvh_memory_bytes(&s->accel) / (double)(s->accel.prim_count ? s->accel.prim_count : 1));
+            (double)bvh_memory_bytes(&s->accel) / (double)(s->accel.prim_count ? s->accel.prim_count : 1),
+            bvh_wide_sah_cost(&s->accel));
     fprintf(json_out,
             " \"image\": [%d, %d], \"repeats\": %d, \"statistic\": \"median\", \"primary_rays\": %ld, "
             "\"secondary_rays\": %ld, \"shadow_rays\": %ld,\n \"results\": [",

@@ -8,16 +8,20 @@
  * node is the next node, the right child is at `offset`.
  *
  * Collapse: the binary tree is then collapsed to BVH_WIDTH = 8 wide nodes (BVH8) with the
- * very same boxes, and each leaf's triangles are copied into leaf blocks of 4 (vertices
- * inline, structure of arrays); queries traverse those (fewer, larger nodes: fewer
- * dependent cache misses for incoherent rays; docs/performance.md has the measurements).
+ * very same boxes, which binary nodes become wide nodes and leaves chosen by the SAH-optimal
+ * dynamic programme of Ylitie et al. 2017 (collapse_costs), and each leaf's triangles are
+ * copied into leaf blocks of 4 (vertices inline, structure of arrays); queries traverse
+ * those (fewer, larger nodes: fewer dependent cache misses for incoherent rays;
+ * docs/performance.md has the measurements).
  *
  * Traversal: one stack of wide nodes; of the inner children a ray enters, the nearest is
  * visited first (by entry distance); the leaf children it enters are tested where they
  * are found, without a push and a pop. A leaf block's four triangles are tested as four
  * lanes of one loop (watertight_lanes), bit-identical to the scalar test. The box test is made conservative with respect to the
  * rounding of both the slab test and the watertight triangle test (see ray_setup),
- * so the BVH finds exactly what a loop over all triangles finds.
+ * so the BVH finds exactly what a loop over all triangles finds. On x86-64 (GCC, Clang)
+ * the two queries are also compiled for AVX2 and chosen at run time (b->simd; the same C,
+ * bit-identical answers; see bvh_intersect).
  *
  * Triangle test: Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection"
  * (JCGT 2(1)): translate to the ray origin, permute so the dominant direction axis is
@@ -319,6 +323,8 @@ static void triangle_box(const vec3f *v, box3 *bx, float centroid[3])
     for (k = 0; k < 3; ++k) centroid[k] = 0.5f * bx->lo[k] + 0.5f * bx->hi[k];
 }
 
+static int simd_available(void);
+
 /* ------------------------------------------------------------------------------- */
 /* Collapse to wide nodes and leaf blocks                                           */
 
@@ -353,30 +359,108 @@ static uint32_t make_leaf_blocks(bvh *b, const vec3f *tri_vertices, uint32_t slo
     return first;
 }
 
-/* Wide node `at` from the binary subtree of `kids[0..n)`: while there are fewer than
- * BVH_WIDTH children, the interior child with the largest surface area (the one a ray is
- * most likely to enter) is replaced by its two children (the usual BVH2 -> BVH4/BVH8
- * collapse, e.g. Wald et al. 2008, "Getting rid of packets"). The boxes are the binary
- * nodes' own boxes, so the traversal tests the same boxes, only fewer at a time. */
-static void collapse_node(bvh *b, const vec3f *tri_vertices, size_t at, uint32_t kids[BVH_WIDTH], int n)
+/* SAH-optimal collapse (Ylitie, Karras, Laine 2017, "Efficient incoherent ray traversal
+ * on GPUs through compressed wide BVHs", Sec. 4.1): which binary nodes become the wide
+ * nodes and the leaves is chosen by dynamic programming over the binary tree, minimising
+ *     sum over wide nodes of WIDE_NODE_COST * area + sum over leaves of blocks * area.
+ * Per binary node, cost[j - 1] is the least cost of its subtree as at most j children of
+ * a wide node (j = 1..BVH_WIDTH); one child is a leaf (the subtree's triangles are
+ * contiguous leaf slots, so any subtree of at most BVH_MAX_LEAF triangles can be one) or
+ * a wide node whose BVH_WIDTH children are distributed over the two binary children.
+ * The boxes are still the binary nodes' own boxes; only which of them are tested changes. */
+static const float WIDE_NODE_COST = 2.0f;
+
+typedef struct {
+    float cost[BVH_WIDTH];
+    uint32_t first, count; /* the subtree's leaf slots */
+    int as_leaf;           /* cost[0] is the subtree as one leaf (else one wide node) */
+} collapse_cost;
+
+/* The least cost of subtree i as at most j children, split between its binary children
+ * l and r (Ylitie et al.'s distribute); *left = the children given to l. */
+static float distribute(const collapse_cost *cc, uint32_t l, uint32_t r, int j, int *left)
 {
+    float best = INFINITY;
     int k;
-    while (n < BVH_WIDTH) {
-        int best = -1;
-        double best_area = -1;
-        for (k = 0; k < n; ++k) {
-            const bvh_node *c = &b->nodes[kids[k]];
-            if ((c->count_axis & COUNT_MASK) == 0 && node_area(c) > best_area) {
-                best = k;
-                best_area = node_area(c);
-            }
+    *left = 1;
+    for (k = 1; k < j; ++k) {
+        float c = cc[l].cost[k - 1] + cc[r].cost[j - k - 1];
+        if (c < best) {
+            best = c;
+            *left = k;
         }
-        if (best < 0) break;
-        kids[n++] = b->nodes[kids[best]].offset;
-        kids[best] = kids[best] + 1;
+    }
+    return best;
+}
+
+/* Children before parents: node i's children have larger indices (depth-first order). */
+static void collapse_costs(const bvh *b, collapse_cost *cc)
+{
+    size_t i = b->node_count;
+    while (i-- > 0) {
+        const bvh_node *n = &b->nodes[i];
+        collapse_cost *c = &cc[i];
+        float area = (float)node_area(n), leaf;
+        int j, k;
+        if (n->count_axis & COUNT_MASK) {
+            c->first = n->offset;
+            c->count = n->count_axis & COUNT_MASK;
+            for (j = 0; j < BVH_WIDTH; ++j) c->cost[j] = (float)sah_blocks(c->count) * area;
+            c->as_leaf = 1;
+            continue;
+        }
+        c->first = cc[i + 1].first;
+        c->count = cc[i + 1].count + cc[n->offset].count;
+        leaf = c->count <= BVH_MAX_LEAF ? (float)sah_blocks(c->count) * area : INFINITY;
+        c->cost[0] = WIDE_NODE_COST * area + distribute(cc, (uint32_t)i + 1, n->offset, BVH_WIDTH, &k);
+        c->as_leaf = leaf <= c->cost[0];
+        if (c->as_leaf) c->cost[0] = leaf;
+        for (j = 2; j <= BVH_WIDTH; ++j) {
+            float d = distribute(cc, (uint32_t)i + 1, n->offset, j, &k);
+            c->cost[j - 1] = d < c->cost[j - 2] ? d : c->cost[j - 2];
+        }
+    }
+}
+
+/* A child of a wide node: binary node `node`, as a leaf or as a wide node. */
+typedef struct {
+    uint32_t node;
+    int leaf;
+} wide_kid;
+
+/* Appends the children of subtree i's best form as at most j children. */
+static int gather_kids(const bvh *b, const collapse_cost *cc, uint32_t i, int j, wide_kid *kids, int n)
+{
+    int k = 0;
+    /* The fewest children with the same cost (cost[] does not increase with j). */
+    while (j > 1 && cc[i].cost[j - 2] == cc[i].cost[j - 1]) --j;
+    if (j == 1 || (b->nodes[i].count_axis & COUNT_MASK)) {
+        kids[n].node = i;
+        kids[n].leaf = cc[i].as_leaf;
+        return n + 1;
+    }
+    distribute(cc, i + 1, b->nodes[i].offset, j, &k);
+    n = gather_kids(b, cc, i + 1, k, kids, n);
+    return gather_kids(b, cc, b->nodes[i].offset, j - k, kids, n);
+}
+
+/* Wide node `at` for binary node i (a leaf only at the root of a one-leaf tree). */
+static void collapse_node(bvh *b, const vec3f *tri_vertices, const collapse_cost *cc, size_t at, uint32_t i)
+{
+    wide_kid kids[BVH_WIDTH];
+    int n = 0, k;
+    if (b->nodes[i].count_axis & COUNT_MASK) {
+        kids[0].node = i;
+        kids[0].leaf = 1;
+        n = 1;
+    } else {
+        distribute(cc, i + 1, b->nodes[i].offset, BVH_WIDTH, &k);
+        n = gather_kids(b, cc, i + 1, k, kids, 0);
+        n = gather_kids(b, cc, b->nodes[i].offset, BVH_WIDTH - k, kids, n);
     }
     for (k = 0; k < BVH_WIDTH; ++k) {
         bvh_wide_node *w = &b->wide[at];
+        const bvh_node *c = &b->nodes[kids[k].node];
         int axis;
         if (k >= n) {
             for (axis = 0; axis < 3; ++axis) {
@@ -388,19 +472,17 @@ static void collapse_node(bvh *b, const vec3f *tri_vertices, size_t at, uint32_t
             continue;
         }
         for (axis = 0; axis < 3; ++axis) {
-            w->bounds[axis][k] = b->nodes[kids[k]].min[axis];
-            w->bounds[3 + axis][k] = b->nodes[kids[k]].max[axis];
+            w->bounds[axis][k] = c->min[axis];
+            w->bounds[3 + axis][k] = c->max[axis];
         }
-        w->count[k] = b->nodes[kids[k]].count_axis & COUNT_MASK;
-        if (w->count[k] > 0) {
-            w->child[k] = make_leaf_blocks(b, tri_vertices, b->nodes[kids[k]].offset, w->count[k]);
+        if (kids[k].leaf) {
+            w->count[k] = cc[kids[k].node].count;
+            w->child[k] = make_leaf_blocks(b, tri_vertices, cc[kids[k].node].first, w->count[k]);
         } else {
-            uint32_t grand[BVH_WIDTH];
             size_t child = b->wide_count++;
-            grand[0] = kids[k] + 1;
-            grand[1] = b->nodes[kids[k]].offset;
+            w->count[k] = 0;
             w->child[k] = (uint32_t)child;
-            collapse_node(b, tri_vertices, child, grand, 2);
+            collapse_node(b, tri_vertices, cc, child, kids[k].node);
         }
     }
 }
@@ -421,22 +503,20 @@ static void *aligned_copy(const void *from, size_t count, size_t size, rerror *e
  * and one for a root that is a leaf; at most one block per triangle). */
 static int collapse(bvh *b, const vec3f *tri_vertices, rerror *e)
 {
-    uint32_t kids[BVH_WIDTH];
     bvh_wide_node *shrunk;
     bvh_leaf_block *fewer;
+    collapse_cost *cc = rmalloc(b->node_count, sizeof *cc, e);
     b->wide = rmalloc(b->node_count, sizeof *b->wide, e);
     b->blocks = rmalloc(b->prim_count, sizeof *b->blocks, e);
-    if (!b->wide || !b->blocks) return -1;
+    if (!cc || !b->wide || !b->blocks) {
+        free(cc);
+        return -1;
+    }
+    collapse_costs(b, cc);
     b->wide_count = 1;
     b->block_count = 0;
-    if (b->nodes[0].count_axis & COUNT_MASK) {
-        kids[0] = 0;
-        collapse_node(b, tri_vertices, 0, kids, 1);
-    } else {
-        kids[0] = 1;
-        kids[1] = b->nodes[0].offset;
-        collapse_node(b, tri_vertices, 0, kids, 2);
-    }
+    collapse_node(b, tri_vertices, cc, 0, 0);
+    free(cc);
     /* Exact-size copies on cache-line boundaries: a wide node is then exactly two
      * lines, and a leaf block never straddles more lines than its size needs. */
     shrunk = aligned_copy(b->wide, b->wide_count, sizeof *b->wide, e);
@@ -503,6 +583,7 @@ int bvh_build(bvh *b, const vec3f *tri_vertices, size_t tri_count, rerror *e)
     }
     b->sah_cost = root_area > 0 ? bd.sah_cost / root_area : 0;
     if (collapse(b, tri_vertices, e)) goto fail;
+    b->simd = simd_available();
 done:
     free(prim_box);
     free(centroid);
@@ -531,6 +612,33 @@ size_t bvh_memory_bytes(const bvh *b)
            b->prim_count * sizeof *b->prim_order;
 }
 
+/* The cost the collapse minimises (collapse_costs), of the wide subtree `at` whose box has
+ * the given area. */
+static double wide_cost(const bvh *b, uint32_t at, double area)
+{
+    const bvh_wide_node *n = &b->wide[at];
+    double cost = WIDE_NODE_COST * area;
+    int k;
+    for (k = 0; k < BVH_WIDTH; ++k) {
+        box3 bx;
+        int axis;
+        if (n->count[k] == 0 && n->child[k] == BVH_WIDE_EMPTY) continue;
+        for (axis = 0; axis < 3; ++axis) {
+            bx.lo[axis] = n->bounds[axis][k];
+            bx.hi[axis] = n->bounds[3 + axis][k];
+        }
+        if (n->count[k] > 0) cost += sah_blocks(n->count[k]) * box_area(&bx);
+        else cost += wide_cost(b, n->child[k], box_area(&bx));
+    }
+    return cost;
+}
+
+double bvh_wide_sah_cost(const bvh *b)
+{
+    double root = b->node_count ? node_area(&b->nodes[0]) : 0;
+    return b->wide_count && root > 0 ? wide_cost(b, 0, root) / root : 0;
+}
+
 /* ------------------------------------------------------------------------------- */
 /* Per-ray precomputation                                                            */
 
@@ -540,12 +648,11 @@ typedef struct {
      * other two (swapped when dir[kz] < 0 to keep the winding), shear sx, sy, sz. */
     int kx, ky, kz;
     float sx, sy, sz;
-    /* Slab test, t = face * inv + c: the inverse direction, per axis the byte offset
-     * of the near and the far face in a node (chosen by the direction's sign), and the
-     * constants c = -org * inv -+ slack / |dir| (see setup_box_test). */
+    /* Slab test, t = face * inv + c: the inverse direction, per axis the rows of the
+     * near and the far face in bvh_wide_node.bounds (chosen by the direction's sign),
+     * and the constants c = -org * inv -+ slack / |dir| (see setup_box_test). */
     float inv[3];
-    size_t near_face[3], far_face[3];
-    int near_row[3], far_row[3]; /* the same faces as rows of bvh_wide_node.bounds */
+    int near_row[3], far_row[3];
     float near_c[3], far_c[3];
     float tmin, tmax;
 } ray_setup;
@@ -556,9 +663,9 @@ static int largest_abs_axis(const float d[3])
     return ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
 }
 
-/* Triangle part of the setup. Returns 0 for a ray that cannot hit anything (zero or
- * non-finite direction, non-finite origin, empty range). */
-static int setup_triangle_test(ray_setup *s, const ray *r)
+/* The ray, its checks and the axes of the triangle test. Returns 0 for a ray that
+ * cannot hit anything (zero or non-finite direction, non-finite origin, empty range). */
+static HOT_INLINE int setup_axes(ray_setup *s, const ray *r)
 {
     s->org[0] = r->origin.x, s->org[1] = r->origin.y, s->org[2] = r->origin.z;
     s->dir[0] = r->dir.x, s->dir[1] = r->dir.y, s->dir[2] = r->dir.z;
@@ -575,6 +682,13 @@ static int setup_triangle_test(ray_setup *s, const ray *r)
         s->kx = s->ky;
         s->ky = t;
     }
+    return 1;
+}
+
+/* Triangle part of the setup (the scalar test's). Returns 0 as setup_axes. */
+static int setup_triangle_test(ray_setup *s, const ray *r)
+{
+    if (!setup_axes(s, r)) return 0;
     s->sx = s->dir[s->kx] / s->dir[s->kz];
     s->sy = s->dir[s->ky] / s->dir[s->kz];
     s->sz = 1.0f / s->dir[s->kz];
@@ -596,8 +710,9 @@ static float larger(float a, float b) { return a > b ? a : b; }
  * test would hit: the BVH finds exactly what a loop over all triangles finds. The
  * price is boxes larger by ~1e-6 of the scene's extent plus its distance from the
  * coordinate origin. (A NaN can only come from overflow at absurd coordinates; the
- * slab test then keeps the interval unchanged, which is conservative too.) */
-static void setup_box_test(ray_setup *s, const bvh_node *root)
+ * slab test then keeps the interval unchanged, which is conservative too.)
+ * recip[i] = 1 / dir[i] where |dir[i]| > 1e-30 (setup_traversal divides). */
+static void setup_box_test(ray_setup *s, const bvh_node *root, const float recip[3])
 {
     float reach = 0, magnitude = 0, slack;
     int i;
@@ -610,44 +725,31 @@ static void setup_box_test(ray_setup *s, const bvh_node *root)
         /* A zero component gets a huge finite inverse instead of infinity, so that
          * 0 * inv never makes a NaN and a parallel ray outside the slab is culled. */
         float d = s->dir[i];
-        float inv = fabsf(d) > 1e-30f ? 1.0f / d : copysignf(1e30f, d);
+        float inv = fabsf(d) > 1e-30f ? recip[i] : copysignf(1e30f, d);
         float slack_t = slack * fabsf(inv);
+        int negative = inv < 0;
         s->inv[i] = inv;
         s->near_c[i] = -s->org[i] * inv - slack_t;
         s->far_c[i] = -s->org[i] * inv + slack_t;
-        s->near_face[i] = (inv < 0 ? offsetof(bvh_node, max) : offsetof(bvh_node, min)) + (size_t)i * sizeof(float);
-        s->far_face[i] = (inv < 0 ? offsetof(bvh_node, min) : offsetof(bvh_node, max)) + (size_t)i * sizeof(float);
-        s->near_row[i] = inv < 0 ? 3 + i : i;
-        s->far_row[i] = inv < 0 ? i : 3 + i;
+        s->near_row[i] = i + 3 * negative;
+        s->far_row[i] = i + 3 - 3 * negative;
     }
 }
 
-/* The coordinate of a node's box face at a byte offset chosen once per ray. */
-static inline float face(const bvh_node *n, size_t byte_offset)
+/* The whole per-ray setup of a query: setup_triangle_test and setup_box_test sharing
+ * the reciprocal of the dominant direction component (the same division, so the same
+ * bits). Returns 0 as setup_axes. */
+static int setup_traversal(ray_setup *s, const ray *r, const bvh_node *root)
 {
-    return *(const float *)(const void *)((const char *)n + byte_offset);
-}
-
-/* Conservative slab test (Kay & Kajiya 1986) against [tmin, tfar_limit], inclusive so
- * that hits tied in t with the current closest hit are still found. Writes the entry
- * distance. Written so that a NaN slab distance leaves the interval unchanged. */
-static inline int box_overlaps(const ray_setup *s, const bvh_node *n, float tfar_limit, float *entry)
-{
-    float tnear = s->tmin, tfar = tfar_limit, t;
-    t = face(n, s->near_face[0]) * s->inv[0] + s->near_c[0];
-    tnear = t > tnear ? t : tnear;
-    t = face(n, s->near_face[1]) * s->inv[1] + s->near_c[1];
-    tnear = t > tnear ? t : tnear;
-    t = face(n, s->near_face[2]) * s->inv[2] + s->near_c[2];
-    tnear = t > tnear ? t : tnear;
-    t = face(n, s->far_face[0]) * s->inv[0] + s->far_c[0];
-    tfar = t < tfar ? t : tfar;
-    t = face(n, s->far_face[1]) * s->inv[1] + s->far_c[1];
-    tfar = t < tfar ? t : tfar;
-    t = face(n, s->far_face[2]) * s->inv[2] + s->far_c[2];
-    tfar = t < tfar ? t : tfar;
-    *entry = tnear;
-    return tnear <= tfar;
+    float recip[3];
+    int i;
+    if (!setup_axes(s, r)) return 0;
+    for (i = 0; i < 3; ++i) recip[i] = 1.0f / (fabsf(s->dir[i]) > 1e-30f ? s->dir[i] : 1.0f);
+    s->sx = s->dir[s->kx] / s->dir[s->kz];
+    s->sy = s->dir[s->ky] / s->dir[s->kz];
+    s->sz = fabsf(s->dir[s->kz]) > 1e-30f ? recip[s->kz] : 1.0f / s->dir[s->kz];
+    setup_box_test(s, root, recip);
+    return 1;
 }
 
 /* ------------------------------------------------------------------------------- */
@@ -819,12 +921,14 @@ typedef struct {
     float tnear;
 } stack_entry;
 
-/* box_overlaps on the four children of a wide node at once: the same arithmetic in the
- * same order, hence the same conservative answers. Returns the bit mask of the children
- * the ray enters within [tmin, tfar_limit] and their entry distances. One loop over the
- * children without branches, which compilers vectorise. */
-static inline unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n, float tfar_limit,
-                                     float entry[BVH_WIDTH])
+/* Conservative slab tests (Kay & Kajiya 1986, t = face * inv + c with the slack of
+ * setup_box_test) of the eight children of a wide node against [tmin, tfar_limit],
+ * inclusive so that hits tied in t with the current closest hit are still found; a NaN
+ * slab distance leaves the interval unchanged. Returns the bit mask of the children the
+ * ray enters and their entry distances. One loop over the children without branches,
+ * which compilers vectorise. */
+static HOT_INLINE unsigned wide_overlaps(const ray_setup *s, const bvh_wide_node *n, float tfar_limit,
+                                         float entry[BVH_WIDTH])
 {
     const float *near_x = n->bounds[s->near_row[0]], *near_y = n->bounds[s->near_row[1]];
     const float *near_z = n->bounds[s->near_row[2]], *far_x = n->bounds[s->far_row[0]];
@@ -975,12 +1079,13 @@ static HOT_INLINE void push_children_closest(const ray_setup *s, const bvh *b, c
     }
 }
 
-int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
+/* The queries. Inlined into the public functions below, once as compiled for the
+ * build's target and, where available, once more for AVX2 (runtime dispatch). */
+static HOT_INLINE int intersect_query(const bvh *b, const ray *r, bvh_hit *h)
 {
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
     int top = 0;
-    float t_root;
     closest_hit c;
 
     h->tri = BVH_NO_HIT;
@@ -988,11 +1093,11 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
     c.t = r->tmax;
     c.b1 = c.b2 = 0;
     c.tri = BVH_NO_HIT;
-    if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
-    setup_box_test(&s, &b->nodes[0]);
-    if (!box_overlaps(&s, &b->nodes[0], c.t, &t_root)) return 0;
+    if (b->node_count == 0 || !setup_traversal(&s, r, &b->nodes[0])) return 0;
+    /* The root's box is not tested (its children's boxes are: measured faster, even
+     * for rays that miss the scene; docs/performance.md). */
     stack[top].node = 0;
-    stack[top++].tnear = t_root;
+    stack[top++].tnear = s.tmin;
     while (top > 0) {
         stack_entry at = stack[--top];
         /* Culled: the ray can only enter this box beyond the closest hit so far. */
@@ -1007,22 +1112,68 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
     return 1;
 }
 
-int bvh_occluded(const bvh *b, const ray *r)
+static HOT_INLINE int occluded_query(const bvh *b, const ray *r)
 {
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
     int top = 0;
-    float t_root;
 
-    if (b->node_count == 0 || !setup_triangle_test(&s, r)) return 0;
-    setup_box_test(&s, &b->nodes[0]);
-    if (!box_overlaps(&s, &b->nodes[0], s.tmax, &t_root)) return 0;
+    if (b->node_count == 0 || !setup_traversal(&s, r, &b->nodes[0])) return 0;
+    /* The root's box is not tested (its children's boxes are: measured faster, even
+     * for rays that miss the scene; docs/performance.md). */
     stack[top].node = 0;
-    stack[top++].tnear = t_root;
+    stack[top++].tnear = s.tmin;
     /* Only wide nodes are ever on this stack: leaf children are tested where found. */
     while (top > 0)
         if (push_children_any_hit(&s, b, &b->wide[stack[--top].node], stack, &top)) return 1;
     return 0;
+}
+
+/* Runtime dispatch (as Embree dispatches to its AVX2 kernels): on x86-64 with GCC or Clang,
+ * the very same C of the two queries is compiled a second time for AVX2 (the 8-wide box
+ * loop becomes one instruction sequence instead of two SSE iterations; docs/performance.md),
+ * and bvh_build sets b->simd when the CPU has AVX2. No intrinsics: the compiler vectorises
+ * the same loops. Without FMA (-ffp-contract=off, and the AVX2 target does not enable it)
+ * every operation is the same IEEE single-precision operation in the same order, so both
+ * paths return bit-identical hits (test bvh_simd_path_equals_portable_path, which clears
+ * b->simd to run the portable path). */
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__AVX2__) && !defined(RESTIR_NO_SIMD_DISPATCH)
+#define BVH_AVX2_DISPATCH 1
+__attribute__((target("avx2"))) static int intersect_avx2(const bvh *b, const ray *r, bvh_hit *h)
+{
+    return intersect_query(b, r, h);
+}
+
+__attribute__((target("avx2"))) static int occluded_avx2(const bvh *b, const ray *r)
+{
+    return occluded_query(b, r);
+}
+#endif
+
+/* Whether the queries may run their AVX2 build (this CPU has it, and it was compiled). */
+static int simd_available(void)
+{
+#ifdef BVH_AVX2_DISPATCH
+    return __builtin_cpu_supports("avx2") != 0;
+#else
+    return 0;
+#endif
+}
+
+int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
+{
+#ifdef BVH_AVX2_DISPATCH
+    if (b->simd) return intersect_avx2(b, r, h);
+#endif
+    return intersect_query(b, r, h);
+}
+
+int bvh_occluded(const bvh *b, const ray *r)
+{
+#ifdef BVH_AVX2_DISPATCH
+    if (b->simd) return occluded_avx2(b, r);
+#endif
+    return occluded_query(b, r);
 }
 
 /* ------------------------------------------------------------------------------- */
