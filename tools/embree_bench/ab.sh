@@ -1,9 +1,11 @@
 #!/bin/sh
 # Embree yardstick, before/after: two embree_bench binaries (e.g. one built from main, one
-# from this tree) run alternately, ROUNDS runs each, on the bunny view and on the
-# 1M-triangle displaced sphere. Prints one row per scene and ray kind: the ratio
-# restir/Embree of every run of A and of B (each run's ratio is the median of its
-# interleaved repetitions), then restir's and Embree's Mrays per CPU second of B's runs.
+# from this tree) run alternately, ROUNDS runs each, on the bunny view, on the
+# 1M-triangle displaced sphere and on the generated Sponza-like atrium (docs/scenes.md §11;
+# 1024x1024, written by this tree's restir binary: $RESTIR, default build/restir). Prints one
+# row per scene and ray kind: the ratio restir/Embree of every run of A and of B (each run's
+# ratio is the median of its interleaved repetitions), then restir's and Embree's Mrays per
+# CPU second of B's runs.
 #   tools/embree_bench/ab.sh A_HARNESS B_HARNESS [ROUNDS=2] [REPEATS=5]
 set -eu
 a=$1 b=$2 rounds=${3:-2} repeats=${4:-5}
@@ -13,7 +15,9 @@ trap 'rm -rf "$tmp"' EXIT
 field() { # file kind name -> value
     grep "\"rays\": \"$2\"" "$1" | sed "s/.*\"$3\": \([0-9.]*\).*/\1/"
 }
-for scene in bunny sphere; do
+restir=${RESTIR:-$here/../../build/restir}
+"$restir" generate atrium -o "$tmp/atrium.obj" > /dev/null
+for scene in bunny sphere atrium; do
     i=0
     while [ "$i" -lt "$rounds" ]; do
         for which in a b; do
@@ -21,6 +25,8 @@ for scene in bunny sphere; do
             [ "$which" = b ] && bin=$b
             if [ "$scene" = bunny ]; then
                 (cd "$here" && nice -n 5 "$bin" bunny.scene --repeats "$repeats") > "$tmp/$scene.$which.$i"
+            elif [ "$scene" = atrium ]; then
+                nice -n 5 "$bin" "$tmp/atrium.scene" --size 1024x1024 --repeats "$repeats" > "$tmp/$scene.$which.$i"
             else
                 nice -n 5 "$bin" --generated 289 --size 512x512 --repeats "$repeats" > "$tmp/$scene.$which.$i"
             fi
