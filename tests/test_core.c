@@ -43,7 +43,10 @@ TEST(rng_u_slots_equals_rng_u)
     long i;
     for (i = 0; i < 20000; ++i) {
         rng_key base = rng_key_make(test_seed() + (uint32_t)(i % 7), (uint32_t)(i * 2654435761u), (uint32_t)(i / 3));
-        uint32_t stream = (uint32_t)(i % 5), vertex = (uint32_t)(i % 17), first = (uint32_t)(i % 11);
+        /* Small slots as the samplers use them, and every field up to its largest value
+         * (rng_u_slots shares part of the hash between lanes: a wrong share shows anywhere). */
+        uint32_t stream = (uint32_t)(i % 9), vertex = (uint32_t)(i & 1 ? (i * 37) % 256 : i % 17);
+        uint32_t first = (uint32_t)(i & 1 ? (i * 7919) % (65537 - RNG_SLOTS_MAX) : i % 11);
         int n = 1 + (int)(i % RNG_SLOTS_MAX), l;
         real u[RNG_SLOTS_MAX];
         rng_u_slots(base, stream, vertex, first, n, u);
