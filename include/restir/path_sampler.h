@@ -84,6 +84,8 @@ rgb path_vertex_emitted(const path_context *c, const path_vertex *v);
  * the same rule applies to sampled directions, so all strategies share one f. */
 rgb path_vertex_eval(const path_vertex *v, vec3 wi);
 real path_vertex_pdf(const path_vertex *v, vec3 wi);
+/* Both of the above in one pass (one frame transform; bsdf_eval_pdf_given), bit for bit. */
+void path_vertex_eval_pdf(const path_vertex *v, vec3 wi, rgb *f_cos, real *pdf);
 /* One lobe (GRIS §7.6, a BSDF-sampled vertex evaluates only its lobe): f_l|cos| and the
  * pdf of sampling wi through this lobe INCLUDING the lobe selection, P(l|wo) pdf_l(wi),
  * with the side rule of path_vertex_eval. Returns 1 if both are nonzero; 0 (and zeros)

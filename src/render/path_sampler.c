@@ -56,6 +56,13 @@ real path_vertex_pdf(const path_vertex *v, vec3 wi)
     return bsdf_pdf_given(&v->b, v->wo_local, v->lobe_p, wl, -1, 0);
 }
 
+void path_vertex_eval_pdf(const path_vertex *v, vec3 wi, rgb *f_cos, real *pdf)
+{
+    vec3 wl = shading_frame_to_local(&v->frame, wi);
+    bsdf_eval_pdf_given(&v->b, v->wo_local, v->lobe_p, wl, f_cos, pdf);
+    if (!sides_consistent(v, wi, wl)) *f_cos = rgb_gray(0); /* the pdf ignores the side rule, as path_vertex_pdf */
+}
+
 int path_vertex_eval_lobe(const path_vertex *v, int lobe, vec3 wi, rgb *f_cos, real *pdf)
 {
     const real *p = v->lobe_p;
@@ -99,8 +106,7 @@ int vertex_sample_light_numbers(const path_context *c, const path_vertex *v, con
     out->wi = v3_scale(d, 1 / dist);
     out->emitted = light_emitted(out->y.emission, v3_from_f(out->y.normal), v3_neg(out->wi));
     out->pdf_light = path_light_pdf(c, out->y.triangle, v->position, y, v3_from_f(out->y.normal));
-    out->f_cos = path_vertex_eval(v, out->wi);
-    out->pdf_bsdf = path_vertex_pdf(v, out->wi);
+    path_vertex_eval_pdf(v, out->wi, &out->f_cos, &out->pdf_bsdf);
     if (rgb_is_black(out->emitted) || rgb_is_black(out->f_cos) || !(out->pdf_light > 0)) return 0;
     out->shadow_ray = 1;
     if (!scene_visible(c->scene, v->hit.position, v->hit.ng, out->y.position, &out->y.normal)) return 0;
