@@ -94,6 +94,9 @@ real light_pdf_solid_angle(const light_set *ls, uint32_t tri, vec3 x, vec3 y, ve
 
 /* Radiance emitted from point y of a light with front normal n towards direction
  * `to_receiver` (unit, pointing away from the light): Ke on the front side, 0 behind. */
-rgb light_emitted(rgb emission, vec3 normal, vec3 to_receiver);
+static inline rgb light_emitted(rgb emission, vec3 normal, vec3 to_receiver)
+{
+    return v3_dot(normal, to_receiver) > 0 ? emission : rgb_gray(0);
+}
 
 #endif

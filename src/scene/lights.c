@@ -230,8 +230,3 @@ real light_pdf_solid_angle(const light_set *ls, uint32_t tri, vec3 x, vec3 y, ve
     real pa = light_pdf_area(ls, tri);
     return pa > 0 ? pdf_area_to_solid_angle(pa, x, y, ny) : 0;
 }
-
-rgb light_emitted(rgb emission, vec3 normal, vec3 to_receiver)
-{
-    return v3_dot(normal, to_receiver) > 0 ? emission : rgb_gray(0);
-}
