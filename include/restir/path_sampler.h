@@ -110,8 +110,11 @@ typedef struct {
 
 /* Samples a light point for vertex x_i (vertex_index = i) and tests visibility. Returns 1
  * if the contribution is nonzero, 0 otherwise (no light, occluded, back side, f = 0).
- * With c->light_ris > 0 this is light RIS (light_ris.h): pdf_light is then p̃ = 1/W. */
-int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+ * With c->light_ris > 0 this is light RIS (light_ris.h): pdf_light is then p̃ = 1/W.
+ * `path` is the path's base key. It and vertex_sample_bsdf's are passed by address: a
+ * 24-byte key passed by value is copied to the stack on every call of the hot loop, and
+ * reading that copy back stalled the path tracer (docs/performance.md, round 2: 1.09x). */
+int vertex_sample_light(const path_context *c, const path_vertex *v, const rng_key *path, uint32_t vertex_index,
                         nee_sample *out);
 /* The same from explicit numbers u[0..1] (light selection), u[2..3] (point on the light):
  * replay of MCMC-mutated NEE numbers (Mutations §4.2). */
@@ -127,7 +130,7 @@ typedef struct {
 } bsdf_bounce;
 
 /* Returns 1 and fills *out, or 0 if the BSDF produced no valid direction. */
-int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index, bsdf_bounce *out);
+int vertex_sample_bsdf(const path_vertex *v, const rng_key *path, uint32_t vertex_index, bsdf_bounce *out);
 /* The same step from explicit numbers (u_lobe picks the lobe, u the direction): random
  * replay and primary-sample-space mutations supply their own numbers. vertex_sample_bsdf
  * is this function with the RNG_BSDF numbers of the path, so both agree bit for bit. */

@@ -83,12 +83,12 @@ real path_light_pdf(const path_context *c, uint32_t tri, vec3 x, vec3 y, vec3 ny
     return (c->ablations & PT_ABLATE_LIGHT_PDF) ? p * (real)1.05 : p;
 }
 
-int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+int vertex_sample_light(const path_context *c, const path_vertex *v, const rng_key *path, uint32_t vertex_index,
                         nee_sample *out)
 {
     real u[4];
-    if (c->light_ris > 0) return light_ris_sample(c, v, path, vertex_index, out);
-    rng_u_slots(path, RNG_NEE, vertex_index, 0, 4, u);
+    if (c->light_ris > 0) return light_ris_sample(c, v, *path, vertex_index, out);
+    rng_u_slots(*path, RNG_NEE, vertex_index, 0, 4, u);
     return vertex_sample_light_numbers(c, v, u, out);
 }
 
@@ -124,10 +124,10 @@ real path_light_pdf_hit(const path_context *c, const path_vertex *from, const pa
     return path_light_pdf(c, tri, from->position, hit->position, hit->ng);
 }
 
-int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index, bsdf_bounce *out)
+int vertex_sample_bsdf(const path_vertex *v, const rng_key *path, uint32_t vertex_index, bsdf_bounce *out)
 {
     real u[3];
-    rng_u_slots(path, RNG_BSDF, vertex_index, 0, 3, u);
+    rng_u_slots(*path, RNG_BSDF, vertex_index, 0, 3, u);
     return vertex_sample_bsdf_numbers(v, u[0], v2(u[1], u[2]), out);
 }
 

@@ -121,11 +121,11 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
         int counted = i + 1 >= o->min_depth;
         if (counted && j->ctx.strategy != PT_STRATEGY_BSDF && v->can_nee) {
             nee_sample n;
-            int lit = vertex_sample_light(&j->ctx, v, key, (uint32_t)i, &n);
+            int lit = vertex_sample_light(&j->ctx, v, &key, (uint32_t)i, &n);
             *rays += (uint64_t)n.shadow_ray;
             if (lit) L = rgb_add(L, rgb_mul(beta, rgb_scale(n.contribution, path_mis_weight_nee(&j->ctx, n.pdf_light, n.pdf_bsdf))));
         }
-        if (!vertex_sample_bsdf(v, key, (uint32_t)i, &b)) break;
+        if (!vertex_sample_bsdf(v, &key, (uint32_t)i, &b)) break;
         beta = rgb_mul(beta, b.weight);
         if (rgb_is_black(beta) || !roulette_survives(j, key, i, &beta)) break;
         r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
