@@ -36,26 +36,35 @@ TEST(rng_address_fields_independent)
     k = base; k.slot++; CHECK(rng_bits(k) != b);
 }
 
-/* rng_u_slots (the batched form the path sampler uses) returns exactly rng_u's numbers,
- * for every batch length and many addresses. */
+/* docs/rng.md's definition: rng_pcg4d on the key's words, then the conversion of `real`. */
+static real rng_reference(rng_key k)
+{
+    return sizeof(real) == sizeof(double) ? (real)rng_uniform_double(k) : (real)rng_uniform_float(k);
+}
+
+/* rng_u_slots (the batched form the path sampler uses) and rng_uniform (its scalar form)
+ * share part of the hash between numbers and skip dead words (rng.c): both return exactly
+ * the definition's numbers, for every batch length and many addresses. */
 TEST(rng_u_slots_equals_rng_u)
 {
     long i;
     for (i = 0; i < 20000; ++i) {
         rng_key base = rng_key_make(test_seed() + (uint32_t)(i % 7), (uint32_t)(i * 2654435761u), (uint32_t)(i / 3));
         /* Small slots as the samplers use them, and every field up to its largest value
-         * (rng_u_slots shares part of the hash between lanes: a wrong share shows anywhere). */
+         * (a wrong share shows anywhere). */
         uint32_t stream = (uint32_t)(i % 9), vertex = (uint32_t)(i & 1 ? (i * 37) % 256 : i % 17);
         uint32_t first = (uint32_t)(i & 1 ? (i * 7919) % (65537 - RNG_SLOTS_MAX) : i % 11);
         int n = 1 + (int)(i % RNG_SLOTS_MAX), l;
         real u[RNG_SLOTS_MAX];
         rng_u_slots(base, stream, vertex, first, n, u);
-        for (l = 0; l < n; ++l)
-            if (u[l] != rng_u(base, stream, vertex, first + (uint32_t)l)) {
-                CHECKF(0, "address %ld lane %d: %.17g != %.17g", i, l, (double)u[l],
-                       (double)rng_u(base, stream, vertex, first + (uint32_t)l));
+        for (l = 0; l < n; ++l) {
+            rng_key k = rng_key_at(base, stream, vertex, first + (uint32_t)l);
+            if (u[l] != rng_reference(k) || rng_uniform(k) != rng_reference(k)) {
+                CHECKF(0, "address %ld lane %d: slots %.17g, rng_uniform %.17g, definition %.17g", i, l, (double)u[l],
+                       (double)rng_uniform(k), (double)rng_reference(k));
                 return;
             }
+        }
     }
 }
 
