@@ -108,7 +108,7 @@ typedef struct {
     uint32_t v3;  /* seed after the LCG step */
 } pcg4d_shared;
 
-static pcg4d_shared pcg4d_shared_words(rng_key k)
+static inline pcg4d_shared pcg4d_shared_words(rng_key k)
 {
     pcg4d_shared p;
     p.v1 = k.sample * 1664525u + 1013904223u;
@@ -119,7 +119,7 @@ static pcg4d_shared pcg4d_shared_words(rng_key k)
 }
 
 /* pcg4d of (pixel, sample, w2, seed) given the shared words: the output words 0 and 1. */
-static real pcg4d_lane(const pcg4d_shared *p, uint32_t w2)
+static inline real pcg4d_lane(const pcg4d_shared *p, uint32_t w2)
 {
     uint32_t v[4], v1, v2, v3;
     v2 = w2 * 1664525u + 1013904223u;
