@@ -129,12 +129,19 @@ typedef struct {
     real pdf_all;      /* all-lobe pdf of wi (0 for a Dirac: NEE cannot produce it) */
 } bsdf_bounce;
 
-/* Returns 1 and fills *out, or 0 if the BSDF produced no valid direction. */
-int vertex_sample_bsdf(const path_vertex *v, const rng_key *path, uint32_t vertex_index, bsdf_bounce *out);
-/* The same step from explicit numbers (u_lobe picks the lobe, u the direction): random
- * replay and primary-sample-space mutations supply their own numbers. vertex_sample_bsdf
- * is this function with the RNG_BSDF numbers of the path, so both agree bit for bit. */
+/* The BSDF step from explicit numbers (u_lobe picks the lobe, u the direction): random
+ * replay and primary-sample-space mutations supply their own numbers. Returns 1 and fills
+ * *out, or 0 if the BSDF produced no valid direction. */
 int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out);
+/* The same step with the RNG_BSDF numbers of the path, for the path tracer, which needs the
+ * all-lobe pdf only when the bounce reaches an emitter: out->pdf_all is left at -1 and *s
+ * keeps the lobe's sample, from which path_bounce_pdf_all computes it then (for a two-lobe
+ * material that is the other lobe's pdf saved at every other bounce; docs/performance.md,
+ * round 2). With pdf_all filled in so, bit for bit vertex_sample_bsdf_numbers's result. */
+int vertex_sample_bsdf(const path_vertex *v, const rng_key *path, uint32_t vertex_index, bsdf_bounce *out,
+                       bsdf_sample_record *s);
+/* bsdf_bounce.pdf_all of the sample s drawn at v (GRIS §7.6: summed over all lobes). */
+real path_bounce_pdf_all(const path_vertex *v, const bsdf_sample_record *s);
 
 /* ---- MIS (GRIS Eq. 49, balance heuristic) ---- */
 /* p_this / (p_this + p_other); 0 if both are 0. */

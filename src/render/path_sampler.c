@@ -124,26 +124,40 @@ real path_light_pdf_hit(const path_context *c, const path_vertex *from, const pa
     return path_light_pdf(c, tri, from->position, hit->position, hit->ng);
 }
 
-int vertex_sample_bsdf(const path_vertex *v, const rng_key *path, uint32_t vertex_index, bsdf_bounce *out)
+/* vertex_sample_bsdf_numbers up to the all-lobe pdf (pdf_all = -1); *s is the lobe's sample. */
+static int sample_bsdf(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out, bsdf_sample_record *s)
+{
+    if (!bsdf_sample_given(&v->b, v->wo_local, v->lobe_p, u_lobe, u, s)) return 0;
+    out->wi = shading_frame_to_world(&v->frame, s->wi);
+    if (!sides_consistent(v, out->wi, s->wi)) return 0;
+    out->lobe = s->lobe;
+    out->is_delta = s->is_delta;
+    out->weight = s->weight;
+    out->pdf_lobe = s->lobe_prob * s->pdf;
+    out->pdf_all = -1; /* not computed yet: path_bounce_pdf_all */
+    return 1;
+}
+
+/* GRIS §7.6: the MIS weight of a BSDF-sampled path uses the pdf summed over all lobes
+ * (the sampled lobe's pdf is s.pdf: not evaluated again). */
+real path_bounce_pdf_all(const path_vertex *v, const bsdf_sample_record *s)
+{
+    return s->is_delta ? 0 : bsdf_pdf_given(&v->b, v->wo_local, v->lobe_p, s->wi, s->lobe, s->pdf);
+}
+
+int vertex_sample_bsdf(const path_vertex *v, const rng_key *path, uint32_t vertex_index, bsdf_bounce *out,
+                       bsdf_sample_record *s)
 {
     real u[3];
     rng_u_slots(*path, RNG_BSDF, vertex_index, 0, 3, u);
-    return vertex_sample_bsdf_numbers(v, u[0], v2(u[1], u[2]), out);
+    return sample_bsdf(v, u[0], v2(u[1], u[2]), out, s);
 }
 
 int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out)
 {
     bsdf_sample_record s;
-    if (!bsdf_sample_given(&v->b, v->wo_local, v->lobe_p, u_lobe, u, &s)) return 0;
-    out->wi = shading_frame_to_world(&v->frame, s.wi);
-    if (!sides_consistent(v, out->wi, s.wi)) return 0;
-    out->lobe = s.lobe;
-    out->is_delta = s.is_delta;
-    out->weight = s.weight;
-    out->pdf_lobe = s.lobe_prob * s.pdf;
-    /* GRIS §7.6: the MIS weight of a BSDF-sampled path uses the pdf summed over all lobes
-     * (the sampled lobe's pdf is s.pdf: not evaluated again). */
-    out->pdf_all = s.is_delta ? 0 : bsdf_pdf_given(&v->b, v->wo_local, v->lobe_p, s.wi, s.lobe, s.pdf);
+    if (!sample_bsdf(v, u_lobe, u, out, &s)) return 0;
+    out->pdf_all = path_bounce_pdf_all(v, &s);
     return 1;
 }
 
