@@ -87,6 +87,9 @@ real light_pdf_area(const light_set *ls, uint32_t tri);
 /* Converts an area pdf at point y (unit normal ny) into the solid-angle pdf seen from x:
  * pdf_area · |x-y|^2 / |ny · (x-y)/|x-y||. Returns 0 if the direction is tangent or x == y. */
 real pdf_area_to_solid_angle(real pdf_area, vec3 x, vec3 y, vec3 ny);
+/* The same from d = y - x (or x - y: only |ny . d| enters) and dist2 = d . d, for NEE, which
+ * has them already: bit for bit pdf_area_to_solid_angle(pdf_area, x, y, ny). */
+real pdf_area_to_solid_angle_d(real pdf_area, vec3 d, real dist2, vec3 ny);
 
 /* Solid-angle pdf with which NEE from x samples the point y on scene triangle `tri`
  * (normal ny). The MIS weight of a BSDF-sampled emitter hit uses it. */

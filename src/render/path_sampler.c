@@ -77,10 +77,21 @@ int path_vertex_eval_lobe(const path_vertex *v, int lobe, vec3 wi, rgb *f_cos, r
     return *pdf > 0 && !rgb_is_black(*f_cos);
 }
 
+/* The light-pdf ablation scales the estimator's light pdf by 1.05. */
+static real ablated_light_pdf(const path_context *c, real p)
+{
+    return (c->ablations & PT_ABLATE_LIGHT_PDF) ? p * (real)1.05 : p;
+}
+
 real path_light_pdf(const path_context *c, uint32_t tri, vec3 x, vec3 y, vec3 ny)
 {
-    real p = light_pdf_solid_angle(c->lights, tri, x, y, ny);
-    return (c->ablations & PT_ABLATE_LIGHT_PDF) ? p * (real)1.05 : p;
+    return ablated_light_pdf(c, light_pdf_solid_angle(c->lights, tri, x, y, ny));
+}
+
+/* path_light_pdf for NEE's own light sample (vertex_sample_light_numbers). */
+static real nee_light_pdf(const path_context *c, real pdf_area, vec3 d, real dist2, vec3 ny)
+{
+    return ablated_light_pdf(c, pdf_area > 0 ? pdf_area_to_solid_angle_d(pdf_area, d, dist2, ny) : 0);
 }
 
 int vertex_sample_light(const path_context *c, const path_vertex *v, const rng_key *path, uint32_t vertex_index,
@@ -94,18 +105,20 @@ int vertex_sample_light(const path_context *c, const path_vertex *v, const rng_k
 
 int vertex_sample_light_numbers(const path_context *c, const path_vertex *v, const real u[4], nee_sample *out)
 {
-    vec3 y, d;
-    real dist;
+    vec3 d;
+    real dist2, dist;
     out->contribution = rgb_gray(0);
     out->shadow_ray = 0;
     if (!light_sample_point(c->lights, u, &out->y)) return 0;
-    y = v3_from_f(out->y.position);
-    d = v3_sub(y, v->position);
-    dist = v3_length(d);
+    d = v3_sub(v3_from_f(out->y.position), v->position);
+    dist2 = v3_dot(d, d);
+    dist = (real)sqrt(dist2); /* v3_length(d) */
     if (!(dist > 0)) return 0;
     out->wi = v3_scale(d, 1 / dist);
     out->emitted = light_emitted(out->y.emission, v3_from_f(out->y.normal), v3_neg(out->wi));
-    out->pdf_light = path_light_pdf(c, out->y.triangle, v->position, y, v3_from_f(out->y.normal));
+    /* path_light_pdf(c, triangle, x, y, ny) from what is at hand: the sample's own P(l)/area_l
+     * (light_pdf_area of its triangle) and |y - x|^2; the same bits */
+    out->pdf_light = nee_light_pdf(c, out->y.pdf_area, d, dist2, v3_from_f(out->y.normal));
     path_vertex_eval_pdf(v, out->wi, &out->f_cos, &out->pdf_bsdf);
     if (rgb_is_black(out->emitted) || rgb_is_black(out->f_cos) || !(out->pdf_light > 0)) return 0;
     out->shadow_ray = 1;
