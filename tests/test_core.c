@@ -36,15 +36,38 @@ TEST(rng_address_fields_independent)
     k = base; k.slot++; CHECK(rng_bits(k) != b);
 }
 
-/* docs/rng.md's definition: rng_pcg4d on the key's words, then the conversion of `real`. */
-static real rng_reference(rng_key k)
+/* docs/rng.md's definition, literally: the key's four words, rng_pcg4d, the conversions. */
+static void reference_words(rng_key k, uint32_t v[4])
 {
-    return sizeof(real) == sizeof(double) ? (real)rng_uniform_double(k) : (real)rng_uniform_float(k);
+    v[0] = k.pixel;
+    v[1] = k.sample;
+    v[2] = (k.stream << 24) | (k.vertex << 16) | k.slot;
+    v[3] = k.seed;
+    rng_pcg4d(v);
 }
 
-/* rng_u_slots (the batched form the path sampler uses) and rng_uniform (its scalar form)
- * share part of the hash between numbers and skip dead words (rng.c): both return exactly
- * the definition's numbers, for every batch length and many addresses. */
+static double reference_double(rng_key k)
+{
+    uint32_t v[4];
+    reference_words(k, v);
+    return (double)(((uint64_t)v[0] << 21) | (v[1] >> 11)) * (1.0 / 9007199254740992.0);
+}
+
+static float reference_float(rng_key k)
+{
+    uint32_t v[4];
+    reference_words(k, v);
+    return (float)(v[0] >> 8) * (1.0f / 16777216.0f);
+}
+
+static real rng_reference(rng_key k)
+{
+    return sizeof(real) == sizeof(double) ? (real)reference_double(k) : (real)reference_float(k);
+}
+
+/* Every key-based function (rng.c computes pcg4d with words shared between numbers and the
+ * dead words skipped) returns exactly the definition's numbers: rng_u_slots for every batch
+ * length, rng_uniform, rng_uniform_double/float and rng_bits, on many addresses. */
 TEST(rng_u_slots_equals_rng_u)
 {
     long i;
@@ -59,7 +82,10 @@ TEST(rng_u_slots_equals_rng_u)
         rng_u_slots(base, stream, vertex, first, n, u);
         for (l = 0; l < n; ++l) {
             rng_key k = rng_key_at(base, stream, vertex, first + (uint32_t)l);
-            if (u[l] != rng_reference(k) || rng_uniform(k) != rng_reference(k)) {
+            uint32_t w[4];
+            reference_words(k, w);
+            if (u[l] != rng_reference(k) || rng_uniform(k) != rng_reference(k) || rng_bits(k) != w[0] ||
+                rng_uniform_double(k) != reference_double(k) || rng_uniform_float(k) != reference_float(k)) {
                 CHECKF(0, "address %ld lane %d: slots %.17g, rng_uniform %.17g, definition %.17g", i, l, (double)u[l],
                        (double)rng_uniform(k), (double)rng_reference(k));
                 return;
