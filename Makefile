@@ -14,7 +14,8 @@
 #   make tradeoffs       docs/tradeoffs.md: time against error for every knob (~20 min)
 # Options: CC=clang  PRECISION=float  SANITIZE=1  WERROR=1  DEBUG=1  SEED=n  T=filter  BUILD=dir  LTO=1  NATIVE=1
 #   LTO=1 links with link-time optimisation (cross-file inlining; the same output bit for
-#   bit, 6-13% faster, but every relink takes ~40 s instead of ~1 s: docs/performance.md).
+#   bit, 3-9% faster, but every relink takes ~10 s on an idle machine, ~40 s under load,
+#   instead of ~1 s: docs/performance.md).
 #   NATIVE=1 compiles the same portable C for this machine's vector ISA (-march=native,
 #   build/native): bit-identical output (-ffp-contract=off still forbids contracting
 #   products into FMAs), faster traversal (docs/performance.md, "BVH traversal").

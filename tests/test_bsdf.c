@@ -188,6 +188,15 @@ TEST(bsdf_finite_at_extremes)
 
 /* A sample agrees exactly with a later evaluation of its direction, and the
  * all-lobe pdf is sum_l P(l|wo) pdf_l (GRIS Eq. 49). */
+/* bsdf_eval_pdf_given (NEE's one pass) is bsdf_eval and bsdf_pdf_given, bit for bit. */
+static int eval_pdf_exact(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], vec3 wi)
+{
+    rgb f, e = bsdf_eval(b, wo, wi);
+    real pdf;
+    bsdf_eval_pdf_given(b, wo, p, wi, &f, &pdf);
+    return f.r == e.r && f.g == e.g && f.b == e.b && pdf == bsdf_pdf_given(b, wo, p, wi, -1, 0);
+}
+
 TEST(bsdf_sample_consistent_with_eval)
 {
     int c, i;
@@ -205,7 +214,9 @@ TEST(bsdf_sample_consistent_with_eval)
              * (bsdf_pdf_given) give bsdf_sample and bsdf_pdf bit for bit. */
             CHECK(bsdf_sample_given(&b, wo, p, ul, u, &g) == ok);
             CHECK(bsdf_pdf_given(&b, wo, p, wo, -1, 0) == bsdf_pdf(&b, wo, wo));
+            CHECKF(eval_pdf_exact(&b, wo, p, random_direction(18, (uint32_t)i)), "case %d random wi %d", c, i);
             if (!ok) continue;
+            CHECKF(eval_pdf_exact(&b, wo, p, s.wi), "case %d sampled wi %d", c, i);
             CHECK(g.wi.x == s.wi.x && g.wi.y == s.wi.y && g.wi.z == s.wi.z && g.lobe == s.lobe && g.pdf == s.pdf);
             CHECK(g.weight.r == s.weight.r && g.weight.g == s.weight.g && g.weight.b == s.weight.b);
             CHECK(s.lobe_prob == p[s.lobe]);

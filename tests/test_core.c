@@ -36,23 +36,61 @@ TEST(rng_address_fields_independent)
     k = base; k.slot++; CHECK(rng_bits(k) != b);
 }
 
-/* rng_u_slots (the batched form the path sampler uses) returns exactly rng_u's numbers,
- * for every batch length and many addresses. */
+/* docs/rng.md's definition, literally: the key's four words, rng_pcg4d, the conversions. */
+static void reference_words(rng_key k, uint32_t v[4])
+{
+    v[0] = k.pixel;
+    v[1] = k.sample;
+    v[2] = (k.stream << 24) | (k.vertex << 16) | k.slot;
+    v[3] = k.seed;
+    rng_pcg4d(v);
+}
+
+static double reference_double(rng_key k)
+{
+    uint32_t v[4];
+    reference_words(k, v);
+    return (double)(((uint64_t)v[0] << 21) | (v[1] >> 11)) * (1.0 / 9007199254740992.0);
+}
+
+static float reference_float(rng_key k)
+{
+    uint32_t v[4];
+    reference_words(k, v);
+    return (float)(v[0] >> 8) * (1.0f / 16777216.0f);
+}
+
+static real rng_reference(rng_key k)
+{
+    return sizeof(real) == sizeof(double) ? (real)reference_double(k) : (real)reference_float(k);
+}
+
+/* Every key-based function (rng.c computes pcg4d with words shared between numbers and the
+ * dead words skipped) returns exactly the definition's numbers: rng_u_slots for every batch
+ * length, rng_uniform, rng_uniform_double/float and rng_bits, on many addresses. */
 TEST(rng_u_slots_equals_rng_u)
 {
     long i;
     for (i = 0; i < 20000; ++i) {
         rng_key base = rng_key_make(test_seed() + (uint32_t)(i % 7), (uint32_t)(i * 2654435761u), (uint32_t)(i / 3));
-        uint32_t stream = (uint32_t)(i % 5), vertex = (uint32_t)(i % 17), first = (uint32_t)(i % 11);
+        /* Small slots as the samplers use them, and every field up to its largest value
+         * (a wrong share shows anywhere). */
+        uint32_t stream = (uint32_t)(i % 9), vertex = (uint32_t)(i & 1 ? (i * 37) % 256 : i % 17);
+        uint32_t first = (uint32_t)(i & 1 ? (i * 7919) % (65537 - RNG_SLOTS_MAX) : i % 11);
         int n = 1 + (int)(i % RNG_SLOTS_MAX), l;
         real u[RNG_SLOTS_MAX];
         rng_u_slots(base, stream, vertex, first, n, u);
-        for (l = 0; l < n; ++l)
-            if (u[l] != rng_u(base, stream, vertex, first + (uint32_t)l)) {
-                CHECKF(0, "address %ld lane %d: %.17g != %.17g", i, l, (double)u[l],
-                       (double)rng_u(base, stream, vertex, first + (uint32_t)l));
+        for (l = 0; l < n; ++l) {
+            rng_key k = rng_key_at(base, stream, vertex, first + (uint32_t)l);
+            uint32_t w[4];
+            reference_words(k, w);
+            if (u[l] != rng_reference(k) || rng_uniform(k) != rng_reference(k) || rng_bits(k) != w[0] ||
+                rng_uniform_double(k) != reference_double(k) || rng_uniform_float(k) != reference_float(k)) {
+                CHECKF(0, "address %ld lane %d: slots %.17g, rng_uniform %.17g, definition %.17g", i, l, (double)u[l],
+                       (double)rng_uniform(k), (double)rng_reference(k));
                 return;
             }
+        }
     }
 }
 

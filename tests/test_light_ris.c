@@ -117,6 +117,48 @@ TEST(light_ris_one_candidate_is_the_plain_sampler)
            worst);
 }
 
+/* NEE's light pdf (vertex_sample_light_numbers) takes the sample's own P(l)/area_l and
+ * |y - x|^2 instead of looking the light up again: exactly path_light_pdf's value, at
+ * vertices on every kind of surface of the many-lights hall (docs/performance.md). */
+TEST(nee_light_pdf_equals_path_light_pdf)
+{
+    scene s;
+    light_set ls;
+    path_context c;
+    rerror e;
+    uint32_t i, checked = 0;
+    if (rt_load_scene("scenes/many-lights.scene", 16, &s)) return;
+    CHECKF(lights_build(&ls, &s, &e) == 0, "%s", e.msg);
+    memset(&c, 0, sizeof c);
+    c.scene = &s;
+    c.lights = &ls;
+    for (i = 0; i < 4000; ++i) {
+        rng_key k = rng_key_make(test_seed(), i, 0);
+        real u[4], b[3];
+        surface_hit h;
+        path_vertex v;
+        nee_sample n;
+        uint32_t tri;
+        rng_u_slots(k, RNG_TEST, 0, 0, 4, u);
+        rng_u_slots(k, RNG_TEST, 1, 0, 3, b);
+        tri = (uint32_t)(b[0] * (real)s.triangle_count) % (uint32_t)s.triangle_count;
+        if (b[1] + b[2] >= 1 || !scene_surface_point(&s, tri, (float)b[1], (float)b[2], &h)) continue;
+        path_vertex_make(&v, &s, &h, v3_neg(v3_from_f(h.ng)));
+        n.pdf_light = -1;
+        vertex_sample_light_numbers(&c, &v, u, &n);
+        if (n.pdf_light == -1) continue; /* no light point, or x on it */
+        ++checked;
+        if (n.pdf_light != path_light_pdf(&c, n.y.triangle, v.position, v3_from_f(n.y.position), v3_from_f(n.y.normal))) {
+            CHECKF(0, "vertex %u: %.17g != %.17g", i, (double)n.pdf_light,
+                   (double)path_light_pdf(&c, n.y.triangle, v.position, v3_from_f(n.y.position), v3_from_f(n.y.normal)));
+            break;
+        }
+    }
+    CHECKF(checked > 1000, "only %u vertices checked", checked);
+    lights_free(&ls);
+    scene_free(&s);
+}
+
 /* The decay schedule of Enhanced §7: max(1, N / B^2) candidates at x_B. */
 TEST(light_ris_candidate_schedule)
 {

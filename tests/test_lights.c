@@ -233,6 +233,36 @@ TEST(light_solid_angle_pdf_integrates_to_one)
     CHECKF(fabs(mean - 1) < 4 * se && se < 0.02, "integral %g +- %g", mean, se);
 }
 
+/* NEE's shortcut (path_sampler.c): a sample's own pdf_area and d = y - x give exactly
+ * light_pdf_solid_angle(triangle, x, y, ny) (pdf_area_to_solid_angle_d; docs/performance.md). */
+TEST(light_sample_pdf_shortcut_exact)
+{
+    scene s;
+    light_set ls;
+    rerror e;
+    uint32_t i;
+    CHECK(make_light_scene(&s) == 0);
+    CHECKF(lights_build(&ls, &s, &e) == 0, "%s", e.msg);
+    for (i = 0; i < 20000; ++i) {
+        real u[4] = {u_test(5, i, 0), u_test(5, i, 1), u_test(5, i, 2), u_test(5, i, 3)};
+        vec3 x = v3(4 * u_test(6, i, 0) - 2, 4 * u_test(6, i, 1) - 2, 4 * u_test(6, i, 2) - 2), y, d, ny;
+        light_sample ls_y;
+        real slow, fast;
+        if (!light_sample_point(&ls, u, &ls_y)) continue;
+        y = v3_from_f(ls_y.position);
+        ny = v3_from_f(ls_y.normal);
+        d = v3_sub(y, x);
+        slow = light_pdf_solid_angle(&ls, ls_y.triangle, x, y, ny);
+        fast = ls_y.pdf_area > 0 ? pdf_area_to_solid_angle_d(ls_y.pdf_area, d, v3_dot(d, d), ny) : 0;
+        if (!(fast == slow) || ls_y.pdf_area != light_pdf_area(&ls, ls_y.triangle)) {
+            CHECKF(0, "sample %u: %.17g != %.17g", i, (double)fast, (double)slow);
+            break;
+        }
+    }
+    lights_free(&ls);
+    scene_free(&s);
+}
+
 TEST(light_emission_is_one_sided)
 {
     vec3 n = v3(0, -1, 0);

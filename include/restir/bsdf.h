@@ -140,6 +140,9 @@ int bsdf_sample_given(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], real
  * (the pdf of the sample that produced wi, bsdf_sample_record.pdf). */
 real bsdf_pdf_given(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], vec3 wi, int known_lobe, real known_pdf);
 
+/* bsdf_eval and bsdf_pdf_given(b, wo, p, wi, -1, 0) in one pass, bit for bit (NEE needs both). */
+void bsdf_eval_pdf_given(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], vec3 wi, rgb *f_cos, real *pdf);
+
 /* ---- the local shading frame ---- */
 typedef struct { vec3 t, b, n; } shading_frame;
 

@@ -87,6 +87,9 @@ real light_pdf_area(const light_set *ls, uint32_t tri);
 /* Converts an area pdf at point y (unit normal ny) into the solid-angle pdf seen from x:
  * pdf_area · |x-y|^2 / |ny · (x-y)/|x-y||. Returns 0 if the direction is tangent or x == y. */
 real pdf_area_to_solid_angle(real pdf_area, vec3 x, vec3 y, vec3 ny);
+/* The same from d = y - x (or x - y: only |ny . d| enters) and dist2 = d . d, for NEE, which
+ * has them already: bit for bit pdf_area_to_solid_angle(pdf_area, x, y, ny). */
+real pdf_area_to_solid_angle_d(real pdf_area, vec3 d, real dist2, vec3 ny);
 
 /* Solid-angle pdf with which NEE from x samples the point y on scene triangle `tri`
  * (normal ny). The MIS weight of a BSDF-sampled emitter hit uses it. */
@@ -94,6 +97,9 @@ real light_pdf_solid_angle(const light_set *ls, uint32_t tri, vec3 x, vec3 y, ve
 
 /* Radiance emitted from point y of a light with front normal n towards direction
  * `to_receiver` (unit, pointing away from the light): Ke on the front side, 0 behind. */
-rgb light_emitted(rgb emission, vec3 normal, vec3 to_receiver);
+static inline rgb light_emitted(rgb emission, vec3 normal, vec3 to_receiver)
+{
+    return v3_dot(normal, to_receiver) > 0 ? emission : rgb_gray(0);
+}
 
 #endif

@@ -84,6 +84,8 @@ rgb path_vertex_emitted(const path_context *c, const path_vertex *v);
  * the same rule applies to sampled directions, so all strategies share one f. */
 rgb path_vertex_eval(const path_vertex *v, vec3 wi);
 real path_vertex_pdf(const path_vertex *v, vec3 wi);
+/* Both of the above in one pass (one frame transform; bsdf_eval_pdf_given), bit for bit. */
+void path_vertex_eval_pdf(const path_vertex *v, vec3 wi, rgb *f_cos, real *pdf);
 /* One lobe (GRIS §7.6, a BSDF-sampled vertex evaluates only its lobe): f_l|cos| and the
  * pdf of sampling wi through this lobe INCLUDING the lobe selection, P(l|wo) pdf_l(wi),
  * with the side rule of path_vertex_eval. Returns 1 if both are nonzero; 0 (and zeros)
@@ -108,8 +110,11 @@ typedef struct {
 
 /* Samples a light point for vertex x_i (vertex_index = i) and tests visibility. Returns 1
  * if the contribution is nonzero, 0 otherwise (no light, occluded, back side, f = 0).
- * With c->light_ris > 0 this is light RIS (light_ris.h): pdf_light is then p̃ = 1/W. */
-int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+ * With c->light_ris > 0 this is light RIS (light_ris.h): pdf_light is then p̃ = 1/W.
+ * `path` is the path's base key. It and vertex_sample_bsdf's are passed by address: a
+ * 24-byte key passed by value is copied to the stack on every call of the hot loop, and
+ * reading that copy back stalled the path tracer (docs/performance.md, round 2: 1.09x). */
+int vertex_sample_light(const path_context *c, const path_vertex *v, const rng_key *path, uint32_t vertex_index,
                         nee_sample *out);
 /* The same from explicit numbers u[0..1] (light selection), u[2..3] (point on the light):
  * replay of MCMC-mutated NEE numbers (Mutations §4.2). */
@@ -124,12 +129,19 @@ typedef struct {
     real pdf_all;      /* all-lobe pdf of wi (0 for a Dirac: NEE cannot produce it) */
 } bsdf_bounce;
 
-/* Returns 1 and fills *out, or 0 if the BSDF produced no valid direction. */
-int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index, bsdf_bounce *out);
-/* The same step from explicit numbers (u_lobe picks the lobe, u the direction): random
- * replay and primary-sample-space mutations supply their own numbers. vertex_sample_bsdf
- * is this function with the RNG_BSDF numbers of the path, so both agree bit for bit. */
+/* The BSDF step from explicit numbers (u_lobe picks the lobe, u the direction): random
+ * replay and primary-sample-space mutations supply their own numbers. Returns 1 and fills
+ * *out, or 0 if the BSDF produced no valid direction. */
 int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out);
+/* The same step with the RNG_BSDF numbers of the path, for the path tracer, which needs the
+ * all-lobe pdf only when the bounce reaches an emitter: out->pdf_all is left at -1 and *s
+ * keeps the lobe's sample, from which path_bounce_pdf_all computes it then (for a two-lobe
+ * material that is the other lobe's pdf saved at every other bounce; docs/performance.md,
+ * round 2). With pdf_all filled in so, bit for bit vertex_sample_bsdf_numbers's result. */
+int vertex_sample_bsdf(const path_vertex *v, const rng_key *path, uint32_t vertex_index, bsdf_bounce *out,
+                       bsdf_sample_record *s);
+/* bsdf_bounce.pdf_all of the sample s drawn at v (GRIS §7.6: summed over all lobes). */
+real path_bounce_pdf_all(const path_vertex *v, const bsdf_sample_record *s);
 
 /* ---- MIS (GRIS Eq. 49, balance heuristic) ---- */
 /* p_this / (p_this + p_other); 0 if both are 0. */

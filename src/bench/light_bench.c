@@ -37,7 +37,7 @@ static double ns_per_nee(const path_context *c, const path_vertex *v, int count,
     for (k = 0; k < rounds; ++k)
         for (i = 0; i < count; ++i) {
             nee_sample n;
-            hits += vertex_sample_light(c, &v[i], rng_key_make(7, (uint32_t)i, (uint32_t)k), 1, &n);
+            { rng_key key = rng_key_make(7, (uint32_t)i, (uint32_t)k); hits += vertex_sample_light(c, &v[i], &key, 1, &n); }
         }
     *lit = hits / ((double)rounds * count);
     return 1e9 * (now_seconds() - t0) / ((double)rounds * count);

@@ -11,20 +11,6 @@ static real wrap_angle01(real phi) /* phi in (-pi, pi] -> [0, 1) */
     return u >= 1 ? 0 : u;
 }
 
-vec2 warp_disk_concentric(vec2 u)
-{
-    real a = 2 * u.x - 1, b = 2 * u.y - 1, r, phi;
-    if (a == 0 && b == 0) return v2(0, 0);
-    if (fabs(a) > fabs(b)) {
-        r = a;
-        phi = (PI_R / 4) * (b / a);
-    } else {
-        r = b;
-        phi = PI_R / 2 - (PI_R / 4) * (a / b);
-    }
-    return v2(r * cos(phi), r * sin(phi));
-}
-
 /* Inverse of the concentric map. In the left/right wedges (|x| > |y|) the forward
  * map used r = a, phi = (pi/4) b/a with |phi| < pi/4, so a = sign(x) R and
  * phi = atan(y/x). In the top/bottom wedges r = b, phi = pi/2 - (pi/4) a/b with
@@ -46,13 +32,6 @@ vec2 warp_disk_concentric_inverse(vec2 p)
 }
 
 real warp_disk_pdf(void) { return INV_PI_R; }
-
-vec3 warp_cosine_hemisphere(vec2 u)
-{
-    vec2 d = warp_disk_concentric(u);
-    real z2 = 1 - d.x * d.x - d.y * d.y;
-    return v3(d.x, d.y, z2 > 0 ? sqrt(z2) : 0);
-}
 
 vec2 warp_cosine_hemisphere_inverse(vec3 w) { return warp_disk_concentric_inverse(v2(w.x, w.y)); }
 
@@ -87,13 +66,6 @@ vec2 warp_uniform_cone_inverse(vec3 w, real cos_max)
 }
 
 real warp_uniform_cone_pdf(real cos_max) { return 1 / (2 * PI_R * (1 - cos_max)); }
-
-/* b0 = 1 - sqrt(u1), b1 = u2 sqrt(u1): uniform over the triangle (PBRT 3rd ed. §13.6.5). */
-vec2 warp_uniform_triangle(vec2 u)
-{
-    real s = sqrt(u.x);
-    return v2(1 - s, u.y * s);
-}
 
 vec2 warp_uniform_triangle_inverse(vec2 b)
 {

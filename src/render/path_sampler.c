@@ -56,6 +56,13 @@ real path_vertex_pdf(const path_vertex *v, vec3 wi)
     return bsdf_pdf_given(&v->b, v->wo_local, v->lobe_p, wl, -1, 0);
 }
 
+void path_vertex_eval_pdf(const path_vertex *v, vec3 wi, rgb *f_cos, real *pdf)
+{
+    vec3 wl = shading_frame_to_local(&v->frame, wi);
+    bsdf_eval_pdf_given(&v->b, v->wo_local, v->lobe_p, wl, f_cos, pdf);
+    if (!sides_consistent(v, wi, wl)) *f_cos = rgb_gray(0); /* the pdf ignores the side rule, as path_vertex_pdf */
+}
+
 int path_vertex_eval_lobe(const path_vertex *v, int lobe, vec3 wi, rgb *f_cos, real *pdf)
 {
     const real *p = v->lobe_p;
@@ -70,37 +77,49 @@ int path_vertex_eval_lobe(const path_vertex *v, int lobe, vec3 wi, rgb *f_cos, r
     return *pdf > 0 && !rgb_is_black(*f_cos);
 }
 
-real path_light_pdf(const path_context *c, uint32_t tri, vec3 x, vec3 y, vec3 ny)
+/* The light-pdf ablation scales the estimator's light pdf by 1.05. */
+static real ablated_light_pdf(const path_context *c, real p)
 {
-    real p = light_pdf_solid_angle(c->lights, tri, x, y, ny);
     return (c->ablations & PT_ABLATE_LIGHT_PDF) ? p * (real)1.05 : p;
 }
 
-int vertex_sample_light(const path_context *c, const path_vertex *v, rng_key path, uint32_t vertex_index,
+real path_light_pdf(const path_context *c, uint32_t tri, vec3 x, vec3 y, vec3 ny)
+{
+    return ablated_light_pdf(c, light_pdf_solid_angle(c->lights, tri, x, y, ny));
+}
+
+/* path_light_pdf for NEE's own light sample (vertex_sample_light_numbers). */
+static real nee_light_pdf(const path_context *c, real pdf_area, vec3 d, real dist2, vec3 ny)
+{
+    return ablated_light_pdf(c, pdf_area > 0 ? pdf_area_to_solid_angle_d(pdf_area, d, dist2, ny) : 0);
+}
+
+int vertex_sample_light(const path_context *c, const path_vertex *v, const rng_key *path, uint32_t vertex_index,
                         nee_sample *out)
 {
     real u[4];
-    if (c->light_ris > 0) return light_ris_sample(c, v, path, vertex_index, out);
-    rng_u_slots(path, RNG_NEE, vertex_index, 0, 4, u);
+    if (c->light_ris > 0) return light_ris_sample(c, v, *path, vertex_index, out);
+    rng_u_slots(*path, RNG_NEE, vertex_index, 0, 4, u);
     return vertex_sample_light_numbers(c, v, u, out);
 }
 
 int vertex_sample_light_numbers(const path_context *c, const path_vertex *v, const real u[4], nee_sample *out)
 {
-    vec3 y, d;
-    real dist;
+    vec3 d;
+    real dist2, dist;
     out->contribution = rgb_gray(0);
     out->shadow_ray = 0;
     if (!light_sample_point(c->lights, u, &out->y)) return 0;
-    y = v3_from_f(out->y.position);
-    d = v3_sub(y, v->position);
-    dist = v3_length(d);
+    d = v3_sub(v3_from_f(out->y.position), v->position);
+    dist2 = v3_dot(d, d);
+    dist = (real)sqrt(dist2); /* v3_length(d) */
     if (!(dist > 0)) return 0;
     out->wi = v3_scale(d, 1 / dist);
     out->emitted = light_emitted(out->y.emission, v3_from_f(out->y.normal), v3_neg(out->wi));
-    out->pdf_light = path_light_pdf(c, out->y.triangle, v->position, y, v3_from_f(out->y.normal));
-    out->f_cos = path_vertex_eval(v, out->wi);
-    out->pdf_bsdf = path_vertex_pdf(v, out->wi);
+    /* path_light_pdf(c, triangle, x, y, ny) from what is at hand: the sample's own P(l)/area_l
+     * (light_pdf_area of its triangle) and |y - x|^2; the same bits */
+    out->pdf_light = nee_light_pdf(c, out->y.pdf_area, d, dist2, v3_from_f(out->y.normal));
+    path_vertex_eval_pdf(v, out->wi, &out->f_cos, &out->pdf_bsdf);
     if (rgb_is_black(out->emitted) || rgb_is_black(out->f_cos) || !(out->pdf_light > 0)) return 0;
     out->shadow_ray = 1;
     if (!scene_visible(c->scene, v->hit.position, v->hit.ng, out->y.position, &out->y.normal)) return 0;
@@ -118,26 +137,40 @@ real path_light_pdf_hit(const path_context *c, const path_vertex *from, const pa
     return path_light_pdf(c, tri, from->position, hit->position, hit->ng);
 }
 
-int vertex_sample_bsdf(const path_vertex *v, rng_key path, uint32_t vertex_index, bsdf_bounce *out)
+/* vertex_sample_bsdf_numbers up to the all-lobe pdf (pdf_all = -1); *s is the lobe's sample. */
+static int sample_bsdf(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out, bsdf_sample_record *s)
+{
+    if (!bsdf_sample_given(&v->b, v->wo_local, v->lobe_p, u_lobe, u, s)) return 0;
+    out->wi = shading_frame_to_world(&v->frame, s->wi);
+    if (!sides_consistent(v, out->wi, s->wi)) return 0;
+    out->lobe = s->lobe;
+    out->is_delta = s->is_delta;
+    out->weight = s->weight;
+    out->pdf_lobe = s->lobe_prob * s->pdf;
+    out->pdf_all = -1; /* not computed yet: path_bounce_pdf_all */
+    return 1;
+}
+
+/* GRIS §7.6: the MIS weight of a BSDF-sampled path uses the pdf summed over all lobes
+ * (the sampled lobe's pdf is s.pdf: not evaluated again). */
+real path_bounce_pdf_all(const path_vertex *v, const bsdf_sample_record *s)
+{
+    return s->is_delta ? 0 : bsdf_pdf_given(&v->b, v->wo_local, v->lobe_p, s->wi, s->lobe, s->pdf);
+}
+
+int vertex_sample_bsdf(const path_vertex *v, const rng_key *path, uint32_t vertex_index, bsdf_bounce *out,
+                       bsdf_sample_record *s)
 {
     real u[3];
-    rng_u_slots(path, RNG_BSDF, vertex_index, 0, 3, u);
-    return vertex_sample_bsdf_numbers(v, u[0], v2(u[1], u[2]), out);
+    rng_u_slots(*path, RNG_BSDF, vertex_index, 0, 3, u);
+    return sample_bsdf(v, u[0], v2(u[1], u[2]), out, s);
 }
 
 int vertex_sample_bsdf_numbers(const path_vertex *v, real u_lobe, vec2 u, bsdf_bounce *out)
 {
     bsdf_sample_record s;
-    if (!bsdf_sample_given(&v->b, v->wo_local, v->lobe_p, u_lobe, u, &s)) return 0;
-    out->wi = shading_frame_to_world(&v->frame, s.wi);
-    if (!sides_consistent(v, out->wi, s.wi)) return 0;
-    out->lobe = s.lobe;
-    out->is_delta = s.is_delta;
-    out->weight = s.weight;
-    out->pdf_lobe = s.lobe_prob * s.pdf;
-    /* GRIS §7.6: the MIS weight of a BSDF-sampled path uses the pdf summed over all lobes
-     * (the sampled lobe's pdf is s.pdf: not evaluated again). */
-    out->pdf_all = s.is_delta ? 0 : bsdf_pdf_given(&v->b, v->wo_local, v->lobe_p, s.wi, s.lobe, s.pdf);
+    if (!sample_bsdf(v, u_lobe, u, out, &s)) return 0;
+    out->pdf_all = path_bounce_pdf_all(v, &s);
     return 1;
 }
 

@@ -74,13 +74,14 @@ typedef struct {
     worker_stats *workers;
 } pass_job;
 
-/* The emitter at x_{i+1}, reached by BSDF sampling from x_i, weighted against NEE. */
-static rgb emitter_hit(const pass_job *j, const path_vertex *from, const path_vertex *hit, const bsdf_bounce *b,
-                       rng_key key, int i)
+/* The emitter at x_{i+1}, reached by BSDF sampling (*s) from x_i, weighted against NEE. */
+static rgb emitter_hit(const pass_job *j, const path_vertex *from, const path_vertex *hit, bsdf_bounce *b,
+                       const bsdf_sample_record *s, rng_key key, int i)
 {
     rgb le = path_vertex_emitted(&j->ctx, hit);
     real p_light = 0;
     if (rgb_is_black(le)) return le;
+    b->pdf_all = path_bounce_pdf_all(from, s); /* deferred to here: most bounces reach no emitter */
     if (!b->is_delta && j->ctx.strategy == PT_STRATEGY_MIS)
         p_light = path_light_pdf_hit(&j->ctx, from, hit, key, (uint32_t)i);
     return rgb_scale(le, path_mis_weight_bsdf_hit(&j->ctx, b, p_light));
@@ -118,21 +119,22 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
      * shorter than min_depth are traced (the walk needs them) but not counted. */
     for (i = 1; i < o->max_depth; ++i) {
         bsdf_bounce b;
+        bsdf_sample_record s;
         int counted = i + 1 >= o->min_depth;
         if (counted && j->ctx.strategy != PT_STRATEGY_BSDF && v->can_nee) {
             nee_sample n;
-            int lit = vertex_sample_light(&j->ctx, v, key, (uint32_t)i, &n);
+            int lit = vertex_sample_light(&j->ctx, v, &key, (uint32_t)i, &n);
             *rays += (uint64_t)n.shadow_ray;
             if (lit) L = rgb_add(L, rgb_mul(beta, rgb_scale(n.contribution, path_mis_weight_nee(&j->ctx, n.pdf_light, n.pdf_bsdf))));
         }
-        if (!vertex_sample_bsdf(v, key, (uint32_t)i, &b)) break;
+        if (!vertex_sample_bsdf(v, &key, (uint32_t)i, &b, &s)) break;
         beta = rgb_mul(beta, b.weight);
         if (rgb_is_black(beta) || !roulette_survives(j, key, i, &beta)) break;
         r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
         ++*rays;
         if (!scene_intersect(j->s, &r, &h)) break;
         path_vertex_make(next, j->s, &h, v3_from_f(r.dir));
-        if (counted) L = rgb_add(L, rgb_mul(beta, emitter_hit(j, v, next, &b, key, i)));
+        if (counted) L = rgb_add(L, rgb_mul(beta, emitter_hit(j, v, next, &b, &s, key, i)));
         swap = v; /* x_{i+1} becomes the current vertex without copying it */
         v = next;
         next = swap;

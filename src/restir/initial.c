@@ -71,7 +71,7 @@ static void stream_tree(const restir_context *c, const initial_options *o, const
         real u[3], q;
         if (v->can_nee && !(o->indirect_only && i + 1 < 3)) {
             nee_sample n;
-            if (vertex_sample_light(&c->path, v, key, (uint32_t)i, &n))
+            if (vertex_sample_light(&c->path, v, &key, (uint32_t)i, &n))
                 offer(cs, o, key, sample, i + 1, PATH_TECH_NEE, nee_path_contribution(&c->path, t.beta[i], &n), survival,
                       st);
         }

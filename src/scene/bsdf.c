@@ -279,6 +279,34 @@ real bsdf_pdf_given(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], vec3 w
     return sum;
 }
 
+/* bsdf_eval and bsdf_pdf_given(b, wo, p, wi, -1, 0) of one direction in one pass (an NEE
+ * vertex needs both): one view, and a GGX lobe's m, D(m), G1(wo, m) once (lobe eval_pdf).
+ * The same sums in the same order, so the same bits. */
+void bsdf_eval_pdf_given(const bsdf *b, vec3 wo, const real p[BSDF_MAX_LOBES], vec3 wi, rgb *f_cos, real *pdf)
+{
+    lobe_view v;
+    real flip = make_view(b, wo, &v);
+    vec3 wi_view;
+    int l;
+    *f_cos = rgb_gray(0);
+    *pdf = 0;
+    if (!flip || !valid_direction(wi)) return;
+    wi_view = flip_z(wi, flip);
+    for (l = 0; l < bsdf_lobe_count(b); ++l) {
+        const lobe_ops *ops = ops_of(bsdf_lobe_kind_of(b, l));
+        rgb f;
+        real pdf_l = 0;
+        if (ops->eval_pdf) {
+            ops->eval_pdf(&v, wi_view, &f, p[l] > 0 ? &pdf_l : NULL);
+        } else {
+            f = ops->eval(&v, wi_view);
+            if (p[l] > 0) pdf_l = ops->pdf(&v, wi_view);
+        }
+        *f_cos = rgb_add(*f_cos, f);
+        if (p[l] > 0) *pdf += p[l] * pdf_l;
+    }
+}
+
 int bsdf_sample(const bsdf *b, vec3 wo, real u_lobe, vec2 u, bsdf_sample_record *s)
 {
     real p[BSDF_MAX_LOBES];

@@ -218,7 +218,13 @@ real light_pdf_area(const light_set *ls, uint32_t tri)
 real pdf_area_to_solid_angle(real pdf_area, vec3 x, vec3 y, vec3 ny)
 {
     vec3 d = v3_sub(x, y);
-    real dist2 = v3_dot(d, d), cos_y;
+    return pdf_area_to_solid_angle_d(pdf_area, d, v3_dot(d, d), ny);
+}
+
+/* y - x = -(x - y) exactly, and so are the dot products: the sign of d cannot change a bit. */
+real pdf_area_to_solid_angle_d(real pdf_area, vec3 d, real dist2, vec3 ny)
+{
+    real cos_y;
     if (!(dist2 > 0)) return 0;
     cos_y = fabs(v3_dot(ny, d)) / sqrt(dist2);
     if (!(cos_y > 0)) return 0;
@@ -229,9 +235,4 @@ real light_pdf_solid_angle(const light_set *ls, uint32_t tri, vec3 x, vec3 y, ve
 {
     real pa = light_pdf_area(ls, tri);
     return pa > 0 ? pdf_area_to_solid_angle(pa, x, y, ny) : 0;
-}
-
-rgb light_emitted(rgb emission, vec3 normal, vec3 to_receiver)
-{
-    return v3_dot(normal, to_receiver) > 0 ? emission : rgb_gray(0);
 }
