@@ -685,13 +685,19 @@ static HOT_INLINE int setup_axes(ray_setup *s, const ray *r)
     return 1;
 }
 
+/* The shear of the triangle test; inv_kz = 1 / dir[kz]. */
+static HOT_INLINE void setup_shear(ray_setup *s, float inv_kz)
+{
+    s->sx = s->dir[s->kx] / s->dir[s->kz];
+    s->sy = s->dir[s->ky] / s->dir[s->kz];
+    s->sz = inv_kz;
+}
+
 /* Triangle part of the setup (the scalar test's). Returns 0 as setup_axes. */
 static int setup_triangle_test(ray_setup *s, const ray *r)
 {
     if (!setup_axes(s, r)) return 0;
-    s->sx = s->dir[s->kx] / s->dir[s->kz];
-    s->sy = s->dir[s->ky] / s->dir[s->kz];
-    s->sz = 1.0f / s->dir[s->kz];
+    setup_shear(s, 1.0f / s->dir[s->kz]);
     return 1;
 }
 
@@ -745,9 +751,7 @@ static int setup_traversal(ray_setup *s, const ray *r, const bvh_node *root)
     int i;
     if (!setup_axes(s, r)) return 0;
     for (i = 0; i < 3; ++i) recip[i] = 1.0f / (fabsf(s->dir[i]) > 1e-30f ? s->dir[i] : 1.0f);
-    s->sx = s->dir[s->kx] / s->dir[s->kz];
-    s->sy = s->dir[s->ky] / s->dir[s->kz];
-    s->sz = fabsf(s->dir[s->kz]) > 1e-30f ? recip[s->kz] : 1.0f / s->dir[s->kz];
+    setup_shear(s, fabsf(s->dir[s->kz]) > 1e-30f ? recip[s->kz] : 1.0f / s->dir[s->kz]);
     setup_box_test(s, root, recip);
     return 1;
 }
