@@ -20,7 +20,7 @@
 #   build/native): bit-identical output (-ffp-contract=off still forbids contracting
 #   products into FMAs), faster traversal (docs/performance.md, "BVH traversal").
 #   DEBUG=1 checks the estimator's invariants after every GRIS step and aborts with
-#   file:line on a failure (include/restir/invariant.h; docs/statistics.md).
+#   file:line on a failure (include/restir/core/invariant.h; docs/statistics.md).
 
 PRECISION ?= double
 SANITIZE ?= 0

@@ -209,7 +209,7 @@ col() { awk -v c="$1" '{ print $c }' "$2" | mean_ci "${3:-4}"; }
 # neighbours in radius 20), a still camera, SIZE², --threads 1. Per seed two runs, frame 0 alone
 # and frames 0..RT_FRAMES-1; their difference / (RT_FRAMES - 1) is the cost of one frame with
 # temporal history, without one-time costs (scene load, BVH, the reuse textures). The stage
-# timers of src/restir/pipeline.c are wall clock (CLOCK_MONOTONIC); each run's stage times are
+# timers of src/frame/pipeline.c are wall clock (CLOCK_MONOTONIC); each run's stage times are
 # scaled by the run's CPU time / wall time (under load the other jobs stretch all stages alike
 # on one thread), so the columns are CPU ms per frame; "frame" is the process CPU time per
 # frame and "shade and other" the frame minus the other columns (shading, motion vectors, the

@@ -2,7 +2,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include "chi2.h"
-#include "restir/rng.h"
+#include "restir/core/rng.h"
 
 #define CHI2_PI 3.14159265358979323846
 /* Absolute quadrature tolerance per cell (probability units). The float build's pdf

@@ -16,8 +16,8 @@
 #define RESTIR_TEST_CHI2_H
 
 #include <stdint.h>
-#include "restir/vec.h"
-#include "restir/warp.h"
+#include "restir/core/vec.h"
+#include "restir/core/warp.h"
 
 typedef struct {
     /* The sampler under test: 1 and *w for a valid sample, 0 for a rejection. */

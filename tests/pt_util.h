@@ -4,7 +4,7 @@
 #define RESTIR_TESTS_PT_UTIL_H
 
 #include <stddef.h>
-#include "restir/scene.h"
+#include "restir/scene/scene.h"
 
 /* Upper tail P(X >= x) of a chi-square variable with `dof` degrees of freedom. */
 double chi2_upper_tail(double x, double dof);

@@ -3,9 +3,9 @@
 #include "restir_util.h"
 
 #include <string.h>
-#include "restir/camera.h"
-#include "restir/gbuffer.h"
-#include "restir/generate_rooms.h"
+#include "restir/render/camera.h"
+#include "restir/render/gbuffer.h"
+#include "restir/scene/generate_rooms.h"
 #include "test.h"
 
 int rt_load_scene(const char *path, int res, scene *s)

@@ -3,10 +3,10 @@
 #ifndef RESTIR_TESTS_RESTIR_UTIL_H
 #define RESTIR_TESTS_RESTIR_UTIL_H
 
-#include "restir/check.h"
-#include "restir/pt.h"
-#include "restir/restir.h"
-#include "restir/shift.h"
+#include "restir/metrics/check.h"
+#include "restir/render/pt.h"
+#include "restir/frame/restir.h"
+#include "restir/restir/shift.h"
 
 /* The name rt_load_scene takes for the generated mirror corridor (generate_corridor). */
 #define RT_CORRIDOR "generated:corridor"

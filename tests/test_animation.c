@@ -1,12 +1,12 @@
-/* Rigid per-object animation (restir/animation.h): the `animate` directive, keyframe
+/* Rigid per-object animation (restir/scene/animation.h): the `animate` directive, keyframe
  * interpolation (translation linear, rotation slerp = linear angle about one axis,
  * clamping), posing the scene, vertices shared with a static object, deep copies, frame
  * ranges and every load error with its file:line. */
 #include <stdio.h>
 #include <string.h>
-#include "restir/animation.h"
-#include "restir/generate_rooms.h"
-#include "restir/scene.h"
+#include "restir/scene/animation.h"
+#include "restir/scene/generate_rooms.h"
+#include "restir/scene/scene.h"
 #include "test.h"
 
 /* Two unit squares sharing an edge: "left" (x in [0,1]) and "right" (x in [1,2]), both in

@@ -2,9 +2,9 @@
  * sampling, pdf = 1/|Jacobian| of the sampler, delta lobes (docs/materials.md).
  * The chi-square tests of sampler vs pdf are in test_chi2.c. */
 #include <stdio.h>
-#include "restir/bsdf.h"
-#include "restir/microfacet.h"
-#include "restir/rng.h"
+#include "restir/scene/bsdf.h"
+#include "restir/scene/microfacet.h"
+#include "restir/core/rng.h"
 #include "test.h"
 
 #define IS_DOUBLE (sizeof(real) == 8)

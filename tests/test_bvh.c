@@ -8,11 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include "restir/bvh.h"
-#include "restir/generate.h"
-#include "restir/rng.h"
-#include "restir/scene.h"
-#include "restir/warp.h"
+#include "restir/scene/bvh.h"
+#include "restir/scene/generate.h"
+#include "restir/core/rng.h"
+#include "restir/scene/scene.h"
+#include "restir/core/warp.h"
 #include "test.h"
 
 /* ------------------------------------------------------------------------------- */

@@ -7,9 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "restir/check.h"
-#include "restir/moments.h"
-#include "restir/rng.h"
+#include "restir/metrics/check.h"
+#include "restir/metrics/moments.h"
+#include "restir/core/rng.h"
 #include "test.h"
 
 /* ---- synthetic correlated renders ---- */

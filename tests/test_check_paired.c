@@ -7,9 +7,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/check.h"
-#include "restir/image.h"
-#include "restir/rng.h"
+#include "restir/metrics/check.h"
+#include "restir/core/image.h"
+#include "restir/core/rng.h"
 #include "test.h"
 
 enum { PW = 16, PH = 16, PBLOCK = 4 };

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <time.h>
 #include "chi2.h"
-#include "restir/bsdf.h"
-#include "restir/microfacet.h"
+#include "restir/scene/bsdf.h"
+#include "restir/scene/microfacet.h"
 #include "test.h"
 
 #define CHI2_FAMILY_ALPHA 0.01

@@ -3,9 +3,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/animation.h"
-#include "restir/gbuffer.h"
-#include "restir/image.h"
+#include "restir/scene/animation.h"
+#include "restir/render/gbuffer.h"
+#include "restir/core/image.h"
 #include "test.h"
 
 static char out[65536];

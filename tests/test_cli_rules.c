@@ -6,8 +6,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "../src/cli/output.h"
-#include "restir/aov.h"
-#include "restir/image.h"
+#include "restir/render/aov.h"
+#include "restir/core/image.h"
 #include "test.h"
 
 #define SCENE "scenes/cornell.scene --size 24x20 --threads 2"

@@ -1,7 +1,7 @@
-/* The reconnection criterion (include/restir/connectability.h): GRIS §7.6 lobe-specific
+/* The reconnection criterion (include/restir/restir/connectability.h): GRIS §7.6 lobe-specific
  * roughness, the distance condition of GRIS §7.5, and the index each shift stores. */
 #include <string.h>
-#include "restir/connectability.h"
+#include "restir/restir/connectability.h"
 #include "test.h"
 
 static bsdf make_bsdf(enum material_type type, real roughness)

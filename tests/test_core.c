@@ -1,10 +1,10 @@
 /* Core: addressed RNG, sampling warps and their inverses, atomic files, threads. */
 #include <stdio.h>
 #include <string.h>
-#include "restir/atomic_file.h"
-#include "restir/rng.h"
-#include "restir/threads.h"
-#include "restir/warp.h"
+#include "restir/core/atomic_file.h"
+#include "restir/core/rng.h"
+#include "restir/core/threads.h"
+#include "restir/core/warp.h"
 #include "test.h"
 
 /* Bit-exact vectors: a GPU port of docs/rng.md must reproduce these. */

@@ -8,12 +8,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/animation.h"
-#include "restir/bias_runs.h"
-#include "restir/boiling_filter.h"
-#include "restir/duplication.h"
-#include "restir/gbuffer.h"
-#include "restir/restir.h"
+#include "restir/scene/animation.h"
+#include "restir/metrics/bias_runs.h"
+#include "restir/restir/boiling_filter.h"
+#include "restir/restir/duplication.h"
+#include "restir/render/gbuffer.h"
+#include "restir/frame/restir.h"
 #include "restir_util.h"
 #include "test.h"
 

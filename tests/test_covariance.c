@@ -6,9 +6,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/covariance.h"
-#include "restir/rng.h"
-#include "restir/stats.h"
+#include "restir/metrics/covariance.h"
+#include "restir/core/rng.h"
+#include "restir/metrics/stats.h"
 #include "test.h"
 
 static double gauss(uint32_t seed, uint32_t pixel, uint32_t sample)

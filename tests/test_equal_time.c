@@ -1,12 +1,12 @@
-/* The equal-time harness (include/restir/equal_time.h, docs/equal-time.md): the record
+/* The equal-time harness (include/restir/bench/equal_time.h, docs/equal-time.md): the record
  * schedule and running mean with a synthetic method, time-to-target interpolation and
  * extrapolation on exact power laws, and the path tracer on the Cornell box (errors fall
  * with time, CSV/table/SVG written, `restir plot` reads the CSV). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include "restir/equal_time.h"
-#include "restir/plot.h"
+#include "restir/bench/equal_time.h"
+#include "restir/metrics/plot.h"
 #include "test.h"
 
 static char out[8192];

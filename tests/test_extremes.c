@@ -27,10 +27,10 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include "pt_util.h"
-#include "restir/mis.h"
-#include "restir/stats.h"
-#include "restir/stochastic_mis.h"
-#include "restir/text.h"
+#include "restir/restir/mis.h"
+#include "restir/metrics/stats.h"
+#include "restir/restir/stochastic_mis.h"
+#include "restir/scene/text.h"
 #include "restir_util.h"
 #include "test.h"
 

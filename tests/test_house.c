@@ -145,7 +145,7 @@ TEST(house_layers)
     int bad;
     interface_headers(&forbidden, "src/bench");
     interface_headers(&forbidden, "src/metrics");
-    CHECKF(forbidden.count >= 8 && list_has(&forbidden, "include/restir/metrics.h"),
+    CHECKF(forbidden.count >= 8 && list_has(&forbidden, "include/restir/metrics/metrics.h"),
            "house_layers: found only %d bench/metrics headers (is the suite running from the repository root?)",
            forbidden.count);
     bad = layer_violation(algorithms, 2, &forbidden, why, sizeof why);
@@ -171,7 +171,7 @@ TEST(house_layers_detects_a_violation)
     CHECK(system("mkdir -p " RESTIR_TMP "/house-layer") == 0);
     f = fopen(RESTIR_TMP "/house-layer/planted.h", "w");
     CHECK(f != NULL);
-    fputs("#include \"restir/reservoir.h\"\n#include \"restir/stats.h\"\n", f);
+    fputs("#include \"restir/restir/reservoir.h\"\n#include \"restir/metrics/stats.h\"\n", f);
     fclose(f);
     f = fopen(RESTIR_TMP "/house-layer/planted.c", "w");
     CHECK(f != NULL);
@@ -179,7 +179,7 @@ TEST(house_layers_detects_a_violation)
     fclose(f);
     bad = layer_violation(planted, 1, &forbidden, why, sizeof why);
     free(forbidden.name);
-    CHECKF(bad && strstr(why, "include/restir/stats.h"), "planted include not found (%s)", bad ? why : "-");
+    CHECKF(bad && strstr(why, "include/restir/metrics/stats.h"), "planted include not found (%s)", bad ? why : "-");
 }
 
 /* ---- house_equations_cited ---- */

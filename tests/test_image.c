@@ -3,8 +3,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/checksum.h"
-#include "restir/image.h"
+#include "restir/core/checksum.h"
+#include "restir/core/image.h"
 #include "test.h"
 
 #define SHARED_PFM "../shared/data/pfm"

@@ -1,4 +1,4 @@
-/* Light RIS for NEE (Enhanced §6.1; include/restir/light_ris.h, docs/enhanced.md §6): the
+/* Light RIS for NEE (Enhanced §6.1; include/restir/render/light_ris.h, docs/enhanced.md §6): the
  * path tracer with light RIS (with and without light tiles) estimates the plain path
  * tracer's image; one candidate is the plain sampler bit for bit up to rounding; the
  * wrong light pdf in the BSDF side's MIS weight (--ablate light-ris-pdf) is rejected. */
@@ -6,9 +6,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/check.h"
-#include "restir/light_ris.h"
-#include "restir/pt.h"
+#include "restir/metrics/check.h"
+#include "restir/render/light_ris.h"
+#include "restir/render/pt.h"
 #include "restir_util.h"
 #include "test.h"
 

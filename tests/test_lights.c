@@ -1,9 +1,9 @@
 /* Lights: alias table, power-proportional selection, uniform area sampling and the
- * solid-angle pdf (include/restir/lights.h). */
+ * solid-angle pdf (include/restir/scene/lights.h). */
 #include <stdlib.h>
 #include <string.h>
-#include "restir/lights.h"
-#include "restir/rng.h"
+#include "restir/scene/lights.h"
+#include "restir/core/rng.h"
 #include "pt_util.h"
 #include "test.h"
 

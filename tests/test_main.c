@@ -9,7 +9,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
-#include "restir/stats.h"
+#include "restir/metrics/stats.h"
 #include "test.h"
 
 #define X(name, is_long) void test_##name(void);

@@ -13,9 +13,9 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
-#include "restir/checksum.h"
-#include "restir/restir.h"
-#include "restir/reservoir.h"
+#include "restir/core/checksum.h"
+#include "restir/frame/restir.h"
+#include "restir/restir/reservoir.h"
 #include "test.h"
 
 /* CRC-32 of the files' bytes, concatenated in the order given (space-separated names

@@ -3,11 +3,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/colormap.h"
-#include "restir/error_map.h"
-#include "restir/flip.h"
-#include "restir/metrics.h"
-#include "restir/rng.h"
+#include "restir/metrics/colormap.h"
+#include "restir/metrics/error_map.h"
+#include "restir/metrics/flip.h"
+#include "restir/metrics/metrics.h"
+#include "restir/core/rng.h"
 #include "test.h"
 
 static void set_px(image *img, int x, int y, float r, float g, float b)

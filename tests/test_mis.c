@@ -1,12 +1,12 @@
-/* Resampling MIS weights (include/restir/mis.h, docs/mis-derivations.md): partition of
+/* Resampling MIS weights (include/restir/restir/mis.h, docs/mis-derivations.md): partition of
  * unity on random inputs with failed shifts, zero targets and random confidences; the
  * paper's literal formulas for unit confidences; closed forms for M = 2; the weight bound
  * behind GRIS Eq. 39; shift counts. The unbiasedness evidence is tests/test_mis_toy.c. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include "restir/mis.h"
-#include "restir/rng.h"
+#include "restir/restir/mis.h"
+#include "restir/core/rng.h"
 #include "test.h"
 
 #define MAX_M 8

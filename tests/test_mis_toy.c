@@ -22,8 +22,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/mis.h"
-#include "restir/reservoir.h"
+#include "restir/restir/mis.h"
+#include "restir/restir/reservoir.h"
 #include "test.h"
 
 #define TOY_K 3          /* RIS candidates per domain sample */

@@ -4,8 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/animation.h"
-#include "restir/gbuffer.h"
+#include "restir/scene/animation.h"
+#include "restir/render/gbuffer.h"
 #include "test.h"
 
 /* A wall at z = -5 (object "wall"), a 1 x 1 square at z = -2 (object "card", both facing

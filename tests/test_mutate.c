@@ -17,9 +17,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/lights.h"
-#include "restir/mutate.h"
-#include "restir/shift.h"
+#include "restir/scene/lights.h"
+#include "restir/restir/mutate.h"
+#include "restir/restir/shift.h"
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"

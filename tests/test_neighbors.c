@@ -1,4 +1,4 @@
-/* Spatial neighbour selection (include/restir/neighbors.h, docs/spatial-reuse.md):
+/* Spatial neighbour selection (include/restir/restir/neighbors.h, docs/spatial-reuse.md):
  * uniformity over the disk (rings x sectors of the continuous points, and the exact
  * per-pixel probabilities of the rounded offsets), the low-discrepancy spread of the r2
  * pattern, determinism, never the centre or outside, and the symmetry of the
@@ -6,8 +6,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/camera.h"
-#include "restir/neighbors.h"
+#include "restir/render/camera.h"
+#include "restir/restir/neighbors.h"
 #include "pt_util.h"
 #include "test.h"
 

@@ -5,12 +5,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include "restir/progress.h"
-#include "restir/rng.h"
-#include "restir/scene.h"
-#include "restir/scene_builder.h"
-#include "restir/text.h"
-#include "restir/triangulate.h"
+#include "restir/core/progress.h"
+#include "restir/core/rng.h"
+#include "restir/scene/scene.h"
+#include "restir/scene/scene_builder.h"
+#include "restir/scene/text.h"
+#include "restir/scene/triangulate.h"
 #include "test.h"
 
 /* Writes the file and loads it; returns scene_load's status (e filled on failure). */

@@ -7,8 +7,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/dump_diff.h"
-#include "restir/stage_dump.h"
+#include "restir/oracle/dump_diff.h"
+#include "restir/oracle/stage_dump.h"
 #include "test.h"
 
 static char out[262144];

@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/vectors.h"
+#include "restir/oracle/vectors.h"
 #include "test.h"
 
 static char out[65536];
@@ -164,7 +164,7 @@ TEST(oracle_vectors_cover_equations)
     fclose(fp);
     CHECKF(!missing[0],
            "rows of docs/equations.md that compute something but have no golden vector:%s\n  add cases tagged "
-           "with the row (e.g. \"GRIS 19\") in src/restir/vectors.c, then `restir vectors -o tests/vectors`, or list "
+           "with the row (e.g. \"GRIS 19\") in src/oracle/vectors.c, then `restir vectors -o tests/vectors`, or list "
            "the row with a reason under \"Rows without vectors\" in docs/oracle.md",
            missing);
     CHECKF(computing >= 30 && covered >= 25, "parsed %d computing rows, %d covered: has the table format changed?",

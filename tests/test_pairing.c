@@ -1,4 +1,4 @@
-/* Reuse textures for paired spatial reuse (include/restir/pairing.h; Enhanced §3.1-3.2):
+/* Reuse textures for paired spatial reuse (include/restir/restir/pairing.h; Enhanced §3.1-3.2):
  *   - every texel has exactly one partner and partner(partner(t)) = t (on the torus, and
  *     on the screen under every per-frame flip/mirror/transpose/offset);
  *   - the offsets stay within the tile (|dx|, |dy| <= w/2) and are never (0, 0);
@@ -9,7 +9,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include "restir/pairing.h"
+#include "restir/restir/pairing.h"
 #include "test.h"
 
 TEST(pairing_shuffle_count_eq3)

@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/plot.h"
+#include "restir/metrics/plot.h"
 #include "test.h"
 
 /* ---- a minimal XML well-formedness checker ---- */

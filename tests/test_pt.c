@@ -4,9 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "restir/bench.h"
-#include "restir/check.h"
-#include "restir/pt.h"
+#include "restir/bench/bench.h"
+#include "restir/metrics/check.h"
+#include "restir/render/pt.h"
 #include "pt_util.h"
 #include "test.h"
 

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/image.h"
+#include "restir/core/image.h"
 #include "test.h"
 
 #define PT_ARGS "render scenes/cornell.scene --method pt --size 24x20 --threads 2 --quiet --no-png --max-depth 6"

@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/reservoir.h"
+#include "restir/restir/reservoir.h"
 #include "test.h"
 
 static path_sample tagged_sample(uint32_t tag, real target)

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/reservoir_dump.h"
+#include "restir/restir/reservoir_dump.h"
 #include "test.h"
 
 static real dump_urand(rng_key key, uint32_t *n)

@@ -14,8 +14,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/json_text.h"
-#include "restir/stats.h"
+#include "restir/core/json_text.h"
+#include "restir/metrics/stats.h"
 #include "restir_util.h"
 #include "test.h"
 

@@ -20,7 +20,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/stochastic_spatial.h"
+#include "restir/restir/stochastic_spatial.h"
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"

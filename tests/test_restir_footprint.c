@@ -8,7 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/footprint.h"
+#include "restir/restir/footprint.h"
 #include "restir_util.h"
 #include "test.h"
 

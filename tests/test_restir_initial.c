@@ -1,4 +1,4 @@
-/* ReSTIR PT initial resampling (include/restir/initial.h): with one path tree it is the
+/* ReSTIR PT initial resampling (include/restir/restir/initial.h): with one path tree it is the
  * reference path tracer's tree (the luminance of F(Y) W_Y equals the path tracer's
  * sample, pixel by pixel), and with N trees it is an unbiased estimator of the same image
  * (K-run statistics of `restir check`). */

@@ -8,9 +8,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/light_ris.h"
-#include "restir/path_replay.h"
-#include "restir/reconnection.h"
+#include "restir/render/light_ris.h"
+#include "restir/restir/path_replay.h"
+#include "restir/restir/reconnection.h"
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"

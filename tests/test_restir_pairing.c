@@ -144,7 +144,7 @@ TEST_LONG(restir_pairing_unbiased_matrix_long)
     }
 }
 
-/* ---- the pair step (Enhanced §3; src/restir/pair_step.c) -------------------------------- */
+/* ---- the pair step (Enhanced §3; src/frame/pair_step.c) -------------------------------- */
 
 static int render_paired(const scene *s, const restir_options *o, restir_result *r)
 {

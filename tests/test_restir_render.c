@@ -5,8 +5,8 @@
 #include <math.h>
 #include <string.h>
 #include "../src/cli/render_restir.h"
-#include "restir/json_text.h"
-#include "restir/reservoir_dump.h"
+#include "restir/core/json_text.h"
+#include "restir/restir/reservoir_dump.h"
 #include "restir_util.h"
 #include "test.h"
 

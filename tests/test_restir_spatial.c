@@ -11,7 +11,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/json_text.h"
+#include "restir/core/json_text.h"
 #include "restir_util.h"
 #include "test.h"
 

@@ -10,9 +10,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/animation.h"
-#include "restir/camera.h"
-#include "restir/gbuffer.h"
+#include "restir/scene/animation.h"
+#include "restir/render/camera.h"
+#include "restir/render/gbuffer.h"
 #include "restir_util.h"
 #include "test.h"
 

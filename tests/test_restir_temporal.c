@@ -16,9 +16,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/animation.h"
-#include "restir/json_text.h"
-#include "restir/metrics.h"
+#include "restir/scene/animation.h"
+#include "restir/core/json_text.h"
+#include "restir/metrics/metrics.h"
 #include "restir_util.h"
 #include "test.h"
 

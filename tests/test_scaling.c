@@ -4,8 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/duplication.h"
-#include "restir/threads.h"
+#include "restir/restir/duplication.h"
+#include "restir/core/threads.h"
 #include "test.h"
 
 /* The duplicate count of Enhanced §5 step 1 straight from its definition. */

@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include "restir/camera.h"
-#include "restir/scene.h"
+#include "restir/render/camera.h"
+#include "restir/scene/scene.h"
 #include "test.h"
 
 static const char *tiny_obj = "mtllib tiny.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"

@@ -1,4 +1,4 @@
-/* The generated scenes (include/restir/generate_rooms.h, docs/scenes.md): the shipped
+/* The generated scenes (include/restir/scene/generate_rooms.h, docs/scenes.md): the shipped
  * files are the generator's output, every solid is closed with outward faces, no two
  * faces of different objects overlap in one plane, the emitters face where they should,
  * the closed door seals the dark room (no ray, no path gets through) and the open door
@@ -6,10 +6,10 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/generate.h"
-#include "restir/generate_rooms.h"
-#include "restir/image.h"
-#include "restir/pt.h"
+#include "restir/scene/generate.h"
+#include "restir/scene/generate_rooms.h"
+#include "restir/core/image.h"
+#include "restir/render/pt.h"
 #include "test.h"
 
 static char out[8192];

@@ -1,4 +1,4 @@
-/* Shift mappings (include/restir/shift.h) on random paths of the Cornell scenes, the glass
+/* Shift mappings (include/restir/restir/shift.h) on random paths of the Cornell scenes, the glass
  * room (delta lobes) and the mirror corridor (long replayed prefixes, late reconnection,
  * rough transmission):
  *   - T to the own pixel is the identity with J = 1 (exactly: the source terms are

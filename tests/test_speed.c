@@ -9,10 +9,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/bvh.h"
-#include "restir/generate.h"
-#include "restir/scene.h"
-#include "restir/vec.h"
+#include "restir/scene/bvh.h"
+#include "restir/scene/generate.h"
+#include "restir/scene/scene.h"
+#include "restir/core/vec.h"
 #include "test.h"
 
 /* FNV-1a, 64 bits, of a file's bytes; 0 if it cannot be read. */

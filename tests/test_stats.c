@@ -3,8 +3,8 @@
  * otherwise computed with mpmath 1.3 at 50 significant digits (betainc, ncdf, erfinv). */
 #include <math.h>
 #include <stdlib.h>
-#include "restir/rng.h"
-#include "restir/stats.h"
+#include "restir/core/rng.h"
+#include "restir/metrics/stats.h"
 #include "test.h"
 
 /* |a - b| <= rel * |b| */

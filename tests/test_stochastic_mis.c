@@ -11,10 +11,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/mis.h"
-#include "restir/rng.h"
-#include "restir/stats.h"
-#include "restir/stochastic_mis.h"
+#include "restir/restir/mis.h"
+#include "restir/core/rng.h"
+#include "restir/metrics/stats.h"
+#include "restir/restir/stochastic_mis.h"
 #include "test.h"
 
 #define MAXM 8

@@ -1,14 +1,14 @@
 /* Ray-throughput benchmark: primary, diffuse secondary and shadow rays. */
-#include "restir/bench.h"
+#include "restir/bench/bench.h"
 
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include "restir/camera.h"
-#include "restir/json_text.h"
-#include "restir/rng.h"
-#include "restir/threads.h"
-#include "restir/warp.h"
+#include "restir/render/camera.h"
+#include "restir/core/json_text.h"
+#include "restir/core/rng.h"
+#include "restir/core/threads.h"
+#include "restir/core/warp.h"
 
 void bench_rays_default_options(bench_rays_options *o)
 {

@@ -1,14 +1,14 @@
 /* The equal-time harness (see equal_time.h and docs/equal-time.md). */
-#include "restir/equal_time.h"
+#include "restir/bench/equal_time.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/atomic_file.h"
-#include "restir/metrics.h"
-#include "restir/plot.h"
-#include "restir/progress.h"
+#include "restir/core/atomic_file.h"
+#include "restir/metrics/metrics.h"
+#include "restir/metrics/plot.h"
+#include "restir/core/progress.h"
 
 void equal_time_options_default(equal_time_options *o)
 {

@@ -1,12 +1,12 @@
-/* The cost of light selection for NEE, plain vs light RIS (include/restir/light_bench.h;
+/* The cost of light selection for NEE, plain vs light RIS (include/restir/bench/light_bench.h;
  * docs/enhanced.md §6, docs/cli.md "bench"). */
-#include "restir/light_bench.h"
+#include "restir/bench/light_bench.h"
 
 #include <stdlib.h>
-#include "restir/camera.h"
-#include "restir/gbuffer.h"
-#include "restir/light_ris.h"
-#include "restir/progress.h"
+#include "restir/render/camera.h"
+#include "restir/render/gbuffer.h"
+#include "restir/render/light_ris.h"
+#include "restir/core/progress.h"
 
 /* The primary hits of a 64 × 64 grid of the scene's camera (pixel centres). */
 static int primary_vertices(const scene *s, path_vertex **out, rerror *e)

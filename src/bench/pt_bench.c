@@ -1,9 +1,9 @@
-/* Path-tracer benchmark: samples/s and rays/s as one JSON object (restir/bench.h). */
-#include "restir/bench.h"
-#include "restir/pt.h"
+/* Path-tracer benchmark: samples/s and rays/s as one JSON object (restir/bench/bench.h). */
+#include "restir/bench/bench.h"
+#include "restir/render/pt.h"
 
 #include <string.h>
-#include "restir/json_text.h"
+#include "restir/core/json_text.h"
 
 int bench_pt(FILE *out, const scene *s, const char *name, uint32_t spp, int threads, rerror *e)
 {

@@ -1,10 +1,10 @@
 /* Offline ReSTIR PT in the benchmark and the equal-time harness (restir_bench.h). */
-#include "restir/restir_bench.h"
+#include "restir/bench/restir_bench.h"
 
 #include <math.h>
 #include <string.h>
-#include "restir/gbuffer.h"
-#include "restir/reservoir_dump.h"
+#include "restir/render/gbuffer.h"
+#include "restir/restir/reservoir_dump.h"
 
 static int restir_units(void *ctx, uint32_t first, uint32_t count, int width, int height, double *sum, rerror *e)
 {

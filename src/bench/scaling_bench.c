@@ -1,12 +1,12 @@
 /* Thread scaling of the real-time pipeline: 1 vs T threads, alternately (scaling_bench.h). */
-#include "restir/scaling_bench.h"
+#include "restir/bench/scaling_bench.h"
 
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include "restir/progress.h"
-#include "restir/threads.h"
+#include "restir/core/progress.h"
+#include "restir/core/threads.h"
 
 #define SCALING_MAX_ROUNDS 64
 

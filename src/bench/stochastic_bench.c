@@ -1,12 +1,12 @@
-/* `restir bench stochastic` (include/restir/stochastic_bench.h). */
-#include "restir/stochastic_bench.h"
+/* `restir bench stochastic` (include/restir/bench/stochastic_bench.h). */
+#include "restir/bench/stochastic_bench.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include "restir/camera.h"
-#include "restir/gbuffer.h"
-#include "restir/progress.h"
-#include "restir/reuse_cells.h"
+#include "restir/render/camera.h"
+#include "restir/render/gbuffer.h"
+#include "restir/core/progress.h"
+#include "restir/restir/reuse_cells.h"
 
 static void separator(FILE *out, int *first)
 {

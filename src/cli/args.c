@@ -6,7 +6,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/image.h"
+#include "restir/core/image.h"
 
 static int parse_number(const char *text, double *out)
 {

@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 #include <stdio.h>
-#include "restir/vec.h"
+#include "restir/core/vec.h"
 
 enum cli_option_type {
     OPT_FLAG,   /* int, set to 1 */

@@ -1,16 +1,16 @@
 /* restir compare --bias RUN.pfm... --ref REF.pfm: the bias of K independent renders
  * against a reference, as Enhanced §5 reports it (mean(|bias| / ref)), with intervals and
- * the noise floor of an unbiased estimator (include/restir/bias_runs.h; docs/cli.md).
+ * the noise floor of an unbiased estimator (include/restir/metrics/bias_runs.h; docs/cli.md).
  * `restir compare` hands its whole argument list here when --bias is present. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/atomic_file.h"
-#include "restir/bias_runs.h"
-#include "restir/image.h"
-#include "restir/vec.h"
+#include "restir/core/atomic_file.h"
+#include "restir/metrics/bias_runs.h"
+#include "restir/core/image.h"
+#include "restir/core/vec.h"
 
 static const char usage[] =
     "usage: restir compare --bias RUN.pfm... --ref REF.pfm [options]\n"

@@ -6,12 +6,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/atomic_file.h"
-#include "restir/check.h"
-#include "restir/image.h"
-#include "restir/json_text.h"
-#include "restir/moments.h"
-#include "restir/output_set.h"
+#include "restir/core/atomic_file.h"
+#include "restir/metrics/check.h"
+#include "restir/core/image.h"
+#include "restir/core/json_text.h"
+#include "restir/metrics/moments.h"
+#include "restir/metrics/output_set.h"
 #include "args.h"
 
 #define MAX_INPUTS 4096

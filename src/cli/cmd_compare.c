@@ -5,12 +5,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/atomic_file.h"
-#include "restir/error_map.h"
-#include "restir/flip.h"
-#include "restir/image.h"
-#include "restir/json_text.h"
-#include "restir/metrics.h"
+#include "restir/core/atomic_file.h"
+#include "restir/metrics/error_map.h"
+#include "restir/metrics/flip.h"
+#include "restir/core/image.h"
+#include "restir/core/json_text.h"
+#include "restir/metrics/metrics.h"
 #include "args.h"
 
 /* What the option table cannot say (printed after it by --help). */

@@ -5,11 +5,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/atomic_file.h"
-#include "restir/covariance.h"
-#include "restir/image.h"
-#include "restir/json_text.h"
-#include "restir/output_set.h"
+#include "restir/core/atomic_file.h"
+#include "restir/metrics/covariance.h"
+#include "restir/core/image.h"
+#include "restir/core/json_text.h"
+#include "restir/metrics/output_set.h"
 #include "args.h"
 
 /* What the option table cannot say (printed after it by --help). */

@@ -7,9 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include "args.h"
-#include "restir/dump_diff.h"
-#include "restir/json_text.h"
-#include "restir/stage_dump.h"
+#include "restir/oracle/dump_diff.h"
+#include "restir/core/json_text.h"
+#include "restir/oracle/stage_dump.h"
 
 typedef struct {
     const char *a, *b;

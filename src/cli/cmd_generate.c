@@ -3,9 +3,9 @@
 #include <stdio.h>
 #include <string.h>
 #include "args.h"
-#include "restir/cli.h"
-#include "restir/generate.h"
-#include "restir/generate_rooms.h"
+#include "restir/cli/cli.h"
+#include "restir/scene/generate.h"
+#include "restir/scene/generate_rooms.h"
 
 typedef struct {
     const char *output;

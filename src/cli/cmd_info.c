@@ -2,7 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "args.h"
-#include "restir/animation.h"
+#include "restir/scene/animation.h"
 #include "scene_args.h"
 
 static void print_materials(const scene *s)

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "args.h"
-#include "restir/animation.h"
+#include "restir/scene/animation.h"
 #include "render_restir.h"
 #include "scene_args.h"
 

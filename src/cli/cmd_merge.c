@@ -7,7 +7,7 @@
 #include <string.h>
 #include "args.h"
 #include "output.h"
-#include "restir/pt.h"
+#include "restir/render/pt.h"
 
 #define MERGE_MAX_INPUTS 4096
 

@@ -2,7 +2,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/plot.h"
+#include "restir/metrics/plot.h"
 #include "args.h"
 
 /* What the option table cannot say (printed after it by --help). */

@@ -6,16 +6,16 @@
 #include <string.h>
 #include "args.h"
 #include "output.h"
-#include "restir/animation.h"
-#include "restir/aov.h"
-#include "restir/atomic_file.h"
-#include "restir/camera.h"
-#include "restir/duplication.h"
-#include "restir/gbuffer.h"
-#include "restir/moments.h"
-#include "restir/progress.h"
-#include "restir/stage_dump.h"
-#include "restir/threads.h"
+#include "restir/scene/animation.h"
+#include "restir/render/aov.h"
+#include "restir/core/atomic_file.h"
+#include "restir/render/camera.h"
+#include "restir/restir/duplication.h"
+#include "restir/render/gbuffer.h"
+#include "restir/metrics/moments.h"
+#include "restir/core/progress.h"
+#include "restir/oracle/stage_dump.h"
+#include "restir/core/threads.h"
 #include "render_pt.h"
 #include "render_restir.h"
 #include "scene_args.h"
@@ -59,6 +59,7 @@ typedef struct {
     /* the golden-oracle kit (stage_dump.h): --dump-dir, --dump-stages, --from-dump, --from-stage */
     const char *dump_stages, *from_stage;
     stage_io sio;
+    frame_stage_hook hook; /* sio as the frame's stage listener */
 } render_args;
 
 typedef struct {
@@ -436,7 +437,8 @@ static int apply_stage_options(render_args *a)
         }
         strcpy(a->sio.from_stage, a->from_stage);
     }
-    a->seq.stages = &a->sio;
+    stage_io_hook(&a->sio, &a->hook);
+    a->seq.stages = &a->hook;
     return 0;
 }
 

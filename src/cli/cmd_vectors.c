@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "args.h"
-#include "restir/vectors.h"
+#include "restir/oracle/vectors.h"
 
 int cmd_vectors(int argc, char **argv)
 {

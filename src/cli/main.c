@@ -1,7 +1,7 @@
 /* restir: dispatch `restir <command> [options]` to the command's own parser. */
 #include <stdio.h>
 #include <string.h>
-#include "restir/cli.h"
+#include "restir/cli/cli.h"
 
 int cmd_help(int argc, char **argv);
 int cmd_render(int argc, char **argv);

@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/duplication.h"
+#include "restir/restir/duplication.h"
 #include <sys/stat.h>
 #include <unistd.h>
 

@@ -2,7 +2,7 @@
 #ifndef RESTIR_CLI_OUTPUT_H
 #define RESTIR_CLI_OUTPUT_H
 
-#include "restir/image.h"
+#include "restir/core/image.h"
 
 /* Default output path "out/<scene stem>.pfm" into buf. */
 void default_output_path(char *buf, size_t size, const char *scene_path, const char *suffix);

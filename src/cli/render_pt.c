@@ -5,8 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/image.h"
-#include "restir/light_ris.h"
+#include "restir/core/image.h"
+#include "restir/render/light_ris.h"
 #include "stop.h"
 
 /* --ablate for the path tracer: "none" or one of pt_ablation_names (one bit each). */

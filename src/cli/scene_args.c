@@ -2,7 +2,7 @@
 #include "scene_args.h"
 
 #include <stdio.h>
-#include "restir/progress.h"
+#include "restir/core/progress.h"
 
 int scene_override_options(cli_option *rows, scene_overrides *o)
 {

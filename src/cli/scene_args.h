@@ -4,7 +4,7 @@
 #define RESTIR_CLI_SCENE_ARGS_H
 
 #include "args.h"
-#include "restir/scene.h"
+#include "restir/scene/scene.h"
 
 typedef struct {
     double eye[3], target[3], up[3];

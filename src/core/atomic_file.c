@@ -1,6 +1,6 @@
 /* Atomic output files: temporary file in the same directory, then rename(2),
  * which replaces the destination in one step on POSIX file systems. */
-#include "restir/atomic_file.h"
+#include "restir/core/atomic_file.h"
 
 #include <errno.h>
 #include <string.h>

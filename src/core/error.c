@@ -1,5 +1,5 @@
 /* Error messages in the "file:line: what is wrong" form. */
-#include "restir/error.h"
+#include "restir/core/error.h"
 
 #include <stdarg.h>
 #include <stdio.h>

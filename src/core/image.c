@@ -1,5 +1,5 @@
 /* Float RGB images: allocation only (file formats live in pfm.c and png.c). */
-#include "restir/image.h"
+#include "restir/core/image.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,5 +1,5 @@
-/* The failure path of the debug build's invariants (include/restir/invariant.h). */
-#include "restir/invariant.h"
+/* The failure path of the debug build's invariants (include/restir/core/invariant.h). */
+#include "restir/core/invariant.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,5 +1,5 @@
 /* Small JSON writer helpers and a strict pull reader (json_text.h). */
-#include "restir/json_text.h"
+#include "restir/core/json_text.h"
 
 #include <errno.h>
 #include <math.h>

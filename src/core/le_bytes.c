@@ -1,5 +1,5 @@
-/* Little-endian encoding over a moving cursor (include/restir/le_bytes.h). */
-#include "restir/le_bytes.h"
+/* Little-endian encoding over a moving cursor (include/restir/core/le_bytes.h). */
+#include "restir/core/le_bytes.h"
 
 #include <string.h>
 

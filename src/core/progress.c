@@ -1,5 +1,5 @@
 /* Progress bar with ETA, drawn on stderr only when it is a terminal. */
-#include "restir/progress.h"
+#include "restir/core/progress.h"
 
 #include <stdio.h>
 #include <time.h>

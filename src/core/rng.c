@@ -1,6 +1,6 @@
 /* The addressed RNG (docs/rng.md). Bit-exact reproducible on any platform with
  * 32-bit unsigned wrap-around arithmetic, which a GPU build can copy. */
-#include "restir/rng.h"
+#include "restir/core/rng.h"
 
 #include <stdio.h>
 #include <stdlib.h>

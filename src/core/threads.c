@@ -1,6 +1,6 @@
 /* A deterministic tile pool on pthreads. Workers take tile indices from a shared
  * counter; which worker renders a tile never changes what the tile contains. */
-#include "restir/threads.h"
+#include "restir/core/threads.h"
 
 #include <pthread.h>
 #include <time.h>

@@ -1,6 +1,6 @@
 /* Sampling warps and their inverses (PBRT 4th ed. §A.5 gives the forward maps;
  * the inverses are derived case by case below). */
-#include "restir/warp.h"
+#include "restir/core/warp.h"
 
 static real clamp01(real x) { return x < 0 ? 0 : (x > 1 ? 1 : x); }
 

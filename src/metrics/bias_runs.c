@@ -1,9 +1,9 @@
-/* Bias over K runs against a reference (include/restir/bias_runs.h). */
-#include "restir/bias_runs.h"
+/* Bias over K runs against a reference (include/restir/metrics/bias_runs.h). */
+#include "restir/metrics/bias_runs.h"
 
 #include <math.h>
 #include <stdlib.h>
-#include "restir/rng.h"
+#include "restir/core/rng.h"
 
 /* mean_j |mean over the chosen runs of b_kj - r_j| / r_j; pick[k] = run used as draw k. */
 static double mean_abs_rel(const double *run_block, const double *ref, const double *weight, int runs, long blocks,

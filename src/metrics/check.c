@@ -1,10 +1,10 @@
 /* `restir check` statistics (check.h; decision rule in docs/statistics.md, "check"). */
-#include "restir/check.h"
+#include "restir/metrics/check.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/vec.h"
+#include "restir/core/vec.h"
 
 void check_options_default(check_options *o)
 {

@@ -1,7 +1,7 @@
 /* Perceptually uniform colour maps "magma" (the one FLIP's error maps use) and "viridis",
  * by Nathaniel J. Smith, Stefan van der Walt and Eric Firing (matplotlib, released CC0 /
  * public domain): 256 sRGB-encoded entries each, 6 decimals as published. */
-#include "restir/colormap.h"
+#include "restir/metrics/colormap.h"
 
 static const float magma_table[256][3] = {
     {0.001462, 0.000466, 0.013866}, {0.002258, 0.001295, 0.018331}, {0.003279, 0.002305, 0.023708}, {0.004512, 0.003490, 0.029965},

@@ -8,12 +8,12 @@
  * unchanged by shifting each pixel by a constant, so y = luminance - (first image's
  * luminance) keeps the sums of products small and free of cancellation. Box sums come
  * from a summed-area table, so each image costs O(pixels x radii). */
-#include "restir/covariance.h"
+#include "restir/metrics/covariance.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/vec.h"
+#include "restir/core/vec.h"
 
 int covariance_init(covariance_accum *c, int width, int height, int radius, int exclude_center, rerror *e)
 {

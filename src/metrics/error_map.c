@@ -1,11 +1,11 @@
 /* Error-map images: palette lookup, a colour bar, and end labels in a 5x7 bitmap font. */
-#include "restir/error_map.h"
+#include "restir/metrics/error_map.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/colormap.h"
+#include "restir/metrics/colormap.h"
 
 /* 5x7 glyphs, one byte per row (top to bottom), bit 4 = leftmost column. */
 typedef struct {

@@ -13,12 +13,12 @@
  * two Gaussians, as a sum of two separable filters), which gives exactly the sampled
  * 2-D kernels of the paper. Borders clamp to the edge. Images are float planes; all
  * filter sums are accumulated in double. */
-#include "restir/flip.h"
+#include "restir/metrics/flip.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/threads.h"
+#include "restir/core/threads.h"
 
 /* ---- published constants ---- */
 

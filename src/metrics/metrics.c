@@ -1,7 +1,7 @@
 /* Pixel-statistics metrics: MSE, RMSE, relMSE, MAPE (GRIS footnote 13), SMAPE and
  * two bias measures. Every formula, with its epsilon, is written out in docs/metrics.md;
  * the comments here name which one each function is. */
-#include "restir/metrics.h"
+#include "restir/metrics/metrics.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,15 +1,15 @@
 /* Per-pixel moments of K runs and the moments file set (moments.h,
  * docs/statistics.md "Moments files"). */
-#include "restir/moments.h"
+#include "restir/metrics/moments.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/atomic_file.h"
-#include "restir/json_text.h"
-#include "restir/output_set.h"
+#include "restir/core/atomic_file.h"
+#include "restir/core/json_text.h"
+#include "restir/metrics/output_set.h"
 
 const int moments_default_block_sizes[4] = {4, 8, 16, 32};
 

@@ -1,5 +1,5 @@
 /* Output groups: stage everything, then rename everything (see output_set.h). */
-#include "restir/output_set.h"
+#include "restir/metrics/output_set.h"
 
 #include <errno.h>
 #include <stdio.h>

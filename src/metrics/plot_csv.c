@@ -1,5 +1,5 @@
 /* The CSV tables of `restir plot` (plot.h, docs/statistics.md "plot"). */
-#include "restir/plot.h"
+#include "restir/metrics/plot.h"
 
 #include <errno.h>
 #include <math.h>

@@ -1,12 +1,12 @@
 /* SVG line plots (plot.h). The drawing is a fixed layout: title on top, the plot area
  * with a light grid, axis labels below and to the left, the legend in the upper right
  * corner of the plot area. Coordinates are written with two decimals. */
-#include "restir/plot.h"
+#include "restir/metrics/plot.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/atomic_file.h"
+#include "restir/core/atomic_file.h"
 
 void plot_options_default(plot_options *o)
 {

@@ -1,6 +1,6 @@
 /* Distributions, Welch's t-test, multiple-comparison corrections, TOST and confidence
  * intervals (docs/statistics.md). Everything in double. */
-#include "restir/stats.h"
+#include "restir/metrics/stats.h"
 
 #include <float.h>
 #include <math.h>

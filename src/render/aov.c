@@ -1,8 +1,8 @@
 /* G-buffer channels as images. */
-#include "restir/aov.h"
+#include "restir/render/aov.h"
 
 #include <string.h>
-#include "restir/rng.h"
+#include "restir/core/rng.h"
 
 const char *const aov_names[] = {"normal", "albedo", "depth", "object", "motion", NULL};
 

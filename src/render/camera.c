@@ -1,5 +1,5 @@
 /* Pinhole camera. */
-#include "restir/camera.h"
+#include "restir/render/camera.h"
 
 void camera_init(camera *c, camera_pose pose, int width, int height)
 {

@@ -1,9 +1,9 @@
 /* Primary hits for every pixel, traced in parallel tiles (deterministic). */
-#include "restir/gbuffer.h"
+#include "restir/render/gbuffer.h"
 
 #include <stdlib.h>
-#include "restir/rng.h"
-#include "restir/threads.h"
+#include "restir/core/rng.h"
+#include "restir/core/threads.h"
 
 void primary_sample_position(const camera *c, int x, int y, uint32_t seed, uint32_t sample, int jitter, real *px,
                              real *py)
@@ -86,4 +86,13 @@ void gbuffer_free(gbuffer *g)
 {
     free(g->texels);
     g->texels = NULL;
+}
+
+/* x1 of pixel p as the path sampler builds it from the frame's primary ray. */
+int gbuffer_primary_vertex(const scene *s, const gbuffer *g, long p, path_vertex *v)
+{
+    const gbuffer_texel *t = &g->texels[p];
+    if (!t->valid) return 0;
+    path_vertex_make(v, s, &t->hit, v3_from_f(t->view_dir));
+    return 1;
 }

@@ -1,5 +1,5 @@
-/* Light RIS for NEE and light tiles (include/restir/light_ris.h; docs/enhanced.md §6). */
-#include "restir/light_ris.h"
+/* Light RIS for NEE and light tiles (include/restir/render/light_ris.h; docs/enhanced.md §6). */
+#include "restir/render/light_ris.h"
 
 int light_ris_count(const path_context *c, uint32_t vertex_index)
 {

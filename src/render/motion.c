@@ -2,14 +2,14 @@
  * was in the previous frame's image, and whether it was visible there.
  *
  * x1 lies on object o. Its rest-pose point is T_o(frame)^-1 x1 and its previous position
- * T_o(prev_frame) T_o(frame)^-1 x1 (rigid transforms, restir/animation.h); projecting
+ * T_o(prev_frame) T_o(frame)^-1 x1 (rigid transforms, restir/scene/animation.h); projecting
  * that with the previous camera gives the previous image position, and the motion vector
  * is that minus the pixel's sample position. Visibility in the previous frame is judged
  * against the previous G-buffer, as real-time renderers do (no extra rays): the texel the
  * point lands in must show the same object, at the same depth and orientation. */
-#include "restir/animation.h"
-#include "restir/gbuffer.h"
-#include "restir/threads.h"
+#include "restir/scene/animation.h"
+#include "restir/render/gbuffer.h"
+#include "restir/core/threads.h"
 
 #include <math.h>
 

@@ -1,8 +1,8 @@
 /* One vertex of unidirectional path sampling: NEE, one-lobe BSDF sampling, and the
- * balance-heuristic MIS weights of GRIS Eq. 49 (include/restir/path_sampler.h). */
-#include "restir/path_sampler.h"
+ * balance-heuristic MIS weights of GRIS Eq. 49 (include/restir/render/path_sampler.h). */
+#include "restir/render/path_sampler.h"
 
-#include "restir/light_ris.h"
+#include "restir/render/light_ris.h"
 
 void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir)
 {

@@ -1,14 +1,14 @@
 /* The reference path tracer: one path per (pixel, sample index), accumulated in double
- * over whole passes of the image (include/restir/pt.h, docs/path-tracer.md). */
-#include "restir/pt.h"
+ * over whole passes of the image (include/restir/render/pt.h, docs/path-tracer.md). */
+#include "restir/render/pt.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include "restir/camera.h"
-#include "restir/gbuffer.h"
-#include "restir/light_ris.h"
-#include "restir/progress.h"
-#include "restir/threads.h"
+#include "restir/render/camera.h"
+#include "restir/render/gbuffer.h"
+#include "restir/render/light_ris.h"
+#include "restir/core/progress.h"
+#include "restir/core/threads.h"
 
 const char *const pt_strategy_names[] = {"mis", "nee", "bsdf", NULL};
 const char *const pt_ablation_names[] = {"light-pdf", "mis-sum", "mis-lobe", "light-ris-pdf", NULL};

@@ -1,10 +1,10 @@
 /* Path-tracer checkpoints: the accumulation state in a small, explicit little-endian
  * binary format (docs/path-tracer.md, "Checkpoint format"), written atomically. */
-#include "restir/pt.h"
+#include "restir/render/pt.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include "restir/atomic_file.h"
+#include "restir/core/atomic_file.h"
 
 #define PT_CHECKPOINT_MAGIC "RESTIRPT"
 #define PT_CHECKPOINT_VERSION 1u

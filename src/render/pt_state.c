@@ -1,6 +1,6 @@
 /* Path-tracer accumulation state: allocation, mean and variance images, merging of
  * runs over disjoint sample ranges, and the scene/options fingerprint. */
-#include "restir/pt.h"
+#include "restir/render/pt.h"
 
 #include <stdlib.h>
 #include <string.h>

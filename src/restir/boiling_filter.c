@@ -1,5 +1,5 @@
-/* The RTXDI boiling filter (include/restir/boiling_filter.h; Enhanced §7.4, Fig. 9). */
-#include "restir/boiling_filter.h"
+/* The RTXDI boiling filter (include/restir/restir/boiling_filter.h; Enhanced §7.4, Fig. 9). */
+#include "restir/restir/boiling_filter.h"
 
 double boiling_multiplier(double strength)
 {

@@ -1,7 +1,7 @@
-/* The reconnection criterion (include/restir/connectability.h). */
-#include "restir/connectability.h"
+/* The reconnection criterion (include/restir/restir/connectability.h). */
+#include "restir/restir/connectability.h"
 
-#include "restir/footprint.h"
+#include "restir/restir/footprint.h"
 
 /* GRIS §7.6: "we test if vertex x_j is sufficiently rough by examining the roughness of
  * the lobe ell_j chosen to sample vertex x_{j+1}. We treat NEE-sampled vertices as rough

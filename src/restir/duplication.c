@@ -1,8 +1,8 @@
-/* Sample identity and duplication maps (include/restir/duplication.h; Enhanced §5). */
-#include "restir/duplication.h"
+/* Sample identity and duplication maps (include/restir/restir/duplication.h; Enhanced §5). */
+#include "restir/restir/duplication.h"
 
 #include <math.h>
-#include "restir/threads.h"
+#include "restir/core/threads.h"
 
 int duplication_same_sample(const reservoir *a, const reservoir *b)
 {

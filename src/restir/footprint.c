@@ -1,6 +1,6 @@
-/* The footprint reconnection criterion, Enhanced §4 Eq. 5 (include/restir/footprint.h,
+/* The footprint reconnection criterion, Enhanced §4 Eq. 5 (include/restir/restir/footprint.h,
  * docs/enhanced.md §1). */
-#include "restir/footprint.h"
+#include "restir/restir/footprint.h"
 
 #include <math.h>
 

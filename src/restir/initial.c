@@ -1,9 +1,9 @@
-/* Initial resampling over N path trees (include/restir/initial.h). */
-#include "restir/initial.h"
+/* Initial resampling over N path trees (include/restir/restir/initial.h). */
+#include "restir/restir/initial.h"
 
 #include <string.h>
-#include "restir/path_replay.h"
-#include "restir/reconnection.h"
+#include "restir/restir/path_replay.h"
+#include "restir/restir/reconnection.h"
 
 /* The candidate currently held by the stream (its identity is enough: path_record
  * rebuilds everything else from it). */

@@ -1,6 +1,6 @@
 /* Resampling MIS weights of GRIS with confidence weights. Formulas, index conventions
  * and the partition-of-unity proofs: docs/mis-derivations.md. */
-#include "restir/mis.h"
+#include "restir/restir/mis.h"
 
 #include <math.h>
 #include <string.h>
@@ -19,7 +19,7 @@ real mis_product_ratio(real c_n, real p_n, real c_a, real p_a, real c_b, real p_
 }
 
 /* Reads p̂_{<-i}(y_j), counting it as a shift evaluation when it is one: a non-canonical
- * domain i evaluated at a sample that did not come from i (include/restir/mis.h). */
+ * domain i evaluated at a sample that did not come from i (include/restir/restir/mis.h). */
 static real read_ptarget(const mis_input *in, int i, int j, long *shifts)
 {
     if (shifts && i >= in->n_canonical && i != j) (*shifts)++;

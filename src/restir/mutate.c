@@ -1,11 +1,11 @@
-/* MCMC mutations after resampling (Mutations §3 Algorithm 3, §4.1-4.3, App. C; include/restir/mutate.h,
+/* MCMC mutations after resampling (Mutations §3 Algorithm 3, §4.1-4.3, App. C; include/restir/restir/mutate.h,
  * docs/mutations.md). */
-#include "restir/mutate.h"
+#include "restir/restir/mutate.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/reconnection.h"
+#include "restir/restir/reconnection.h"
 
 const char *const mutate_strategy_names[] = {"rv", "pp", "fp", NULL};
 const char *const mutate_after_names[] = {"none", "initial", "temporal", "initial,temporal", "spatial",

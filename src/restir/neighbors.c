@@ -1,5 +1,5 @@
 /* Spatial neighbour selection (see neighbors.h and docs/spatial-reuse.md). */
-#include "restir/neighbors.h"
+#include "restir/restir/neighbors.h"
 
 #include <math.h>
 

@@ -1,9 +1,9 @@
-/* Reuse textures for paired spatial reuse (include/restir/pairing.h; Enhanced §3). */
-#include "restir/pairing.h"
+/* Reuse textures for paired spatial reuse (include/restir/restir/pairing.h; Enhanced §3). */
+#include "restir/restir/pairing.h"
 
 #include <math.h>
 #include <stdlib.h>
-#include "restir/rng.h"
+#include "restir/core/rng.h"
 
 /* Enhanced Eq. 3. The extracted paper text shows all correction terms with a plus sign;
  * that gives n = 7 passes at sigma = 0.8, contradicting footnote 1 (sigma = 0.8 is ONE

@@ -1,7 +1,7 @@
-/* Paths from their random numbers, vertex by vertex (include/restir/path_replay.h). */
-#include "restir/path_replay.h"
+/* Paths from their random numbers, vertex by vertex (include/restir/restir/path_replay.h). */
+#include "restir/restir/path_replay.h"
 
-#include "restir/light_ris.h"
+#include "restir/render/light_ris.h"
 
 void trunk_begin(path_trunk *t, const path_vertex *x1)
 {

@@ -1,5 +1,5 @@
-/* Path samples: construction and the structural invariants of include/restir/path_sample.h. */
-#include "restir/path_sample.h"
+/* Path samples: construction and the structural invariants of include/restir/restir/path_sample.h. */
+#include "restir/restir/path_sample.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,7 +1,7 @@
-/* Reconnection to x_k and the recording of a selected path (include/restir/reconnection.h). */
-#include "restir/reconnection.h"
+/* Reconnection to x_k and the recording of a selected path (include/restir/restir/reconnection.h). */
+#include "restir/restir/reconnection.h"
 
-#include "restir/light_ris.h"
+#include "restir/render/light_ris.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,8 +1,8 @@
 /* Weighted reservoir streaming and the unbiased contribution weight of (G)RIS. */
-#include "restir/reservoir.h"
+#include "restir/restir/reservoir.h"
 
 #include <math.h>
-#include "restir/threads.h"
+#include "restir/core/threads.h"
 
 void reservoir_init(reservoir *r)
 {

@@ -1,7 +1,7 @@
 /* Reservoir dump files: byte-exact little-endian encoding (docs/formats.md). */
-#include "restir/reservoir_dump.h"
-#include "restir/atomic_file.h"
-#include "restir/le_bytes.h"
+#include "restir/restir/reservoir_dump.h"
+#include "restir/core/atomic_file.h"
+#include "restir/core/le_bytes.h"
 
 #include <errno.h>
 #include <stdio.h>

@@ -1,5 +1,5 @@
-/* Name tables of include/restir/restir_context.h (CLI choices, --stats keys). */
-#include "restir/restir_context.h"
+/* Name tables of include/restir/restir/restir_context.h (CLI choices, --stats keys). */
+#include "restir/restir/restir_context.h"
 
 #include <stddef.h>
 

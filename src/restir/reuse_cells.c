@@ -1,10 +1,10 @@
-/* Screen-space reuse cells (include/restir/reuse_cells.h; Stochastic MIS §5). */
-#include "restir/reuse_cells.h"
+/* Screen-space reuse cells (include/restir/restir/reuse_cells.h; Stochastic MIS §5). */
+#include "restir/restir/reuse_cells.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/rng.h"
+#include "restir/core/rng.h"
 
 uint32_t reuse_cell_hash(uint32_t tile, uint32_t object, uint32_t normal_bin)
 {

@@ -1,7 +1,7 @@
-/* The shift mappings of ReSTIR PT (include/restir/shift.h, docs/restir-pt.md). */
-#include "restir/shift.h"
+/* The shift mappings of ReSTIR PT (include/restir/restir/shift.h, docs/restir-pt.md). */
+#include "restir/restir/shift.h"
 
-#include "restir/footprint.h"
+#include "restir/restir/footprint.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,11 +1,11 @@
-/* One spatial GRIS step (include/restir/spatial.h). */
-#include "restir/spatial.h"
+/* One spatial GRIS step (include/restir/restir/spatial.h). */
+#include "restir/restir/spatial.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/invariant.h"
+#include "restir/core/invariant.h"
 
 int spatial_workspace_alloc(spatial_workspace *w, int max_domains, rerror *e)
 {

@@ -1,7 +1,7 @@
-/* Stochastic resampling MIS weights (include/restir/stochastic_mis.h;
+/* Stochastic resampling MIS weights (include/restir/restir/stochastic_mis.h;
  * docs/stochastic-mis.md has the derivations). */
-#include "restir/stochastic_mis.h"
-#include "restir/mis.h"
+#include "restir/restir/stochastic_mis.h"
+#include "restir/restir/mis.h"
 
 #include <math.h>
 #include <string.h>

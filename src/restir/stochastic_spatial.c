@@ -1,8 +1,8 @@
-/* One GRIS step with stochastic pairwise MIS (include/restir/stochastic_spatial.h;
+/* One GRIS step with stochastic pairwise MIS (include/restir/restir/stochastic_spatial.h;
  * docs/stochastic-mis.md). */
-#include "restir/stochastic_spatial.h"
+#include "restir/restir/stochastic_spatial.h"
 
-#include "restir/invariant.h"
+#include "restir/core/invariant.h"
 
 #include <math.h>
 #include <stdlib.h>

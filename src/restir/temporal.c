@@ -1,8 +1,8 @@
-/* Temporal reuse at one pixel (include/restir/temporal.h). */
-#include "restir/temporal.h"
+/* Temporal reuse at one pixel (include/restir/restir/temporal.h). */
+#include "restir/restir/temporal.h"
 
 #include <math.h>
-#include "restir/animation.h"
+#include "restir/scene/animation.h"
 
 /* domain_refresh for two frames: x (of frame `from`) re-expressed in frame `to`'s scene, its
  * reconnection vertex moved by its object's motion between the two frames. */

@@ -1,6 +1,6 @@
 /* Rigid per-object animation: keyframe evaluation, posing the scene at a frame, the
- * rest pose, deep copies and frame ranges (restir/animation.h, docs/scene-format.md). */
-#include "restir/animation.h"
+ * rest pose, deep copies and frame ranges (restir/scene/animation.h, docs/scene-format.md). */
+#include "restir/scene/animation.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -2,8 +2,8 @@
  * all-lobe evaluation (GRIS §7.6, Eq. 49/50), sampling and its inverse.
  * The per-lobe physics lives in lobe_*.c; this file only flips the frame to wo's
  * side, picks the lobe and checks results for finiteness. */
-#include "restir/bsdf.h"
-#include "restir/microfacet.h"
+#include "restir/scene/bsdf.h"
+#include "restir/scene/microfacet.h"
 #include "lobes.h"
 
 /* Lower/upper clamp of P(reflection) for the rough dielectric (docs/materials.md). */

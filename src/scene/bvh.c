@@ -27,7 +27,7 @@
  * (JCGT 2(1)): translate to the ray origin, permute so the dominant direction axis is
  * z, shear so the ray is the z axis, then 2D edge functions with a double-precision
  * re-evaluation when one is exactly zero. Watertight along shared edges and vertices. */
-#include "restir/bvh.h"
+#include "restir/scene/bvh.h"
 
 #include <float.h>
 #include <stddef.h>

@@ -1,14 +1,14 @@
 /* A generated benchmark scene: a finely tessellated, radially displaced sphere under a
  * quad light. Everything is a pure function of the integer grid coordinates, so the
  * output is the same on every run. */
-#include "restir/generate.h"
+#include "restir/scene/generate.h"
 
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/atomic_file.h"
+#include "restir/core/atomic_file.h"
 
 enum { MAX_SUBDIVISIONS = 8192 };
 

@@ -5,17 +5,17 @@
  * touching: a wall reaches into the floor slab and into the walls it joins, so a
  * junction has no crack for light to pass, and the extents are chosen so that no two
  * faces of different solids lie in one plane where they overlap (no coplanar faces). */
-#include "restir/generate_rooms.h"
-#include "restir/mesh_writer.h"
+#include "restir/scene/generate_rooms.h"
+#include "restir/scene/mesh_writer.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include "restir/animation.h"
-#include "restir/atomic_file.h"
-#include "restir/rng.h"
-#include "restir/scene_builder.h"
-#include "restir/triangulate.h"
+#include "restir/scene/animation.h"
+#include "restir/core/atomic_file.h"
+#include "restir/core/rng.h"
+#include "restir/scene/scene_builder.h"
+#include "restir/scene/triangulate.h"
 
 /* ------------------------------------------------------------------------------- */
 /* The door ajar                                                                      */

@@ -1,6 +1,6 @@
 /* Emissive triangles, power-proportional light selection and uniform area sampling
- * (include/restir/lights.h). */
-#include "restir/lights.h"
+ * (include/restir/scene/lights.h). */
+#include "restir/scene/lights.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -4,7 +4,7 @@
  * (camera paths carry radiance; docs/materials.md §Conventions). eval and pdf of
  * a Dirac at an arbitrary direction are 0. */
 #include "lobes.h"
-#include "restir/microfacet.h"
+#include "restir/scene/microfacet.h"
 
 static rgb delta_eval(const lobe_view *v, vec3 wi)
 {

@@ -3,7 +3,7 @@
  * smooth coat twice, (1 - F(wo.z)) (1 - F(wi.z)) (docs/materials.md §Plastic),
  * which keeps it reciprocal and the plastic's albedo below 1. */
 #include "lobes.h"
-#include "restir/microfacet.h"
+#include "restir/scene/microfacet.h"
 
 static real coat_transmission(const lobe_view *v, real cos_theta)
 {

@@ -3,7 +3,7 @@
  * (Heitz 2018) and evaluated with the separable Smith G2 (Walter et al. 2007 Eq. 23).
  * wo.z > 0 always (lobes.h). */
 #include "lobes.h"
-#include "restir/microfacet.h"
+#include "restir/scene/microfacet.h"
 
 rgb lobe_specular_fresnel(const lobe_view *v, real cos_wo_m)
 {

@@ -7,7 +7,7 @@
 #ifndef RESTIR_SCENE_LOBES_H
 #define RESTIR_SCENE_LOBES_H
 
-#include "restir/bsdf.h"
+#include "restir/scene/bsdf.h"
 
 typedef struct {
     const bsdf *b;

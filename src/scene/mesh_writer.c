@@ -1,9 +1,9 @@
-/* The solids of the scene generators (include/restir/mesh_writer.h).
+/* The solids of the scene generators (include/restir/scene/mesh_writer.h).
  *
  * Building blocks: closed solids (prisms over a polygon, UV spheres) whose faces share
  * their vertices, so each solid is watertight under the BVH's watertight ray/triangle
  * test, and whose faces point outward. */
-#include "restir/mesh_writer.h"
+#include "restir/scene/mesh_writer.h"
 
 #include <math.h>
 #include <stdio.h>

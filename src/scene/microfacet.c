@@ -1,6 +1,6 @@
 /* GGX microfacet distribution, Smith masking, visible-normal sampling and its
- * inverse, Fresnel terms (see include/restir/microfacet.h and docs/materials.md). */
-#include "restir/microfacet.h"
+ * inverse, Fresnel terms (see include/restir/scene/microfacet.h and docs/materials.md). */
+#include "restir/scene/microfacet.h"
 
 real ggx_alpha_from_roughness(real linear_roughness)
 {

@@ -2,8 +2,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include "restir/scene_builder.h"
-#include "restir/text.h"
+#include "restir/scene/scene_builder.h"
+#include "restir/scene/text.h"
 
 typedef struct {
     scene_builder *b;

@@ -1,5 +1,5 @@
 /* String -> index hash table with linear probing; grows at half load. */
-#include "restir/name_table.h"
+#include "restir/scene/name_table.h"
 
 #include <stdlib.h>
 #include <string.h>

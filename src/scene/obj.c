@@ -5,9 +5,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/scene_builder.h"
-#include "restir/text.h"
-#include "restir/triangulate.h"
+#include "restir/scene/scene_builder.h"
+#include "restir/scene/text.h"
+#include "restir/scene/triangulate.h"
 
 #define OBJ_MAX_FACE_CORNERS 16384
 

@@ -1,5 +1,5 @@
 /* Growing a scene while its files are parsed (see scene_builder.h). */
-#include "restir/scene_builder.h"
+#include "restir/scene/scene_builder.h"
 
 #include <stdarg.h>
 #include <stdio.h>

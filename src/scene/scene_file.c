@@ -15,10 +15,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/animation.h"
-#include "restir/image.h"
-#include "restir/scene_builder.h"
-#include "restir/text.h"
+#include "restir/scene/animation.h"
+#include "restir/core/image.h"
+#include "restir/scene/scene_builder.h"
+#include "restir/scene/text.h"
 
 typedef struct {
     char name[MATERIAL_NAME_MAX];

@@ -4,8 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/animation.h"
-#include "restir/scene_builder.h"
+#include "restir/scene/animation.h"
+#include "restir/scene/scene_builder.h"
 
 #define DEFAULT_IMAGE_SIZE 512
 #define FRAMING_FOV_DEGREES 40.0

@@ -1,5 +1,5 @@
 /* Line-oriented text reading shared by the OBJ, MTL and scene-file parsers. */
-#include "restir/text.h"
+#include "restir/scene/text.h"
 
 #include <errno.h>
 #include <math.h>

@@ -7,7 +7,7 @@
  * ears (Meisters 1975, "Polygons have ears"), so for valid input the loop below always
  * finds one. Corners that coincide with a, b or c (the two ends of a bridge edge that
  * joins a hole to the outline) do not block an ear. */
-#include "restir/triangulate.h"
+#include "restir/scene/triangulate.h"
 
 #include <math.h>
 #include <stdlib.h>

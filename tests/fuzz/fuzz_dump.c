@@ -1,7 +1,7 @@
 /* Fuzz target: the reservoir-dump reader (src/restir/reservoir_dump.c, docs/formats.md). */
 #include <stdlib.h>
 #include "fuzz.h"
-#include "restir/reservoir_dump.h"
+#include "restir/restir/reservoir_dump.h"
 
 FUZZ_TARGET(dump)
 {

@@ -4,7 +4,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "fuzz.h"
-#include "restir/scene.h"
+#include "restir/scene/scene.h"
 
 
 /* A lit quad: what a fuzzed scene file's `mesh quad.obj` and an OBJ's `mtllib

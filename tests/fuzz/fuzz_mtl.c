@@ -1,7 +1,7 @@
 /* Fuzz target: the MTL reader (src/scene/mtl.c) on its own, as an OBJ's mtllib loads it. */
 #include <string.h>
 #include "fuzz.h"
-#include "restir/scene_builder.h"
+#include "restir/scene/scene_builder.h"
 
 FUZZ_TARGET(mtl)
 {

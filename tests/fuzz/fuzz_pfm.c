@@ -1,6 +1,6 @@
 /* Fuzz target: the PFM reader (src/core/pfm.c). */
 #include "fuzz.h"
-#include "restir/image.h"
+#include "restir/core/image.h"
 
 FUZZ_TARGET(pfm)
 {

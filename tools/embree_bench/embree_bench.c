@@ -15,9 +15,9 @@
 #include <string.h>
 #include <time.h>
 
-#include "restir/bench.h"
-#include "restir/generate.h"
-#include "restir/scene.h"
+#include "restir/bench/bench.h"
+#include "restir/scene/generate.h"
+#include "restir/scene/scene.h"
 
 /* CPU time of this thread (both tracers run on it: Embree's device has threads=1 and
  * rtcIntersect1/rtcOccluded1 run in the caller): time spent waiting for a core on a

@@ -1,0 +1,62 @@
+/* Temporal reuse at one pixel (GRIS §6.3 step 2, §6.4, App. B "Temporal Reuse"; Mutations
+ * §2.4 Algorithm 2 and App. B; docs/restir-pt.md "Temporal reuse").
+ *
+ * Two domains: domain 0 is the pixel's reservoir of the current frame t (canonical: its
+ * own initial resampling), domain 1 the reservoir the previous frame t-1 produced (its
+ * spatial output) at the reprojected pixel q. The GRIS step is the spatial one
+ * (spatial.h, gris_resample) with M = 2, except that the two directions of the shift live
+ * in different frames:
+ *   forward  y_1 = T_{t-1 -> t}(X_1): replayed/reconnected from the current y_1 in the
+ *            current scene (restir_context `cur`);
+ *   reverse  T_{t -> t-1}(y): the current candidate shifted back into the previous pixel,
+ *            from q's primary vertex OF FRAME t-1 (previous camera, previous poses) in the
+ *            previous frame's scene (restir_context `prev`). GRIS App. B: the MIS weights
+ *            need the previous frame's target p̂_{t-1}; evaluating it with the current
+ *            frame's camera or scene is biased (`--ablate temporal-target`, pitfall 8, docs/restir-pt.md §11).
+ *   p̂ from i (GRIS Eq. 35):  [ p̂_t(y_0)                       p̂_t(y_1)            ]
+ *                            [ p̂_{t-1}(T^{-1}(y_0)) |dT^{-1}|  p̂_{t-1}(X_1) / J_1  ]
+ *   w_j = m_j(y_j) p̂_t(y_j) W_j J_j (GRIS Eq. 19), W = sum w / p̂_t(Y) (GRIS Eq. 22) with
+ *   m_j from Talbot (GRIS Eq. 36 = Mutations Eqs. 31-32), pairwise (Eqs. 37-38) or constant.
+ *
+ * M-capping (GRIS §6.2 M_c, §6.4): the previous reservoir's confidence is capped at
+ * mcap times the current one's before the step, c_1 <- min(c_1, C c_0); C = infinity
+ * keeps the whole history (the still-camera chain then converges to a wrong value,
+ * GRIS Fig. 2/10). The output confidence is c_0 + min(c_1, C c_0). */
+#ifndef RESTIR_TEMPORAL_H
+#define RESTIR_TEMPORAL_H
+
+#include "restir/restir/spatial.h"
+
+typedef struct {
+    uint64_t pixels;            /* pixels with a primary hit in frame t */
+    uint64_t no_history;        /* ... whose reprojection failed (off screen, disoccluded, first frame) */
+    uint64_t capped;            /* previous confidences lowered by the cap */
+    uint64_t dual;              /* histories found by the dual motion vector (Enhanced §6.4) */
+    uint64_t dedup_lowered;     /* steps whose cap the duplication map lowered (Enhanced §5) */
+    spatial_stats step;         /* the GRIS steps: shifts by outcome (forward and reverse);
+                                   step.selected_neighbor = outputs taken from frame t-1 */
+} temporal_stats;
+
+/* Animated scenes: the two frames' scenes and indices. Before a sample crosses from one
+ * frame to the other its reconnection vertex is posed in the destination frame and its
+ * suffix is traced again there (rc_retrace_suffix), so a reused path is a path of the
+ * destination scene (the cached x_k and L_k of frame t-1 are not, where objects moved). */
+typedef struct {
+    const restir_context *ctx[2]; /* [0] frame t, [1] frame t-1 (scenes posed at those frames) */
+    int frame[2];
+} temporal_frames;
+
+/* The temporal GRIS step. x1_cur: the pixel's primary vertex in frame t; x1_prev: the
+ * primary vertex of the reprojected pixel in frame t-1 (x1_prev, prev_r NULL: no history,
+ * the output is the current reservoir). u[0], u[1]: selection numbers (RNG_RIS, vertex 48,
+ * docs/rng.md). mcap > 0 (may be infinite). The workspace holds >= 2 domains. frames:
+ * NULL when nothing but the camera moves (a static scene needs no re-tracing). */
+void temporal_resample(const restir_context *cur, const restir_context *prev, const temporal_frames *frames,
+                       mis_family mis,
+                       const path_vertex *x1_cur, const path_vertex *x1_prev, const reservoir *cur_r,
+                       const reservoir *prev_r, real mcap, const real *u, reservoir *out, spatial_workspace *w,
+                       temporal_stats *st);
+
+void temporal_stats_add(temporal_stats *acc, const temporal_stats *add);
+
+#endif

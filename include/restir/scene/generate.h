@@ -1,0 +1,25 @@
+/* Generated scenes: deterministic geometry from our own code, for benchmarks and
+ * for tests that need a large, closed mesh. */
+#ifndef RESTIR_GENERATE_H
+#define RESTIR_GENERATE_H
+
+#include "restir/core/error.h"
+#include "restir/scene/scene.h"
+
+/* Fills a zeroed scene with a closed, displaced sphere (radius about 1, centred at the
+ * origin) and a 1 x 1 emissive quad light above it, facing down, plus a camera.
+ * The sphere is a cube whose six faces carry an n x n grid (n = subdivisions), mapped
+ * to the sphere equi-angularly and displaced radially: 12 n^2 triangles, vertices
+ * shared (the mesh is closed and watertight). n = 92 gives >= 100k triangles, n = 289
+ * about 1M. Materials: 0 "white" (Lambert, albedo 0.8), 1 "light" (emission 10).
+ * Objects: 0 "sphere", 1 "light". Does not build the BVH (call scene_prepare).
+ * The scene's arrays are malloc'ed as scene_free() expects. */
+int generate_displaced_sphere(scene *s, int subdivisions, rerror *e);
+
+/* Writes the scene's triangles as OBJ at `path` and its materials as MTL next to it
+ * (same name with the extension .mtl), both atomically. The MTL statements are chosen
+ * so that loading the files gives back each material's type, colours, roughness and
+ * ior (the few exceptions are listed at write_mtl_material in generate.c). */
+int generate_write_obj(const scene *s, const char *path, rerror *e);
+
+#endif

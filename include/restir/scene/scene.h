@@ -1,0 +1,148 @@
+/* The scene: what the papers' scenes require and nothing more (docs/scenes.md).
+ * Triangles with optional per-vertex shading normals, materials from MTL (or
+ * scene-file overrides), object ids from OBJ o/g, a pinhole camera with optional
+ * per-frame keyframes, and an image size. */
+#ifndef RESTIR_SCENE_H
+#define RESTIR_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "restir/core/error.h"
+#include "restir/core/vec.h"
+#include "restir/scene/bvh.h"
+
+enum material_type {
+    MAT_LAMBERT = 0,         /* diffuse Kd */
+    MAT_CONDUCTOR = 1,       /* GGX conductor, F0 = Ks */
+    MAT_PLASTIC = 2,         /* diffuse Kd + GGX dielectric coat (ior Ni), two lobes */
+    MAT_DIELECTRIC = 3,      /* smooth glass: delta reflection + delta refraction (ior Ni) */
+    MAT_ROUGH_DIELECTRIC = 4 /* Walter et al. 2007 rough glass (ior Ni) */
+};
+#define MATERIAL_TYPE_COUNT 5
+/* The scene file's names, index = enum material_type: "lambert", "conductor", "plastic",
+ * "dielectric", "rough-dielectric"; NULL-terminated (src/scene/scene_file.c). */
+extern const char *const material_type_names[];
+
+#define MATERIAL_NAME_MAX 128
+
+typedef struct {
+    char name[MATERIAL_NAME_MAX];
+    enum material_type type;
+    rgb diffuse;    /* Kd: Lambertian albedo (Lambert, plastic base) */
+    rgb specular;   /* Ks: conductor F0, or plastic/dielectric specular tint */
+    rgb emission;   /* Ke: radiance emitted from the front face */
+    real roughness; /* linear (perceptual) roughness r in [0,1]; GGX alpha = r*r */
+    real ior;       /* Ni: index of refraction (dielectric, plastic coat) */
+} material;
+
+typedef struct {
+    uint32_t v[3];     /* indices into scene.positions (front face: counter-clockwise) */
+    int32_t n[3];      /* indices into scene.normals, or -1 (then the face normal is used) */
+    uint32_t material; /* index into scene.materials */
+    uint32_t object;   /* index into scene.object_names */
+} triangle;
+
+typedef struct {
+    vec3 eye, target, up;
+    real fov_y_degrees; /* vertical field of view */
+} camera_pose;
+
+typedef struct {
+    int frame;          /* frame index at which this pose holds exactly */
+    camera_pose pose;   /* poses between keyframes are linearly interpolated */
+} camera_keyframe;
+
+typedef struct {
+    char path[4096]; /* the file the scene came from (scene file or bare OBJ) */
+
+    vec3f *positions;
+    size_t position_count;
+    vec3f *normals;
+    size_t normal_count;
+    triangle *triangles;
+    size_t triangle_count;
+    material *materials;
+    size_t material_count;
+    char **object_names;
+    size_t object_count;
+
+    camera_pose camera;
+    int has_camera;      /* 0: frame the bounding box (bare OBJ) */
+    camera_keyframe *keyframes;
+    size_t keyframe_count;
+    int width, height;
+
+    /* Rigid per-object animation and the rest pose (restir/scene/animation.h); NULL: static. */
+    struct scene_animation *animation;
+
+    /* Load-time warnings, each one line "file:line: what" (undefined materials, ignored
+     * transparency, dropped degenerate triangles, ...). The library never prints them. */
+    char **warnings;
+    size_t warning_count;
+
+    /* Built by scene_prepare(): */
+    bvh accel;
+    vec3f bounds_min, bounds_max;
+    vec3f *face_normals; /* per triangle: its unit face normal, so hits need not recompute it */
+} scene;
+
+/* Loads a .scene file or a bare .obj (then the camera frames the bounding box
+ * and the image is 512x512). All errors are "file:line: what is wrong". */
+int scene_load(scene *s, const char *path, rerror *e);
+
+typedef struct {
+    int allow_missing_mtl; /* a material library that cannot be opened is a warning, not an error */
+} scene_load_options;
+
+/* scene_load with options (NULL = defaults, which is what scene_load uses). */
+int scene_load_with_options(scene *s, const char *path, const scene_load_options *options, rerror *e);
+/* Number of triangles whose material has nonzero emission. */
+size_t scene_emitter_count(const scene *s);
+
+/* Builds the BVH and bounds; fails on an empty scene. */
+int scene_prepare(scene *s, rerror *e);
+void scene_free(scene *s);
+
+/* Camera pose at a frame (keyframes interpolated; the static camera otherwise). */
+camera_pose scene_camera_at(const scene *s, int frame);
+/* Places the camera to see the whole bounding box (used for bare OBJ files): looks at
+ * the centre of the triangles' bounding box from the +z side, up +y, vertical fov 40
+ * degrees, at the distance where the bounding sphere fits the narrower field of view. */
+camera_pose scene_frame_bounds(const scene *s);
+
+/* A surface point found by a ray. Normals are unit length. ng is the true face
+ * normal (v1-v0)x(v2-v0) normalised: it decides the front face (emission). ns is
+ * the interpolated shading normal (= ng when the mesh has none). */
+typedef struct {
+    vec3f position;
+    vec3f ng;
+    vec3f ns;
+    float t;
+    float b1, b2;       /* barycentrics of v1 and v2 */
+    uint32_t triangle;  /* index into scene.triangles */
+    uint32_t material;
+    uint32_t object;
+} surface_hit;
+
+/* Closest hit along a ray; returns 1 and fills *h if something is hit. */
+int scene_intersect(const scene *s, const ray *r, surface_hit *h);
+/* The surface point of triangle `tri` at barycentrics (b1, b2), exactly as scene_intersect
+ * reports a hit there (t = 0): shift mappings rebuild a stored vertex from its triangle
+ * and barycentrics. Returns 0 if tri is out of range. */
+int scene_surface_point(const scene *s, uint32_t tri, float b1, float b2, surface_hit *h);
+/* 1 if the segment from a point on surface `from` (normal ng_from) to point `to`
+ * (normal ng_to, or NULL for a non-surface point) is unoccluded. Origins are offset
+ * robustly and scale-invariantly on both ends. */
+int scene_visible(const scene *s, vec3f from, vec3f ng_from, vec3f to, const vec3f *ng_to);
+/* The shadow ray scene_visible traces (any hit in (tmin, tmax) means occluded):
+ * between the two offset end points with the unnormalised direction (t = 1 at the
+ * far end), the range shortened at each surface end by its offset distance, traced
+ * from the lexicographically smaller end so that (a, b) and (b, a) give the same ray. */
+ray scene_visibility_ray(vec3f from, vec3f ng_from, vec3f to, const vec3f *ng_to);
+/* Ray leaving a surface point in direction dir. The origin is moved a few ulps along the
+ * surface towards wo (the unit direction back to where the path came from; zero if none)
+ * and then off the surface to the side dir points to, so that a point on a concave edge
+ * leaves from the open side of both faces (scene_trace.c). */
+ray scene_spawn_ray(vec3f p, vec3f ng, vec3f dir, vec3f wo);
+
+#endif
