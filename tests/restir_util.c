@@ -6,6 +6,7 @@
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
 #include "restir/scene/generate_rooms.h"
+#include "restir/frame/offline.h"
 #include "test.h"
 
 int rt_load_scene(const char *path, int res, scene *s)

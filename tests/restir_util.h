@@ -5,7 +5,9 @@
 
 #include "restir/metrics/check.h"
 #include "restir/render/pt.h"
-#include "restir/frame/restir.h"
+#include "restir/frame/offline.h"
+#include "restir/frame/options.h"
+#include "restir/frame/pipeline.h"
 #include "restir/restir/shift.h"
 
 /* The name rt_load_scene takes for the generated mirror corridor (generate_corridor). */

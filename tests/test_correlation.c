@@ -13,7 +13,9 @@
 #include "restir/restir/boiling_filter.h"
 #include "restir/restir/duplication.h"
 #include "restir/render/gbuffer.h"
-#include "restir/frame/restir.h"
+#include "restir/frame/options.h"
+#include "restir/frame/frame_stats.h"
+#include "restir/frame/pipeline.h"
 #include "restir_util.h"
 #include "test.h"
 

@@ -31,6 +31,8 @@
 #include "restir/metrics/stats.h"
 #include "restir/restir/stochastic_mis.h"
 #include "restir/scene/text.h"
+#include "restir/frame/offline.h"
+#include "restir/frame/pipeline.h"
 #include "restir_util.h"
 #include "test.h"
 

@@ -14,7 +14,8 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "restir/core/checksum.h"
-#include "restir/frame/restir.h"
+#include "restir/frame/options.h"
+#include "restir/frame/frame_stats.h"
 #include "restir/restir/reservoir.h"
 #include "test.h"
 

@@ -20,6 +20,8 @@
 #include "restir/scene/lights.h"
 #include "restir/restir/mutate.h"
 #include "restir/restir/shift.h"
+#include "restir/frame/offline.h"
+#include "restir/frame/pipeline.h"
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"

@@ -16,6 +16,7 @@
 #include <string.h>
 #include "restir/core/json_text.h"
 #include "restir/metrics/stats.h"
+#include "restir/frame/offline.h"
 #include "restir_util.h"
 #include "test.h"
 

@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/restir/stochastic_spatial.h"
+#include "restir/frame/offline.h"
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/restir/footprint.h"
+#include "restir/frame/options.h"
 #include "restir_util.h"
 #include "test.h"
 

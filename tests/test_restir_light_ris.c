@@ -11,6 +11,7 @@
 #include "restir/render/light_ris.h"
 #include "restir/restir/path_replay.h"
 #include "restir/restir/reconnection.h"
+#include "restir/frame/pipeline.h"
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"

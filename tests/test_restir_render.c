@@ -7,6 +7,7 @@
 #include "../src/cli/render_restir.h"
 #include "restir/core/json_text.h"
 #include "restir/restir/reservoir_dump.h"
+#include "restir/frame/offline.h"
 #include "restir_util.h"
 #include "test.h"
 

@@ -1,4 +1,4 @@
-/* Vector-valued shading weights (--shading vector; Enhanced §6.3; restir_render.c
+/* Vector-valued shading weights (--shading vector; Enhanced §6.3; offline.c
  * vector_estimate): the pixel estimate sum_i m_i F(Y_i) W_i |dT_i/dX_i| over the last
  * spatial pass's inputs, while the scalar weights still drive resampling.
  *   - it is the expectation of the scalar estimate F(Y) W_Y over the last selection, so on

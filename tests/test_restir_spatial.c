@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/json_text.h"
+#include "restir/frame/offline.h"
 #include "restir_util.h"
 #include "test.h"
 

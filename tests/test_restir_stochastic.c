@@ -13,6 +13,8 @@
 #include "restir/scene/animation.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
+#include "restir/frame/offline.h"
+#include "restir/frame/pipeline.h"
 #include "restir_util.h"
 #include "test.h"
 

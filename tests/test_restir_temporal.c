@@ -19,6 +19,7 @@
 #include "restir/scene/animation.h"
 #include "restir/core/json_text.h"
 #include "restir/metrics/metrics.h"
+#include "restir/frame/pipeline.h"
 #include "restir_util.h"
 #include "test.h"
 

@@ -5,6 +5,8 @@
 #include <string.h>
 #include "restir/render/gbuffer.h"
 #include "restir/restir/reservoir_dump.h"
+#include "restir/frame/offline.h"
+#include "restir/frame/pipeline.h"
 
 static int restir_units(void *ctx, uint32_t first, uint32_t count, int width, int height, double *sum, rerror *e)
 {

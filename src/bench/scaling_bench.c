@@ -7,6 +7,7 @@
 #include <time.h>
 #include "restir/core/progress.h"
 #include "restir/core/threads.h"
+#include "restir/frame/pipeline.h"
 
 #define SCALING_MAX_ROUNDS 64
 

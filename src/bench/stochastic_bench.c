@@ -7,6 +7,7 @@
 #include "restir/render/gbuffer.h"
 #include "restir/core/progress.h"
 #include "restir/restir/reuse_cells.h"
+#include "restir/frame/offline.h"
 
 static void separator(FILE *out, int *first)
 {

@@ -17,6 +17,7 @@
 #include "restir/bench/scaling_bench.h"
 #include "restir/bench/stochastic_bench.h"
 #include "restir/core/threads.h"
+#include "restir/frame/options.h"
 #include "scene_args.h"
 
 #define SHARED_BUNNY "../shared/data/common-3d-test-models/stanford-bunny.obj"

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "args.h"
 #include "restir/scene/animation.h"
+#include "restir/oracle/inspect.h"
 #include "render_restir.h"
 #include "scene_args.h"
 

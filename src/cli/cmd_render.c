@@ -16,6 +16,8 @@
 #include "restir/core/progress.h"
 #include "restir/oracle/stage_dump.h"
 #include "restir/core/threads.h"
+#include "restir/frame/offline.h"
+#include "restir/frame/pipeline.h"
 #include "render_pt.h"
 #include "render_restir.h"
 #include "scene_args.h"

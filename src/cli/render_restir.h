@@ -3,7 +3,7 @@
 #define RESTIR_CLI_RENDER_RESTIR_H
 
 #include "args.h"
-#include "restir/frame/restir.h"
+#include "restir/frame/options.h"
 
 /* The most rows render_restir_options writes (no terminating row). */
 #define RENDER_RESTIR_OPTION_ROWS 51

@@ -8,12 +8,11 @@
  * pass reads both directions of each pair from it: two shifts per pair instead of four.
  * The values are those the per-pixel step would compute (the same function of the same
  * inputs), so the output is bit-identical to --no-pair-step (test_restir_pairing.c). */
-#include "restir/frame/restir.h"
 
 #include <stdlib.h>
 
 #include "restir/core/threads.h"
-#include "frame_job.h"
+#include "pair_step.h"
 
 static uint32_t pass_sample(const frame_job *j)
 {

@@ -1,5 +1,5 @@
 /* The real-time ReSTIR PT pipeline (GRIS §6.3 steps 1-4; Mutations §2.4 Algorithm 2;
- * include/restir/frame/restir.h, restir_render_sequence; docs/restir-pt.md "Temporal reuse").
+ * include/restir/frame/pipeline.h, restir_render_sequence; docs/restir-pt.md "Temporal reuse").
  *
  *   per frame t:  pose the scene (animated: one of two copies, BVH rebuilt) + camera at t
  *                 G-buffer (primary hits)                         GRIS §6.3 step 1
@@ -22,7 +22,7 @@
  *
  * The previous frame's state (reservoirs P, G-buffer, camera, restir_context of its posed
  * scene) lives exactly one frame: it is replaced at the end of the next frame. */
-#include "restir/frame/restir.h"
+#include "restir/frame/pipeline.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -33,10 +33,10 @@
 #include "restir/core/progress.h"
 #include "restir/restir/reservoir_dump.h"
 #include "restir/core/threads.h"
-#include "frame_job.h"
+#include "stages.h"
 
 typedef struct {
-    frame_job j;            /* the current frame's stages (frame_job.h) */
+    frame_job j;            /* the current frame's stages (stages.h) */
     light_set lights;
     reservoir *prev;        /* P: frame t-1's final reservoirs */
     gbuffer prev_g;         /* frame t-1's G-buffer */

@@ -1,7 +1,8 @@
 /* `restir inspect`: one pixel's selected path, its shift to a neighbour and two-domain GRIS
  * steps, printed for a reader holding the papers (include/restir/frame/restir.h, restir_inspect;
  * the steps: inspect_step.c, the JSON: inspect_json.c). */
-#include "restir/frame/restir.h"
+#include "restir/frame/options.h"
+#include "restir/oracle/inspect.h"
 
 #include <string.h>
 #include "restir/render/camera.h"

@@ -5,6 +5,7 @@
 #include "restir/core/json_text.h"
 #include "restir/restir/path_replay.h"
 #include "restir/restir/shift.h"
+#include "restir/frame/options.h"
 
 static void json_num(FILE *out, const char *name, double v)
 {

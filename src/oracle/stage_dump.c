@@ -10,7 +10,7 @@
 #include "restir/core/checksum.h"
 #include "restir/core/json_text.h"
 #include "restir/core/le_bytes.h"
-#include "restir/frame/restir.h"
+#include "restir/frame/options.h"
 
 void stage_dump_path(char *buf, size_t size, const char *dir, uint32_t frame, const char *name, const char *ext)
 {

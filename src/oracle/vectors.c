@@ -26,7 +26,7 @@
 #include "restir/core/rng.h"
 #include "restir/restir/stochastic_mis.h"
 #include "restir/core/warp.h"
-#include "restir/frame/restir.h"
+#include "restir/frame/options.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
 

@@ -7,7 +7,8 @@
 
 #include <stdio.h>
 #include "restir/bench/equal_time.h"
-#include "restir/frame/restir.h"
+#include "restir/frame/options.h"
+#include "restir/frame/pipeline.h"
 
 /* Offline ReSTIR PT as an equal_time method: unit u = frame options.first_frame + u
  * (independent frames; the harness averages them, GRIS Eq. 47). ctx must outlive m. */

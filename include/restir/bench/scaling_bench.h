@@ -4,7 +4,8 @@
 #define RESTIR_SCALING_BENCH_H
 
 #include <stdio.h>
-#include "restir/frame/restir.h"
+#include "restir/frame/options.h"
+#include "restir/frame/pipeline.h"
 
 /* Frames 0..frames-1 of s with o (restir_render_sequence, no output), `rounds` times with
  * 1 thread and with `threads` threads, alternately (1 T, T 1, ...). One JSON element: per

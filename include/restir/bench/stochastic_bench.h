@@ -11,7 +11,8 @@
 #define RESTIR_STOCHASTIC_BENCH_H
 
 #include <stdio.h>
-#include "restir/frame/restir.h"
+#include "restir/core/error.h"
+#include "restir/scene/scene.h"
 
 int bench_stochastic(FILE *out, const scene *s, const char *name, int threads, int *first, rerror *e);
 

@@ -1,29 +1,18 @@
-/* Offline ReSTIR PT (GRIS §6.5; docs/restir-pt.md): per frame, initial resampling over N
- * path trees per pixel (initial.h), K spatial passes (GRIS §6.3 step 3: every pixel
- * resamples its own reservoir and n accepted neighbours, neighbors.h + spatial.h, with the
- * MIS family of mis.h; reservoirs ping-pong between passes), and shading
- *     I_frame = Le(x1) + F(Y) W_Y        (emission at x1 is added, never resampled)
- * averaged over independent frames with the explicit mean of GRIS Eq. 47 (GRIS §6.5).
- * With --paths indirect the image holds only paths of length d >= 3 (no Le(x1)).
- *
- * Random numbers (docs/restir-pt.md, "Random numbers"): tree t of frame f uses the path
- * tracer's addresses with sample index f*N + t; the frame's primary rays (jitter) sample
- * f*N; the neighbours of pass p are RNG_NEIGHBOR with sample f*K + p (neighbors.h); the
- * selection number of domain j in pass p is RNG_RIS (sample f*N, vertex 32 + p, slot j;
- * initial sampling uses vertices 2..16). The result is byte-identical for any thread count. */
-#ifndef RESTIR_RESTIR_H
-#define RESTIR_RESTIR_H
+/* The configuration of a ReSTIR PT run (offline driver, GRIS §6.5, and real-time
+ * pipeline, GRIS §6.3): one field per knob of the four papers' algorithms, the defaults,
+ * the GRIS §8.3 presets, validation, and what each estimator module is handed of it
+ * (restir_context_for, restir_initial_options_for, restir_neighbor_options_for). */
+#ifndef RESTIR_FRAME_OPTIONS_H
+#define RESTIR_FRAME_OPTIONS_H
 
 #include <signal.h>
 #include <stdio.h>
-#include "restir/restir/duplication.h"
-#include "restir/core/image.h"
 #include "restir/restir/initial.h"
 #include "restir/restir/mis.h"
 #include "restir/restir/mutate.h"
 #include "restir/restir/neighbors.h"
-#include "restir/restir/spatial.h"
 #include "restir/restir/reuse_cells.h"
+#include "restir/restir/spatial.h"
 #include "restir/restir/stochastic_spatial.h"
 #include "restir/restir/temporal.h"
 
@@ -113,52 +102,6 @@ typedef struct {
     int light_tiles;            /* 1: candidates from light tiles */
 } restir_options;
 
-/* Bytes per pixel of every per-pixel buffer of a ReSTIR run (issue 17; docs/performance.md).
- * Per-thread workspaces and per-scene data are not per pixel and not counted. */
-typedef struct {
-    unsigned reservoir;          /* sizeof(reservoir) */
-    unsigned reservoir_pss;      /* per reservoir buffer: its primary-sample rows (reservoir.h;
-                                    --mutations only), counted in reservoirs_* */
-    unsigned reservoirs_initial, reservoirs_spatial, reservoirs_previous; /* 0 when not allocated */
-    unsigned gbuffer, gbuffer_previous;
-    unsigned accumulation, vector_shade, reuse_cells;
-    unsigned pair_step;          /* --pairing paired: the pair step's pre-pass records (Enhanced §3) */
-    unsigned correlation;        /* sequences: duplication map and history ages (docs/correlation.md) */
-    unsigned total;
-} restir_memory;
-/* The buffers restir_render (sequence = 0) or the real-time pipeline (sequence = 1) allocates. */
-void restir_memory_per_pixel(const restir_options *o, int sequence, restir_memory *m);
-
-typedef struct {
-    initial_stats initial;
-    spatial_stats spatial;     /* all passes */
-    neighbor_stats neighbors;  /* verdict of every proposed neighbour */
-    temporal_stats temporal;   /* temporal steps (sequences only) */
-    mutate_stats mutate;       /* MCMC mutations (sequences only) */
-    uint64_t frames;
-    uint64_t nonfinite_pixels; /* output pixels with a NaN/Inf channel (kept in the image; an
-                                  estimate beyond FLT_MAX becomes Inf in the float image) */
-    int passes;                /* K */
-    double ms_gbuffer, ms_initial, ms_shade;     /* summed over frames */
-    double ms_temporal;                          /* temporal step incl. reprojection (sequences) */
-    double ms_pose, ms_motion;                   /* posing + BVH rebuild; motion vectors (sequences) */
-    double ms_mutate;                            /* MCMC mutations, all stages (sequences) */
-    double ms_spatial[RESTIR_MAX_SPATIAL_PASSES]; /* pass p, summed over frames */
-    /* correlation (sequences; docs/correlation.md): the duplication map of every frame's
-     * final reservoirs, summed over frames; reservoirs the boiling filter cleared */
-    duplication_summary correlation;
-    uint64_t boiling_cleared;
-    double ms_correlation;                       /* duplication map + boiling filter */
-    restir_memory memory;      /* bytes per pixel of the run's buffers (set once per run) */
-} restir_stats;
-
-typedef struct {
-    image mean;            /* float RGB: the frame average */
-    reservoir *reservoirs; /* width * height reservoirs of the last frame (keep_reservoirs), else NULL */
-    restir_stats stats;
-    double seconds;
-} restir_result;
-
 void restir_options_default(restir_options *o);
 /* 1 if o turns on a feature that is biased by design (--dedup, --boiling-filter): the
  * estimator is then no longer unbiased (docs/correlation.md); --stats says "biased". */
@@ -178,19 +121,8 @@ void restir_pairing_free(neighbor_options *no);
  * deterministic MIS family, no reuse cells, no --no-pair-step. */
 int restir_pair_step_active(const restir_options *o);
 
-/* Renders s (prepared: BVH built). Deterministic for any thread count. On success fills
- * *out (free with restir_result_free); frees everything on failure. */
-int restir_render(const scene *s, const restir_options *o, restir_result *out, rerror *e);
-void restir_result_free(restir_result *r);
-/* *acc += *add: every counter and timing (frames too; `passes` is kept). */
-void restir_stats_add(restir_stats *acc, const restir_stats *add);
-
-/* The statistics as a JSON object (no trailing newline), e.g. for `render --stats`:
- * candidates, selections by length and reconnection index, shifts by outcome. */
-/* Guards that changed the estimate (docs/precision.md): initial + spatial + temporal
- * invalid_weights. --stats writes them with nonfinite_pixels as "guards". */
-uint64_t restir_stats_invalid_weights(const restir_stats *st);
-void restir_stats_write_json(FILE *out, const restir_stats *st, const char *indent);
+/* The neighbour selection options of o (neighbors.h). */
+void restir_neighbor_options_for(neighbor_options *no, const restir_options *o);
 /* The effective configuration as a JSON object (no trailing newline). */
 void restir_options_write_json(FILE *out, const restir_options *o, const char *indent);
 /* The GRIS offline preset (GRIS §8.3): 32 path trees, 3 spatial passes, 6 neighbours in
@@ -200,45 +132,5 @@ void restir_options_preset_gris_offline(restir_options *o);
 /* The GRIS real-time preset (GRIS §8.3): 1 path tree, temporal reuse (Talbot, cap 20),
  * one spatial pass with 3 neighbours in a 20-pixel radius, pairwise-defensive spatial MIS. */
 void restir_options_preset_gris_realtime(restir_options *o);
-
-/* ---- the real-time pipeline (pipeline.c; GRIS §6.3 steps 1-4, Mutations Algorithm 2) ---- */
-
-/* Called once per rendered frame, in order: img is frame `frame`'s image (with
- * accumulate: the running average of frames first..frame), st its own counters and
- * timings. Returns 0 to go on, nonzero (with *e set) to stop the sequence. */
-typedef int (*restir_frame_sink)(void *user, int frame, const image *img, const restir_stats *st, rerror *e);
-
-typedef struct {
-    int first, last;        /* frames first..last inclusive (camera keyframe indices) */
-    int accumulate;         /* hand the sink the running average (a still camera, GRIS §6.4 footnote) */
-    const char *checkpoint; /* non-NULL: the previous-frame state (the final reservoirs of
-                               the frame just rendered: a reservoir dump, tag "sequence") is
-                               written here atomically after each frame */
-    const char *resume;     /* non-NULL: continue after the frame k stored in this checkpoint
-                               (first-1 <= k < last): frames k+1..last come out
-                               byte-identical to an uninterrupted run (not with accumulate) */
-    const struct frame_stage_hook_s *stages; /* non-NULL: the stage listener (stage_hook.h),
-                                  e.g. per-stage dumps and/or restart (docs/oracle.md) */
-} restir_sequence;
-
-/* Renders frames seq->first..last of s with the real-time pipeline: per frame the scene's
- * camera at that frame, G-buffer, initial resampling, temporal reuse against the previous
- * frame's final reservoirs (if o->temporal), o->spatial_passes spatial passes, shading;
- * the spatial output is the next frame's temporal input. Frame f draws the addresses of
- * an offline frame f (docs/restir-pt.md "Random numbers"), plus RNG_RIS vertex 48 for
- * the temporal selection. Byte-identical for any thread count. *total sums the frames. */
-int restir_render_sequence(const scene *s, const restir_options *o, const restir_sequence *seq,
-                           restir_frame_sink sink, void *user, restir_stats *total, rerror *e);
-
-/* One pixel, for `restir inspect` (docs/restir-pt.md, docs/tour.md): prints the selected path
- * of pixel (x, y) in frame o->first_frame (vertices, lobes, k, technique, F, W), shifts it to
- * pixel (nx, ny) with o->shift (failure reason, or J with its factors, F(y) and the round
- * trip back), then one spatial GRIS step with M = 2 (the pixel's and the neighbour's initial
- * reservoirs, o->mis): every p̂, J, m_j, w_j and the resulting W. temporal (static scenes,
- * first_frame >= 1): also the temporal step with the pixel's initial reservoir of frame
- * first_frame - 1 as the previous domain (o->temporal_mis, o->mcap). json: one JSON object
- * with the same numbers at 17 significant digits instead of the text. */
-int restir_inspect(FILE *out, const scene *s, const restir_options *o, int x, int y, int nx, int ny, int json,
-                   int temporal, rerror *e);
 
 #endif

@@ -1,13 +1,14 @@
-/* The stages of one ReSTIR PT frame, shared by the offline renderer (restir_render.c,
- * independent frames, GRIS §6.5) and the real-time pipeline (pipeline.c, GRIS §6.3
- * steps 1-4). Internal to src/restir. Every stage is a pass over the image in 16 x 16
+/* Private to src/frame. The stages of one ReSTIR PT frame (stages.c), shared by the
+ * offline driver (offline.c, independent frames, GRIS §6.5) and the real-time pipeline
+ * (pipeline.c, GRIS §6.3 steps 1-4). Every stage is a pass over the image in 16 x 16
  * tiles (deterministic for any thread count); `t` is the stage clock (frame_lap_ms). */
-#ifndef RESTIR_SRC_FRAME_JOB_H
-#define RESTIR_SRC_FRAME_JOB_H
+#ifndef RESTIR_SRC_FRAME_STAGES_H
+#define RESTIR_SRC_FRAME_STAGES_H
 
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
-#include "restir/frame/restir.h"
+#include "restir/frame/frame_stats.h"
+#include "restir/frame/options.h"
 #include "restir/frame/stage_hook.h"
 
 typedef struct {
@@ -69,9 +70,6 @@ void pipeline_stage_done(frame_job *j, const char *name, reservoir *rs);
  * stage runs as `if (!pipeline_stage_skipped(j, "name")) compute;` then pipeline_stage_done. */
 int pipeline_stage_skipped(const frame_job *j, const char *name);
 
-/* The neighbour selection options of o (neighbors.h). */
-void restir_neighbor_options_for(neighbor_options *no, const restir_options *o);
-
 /* Milliseconds since *t, and *t reset to now. */
 double frame_lap_ms(double *t);
 
@@ -84,18 +82,6 @@ void frame_stage_initial(frame_job *j, restir_stats *times, double *t);
 reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_stats *times, double *t);
 /* GRIS §6.3 step 4: Le(x1) + F(Y) W_Y of `final` added into j->sum. */
 void frame_stage_shade(frame_job *j, const reservoir *final, restir_stats *times, double *t);
-
-/* Enhanced §3 pair step (pair_step.c). The pre-pass of spatial pass j->pass: every pixel's
- * sample j->src[p] shifted once to each accepted partner into j->pair. */
-void frame_pair_prepass(frame_job *j);
-/* Pixel p's domains for the pass from the pre-pass: its neighbours into w->nbr, w->slot,
- * the cached x1 of every domain into w->x1; returns n (pair_n[p] >= 0). */
-int frame_pair_domains(frame_job *j, worker_state *w, long p);
-int frame_pair_alloc(frame_job *j, rerror *e);
-void frame_pair_free(frame_job *j);
-/* The pass's GRIS step at pixel p (n accepted neighbours in w->nbr, textures in w->slot,
- * domains set up in w) from the pre-pass shifts: no shift between the pair is made here. */
-void frame_pair_resample(frame_job *j, worker_state *w, long p, int n, reservoir *out);
 
 int frame_workers_alloc(frame_job *j, rerror *e);
 void frame_workers_free(frame_job *j);
