@@ -8,6 +8,7 @@
 #include "restir/scene/generate_rooms.h"
 #include "restir/frame/offline.h"
 #include "test.h"
+#include "restir/scene/scene_trace.h"
 
 int rt_load_scene(const char *path, int res, scene *s)
 {

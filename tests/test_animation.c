@@ -8,6 +8,7 @@
 #include "restir/scene/generate_rooms.h"
 #include "restir/scene/scene.h"
 #include "test.h"
+#include "restir/scene/scene_trace.h"
 
 /* Two unit squares sharing an edge: "left" (x in [0,1]) and "right" (x in [1,2]), both in
  * z = 0 facing +z, plus a light above; the shared edge has shared vertices and normals. */

@@ -14,6 +14,7 @@
 #include "restir/scene/scene.h"
 #include "restir/core/warp.h"
 #include "test.h"
+#include "restir/scene/scene_trace.h"
 
 /* ------------------------------------------------------------------------------- */
 /* Helpers                                                                          */

@@ -9,6 +9,7 @@
 #include "restir/metrics/moments.h"
 #include "restir/core/rng.h"
 #include "test.h"
+#include "restir/core/pfm.h"
 
 /* ---- synthetic renders ---- */
 

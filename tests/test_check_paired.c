@@ -11,6 +11,7 @@
 #include "restir/core/image.h"
 #include "restir/core/rng.h"
 #include "test.h"
+#include "restir/core/pfm.h"
 
 enum { PW = 16, PH = 16, PBLOCK = 4 };
 

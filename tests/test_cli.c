@@ -7,6 +7,8 @@
 #include "restir/render/gbuffer.h"
 #include "restir/core/image.h"
 #include "test.h"
+#include "restir/core/pfm.h"
+#include "restir/render/motion.h"
 
 static char out[65536];
 

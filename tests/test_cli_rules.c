@@ -9,6 +9,7 @@
 #include "restir/render/aov.h"
 #include "restir/core/image.h"
 #include "test.h"
+#include "restir/core/pfm.h"
 
 #define SCENE "scenes/cornell.scene --size 24x20 --threads 2"
 #define SMALL SCENE " --max-depth 4"

@@ -18,6 +18,7 @@
 #include "restir/frame/pipeline.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/render/motion.h"
 
 static char out[65536];
 

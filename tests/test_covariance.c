@@ -10,6 +10,7 @@
 #include "restir/core/rng.h"
 #include "restir/metrics/stats.h"
 #include "test.h"
+#include "restir/core/pfm.h"
 
 static double gauss(uint32_t seed, uint32_t pixel, uint32_t sample)
 {

@@ -8,6 +8,7 @@
 #include "restir/bench/equal_time.h"
 #include "restir/metrics/plot.h"
 #include "test.h"
+#include "restir/metrics/plot_csv.h"
 
 static char out[8192];
 

@@ -1,9 +1,11 @@
 /* Checks that keep the house in order (issue 18); they read the source tree as text
  * (the suite runs from the repository root):
- *   house_layers:        no file of src/render or src/restir includes, directly or through
- *                        other headers, the interface header of a src/bench or src/metrics
- *                        file, and no file of src/render one of src/restir (the layers:
- *                        render < restir < metrics, bench < cli);
+ *   house_layers:        no file of a module includes, directly or through other headers,
+ *                        a header of a module of higher rank (core < scene < render <
+ *                        restir < frame < {oracle, metrics, bench} < cli), and the modules'
+ *                        include graph has no circle;
+ *   house_headers_show_their_module: every src/M/X.c begins with its interface header
+ *                        include/restir/M/X.h (or a private src/M/X.h marked as such);
  *   house_equations_cited: every function docs/equations.md names as `name` (src/x.c)
  *                        exists, and its comment or body (or the comment of its declaration
  *                        in a header) cites the equation of its row with the paper's name,
@@ -81,37 +83,49 @@ static int nth_include(const char *text, const char *file, int n, char *out, siz
 
 /* ---- house_layers ---- */
 
-/* The interface header of every .c file in dir: its first #include "restir/...". */
-static void interface_headers(path_list *out, const char *dir)
+/* The wings in order (docs/design.md, Layout): a file may include headers of its own
+ * module and of lower ranks only; oracle, metrics and bench share a rank, and the module
+ * graph must have no circle among them either. */
+static const struct {
+    const char *name;
+    int rank;
+} house_modules[] = {{"core", 0},   {"scene", 1},   {"render", 2}, {"restir", 3}, {"frame", 4},
+                     {"oracle", 5}, {"metrics", 5}, {"bench", 5},  {"cli", 6}};
+#define HOUSE_MODULES ((int)(sizeof house_modules / sizeof house_modules[0]))
+
+/* The module (index into house_modules) a path belongs to: include/restir/M/... or src/M/...;
+ * -1 for anything else (tests, a planted file). */
+static int module_of(const char *path)
 {
-    path_list files = {0};
-    int i;
-    list_sources(&files, dir);
-    for (i = 0; i < files.count; ++i) {
-        char *text, inc[256];
-        if (files.name[i][strlen(files.name[i]) - 1] != 'c') continue; /* a .c file's interface */
-        text = test_read_text(files.name[i]);
-        if (text && nth_include(text, files.name[i], 0, inc, sizeof inc) && !list_has(out, inc)) list_add(out, inc);
-        free(text);
+    int m;
+    for (m = 0; m < HOUSE_MODULES; ++m) {
+        char a[64], b[64];
+        snprintf(a, sizeof a, "include/restir/%s/", house_modules[m].name);
+        snprintf(b, sizeof b, "src/%s/", house_modules[m].name);
+        if (!strncmp(path, a, strlen(a)) || !strncmp(path, b, strlen(b))) return m;
     }
-    free(files.name);
+    return -1;
 }
 
-/* Follows the includes of `file` depth first; 1 (with the chain in `why`) if a forbidden
- * header is reached. */
-static int reaches(const char *file, const path_list *forbidden, path_list *seen, char *why, size_t size)
+/* Follows the includes of `file` depth first; 1 (with the chain in `why`) if a header of a
+ * module ranked above `rank` is reached. edges[m] gets bit n for every module n that a
+ * file of module m includes directly. */
+static int reaches_above(const char *file, int rank, path_list *seen, unsigned *edges, char *why, size_t size)
 {
     char *text = test_read_text(file);
     char inc[256];
-    int i, found = 0;
+    int i, found = 0, from = module_of(file);
     if (!text) return 0;
     for (i = 0; !found && nth_include(text, file, i, inc, sizeof inc); ++i) {
+        int m = module_of(inc);
+        if (from >= 0 && m >= 0 && m != from) edges[from] |= 1u << m;
         if (list_has(seen, inc)) continue;
         list_add(seen, inc);
-        if (list_has(forbidden, inc)) {
-            snprintf(why, size, "%s includes %s", file, inc);
+        if (m >= 0 && house_modules[m].rank > rank) {
+            snprintf(why, size, "%s (%s) includes %s (%s)", file, from >= 0 ? house_modules[from].name : "-", inc,
+                     house_modules[m].name);
             found = 1;
-        } else if (reaches(inc, forbidden, seen, why, size)) {
+        } else if (reaches_above(inc, rank, seen, edges, why, size)) {
             size_t n = strlen(why);
             snprintf(why + n, size - n, " (via %s)", file);
             found = 1;
@@ -121,53 +135,71 @@ static int reaches(const char *file, const path_list *forbidden, path_list *seen
     return found;
 }
 
-static int layer_violation(const char *const *dirs, int ndirs, const path_list *forbidden, char *why, size_t size)
+/* Every file of dir, checked against rank. */
+static int layer_violation(const char *dir, int rank, unsigned *edges, char *why, size_t size)
 {
-    int d, i, found = 0;
-    for (d = 0; d < ndirs && !found; ++d) {
-        path_list files = {0};
-        list_sources(&files, dirs[d]);
-        for (i = 0; i < files.count && !found; ++i) {
-            path_list seen = {0};
-            found = reaches(files.name[i], forbidden, &seen, why, size);
-            free(seen.name);
-        }
-        free(files.name);
+    path_list files = {0};
+    int i, found = 0;
+    list_sources(&files, dir);
+    for (i = 0; i < files.count && !found; ++i) {
+        path_list seen = {0};
+        found = reaches_above(files.name[i], rank, &seen, edges, why, size);
+        free(seen.name);
     }
+    free(files.name);
     return found;
+}
+
+/* 1 if the module graph has a circle (depth-first search with colours). */
+static int module_circle(const unsigned *edges, int m, int *colour, char *why, size_t size)
+{
+    int n;
+    colour[m] = 1;
+    for (n = 0; n < HOUSE_MODULES; ++n) {
+        if (!(edges[m] & (1u << n))) continue;
+        if (colour[n] == 1 || (colour[n] == 0 && module_circle(edges, n, colour, why, size))) {
+            size_t k = strlen(why);
+            snprintf(why + k, size - k, "%s%s -> %s", k ? ", " : "", house_modules[m].name, house_modules[n].name);
+            return 1;
+        }
+    }
+    colour[m] = 2;
+    return 0;
 }
 
 TEST(house_layers)
 {
-    static const char *const algorithms[] = {"src/render", "src/restir"};
-    path_list forbidden = {0};
-    char why[2048];
-    int bad;
-    interface_headers(&forbidden, "src/bench");
-    interface_headers(&forbidden, "src/metrics");
-    CHECKF(forbidden.count >= 8 && list_has(&forbidden, "include/restir/metrics/metrics.h"),
-           "house_layers: found only %d bench/metrics headers (is the suite running from the repository root?)",
-           forbidden.count);
-    bad = layer_violation(algorithms, 2, &forbidden, why, sizeof why);
-    free(forbidden.name);
-    CHECKF(!bad, "house_layers: %s, a bench or metrics header (docs/design.md, Layout)", why);
-    /* and the path tracer is below ReSTIR: src/render reaches no src/restir header */
-    memset(&forbidden, 0, sizeof forbidden);
-    interface_headers(&forbidden, "src/restir");
-    bad = layer_violation(algorithms, 1, &forbidden, why, sizeof why);
-    free(forbidden.name);
-    CHECKF(!bad, "house_layers: %s, a restir header (render is below restir)", why);
+    unsigned edges[HOUSE_MODULES] = {0};
+    int colour[HOUSE_MODULES] = {0};
+    char why[2048] = "", dir[64];
+    int m, bad = 0, files = 0;
+    for (m = 0; m < HOUSE_MODULES && !bad; ++m) {
+        path_list l = {0};
+        snprintf(dir, sizeof dir, "src/%s", house_modules[m].name);
+        list_sources(&l, dir);
+        files += l.count;
+        free(l.name);
+        bad = layer_violation(dir, house_modules[m].rank, edges, why, sizeof why);
+        snprintf(dir, sizeof dir, "include/restir/%s", house_modules[m].name);
+        if (!bad) bad = layer_violation(dir, house_modules[m].rank, edges, why, sizeof why);
+    }
+    CHECKF(files >= 100, "house_layers: found only %d source files (is the suite running from the repository root?)",
+           files);
+    CHECKF(!bad, "house_layers: %s, a module of a higher rank (docs/design.md, Layout)", why);
+    for (m = 0; m < HOUSE_MODULES && !bad; ++m)
+        if (!colour[m]) bad = module_circle(edges, m, colour, why, sizeof why);
+    CHECKF(!bad, "house_layers: the modules include each other in a circle: %s", why);
 }
 
-/* The check sees a planted violation: a restir file that includes metrics.h. */
+/* The check sees planted violations: a restir file that reaches metrics through a header,
+ * and a circle between two modules of the same rank. */
 TEST(house_layers_detects_a_violation)
 {
-    static const char *const planted[] = {RESTIR_TMP "/house-layer"};
-    path_list forbidden = {0};
-    char why[2048];
+    unsigned edges[HOUSE_MODULES] = {0};
+    int colour[HOUSE_MODULES] = {0};
+    char why[2048] = "";
     FILE *f;
-    int bad;
-    interface_headers(&forbidden, "src/metrics");
+    int bad, m;
     CHECK(system("mkdir -p " RESTIR_TMP "/house-layer") == 0);
     f = fopen(RESTIR_TMP "/house-layer/planted.h", "w");
     CHECK(f != NULL);
@@ -177,9 +209,63 @@ TEST(house_layers_detects_a_violation)
     CHECK(f != NULL);
     fputs("#include \"planted.h\"\n", f);
     fclose(f);
-    bad = layer_violation(planted, 1, &forbidden, why, sizeof why);
-    free(forbidden.name);
+    bad = layer_violation(RESTIR_TMP "/house-layer", 3 /* restir */, edges, why, sizeof why);
     CHECKF(bad && strstr(why, "include/restir/metrics/stats.h"), "planted include not found (%s)", bad ? why : "-");
+    memset(edges, 0, sizeof edges);
+    why[0] = 0;
+    edges[5] = 1u << 6; /* oracle -> metrics */
+    edges[6] = 1u << 5; /* metrics -> oracle */
+    for (bad = 0, m = 0; m < HOUSE_MODULES && !bad; ++m)
+        if (!colour[m]) bad = module_circle(edges, m, colour, why, sizeof why);
+    CHECKF(bad && strstr(why, "oracle") && strstr(why, "metrics"), "planted circle not found (%s)", why);
+}
+
+/* ---- house_headers: every source names its module ---- */
+
+/* 1 if text starts (after its first comment opener) with "Private to src/<module>." */
+static int marked_private(const char *text, const char *module)
+{
+    char want[64];
+    snprintf(want, sizeof want, "/* Private to src/%s.", module);
+    return !strncmp(text, want, strlen(want));
+}
+
+/* Every src/M/X.c (but the program's main.c) includes as its first header its interface:
+ * include/restir/M/X.h, or a private src/M/X.h whose comment begins "Private to src/M.";
+ * every header beside the sources is marked private the same way. */
+static int header_violation(const char *module, char *why, size_t size)
+{
+    path_list files = {0};
+    char dir[64];
+    int i, bad = 0;
+    snprintf(dir, sizeof dir, "src/%s", module);
+    list_sources(&files, dir);
+    for (i = 0; i < files.count && !bad; ++i) {
+        const char *f = files.name[i];
+        size_t n = strlen(f);
+        char *text = test_read_text(f), inc[256], pub[256], priv[256];
+        const char *base = strrchr(f, '/') + 1;
+        if (!text) continue;
+        if (f[n - 1] == 'h') {
+            if (!marked_private(text, module)) bad = snprintf(why, size, "%s: a header beside the sources must begin \"/* Private to src/%s.\"", f, module) > 0;
+        } else if (strcmp(f, "src/cli/main.c")) {
+            snprintf(pub, sizeof pub, "include/restir/%s/%.*s.h", module, (int)(strlen(base) - 2), base);
+            snprintf(priv, sizeof priv, "src/%s/%.*s.h", module, (int)(strlen(base) - 2), base);
+            if (!nth_include(text, f, 0, inc, sizeof inc) || (strcmp(inc, pub) && strcmp(inc, priv)))
+                bad = snprintf(why, size, "%s: its first #include is not its interface %s (or %s)", f, pub, priv) > 0;
+        }
+        free(text);
+    }
+    free(files.name);
+    return bad;
+}
+
+TEST(house_headers_show_their_module)
+{
+    char why[512] = "";
+    int m, bad = 0;
+    for (m = 0; m < HOUSE_MODULES && !bad; ++m) bad = header_violation(house_modules[m].name, why, sizeof why);
+    CHECKF(!bad, "house_headers: %s (docs/design.md, Layout)", why);
 }
 
 /* ---- house_equations_cited ---- */

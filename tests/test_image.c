@@ -6,6 +6,8 @@
 #include "restir/core/checksum.h"
 #include "restir/core/image.h"
 #include "test.h"
+#include "restir/core/pfm.h"
+#include "restir/core/png.h"
 
 #define SHARED_PFM "../shared/data/pfm"
 

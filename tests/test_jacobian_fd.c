@@ -29,6 +29,7 @@
 #include <string.h>
 #include "restir_util.h"
 #include "test.h"
+#include "restir/scene/scene_trace.h"
 
 #define FD_STEP 1e-3
 #ifdef RESTIR_REAL_FLOAT

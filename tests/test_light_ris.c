@@ -11,6 +11,7 @@
 #include "restir/render/pt.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/scene/scene_trace.h"
 
 static void options(pt_options *o, int depth, uint32_t spp)
 {

@@ -9,6 +9,7 @@
 #include "restir/metrics/metrics.h"
 #include "restir/core/rng.h"
 #include "test.h"
+#include "restir/core/pfm.h"
 
 static void set_px(image *img, int x, int y, float r, float g, float b)
 {

@@ -7,6 +7,8 @@
 #include "restir/scene/animation.h"
 #include "restir/render/gbuffer.h"
 #include "test.h"
+#include "restir/render/motion.h"
+#include "restir/scene/scene_trace.h"
 
 /* A wall at z = -5 (object "wall"), a 1 x 1 square at z = -2 (object "card", both facing
  * +z) and a light above. The camera pans +x by 0.1 per frame; the card moves by

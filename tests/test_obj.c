@@ -12,6 +12,7 @@
 #include "restir/scene/text.h"
 #include "restir/scene/triangulate.h"
 #include "test.h"
+#include "restir/scene/mtl.h"
 
 /* Writes the file and loads it; returns scene_load's status (e filled on failure). */
 static int load_text(scene *s, const char *name, const char *text, rerror *e)

@@ -8,6 +8,8 @@
 #include <string.h>
 #include "restir/metrics/plot.h"
 #include "test.h"
+#include "restir/metrics/plot_svg.h"
+#include "restir/metrics/plot_csv.h"
 
 /* ---- a minimal XML well-formedness checker ---- */
 

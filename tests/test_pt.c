@@ -4,11 +4,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "restir/bench/bench.h"
+#include "restir/bench/bench_rays.h"
 #include "restir/metrics/check.h"
 #include "restir/render/pt.h"
 #include "pt_util.h"
 #include "test.h"
+#include "restir/render/pt_state.h"
+#include "restir/render/pt_checkpoint.h"
+#include "restir/bench/pt_bench.h"
 
 /* ---- scenes ----------------------------------------------------------------------- */
 

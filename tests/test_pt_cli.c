@@ -6,6 +6,7 @@
 #include <string.h>
 #include "restir/core/image.h"
 #include "test.h"
+#include "restir/core/pfm.h"
 
 #define PT_ARGS "render scenes/cornell.scene --method pt --size 24x20 --threads 2 --quiet --no-png --max-depth 6"
 

@@ -25,6 +25,7 @@
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/restir/stochastic_check.h"
 
 static int verbose(void) { return getenv("RESTIR_TEST_VERBOSE") != NULL; }
 

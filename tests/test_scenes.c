@@ -11,6 +11,9 @@
 #include "restir/core/image.h"
 #include "restir/render/pt.h"
 #include "test.h"
+#include "restir/core/pfm.h"
+#include "restir/scene/scene_trace.h"
+#include "restir/scene/generate_atrium.h"
 
 static char out[8192];
 

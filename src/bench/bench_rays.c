@@ -1,14 +1,15 @@
 /* Ray-throughput benchmark: primary, diffuse secondary and shadow rays. */
-#include "restir/bench/bench.h"
+#include "restir/bench/bench_rays.h"
 
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include "restir/render/camera.h"
 #include "restir/core/json_text.h"
 #include "restir/core/rng.h"
 #include "restir/core/threads.h"
 #include "restir/core/warp.h"
+#include "restir/render/camera.h"
+#include "restir/scene/scene_trace.h"
 
 void bench_rays_default_options(bench_rays_options *o)
 {

@@ -6,9 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/atomic_file.h"
+#include "restir/core/progress.h"
 #include "restir/metrics/metrics.h"
 #include "restir/metrics/plot.h"
-#include "restir/core/progress.h"
+#include "restir/metrics/plot_svg.h"
 
 void equal_time_options_default(equal_time_options *o)
 {

@@ -3,10 +3,11 @@
 #include "restir/bench/light_bench.h"
 
 #include <stdlib.h>
+#include "restir/core/progress.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
 #include "restir/render/light_ris.h"
-#include "restir/core/progress.h"
+#include "restir/scene/scene_trace.h"
 
 /* The primary hits of a 64 × 64 grid of the scene's camera (pixel centres). */
 static int primary_vertices(const scene *s, path_vertex **out, rerror *e)

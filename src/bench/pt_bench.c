@@ -1,5 +1,7 @@
 /* Path-tracer benchmark: samples/s and rays/s as one JSON object (restir/bench/bench.h). */
-#include "restir/bench/bench.h"
+#include "restir/bench/pt_bench.h"
+
+#include "restir/bench/bench_rays.h"
 #include "restir/render/pt.h"
 
 #include <string.h>

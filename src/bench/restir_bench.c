@@ -3,10 +3,10 @@
 
 #include <math.h>
 #include <string.h>
-#include "restir/render/gbuffer.h"
-#include "restir/restir/reservoir_dump.h"
 #include "restir/frame/offline.h"
 #include "restir/frame/pipeline.h"
+#include "restir/render/gbuffer.h"
+#include "restir/restir/reservoir_dump.h"
 
 static int restir_units(void *ctx, uint32_t first, uint32_t count, int width, int height, double *sum, rerror *e)
 {

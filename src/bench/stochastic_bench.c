@@ -3,11 +3,11 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include "restir/core/progress.h"
+#include "restir/frame/offline.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
-#include "restir/core/progress.h"
 #include "restir/restir/reuse_cells.h"
-#include "restir/frame/offline.h"
 
 static void separator(FILE *out, int *first)
 {

@@ -1,5 +1,5 @@
-/* Table-driven option parsing shared by every command: a command lists its options
- * once (name, type, destination, help) and gets parsing, validation and --help. */
+/* Private to src/cli. Table-driven option parsing shared by every command: a command lists its
+ * options once (name, type, destination, help) and gets parsing, validation and --help. */
 #ifndef RESTIR_CLI_ARGS_H
 #define RESTIR_CLI_ARGS_H
 

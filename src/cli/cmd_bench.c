@@ -1,23 +1,26 @@
 /* restir bench rays SCENE | rays --generated N | all: machine-readable benchmarks (JSON on
  * stdout). Timings are never asserted in tests; compare ratios measured in one run. */
+#include "cmd_bench.h"
+
 #include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "args.h"
-#include "restir/scene/animation.h"
-#include "restir/bench/bench.h"
+#include "restir/bench/bench_rays.h"
 #include "restir/bench/light_bench.h"
-#include "restir/render/light_ris.h"
-#include "restir/scene/generate.h"
-#include "restir/scene/generate_rooms.h"
-#include "restir/core/progress.h"
-#include "restir/render/pt.h"
+#include "restir/bench/pt_bench.h"
 #include "restir/bench/restir_bench.h"
 #include "restir/bench/scaling_bench.h"
 #include "restir/bench/stochastic_bench.h"
+#include "restir/core/progress.h"
 #include "restir/core/threads.h"
 #include "restir/frame/options.h"
+#include "restir/render/light_ris.h"
+#include "restir/render/pt.h"
+#include "restir/scene/animation.h"
+#include "restir/scene/generate.h"
+#include "restir/scene/generate_rooms.h"
+#include "args.h"
 #include "scene_args.h"
 
 #define SHARED_BUNNY "../shared/data/common-3d-test-models/stanford-bunny.obj"

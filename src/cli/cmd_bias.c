@@ -2,15 +2,18 @@
  * against a reference, as Enhanced §5 reports it (mean(|bias| / ref)), with intervals and
  * the noise floor of an unbiased estimator (include/restir/metrics/bias_runs.h; docs/cli.md).
  * `restir compare` hands its whole argument list here when --bias is present. */
+#include "cmd_bias.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/atomic_file.h"
-#include "restir/metrics/bias_runs.h"
 #include "restir/core/image.h"
+#include "restir/core/pfm.h"
 #include "restir/core/vec.h"
+#include "restir/metrics/bias_runs.h"
 
 static const char usage[] =
     "usage: restir compare --bias RUN.pfm... --ref REF.pfm [options]\n"
@@ -205,7 +208,6 @@ static int write_json(const char *path, const bias_result *r, int block, double 
     return atomic_file_commit(&f, e);
 }
 
-int cmd_compare_bias(int argc, char **argv);
 int cmd_compare_bias(int argc, char **argv)
 {
     bias_args a;

@@ -1,15 +1,19 @@
 /* restir check: statistical verdict on whether two renderers estimate the same image
  * (docs/statistics.md, "check"). Exit status 0 consistent, 1 different (or not shown
  * equivalent with --require-equivalence), 2 usage or input error. */
+#include "cmd_check.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/atomic_file.h"
-#include "restir/metrics/check.h"
 #include "restir/core/image.h"
 #include "restir/core/json_text.h"
+#include "restir/core/pfm.h"
+#include "restir/core/png.h"
+#include "restir/metrics/check.h"
 #include "restir/metrics/moments.h"
 #include "restir/metrics/output_set.h"
 #include "args.h"

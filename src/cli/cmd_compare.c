@@ -1,15 +1,21 @@
 /* restir compare TEST.pfm REF.pfm: every metric of metrics.h and flip.h, a table on
  * stdout, optionally JSON and a false-colour error map (docs/metrics.md). */
+#include "cmd_compare.h"
+#include "cmd_bias.h"
+#include "cmd_covariance.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/atomic_file.h"
-#include "restir/metrics/error_map.h"
-#include "restir/metrics/flip.h"
 #include "restir/core/image.h"
 #include "restir/core/json_text.h"
+#include "restir/core/pfm.h"
+#include "restir/core/png.h"
+#include "restir/metrics/error_map.h"
+#include "restir/metrics/flip.h"
 #include "restir/metrics/metrics.h"
 #include "args.h"
 
@@ -224,9 +230,6 @@ static int fail(const rerror *e)
     fprintf(stderr, "%s\n", e->msg);
     return 2;
 }
-
-int cmd_compare_covariance(int argc, char **argv);
-int cmd_compare_bias(int argc, char **argv);
 
 /* `compare --covariance FILES...` (Mutations Eq. 21 over K images) and `compare --bias
  * RUNS... --ref REF` (issue 12) are different measurements with their own options: the

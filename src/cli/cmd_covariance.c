@@ -1,14 +1,17 @@
 /* restir compare --covariance RUN.pfm... : the average box covariance between pixels
  * of K independent renders (Mutations Eq. 21; docs/statistics.md, "covariance").
  * `restir compare` hands its whole argument list here when --covariance is present. */
+#include "cmd_covariance.h"
+
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/atomic_file.h"
-#include "restir/metrics/covariance.h"
 #include "restir/core/image.h"
 #include "restir/core/json_text.h"
+#include "restir/core/pfm.h"
+#include "restir/metrics/covariance.h"
 #include "restir/metrics/output_set.h"
 #include "args.h"
 

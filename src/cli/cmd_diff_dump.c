@@ -2,14 +2,16 @@
  * docs/cli.md). A's manifest gives the frames and the stage order; every stage file of A
  * must exist in B. Exit 0 if every stage passes the tolerances, 1 if one does not, 2 on
  * bad input. */
+#include "cmd_diff_dump.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "args.h"
-#include "restir/oracle/dump_diff.h"
 #include "restir/core/json_text.h"
+#include "restir/oracle/dump_diff.h"
 #include "restir/oracle/stage_dump.h"
+#include "args.h"
 
 typedef struct {
     const char *a, *b;

@@ -1,11 +1,14 @@
 /* restir generate ajar|glass|corridor|sphere|pillars|shadow|ajar-swing|ajar-swing-still|many-lights|atrium -o OUT.obj: writes a generated scene as OUT.obj,
  * OUT.mtl and OUT.scene (docs/scenes.md). */
+#include "cmd_generate.h"
+
 #include <stdio.h>
 #include <string.h>
-#include "args.h"
 #include "restir/cli/cli.h"
 #include "restir/scene/generate.h"
+#include "restir/scene/generate_atrium.h"
 #include "restir/scene/generate_rooms.h"
+#include "args.h"
 
 typedef struct {
     const char *output;

@@ -1,8 +1,10 @@
 /* restir info SCENE: what the scene contains and how its BVH came out. */
+#include "cmd_info.h"
+
 #include <stdio.h>
 #include <string.h>
-#include "args.h"
 #include "restir/scene/animation.h"
+#include "args.h"
 #include "scene_args.h"
 
 static void print_materials(const scene *s)

@@ -1,11 +1,13 @@
 /* restir inspect SCENE --pixel x,y [--neighbor x,y] [restir options]: one pixel's
  * selected path (vertices, lobes, k, technique, F, W) and its shift to a neighbour with
  * the Jacobian's factors (docs/restir-pt.md "restir inspect"). */
+#include "cmd_inspect.h"
+
 #include <stdio.h>
 #include <string.h>
-#include "args.h"
-#include "restir/scene/animation.h"
 #include "restir/oracle/inspect.h"
+#include "restir/scene/animation.h"
+#include "args.h"
 #include "render_restir.h"
 #include "scene_args.h"
 

@@ -2,12 +2,17 @@
  * Inputs are either checkpoints (--checkpoint files of runs over adjacent sample ranges of
  * one seed: their double sums are added, the result equals one run over the union up to
  * rounding) or mean images with --counts (the sample-count-weighted mean). */
+#include "cmd_merge.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/core/pfm.h"
+#include "restir/render/pt.h"
+#include "restir/render/pt_checkpoint.h"
+#include "restir/render/pt_state.h"
 #include "args.h"
 #include "output.h"
-#include "restir/render/pt.h"
 
 #define MERGE_MAX_INPUTS 4096
 

@@ -1,8 +1,12 @@
 /* restir plot DATA.csv -o FIG.svg: line plots of CSV tables (docs/statistics.md, "plot"). */
+#include "cmd_plot.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/metrics/plot.h"
+#include "restir/metrics/plot_csv.h"
+#include "restir/metrics/plot_svg.h"
 #include "args.h"
 
 /* What the option table cannot say (printed after it by --help). */

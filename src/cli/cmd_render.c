@@ -1,23 +1,26 @@
 /* restir render SCENE [options]: render a scene with one of the methods and write
  * PFM + PNG preview (+ optional --stats JSON). */
+#include "cmd_render.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "args.h"
-#include "output.h"
-#include "restir/scene/animation.h"
-#include "restir/render/aov.h"
 #include "restir/core/atomic_file.h"
-#include "restir/render/camera.h"
-#include "restir/restir/duplication.h"
-#include "restir/render/gbuffer.h"
-#include "restir/metrics/moments.h"
 #include "restir/core/progress.h"
-#include "restir/oracle/stage_dump.h"
 #include "restir/core/threads.h"
 #include "restir/frame/offline.h"
 #include "restir/frame/pipeline.h"
+#include "restir/metrics/moments.h"
+#include "restir/oracle/stage_dump.h"
+#include "restir/render/aov.h"
+#include "restir/render/camera.h"
+#include "restir/render/gbuffer.h"
+#include "restir/render/motion.h"
+#include "restir/restir/duplication.h"
+#include "restir/scene/animation.h"
+#include "args.h"
+#include "output.h"
 #include "render_pt.h"
 #include "render_restir.h"
 #include "scene_args.h"

@@ -1,9 +1,11 @@
 /* restir vectors -o DIR: the golden test vectors (docs/oracle.md "Golden vectors");
  * restir vectors --check FILE...: re-evaluates vector files with this build. */
+#include "cmd_vectors.h"
+
 #include <stdio.h>
 #include <string.h>
-#include "args.h"
 #include "restir/oracle/vectors.h"
+#include "args.h"
 
 int cmd_vectors(int argc, char **argv)
 {

@@ -2,19 +2,19 @@
 #include <stdio.h>
 #include <string.h>
 #include "restir/cli/cli.h"
+#include "cmd_bench.h"
+#include "cmd_check.h"
+#include "cmd_compare.h"
+#include "cmd_diff_dump.h"
+#include "cmd_generate.h"
+#include "cmd_info.h"
+#include "cmd_inspect.h"
+#include "cmd_merge.h"
+#include "cmd_plot.h"
+#include "cmd_render.h"
+#include "cmd_vectors.h"
 
-int cmd_help(int argc, char **argv);
-int cmd_render(int argc, char **argv);
-int cmd_info(int argc, char **argv);
-int cmd_compare(int argc, char **argv);
-int cmd_check(int argc, char **argv);
-int cmd_plot(int argc, char **argv);
-int cmd_bench(int argc, char **argv);
-int cmd_merge(int argc, char **argv);
-int cmd_inspect(int argc, char **argv);
-int cmd_generate(int argc, char **argv);
-int cmd_diff_dump(int argc, char **argv);
-int cmd_vectors(int argc, char **argv);
+static int cmd_help(int argc, char **argv);
 
 const cli_command cli_commands[] = {
     {"render", cmd_render, "render a scene (.scene or .obj) to PFM + PNG"},
@@ -48,7 +48,7 @@ static void print_usage(FILE *out)
     fprintf(out, "\nrestir --version prints the version.\n");
 }
 
-int cmd_help(int argc, char **argv)
+static int cmd_help(int argc, char **argv)
 {
     const cli_command *c;
     char help[] = "--help";

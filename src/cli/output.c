@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/core/pfm.h"
+#include "restir/core/png.h"
 #include "restir/restir/duplication.h"
 #include <sys/stat.h>
 #include <unistd.h>

@@ -1,4 +1,5 @@
-/* Writing a rendered image: PFM (the data) and a PNG preview, both atomically. */
+/* Private to src/cli. Writing a rendered image: PFM (the data) and a PNG preview, both
+ * atomically. */
 #ifndef RESTIR_CLI_OUTPUT_H
 #define RESTIR_CLI_OUTPUT_H
 

@@ -6,7 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/image.h"
+#include "restir/core/pfm.h"
 #include "restir/render/light_ris.h"
+#include "restir/render/pt_state.h"
 #include "stop.h"
 
 /* --ablate for the path tracer: "none" or one of pt_ablation_names (one bit each). */

@@ -1,6 +1,6 @@
-/* The path tracer's part of `restir render --method pt`: its option rows and the call
- * into the library (include/restir/render/pt.h), kept apart from cmd_render.c so the render
- * command only has to add the rows and call render_pt_image(). */
+/* Private to src/cli. The path tracer's part of `restir render --method pt`: its option rows
+ * and the call into the library (include/restir/render/pt.h), kept apart from cmd_render.c so
+ * the render command only has to add the rows and call render_pt_image(). */
 #ifndef RESTIR_CLI_RENDER_PT_H
 #define RESTIR_CLI_RENDER_PT_H
 

@@ -1,4 +1,4 @@
-/* The options of `restir render --method restir` (docs/restir-pt.md "CLI"). */
+/* Private to src/cli. The options of `restir render --method restir` (docs/restir-pt.md "CLI"). */
 #ifndef RESTIR_CLI_RENDER_RESTIR_H
 #define RESTIR_CLI_RENDER_RESTIR_H
 

@@ -1,5 +1,5 @@
-/* Scene loading shared by the commands that take a SCENE argument (.scene or bare .obj),
- * with the camera and image overrides every such command accepts. */
+/* Private to src/cli. Scene loading shared by the commands that take a SCENE argument (.scene
+ * or bare .obj), with the camera and image overrides every such command accepts. */
 #ifndef RESTIR_CLI_SCENE_ARGS_H
 #define RESTIR_CLI_SCENE_ARGS_H
 

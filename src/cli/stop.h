@@ -1,6 +1,6 @@
-/* SIGINT / SIGTERM during a render (docs/cli.md, "Interrupted renders"): the handler only
- * sets a flag the renderers check between passes (pt) or frames (restir); the render
- * command then writes what it has and exits with 128 + the signal number (130 / 143). */
+/* Private to src/cli. SIGINT / SIGTERM during a render (docs/cli.md, "Interrupted renders"):
+ * the handler only sets a flag the renderers check between passes (pt) or frames (restir); the
+ * render command then writes what it has and exits with 128 + the signal number (130 / 143). */
 #ifndef RESTIR_CLI_STOP_H
 #define RESTIR_CLI_STOP_H
 

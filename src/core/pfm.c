@@ -8,6 +8,8 @@
  * its magnitude is a brightness hint that we, like Pillow and OpenImageIO, ignore.
  * Rows are stored BOTTOM to top; our images keep row 0 at the top, so both
  * directions flip. The reader is strict: anything it cannot read exactly is an error. */
+#include "restir/core/pfm.h"
+
 #include "restir/core/atomic_file.h"
 #include "restir/core/image.h"
 

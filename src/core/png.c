@@ -7,6 +7,8 @@
  *   stored = 1 header byte (BFINAL bit, BTYPE 00; byte aligned), LEN (LE16), NLEN = ~LEN, LEN bytes
  * Each stored block (<= 65535 bytes) goes into its own IDAT chunk, so the writer
  * streams with a fixed buffer. The files are ~1.0x the raw size: previews, not archives. */
+#include "restir/core/png.h"
+
 #include "restir/core/atomic_file.h"
 #include "restir/core/checksum.h"
 #include "restir/core/image.h"

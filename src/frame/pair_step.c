@@ -9,10 +9,11 @@
  * The values are those the per-pixel step would compute (the same function of the same
  * inputs), so the output is bit-identical to --no-pair-step (test_restir_pairing.c). */
 
+#include "pair_step.h"
+
 #include <stdlib.h>
 
 #include "restir/core/threads.h"
-#include "pair_step.h"
 
 static uint32_t pass_sample(const frame_job *j)
 {

@@ -27,12 +27,13 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/scene/animation.h"
+#include "restir/core/progress.h"
+#include "restir/core/threads.h"
+#include "restir/render/motion.h"
 #include "restir/restir/boiling_filter.h"
 #include "restir/restir/duplication.h"
-#include "restir/core/progress.h"
 #include "restir/restir/reservoir_dump.h"
-#include "restir/core/threads.h"
+#include "restir/scene/animation.h"
 #include "stages.h"
 
 typedef struct {

@@ -9,6 +9,7 @@
 #include <string.h>
 #include "restir/core/atomic_file.h"
 #include "restir/core/json_text.h"
+#include "restir/core/pfm.h"
 #include "restir/metrics/output_set.h"
 
 const int moments_default_block_sizes[4] = {4, 8, 16, 32};

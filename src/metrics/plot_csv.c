@@ -1,4 +1,6 @@
 /* The CSV tables of `restir plot` (plot.h, docs/statistics.md "plot"). */
+#include "restir/metrics/plot_csv.h"
+
 #include "restir/metrics/plot.h"
 
 #include <errno.h>

@@ -1,6 +1,8 @@
 /* SVG line plots (plot.h). The drawing is a fixed layout: title on top, the plot area
  * with a light grid, axis labels below and to the left, the legend in the upper right
  * corner of the plot area. Coordinates are written with two decimals. */
+#include "restir/metrics/plot_svg.h"
+
 #include "restir/metrics/plot.h"
 
 #include <math.h>

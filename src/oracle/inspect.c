@@ -1,13 +1,16 @@
 /* `restir inspect`: one pixel's selected path, its shift to a neighbour and two-domain GRIS
  * steps, printed for a reader holding the papers (include/restir/frame/restir.h, restir_inspect;
  * the steps: inspect_step.c, the JSON: inspect_json.c). */
-#include "restir/frame/options.h"
 #include "restir/oracle/inspect.h"
+
+#include "restir/frame/options.h"
 
 #include <string.h>
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
 #include "restir/scene/animation.h"
+#include "restir/scene/scene_trace.h"
+#include "inspect_json.h"
 #include "inspect_step.h"
 
 static const char *const lobe_kind_names[] = {"diffuse", "glossy reflection", "glossy transmission",

@@ -1,11 +1,13 @@
 /* `restir inspect --json`: the numbers of inspect.c's text at 17 significant digits
  * (inspect_step.h; the keys are listed in docs/cli.md "inspect"). */
+#include "inspect_json.h"
+
 #include "inspect_step.h"
 
 #include "restir/core/json_text.h"
+#include "restir/frame/options.h"
 #include "restir/restir/path_replay.h"
 #include "restir/restir/shift.h"
-#include "restir/frame/options.h"
 
 static void json_num(FILE *out, const char *name, double v)
 {

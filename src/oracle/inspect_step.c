@@ -4,10 +4,10 @@
 #include "inspect_step.h"
 
 #include <string.h>
-#include "restir/oracle/dump_diff.h"
 #include "restir/core/rng.h"
-#include "restir/restir/temporal.h"
 #include "restir/frame/options.h"
+#include "restir/oracle/dump_diff.h"
+#include "restir/restir/temporal.h"
 
 /* The common set-up: g cleared, the two inputs, the selection numbers (RNG_RIS, `vertex`);
  * g->shown = 0 (and nothing else) for a family without a two-domain form. */

@@ -1,5 +1,5 @@
-/* `restir inspect`'s two-domain GRIS steps and its JSON output (inspect.c, inspect_step.c,
- * inspect_json.c). Internal to src/restir. */
+/* Private to src/oracle. `restir inspect`'s two-domain GRIS steps (inspect_step.c; the
+ * text in inspect.c, the JSON in inspect_json.c). */
 #ifndef RESTIR_INSPECT_STEP_H
 #define RESTIR_INSPECT_STEP_H
 
@@ -30,10 +30,5 @@ int inspect_spatial_step(const restir_context *c, const restir_options *o, const
 int inspect_temporal_step(const restir_context *c, const restir_options *o, const initial_options *io,
                           const path_vertex *xa, const path_vertex *xprev, const reservoir *ra, const reservoir *rprev,
                           uint32_t p, inspect_step *g, rerror *e);
-
-/* The whole inspection as one JSON object (xa, xb, g, tg may be NULL: absent). */
-void inspect_print_json(FILE *out, const restir_context *c, const restir_options *o, int x, int y, int nx, int ny,
-                        const path_vertex *xa, const path_vertex *xb, const reservoir *r, const inspect_step *g,
-                        const inspect_step *tg);
 
 #endif

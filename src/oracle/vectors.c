@@ -13,22 +13,22 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "restir/core/atomic_file.h"
-#include "restir/scene/bsdf.h"
 #include "restir/core/json_text.h"
-#include "restir/scene/lights.h"
-#include "restir/restir/footprint.h"
-#include "restir/scene/microfacet.h"
-#include "restir/restir/mis.h"
-#include "restir/restir/pairing.h"
-#include "restir/restir/mutate.h"
-#include "restir/restir/reconnection.h"
-#include "restir/restir/reservoir.h"
 #include "restir/core/rng.h"
-#include "restir/restir/stochastic_mis.h"
 #include "restir/core/warp.h"
 #include "restir/frame/options.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
+#include "restir/restir/footprint.h"
+#include "restir/restir/mis.h"
+#include "restir/restir/mutate.h"
+#include "restir/restir/pairing.h"
+#include "restir/restir/reconnection.h"
+#include "restir/restir/reservoir.h"
+#include "restir/restir/stochastic_mis.h"
+#include "restir/scene/bsdf.h"
+#include "restir/scene/lights.h"
+#include "restir/scene/microfacet.h"
 
 /* ---- evaluators ---------------------------------------------------------------------- */
 

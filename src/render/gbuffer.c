@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include "restir/core/rng.h"
 #include "restir/core/threads.h"
+#include "restir/scene/scene_trace.h"
 
 void primary_sample_position(const camera *c, int x, int y, uint32_t seed, uint32_t sample, int jitter, real *px,
                              real *py)

@@ -1,5 +1,6 @@
 /* Light RIS for NEE and light tiles (include/restir/render/light_ris.h; docs/enhanced.md §6). */
 #include "restir/render/light_ris.h"
+#include "restir/scene/scene_trace.h"
 
 int light_ris_count(const path_context *c, uint32_t vertex_index)
 {

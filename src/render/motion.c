@@ -7,9 +7,11 @@
  * is that minus the pixel's sample position. Visibility in the previous frame is judged
  * against the previous G-buffer, as real-time renderers do (no extra rays): the texel the
  * point lands in must show the same object, at the same depth and orientation. */
-#include "restir/scene/animation.h"
-#include "restir/render/gbuffer.h"
+#include "restir/render/motion.h"
+
 #include "restir/core/threads.h"
+#include "restir/render/gbuffer.h"
+#include "restir/scene/animation.h"
 
 #include <math.h>
 

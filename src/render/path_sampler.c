@@ -3,6 +3,7 @@
 #include "restir/render/path_sampler.h"
 
 #include "restir/render/light_ris.h"
+#include "restir/scene/scene_trace.h"
 
 void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir)
 {

@@ -4,11 +4,14 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include "restir/core/progress.h"
+#include "restir/core/threads.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
 #include "restir/render/light_ris.h"
-#include "restir/core/progress.h"
-#include "restir/core/threads.h"
+#include "restir/render/pt_checkpoint.h"
+#include "restir/render/pt_state.h"
+#include "restir/scene/scene_trace.h"
 
 const char *const pt_strategy_names[] = {"mis", "nee", "bsdf", NULL};
 const char *const pt_ablation_names[] = {"light-pdf", "mis-sum", "mis-lobe", "light-ris-pdf", NULL};

@@ -1,10 +1,13 @@
 /* Path-tracer checkpoints: the accumulation state in a small, explicit little-endian
  * binary format (docs/path-tracer.md, "Checkpoint format"), written atomically. */
+#include "restir/render/pt_checkpoint.h"
+
 #include "restir/render/pt.h"
 
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/atomic_file.h"
+#include "restir/render/pt_state.h"
 
 #define PT_CHECKPOINT_MAGIC "RESTIRPT"
 #define PT_CHECKPOINT_VERSION 1u

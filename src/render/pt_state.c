@@ -1,5 +1,7 @@
 /* Path-tracer accumulation state: allocation, mean and variance images, merging of
  * runs over disjoint sample ranges, and the scene/options fingerprint. */
+#include "restir/render/pt_state.h"
+
 #include "restir/render/pt.h"
 
 #include <stdlib.h>

@@ -1,6 +1,7 @@
 /* The footprint reconnection criterion, Enhanced §4 Eq. 5 (include/restir/restir/footprint.h,
  * docs/enhanced.md §1). */
 #include "restir/restir/footprint.h"
+#include "restir/scene/scene_trace.h"
 
 #include <math.h>
 

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/restir/reconnection.h"
+#include "restir/scene/scene_trace.h"
 
 const char *const mutate_strategy_names[] = {"rv", "pp", "fp", NULL};
 const char *const mutate_after_names[] = {"none", "initial", "temporal", "initial,temporal", "spatial",

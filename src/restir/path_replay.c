@@ -2,6 +2,7 @@
 #include "restir/restir/path_replay.h"
 
 #include "restir/render/light_ris.h"
+#include "restir/scene/scene_trace.h"
 
 void trunk_begin(path_trunk *t, const path_vertex *x1)
 {

@@ -2,6 +2,7 @@
 #include "restir/restir/reconnection.h"
 
 #include "restir/render/light_ris.h"
+#include "restir/scene/scene_trace.h"
 
 #include <math.h>
 #include <string.h>

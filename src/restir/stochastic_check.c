@@ -3,6 +3,8 @@
  * inputs with other code than the step's own: the pick probabilities straight from Eq. 17,
  * the deterministic pairwise weights from mis.c (GRIS Eq. 38), so that a slip in
  * stochastic_mis.c or stochastic_spatial.c cannot agree with itself here. */
+#include "restir/restir/stochastic_check.h"
+
 #include "restir/restir/reconnection.h"
 #include "restir/restir/stochastic_spatial.h"
 

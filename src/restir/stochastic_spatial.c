@@ -3,6 +3,7 @@
 #include "restir/restir/stochastic_spatial.h"
 
 #include "restir/core/invariant.h"
+#include "restir/restir/stochastic_check.h"
 
 #include <math.h>
 #include <stdlib.h>

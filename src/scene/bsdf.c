@@ -4,7 +4,9 @@
  * side, picks the lobe and checks results for finiteness. */
 #include "restir/scene/bsdf.h"
 #include "restir/scene/microfacet.h"
-#include "lobes.h"
+#include "lobe_delta.h"
+#include "lobe_diffuse.h"
+#include "lobe_microfacet.h"
 
 /* Lower/upper clamp of P(reflection) for the rough dielectric (docs/materials.md). */
 #define ROUGH_DIELECTRIC_P_MIN ((real)0.05)

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/atomic_file.h"
+#include "restir/scene/mtl.h"
 
 enum { MAX_SUBDIVISIONS = 8192 };
 

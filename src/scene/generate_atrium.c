@@ -13,6 +13,8 @@
  * is closed with outward faces. Unlike the smaller rooms, solids here may touch in a
  * plane where it cannot be seen (a capital on its column); the scene is a benchmark, not
  * a light-leak test. */
+#include "restir/scene/generate_atrium.h"
+
 #include "restir/scene/generate_rooms.h"
 #include "restir/scene/mesh_writer.h"
 

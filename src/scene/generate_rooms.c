@@ -11,9 +11,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include "restir/scene/animation.h"
 #include "restir/core/atomic_file.h"
 #include "restir/core/rng.h"
+#include "restir/scene/animation.h"
 #include "restir/scene/scene_builder.h"
 #include "restir/scene/triangulate.h"
 

@@ -3,7 +3,7 @@
  * the 1/eta^2 = (n_wo / n_wi)^2 is the radiance scaling across the interface
  * (camera paths carry radiance; docs/materials.md §Conventions). eval and pdf of
  * a Dirac at an arbitrary direction are 0. */
-#include "lobes.h"
+#include "lobe_delta.h"
 #include "restir/scene/microfacet.h"
 
 static rgb delta_eval(const lobe_view *v, vec3 wi)

@@ -2,7 +2,7 @@
  * Under the plastic coat it is weighted by the light transmitted through the
  * smooth coat twice, (1 - F(wo.z)) (1 - F(wi.z)) (docs/materials.md §Plastic),
  * which keeps it reciprocal and the plastic's albedo below 1. */
-#include "lobes.h"
+#include "lobe_diffuse.h"
 #include "restir/scene/microfacet.h"
 
 static real coat_transmission(const lobe_view *v, real cos_theta)

@@ -2,7 +2,7 @@
  * transmission (rough glass), both sampled from the visible normals of wo
  * (Heitz 2018) and evaluated with the separable Smith G2 (Walter et al. 2007 Eq. 23).
  * wo.z > 0 always (lobes.h). */
-#include "lobes.h"
+#include "lobe_microfacet.h"
 #include "restir/scene/microfacet.h"
 
 rgb lobe_specular_fresnel(const lobe_view *v, real cos_wo_m)

@@ -1,4 +1,4 @@
-/* Internal: the five lobe kinds, each seen from wo's side of the surface.
+/* Private to src/scene. the five lobe kinds, each seen from wo's side of the surface.
  *
  * bsdf.c flips the local frame (z -> -z) when wo.z < 0 so that every lobe
  * function below sees wo.z > 0; `eta` is then the index ratio n(other side) /
@@ -25,15 +25,5 @@ typedef struct {
      * direction needs both); NULL where the two share no work. */
     void (*eval_pdf)(const lobe_view *v, vec3 wi, rgb *f_cos, real *pdf);
 } lobe_ops;
-
-extern const lobe_ops lobe_diffuse_ops;
-extern const lobe_ops lobe_glossy_reflection_ops;
-extern const lobe_ops lobe_glossy_transmission_ops;
-extern const lobe_ops lobe_delta_reflection_ops;
-extern const lobe_ops lobe_delta_transmission_ops;
-
-/* Fresnel of the material's specular interface for a microfacet (or macro) cosine:
- * Schlick with F0 = Ks for conductors, Ks * exact dielectric Fresnel otherwise. */
-rgb lobe_specular_fresnel(const lobe_view *v, real cos_wo_m);
 
 #endif

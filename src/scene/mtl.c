@@ -1,4 +1,6 @@
 /* Wavefront MTL reader and the MTL -> material mapping (docs/scene-format.md). */
+#include "restir/scene/mtl.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

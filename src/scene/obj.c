@@ -1,10 +1,13 @@
 /* Wavefront OBJ reader: the polygonal subset (v, vn, vt, f, o, g, usemtl, mtllib),
  * with every statement of the OBJ specification either read, explicitly ignored, or
  * rejected with "file:line: what is wrong". See docs/scene-format.md. */
+#include "restir/scene/obj.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/scene/mtl.h"
 #include "restir/scene/scene_builder.h"
 #include "restir/scene/text.h"
 #include "restir/scene/triangulate.h"

@@ -10,13 +10,16 @@
  * Names and paths containing spaces are written in double quotes. The file is read
  * completely first; then the meshes are loaded in order, then the material lines are
  * applied in order, so a material line may come before the mesh that uses it. */
+#include "restir/scene/scene_file.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/scene/animation.h"
 #include "restir/core/image.h"
+#include "restir/scene/animation.h"
+#include "restir/scene/obj.h"
 #include "restir/scene/scene_builder.h"
 #include "restir/scene/text.h"
 

@@ -3,6 +3,8 @@
  * that starts on a surface is offset with offset_ray_origin (after Wächter & Binder
  * 2019) to the side it leaves to, so no epsilon in t is needed: spawned rays have
  * tmin = 0, and shadow segments are only shortened by the offsets themselves. */
+#include "restir/scene/scene_trace.h"
+
 #include "restir/scene/scene.h"
 
 #include <math.h>

@@ -8,8 +8,8 @@
 #include <string.h>
 #include "fuzz.h"
 
-int cmd_render(int argc, char **argv);
-int cmd_inspect(int argc, char **argv);
+#include "../../src/cli/cmd_inspect.h"
+#include "../../src/cli/cmd_render.h"
 
 #define FUZZ_CLI_MAX_ARGS 64
 

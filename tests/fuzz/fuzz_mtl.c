@@ -2,6 +2,7 @@
 #include <string.h>
 #include "fuzz.h"
 #include "restir/scene/scene_builder.h"
+#include "restir/scene/mtl.h"
 
 FUZZ_TARGET(mtl)
 {

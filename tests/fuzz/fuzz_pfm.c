@@ -1,6 +1,7 @@
 /* Fuzz target: the PFM reader (src/core/pfm.c). */
 #include "fuzz.h"
 #include "restir/core/image.h"
+#include "restir/core/pfm.h"
 
 FUZZ_TARGET(pfm)
 {

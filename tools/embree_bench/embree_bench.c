@@ -15,7 +15,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "restir/bench/bench.h"
+#include "restir/bench/bench_rays.h"
 #include "restir/scene/generate.h"
 #include "restir/scene/scene.h"
 

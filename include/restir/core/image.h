@@ -24,16 +24,4 @@ static inline float *image_pixel(const image *img, int x, int y)
     return img->px + 3 * ((long)y * img->width + x);
 }
 
-/* PFM ("PF" colour, "Pf" greyscale). A "Pf" file is read into all three channels;
- * *channels (may be NULL) receives 1 or 3. The scale's sign gives the byte order
- * (negative = little-endian); its magnitude is ignored. Errors: "file: what". */
-int pfm_read(const char *path, image *out, int *channels, rerror *e);
-/* Writes "PF", little-endian (scale -1.0), atomically. */
-int pfm_write(const char *path, const image *img, rerror *e);
-
-/* 8-bit sRGB preview: multiply by 2^exposure, clamp, sRGB transfer curve. Atomic. */
-int png_write_preview(const char *path, const image *img, double exposure, rerror *e);
-/* Raw 8-bit RGB writer (stored deflate blocks, CRC-32, Adler-32). Atomic. */
-int png_write_rgb8(const char *path, int width, int height, const unsigned char *rgb8, rerror *e);
-
 #endif

@@ -23,17 +23,6 @@ typedef struct {
     int width, height;                   /* SVG size in pixels (default 640 x 440) */
 } plot_options;
 
-void plot_options_default(plot_options *o);
-
-/* Writes the plot as a standalone SVG document. *skipped (may be NULL) receives the
- * number of points that could not be drawn (NaN, or <= 0 on a log axis). Fails if no
- * series has a drawable point. */
-int plot_svg_fprint(FILE *fp, const plot_options *o, const plot_series *series, int series_count, long *skipped,
-                    rerror *e);
-/* The same, written atomically to `path`. */
-int plot_svg_write(const char *path, const plot_options *o, const plot_series *series, int series_count,
-                   long *skipped, rerror *e);
-
 /* A CSV table in "wide" format: a header row, then one row per x value:
  *     x,series A,series B
  *     1,0.5,0.7
@@ -46,8 +35,5 @@ typedef struct {
     char **names;        /* column names (names[0] = the x header) */
     double *values;      /* column-major: column c is values + c * rows; NaN = missing */
 } plot_table;
-
-int plot_csv_read(const char *path, plot_table *t, rerror *e);
-void plot_table_free(plot_table *t);
 
 #endif

@@ -92,32 +92,4 @@ int pt_options_validate(const pt_options *o, rerror *e);
 int pt_render(const scene *s, const pt_options *o, pt_result *out, rerror *e);
 void pt_result_free(pt_result *r);
 
-/* ---- state, mean image, variance ---- */
-int pt_state_alloc(pt_state *st, int width, int height, rerror *e);
-void pt_state_free(pt_state *st);
-/* out (allocated here) = sum / spp; all zero when spp = 0. */
-int pt_state_mean(const pt_state *st, image *out, rerror *e);
-/* out (allocated here) = sample variance of the mean per pixel and channel:
- * (sum_sq - sum^2/n) / (n (n - 1)); zero when spp < 2. */
-int pt_state_variance_of_mean(const pt_state *st, image *out, rerror *e);
-
-/* 64-bit FNV-1a fingerprint of everything that defines the estimator's expectation and its
- * random numbers: geometry, materials, camera at o->frame, image size, seed, max depth,
- * strategy, roulette, jitter, ablations and the precision of `real`. Not: spp, sample
- * offset, threads, time limit. */
-uint64_t pt_fingerprint(const scene *s, const pt_options *o);
-
-/* ---- checkpoints (docs/path-tracer.md, "Checkpoint format") ---- */
-int pt_checkpoint_write(const char *path, const pt_state *st, rerror *e);
-int pt_checkpoint_read(const char *path, pt_state *st, rerror *e);
-
-/* ---- merging independent runs ---- */
-/* acc += add: same size, seed and fingerprint, and add's sample range must start where
- * acc's ends or end where it starts (contiguous, disjoint), so the merged state is the
- * state of one run over the union of the sample ranges. */
-int pt_state_merge(pt_state *acc, const pt_state *add, rerror *e);
-/* out (allocated here) = sum_i counts[i] · images[i] / sum_i counts[i], accumulated in
- * double: the sample-count-weighted mean of runs given as mean images. */
-int pt_merge_means(const image *images, const double *counts, int n, image *out, rerror *e);
-
 #endif

@@ -59,13 +59,6 @@ int generate_corridor(scene *s, rerror *e);
  * §6.1). Metres. */
 int generate_many_lights(scene *s, rerror *e);
 
-/* Fills a zeroed scene with the atrium (docs/scenes.md §11): a generated Sponza-like
- * interior of about a quarter of a million triangles (a courtyard between two-storey
- * arcades of fluted columns, curtains, balusters, planters), lit by a sky panel and a
- * small sun above the open courtyard; the camera stands in the courtyard. The traversal
- * yardstick's interior (issue 17). Metres. */
-int generate_atrium(scene *s, rerror *e);
-
 /* Writes a scene file for s (atomically): `comment` (may be NULL, may hold several lines)
  * as # lines, `mesh MESH_NAME`, the camera (or its keyframes), the object animation, the size and one `material` line per
  * material with every field, so the scene file alone states the materials. */

@@ -57,27 +57,4 @@ int builder_add_triangle(scene_builder *b, const triangle *t, rerror *e);
 /* Grows *array (of elem_size elements, capacity *capacity) to hold at least need. */
 int builder_reserve(void **array, size_t *capacity, size_t need, size_t elem_size, rerror *e);
 
-/* Loaders (obj.c, mtl.c, scene_file.c). mtl_load skips a library loaded before (same
- * path). scene_file_load reads the directives, loads the meshes in order and then
- * applies the `material` lines; camera, keyframes and size go into b->s. */
-int obj_load(scene_builder *b, const char *path, rerror *e);
-int mtl_load(scene_builder *b, const char *path, rerror *e);
-int scene_file_load(scene_builder *b, const char *path, rerror *e);
-
-/* The raw statements of one MTL material (`has_*` says whether the key was given). */
-typedef struct {
-    rgb kd, ks, ke;
-    double ns, ni, d, tr, pr, pm;
-    int illum;
-    int has_kd, has_ks, has_ke, has_ns, has_ni, has_d, has_tr, has_pr, has_pm, has_illum;
-} mtl_record;
-
-/* The documented MTL -> material mapping (docs/scene-format.md, "MTL mapping").
- * *dissolve_ignored is set when d < 1 or Tr > 0 was given but did not make the material
- * a dielectric. */
-material mtl_to_material(const char *name, const mtl_record *r, int *dissolve_ignored);
-/* GGX linear roughness r from a Phong/Blinn-Phong exponent: alpha = sqrt(2 / (Ns + 2))
- * (Walter et al. 2007, Sec. 5.2, the Phong-Beckmann correspondence), r = sqrt(alpha). */
-real roughness_from_phong_exponent(double ns);
-
 #endif

@@ -1,6 +1,6 @@
 /* Benchmarks with machine-readable (JSON) output (`make bench`, docs/equal-time.md). */
-#ifndef RESTIR_BENCH_H
-#define RESTIR_BENCH_H
+#ifndef RESTIR_BENCH_BENCH_RAYS_H
+#define RESTIR_BENCH_BENCH_RAYS_H
 
 #include <stdint.h>
 #include <stdio.h>
@@ -40,10 +40,5 @@ void bench_ray_sets_free(bench_ray_sets *r);
  * timed `repeats` times for 1 thread and for o->threads (if > 1); the BVH is also rebuilt
  * once to time the build. Writes one JSON object to json_out. */
 int bench_rays(const scene *s, const bench_rays_options *o, FILE *json_out, rerror *e);
-
-/* Renders s with the path tracer, `spp` samples per pixel on `threads` threads (MIS,
- * default options otherwise) and writes one JSON object to out: samples/s, rays/s,
- * seconds, counts (src/bench/pt_bench.c). */
-int bench_pt(FILE *out, const scene *s, const char *name, uint32_t spp, int threads, rerror *e);
 
 #endif

@@ -1,11 +1,15 @@
 /* scene_load: a scene file or a bare OBJ, then the checks and defaults every scene gets;
  * the camera at a frame; framing the bounds; freeing. */
+#include "restir/scene/scene.h"
+
 #include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/scene/animation.h"
+#include "restir/scene/obj.h"
 #include "restir/scene/scene_builder.h"
+#include "restir/scene/scene_file.h"
 
 #define DEFAULT_IMAGE_SIZE 512
 #define FRAMING_FOV_DEGREES 40.0
