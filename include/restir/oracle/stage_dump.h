@@ -9,7 +9,7 @@
  *                                        tag STAGE, frame NNNN)
  *
  * Stages are named by the pipeline itself: every stage calls pipeline_stage_done(job,
- * "name", reservoirs) once its output is complete (frame_job.h), so a new stage (mutate,
+ * "name", reservoirs) once its output is complete (src/frame/stages.h), so a new stage (mutate,
  * paired spatial, ...) plugs into dumps, restart and diff-dump with that one line. The
  * stage order in the manifest is the order of those calls in the first frame.
  *
