@@ -20,6 +20,57 @@ TEST(pairing_shuffle_count_eq3)
     CHECK(pairing_shuffle_count(16) == 129);
 }
 
+/* The readings of the garbled Eq. 3 (pairing.h), by hand: at sigma = 0.8 every reading but
+ * the literal one gives footnote 1's single pass; the independent port's reading gives one
+ * pass fewer than the oracle's at sigma = 2, 8, 16, 22. */
+TEST(pairing_eq3_readings_by_hand)
+{
+    static const struct {
+        double sigma;
+        int n[PAIRING_EQ3_COUNT]; /* signed-ceil, port-round, signed-round, literal-ceil, leading-ceil */
+    } rows[] = {
+        {0.8, {1, 1, 1, 7, 1}},      /* 0.46; 1.18; 0.46; 6.6; 0.82 */
+        {2, {3, 2, 2, 4, 3}},        /* 2.13; 2.87; 2.13; 3.8; 2.5 */
+        {8, {33, 32, 32, 33, 33}},   /* 32.34; 32.66; 32.34; 32.72; 32.5 */
+        {16, {129, 128, 128, 129, 129}},
+        {22, {243, 242, 242, 243, 243}},
+    };
+    int i, r;
+    for (i = 0; i < (int)(sizeof rows / sizeof rows[0]); ++i)
+        for (r = 0; r < PAIRING_EQ3_COUNT; ++r)
+            CHECKF(pairing_shuffle_count_as(rows[i].sigma, (enum pairing_eq3)r) == rows[i].n[r],
+                   "sigma %g, reading %s: %d passes, by hand %d", rows[i].sigma, pairing_eq3_names[r],
+                   pairing_shuffle_count_as(rows[i].sigma, (enum pairing_eq3)r), rows[i].n[r]);
+}
+
+/* Beyond 255 passes (the Eq. 3 measurement up to sigma = 32; the pass number then also
+ * moves the RNG slot, pairing.h): 512 passes still give an involution and spread the
+ * offsets further than 255 passes; more than PAIRING_MAX_PASSES is refused. */
+TEST(pairing_passes_beyond_255)
+{
+    reuse_texture a, b;
+    rerror e;
+    size_t i, n = 64 * 64;
+    double sa = 0, sb = 0;
+    int bad = 0;
+    CHECKF(!reuse_texture_build_passes(&a, 64, 16, 255, 1, 0, &e), "%s", e.msg);
+    CHECKF(!reuse_texture_build_passes(&b, 64, 16, 512, 1, 0, &e), "%s", e.msg);
+    for (i = 0; i < n; ++i) {
+        int x = (int)(i % 64), y = (int)(i / 64), dx = b.dx[i], dy = b.dy[i];
+        size_t q = (size_t)(((y + dy) % 64 + 64) % 64) * 64 + (size_t)(((x + dx) % 64 + 64) % 64);
+        if (b.dx[q] != -dx || b.dy[q] != -dy) bad++;
+        sa += (double)a.dx[i] * a.dx[i];
+        sb += (double)b.dx[i] * b.dx[i];
+    }
+    CHECKF(bad == 0, "512 passes: %d texels whose partner's partner is not themselves", bad);
+    /* on a 64 torus the spread saturates near the uniform's 64/sqrt(12) = 18.5 */
+    CHECKF(sb > sa, "512 passes spread %g <= 255 passes %g (the extra passes repeat numbers?)", sqrt(sb / n),
+           sqrt(sa / n));
+    reuse_texture_free(&a);
+    reuse_texture_free(&b);
+    CHECK(reuse_texture_build_passes(&a, 64, 16, PAIRING_MAX_PASSES + 1, 1, 0, &e) != 0);
+}
+
 static void texture_properties(int w, double sigma, uint32_t id, double tolerance)
 {
     reuse_texture t;

@@ -8,6 +8,7 @@
 #include <string.h>
 #include "restir/bench/bench_rays.h"
 #include "restir/bench/light_bench.h"
+#include "restir/bench/pairing_sigma.h"
 #include "restir/bench/pt_bench.h"
 #include "restir/bench/restir_bench.h"
 #include "restir/bench/scaling_bench.h"
@@ -33,6 +34,7 @@ typedef struct {
     int pairing, no_pair_step, rc_criterion, shading; /* bench restir: Enhanced switches */
     int has_repeats;
     int light_ris, light_tiles;                       /* bench restir: light RIS (Enhanced 6.1) */
+    int textures;                                     /* bench pairing-sigma: textures per pass count */
 } bench_args;
 
 /* A benchmark over one prepared scene; `name` labels it in the JSON. */
@@ -253,6 +255,15 @@ static int bench_realtime_on(const scene *s, const char *name, const bench_args 
 
 /* Thread scaling (scaling_bench.h): the real-time preset, 4 frames at --size (default
  * 512 x 512), 1 vs --threads (default 2) threads, --repeats rounds (default 3). */
+/* Enhanced Eq. 3's readings measured (docs/enhanced.md §2): 254 x 254 textures, seed 1. */
+static int bench_pairing_sigma_run(const bench_args *a, int *first)
+{
+    rerror e;
+    int status = bench_pairing_sigma(stdout, a->textures > 0 ? a->textures : 16, 254, 1, first, &e);
+    if (status) fprintf(stderr, "%s\n", e.msg);
+    return status ? 2 : 0;
+}
+
 static int bench_scaling_on(const scene *s, const char *name, const bench_args *a, int *first)
 {
     scene sized = *s;
@@ -382,6 +393,7 @@ int cmd_bench(int argc, char **argv)
             {"--generated", OPT_INT, &a.generated, "bench rays on the generated displaced sphere of this subdivision (92: 100k tris)", NULL, 1, 2000, NULL},
             {"--threads", OPT_INT, &a.rays.threads, "thread count measured besides 1 (default: online cores)", NULL, 1, 256, NULL},
             {"--repeats", OPT_INT, &a.rays.repeats, "timed repetitions; the median is reported", NULL, 1, 1000, &a.has_repeats},
+            {"--textures", OPT_INT, &a.textures, "bench pairing-sigma: independent reuse textures per pass count (default 16)", NULL, 2, 4096, NULL},
             {"--size", OPT_SIZE, a.rays_size, "primary ray grid (default 512x512)", NULL, 0, 0, &a.has_rays_size},
             {"--seed", OPT_UINT32, &a.rays.seed, "seed of the jitter and bounce directions", NULL, 0, 0, NULL},
             {"--pairing", OPT_CHOICE, &a.pairing, "bench restir: spatial neighbours disk (default) or paired (Enhanced 3)",
@@ -399,7 +411,7 @@ int cmd_bench(int argc, char **argv)
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);
         if (status == 1) {
             cli_print_help(stdout, "bench",
-                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | stochastic [SCENE] | mutations [SCENE] | scaling [SCENE] | all [options]",
+                           "rays SCENE | rays --generated N | restir [SCENE] | animation [SCENE] | realtime [SCENE] | stochastic [SCENE] | mutations [SCENE] | scaling [SCENE] | pairing-sigma | all [options]",
                            options);
             return 0;
         }
@@ -412,10 +424,10 @@ int cmd_bench(int argc, char **argv)
     if (count < 1 ||
         (strcmp(positional[0], "rays") && strcmp(positional[0], "all") && strcmp(positional[0], "restir") &&
          strcmp(positional[0], "animation") && strcmp(positional[0], "realtime") && strcmp(positional[0], "stochastic") &&
-         strcmp(positional[0], "mutations") && strcmp(positional[0], "scaling")) ||
+         strcmp(positional[0], "mutations") && strcmp(positional[0], "scaling") && strcmp(positional[0], "pairing-sigma")) ||
         (!strcmp(positional[0], "rays") && count != 2 && !a.generated)) {
         fprintf(stderr, "restir bench: expected `rays SCENE`, `rays --generated N`, `restir [SCENE]`, `animation [SCENE]`, "
-                        "`realtime [SCENE]`, `stochastic [SCENE]`, `mutations [SCENE]`, `scaling [SCENE]` or `all`\n");
+                        "`realtime [SCENE]`, `stochastic [SCENE]`, `mutations [SCENE]`, `scaling [SCENE]`, `pairing-sigma` or `all`\n");
         return 2;
     }
     printf("[\n");
@@ -430,6 +442,8 @@ int cmd_bench(int argc, char **argv)
         status = count > 1 ? on_file(positional[1], bench_mutations_on, &a, &first) : bench_mutations_all(&a, &first);
     else if (!strcmp(positional[0], "scaling"))
         status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_scaling_on, &a, &first);
+    else if (!strcmp(positional[0], "pairing-sigma"))
+        status = bench_pairing_sigma_run(&a, &first);
     else if (!strcmp(positional[0], "realtime"))
         status = count > 1 ? on_file(positional[1], bench_realtime_on, &a, &first) : bench_realtime_animated(&a, &first);
     else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);

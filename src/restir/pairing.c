@@ -10,11 +10,24 @@
  * pass). With alternating signs, sigma^2/2 - 1.46/sigma + 1.76/sigma^2 - 0.656/sigma^3
  * + 0.5, sigma = 0.8 gives 0.46 -> 1 pass, and the measured standard deviations match
  * sigma within 5% (docs/enhanced.md §2, test pairing_delta_std_matches_sigma). */
-int pairing_shuffle_count(double sigma)
+int pairing_shuffle_count(double sigma) { return pairing_shuffle_count_as(sigma, PAIRING_EQ3_SIGNED_CEIL); }
+
+const char *const pairing_eq3_names[] = {"signed-ceil", "port-round", "signed-round", "literal-ceil", "leading-ceil",
+                                          NULL};
+
+/* Enhanced Eq. 3 under reading r (pairing.h lists them; docs/enhanced.md §2). */
+int pairing_shuffle_count_as(double sigma, enum pairing_eq3 r)
 {
-    double n = sigma * sigma / 2 - 1.46 / sigma + 1.76 / (sigma * sigma) - 0.656 / (sigma * sigma * sigma) + 0.5;
-    int c = (int)ceil(n);
-    return c < 1 ? 1 : c;
+    double s1 = 1.46 / sigma, s2 = 1.76 / (sigma * sigma), s3 = 0.656 / (sigma * sigma * sigma);
+    double lead = sigma * sigma / 2 + 0.5, n;
+    switch (r) {
+    case PAIRING_EQ3_PORT_ROUND: n = floor(lead + s1 - s2 + s3); break;
+    case PAIRING_EQ3_SIGNED_ROUND: n = floor(lead - s1 + s2 - s3); break;
+    case PAIRING_EQ3_LITERAL_CEIL: n = ceil(lead + s1 + s2 + s3); break;
+    case PAIRING_EQ3_LEADING_CEIL: n = ceil(lead); break;
+    default: n = ceil(lead - s1 + s2 - s3); break;
+    }
+    return n < 1 ? 1 : (int)n;
 }
 
 static int wrap(int v, int w) { return ((v % w) + w) % w; }
@@ -23,8 +36,8 @@ static int wrap(int v, int w) { return ((v % w) + w) % w; }
 static void shuffle_block(uint32_t *link, const int idx[4], rng_key key, uint32_t pass)
 {
     int i;
-    for (i = 3; i > 0; --i) { /* Fisher-Yates: slot 2 + i for step i */
-        int j = (int)(rng_u(key, RNG_NEIGHBOR, pass, (uint32_t)(2 + i)) * (real)(i + 1));
+    for (i = 3; i > 0; --i) { /* Fisher-Yates: slot 2 + i for step i (+ 4 per 256 passes) */
+        int j = (int)(rng_u(key, RNG_NEIGHBOR, pass & 255u, (uint32_t)(2 + i) + 4u * (pass >> 8)) * (real)(i + 1));
         uint32_t tmp;
         if (j > i) j = i;
         tmp = link[idx[i]];
@@ -45,17 +58,26 @@ static int tile_delta(int d, int w)
  * (Enhanced Eq. 3), so its offsets have standard deviation sigma. */
 int reuse_texture_build(reuse_texture *t, int w, double sigma, uint32_t seed, uint32_t id, rerror *e)
 {
+    t->dx = t->dy = NULL;
+    if (!(sigma >= PAIRING_MIN_SIGMA && sigma <= PAIRING_MAX_SIGMA))
+        return rerror_set(e, "reuse texture: sigma %g outside [%g, %g]", sigma, PAIRING_MIN_SIGMA, PAIRING_MAX_SIGMA);
+    return reuse_texture_build_passes(t, w, sigma, pairing_shuffle_count(sigma), seed, id, e);
+}
+
+int reuse_texture_build_passes(reuse_texture *t, int w, double sigma, int passes, uint32_t seed, uint32_t id,
+                               rerror *e)
+{
     size_t n = (size_t)w * (size_t)w, p;
     uint32_t *link = NULL;
     int32_t *table = NULL;
     int pass, bx, by;
     t->dx = t->dy = NULL;
     if (w < 4 || w > 4096 || (w & 1)) return rerror_set(e, "reuse texture: size %d (must be even, 4..4096)", w);
-    if (!(sigma >= PAIRING_MIN_SIGMA && sigma <= PAIRING_MAX_SIGMA))
-        return rerror_set(e, "reuse texture: sigma %g outside [%g, %g]", sigma, PAIRING_MIN_SIGMA, PAIRING_MAX_SIGMA);
+    if (passes < 1 || passes > PAIRING_MAX_PASSES)
+        return rerror_set(e, "reuse texture: %d shuffle passes (must be 1..%d)", passes, PAIRING_MAX_PASSES);
     t->size = w;
     t->sigma = sigma;
-    t->shuffles = pairing_shuffle_count(sigma);
+    t->shuffles = passes;
     link = malloc(n * sizeof *link);
     table = malloc(n * sizeof *table); /* N/2 x 2 */
     t->dx = malloc(n * sizeof *t->dx);

@@ -18,7 +18,8 @@
  *
  * Random numbers (stream RNG_NEIGHBOR, slots >= 2, disjoint from neighbors.h's slots 0-1):
  * the shuffle of pass t, block b of texture `id`: key (seed, b, PAIRING_TEXTURE_SAMPLE + id),
- * vertex t, slot 2; the screen transform of texture `id` for neighbour sample s: key
+ * vertex t mod 256, slots 3..5 + 4 floor(t / 256) (passes t >= 256 only in the Eq. 3
+ * measurement beyond sigma = 22); the screen transform of texture `id` for neighbour sample s: key
  * (seed, 0, s), vertex PAIRING_TRANSFORM_VERTEX - id, slots 2..6. */
 #ifndef RESTIR_PAIRING_H
 #define RESTIR_PAIRING_H
@@ -27,7 +28,8 @@
 #include "restir/core/error.h"
 
 #define PAIRING_MIN_SIGMA 0.8    /* one shuffle pass (Enhanced §3.1 footnote 1) */
-#define PAIRING_MAX_SIGMA 22.0   /* n_sigma <= 255 (the RNG key's vertex field) */
+#define PAIRING_MAX_SIGMA 22.0   /* the largest sigma of the reuse patterns (radius 41) */
+#define PAIRING_MAX_PASSES 4096  /* shuffle passes (pass t: vertex t mod 256, slots + 4 floor(t / 256)) */
 #define PAIRING_TEXTURE_SAMPLE 0xFFFF0000u
 #define PAIRING_TRANSFORM_VERTEX 254u
 #define PAIRING_MAX_TEXTURES 8 /* one per neighbour: sizes 254, 232, ..., 100 */
@@ -39,11 +41,34 @@ typedef struct {
     int16_t *dx, *dy;  /* w*w tileable offsets to the partner texel, row-major */
 } reuse_texture;
 
-/* Enhanced Eq. 3: the number of 2x2 shuffle passes for standard deviation sigma >= 0.8. */
+/* Readings of Enhanced Eq. 3, whose extraction is garbled (a ceiling, every sign +;
+ * docs/enhanced.md §2 "Eq. 3, measured"). With s = sigma:
+ *   SIGNED_CEIL   ceil(s^2/2 - 1.46/s + 1.76/s^2 - 0.656/s^3 + 0.5)   the oracle's default
+ *   PORT_ROUND    floor(s^2/2 + 1.46/s - 1.76/s^2 + 0.656/s^3 + 0.5)  an independent port's
+ *   SIGNED_ROUND  floor(s^2/2 - 1.46/s + 1.76/s^2 - 0.656/s^3 + 0.5)
+ *   LITERAL_CEIL  ceil(s^2/2 + 1.46/s + 1.76/s^2 + 0.656/s^3 + 0.5)   the text as extracted
+ *   LEADING_CEIL  ceil(s^2/2 + 0.5)                                    the paper's approximation
+ * Each is clamped to at least one pass (footnote 1: sigma = 0.8 is one pass). */
+enum pairing_eq3 {
+    PAIRING_EQ3_SIGNED_CEIL = 0,
+    PAIRING_EQ3_PORT_ROUND,
+    PAIRING_EQ3_SIGNED_ROUND,
+    PAIRING_EQ3_LITERAL_CEIL,
+    PAIRING_EQ3_LEADING_CEIL,
+    PAIRING_EQ3_COUNT
+};
+extern const char *const pairing_eq3_names[]; /* "signed-ceil", "port-round", ... */
+/* Enhanced Eq. 3 (reading `r`): the number of 2x2 shuffle passes for sigma >= 0.8. */
+int pairing_shuffle_count_as(double sigma, enum pairing_eq3 r);
+/* Enhanced Eq. 3 as the oracle reads it (PAIRING_EQ3_SIGNED_CEIL). */
 int pairing_shuffle_count(double sigma);
-
-/* Builds texture `id` of size w (even, 4..4096) for sigma in [0.8, 22]. 0 or -1 with *e. */
+/* Builds texture `id` of size w (even, 4..4096) for sigma in [0.8, PAIRING_MAX_SIGMA] with
+ * pairing_shuffle_count(sigma) passes. 0 or -1 with *e. */
 int reuse_texture_build(reuse_texture *t, int w, double sigma, uint32_t seed, uint32_t id, rerror *e);
+/* The same with an explicit pass count (1..PAIRING_MAX_PASSES): the measurement of Eq. 3's
+ * readings (restir bench pairing-sigma). */
+int reuse_texture_build_passes(reuse_texture *t, int w, double sigma, int passes, uint32_t seed, uint32_t id,
+                               rerror *e);
 void reuse_texture_free(reuse_texture *t);
 
 /* The per-frame placement of a texture over the screen (§3.2). */
