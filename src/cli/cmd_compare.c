@@ -9,6 +9,7 @@
 #include "restir/error_map.h"
 #include "restir/flip.h"
 #include "restir/image.h"
+#include "restir/image_io.h"
 #include "restir/json_text.h"
 #include "restir/metrics.h"
 #include "args.h"
@@ -251,8 +252,8 @@ int cmd_compare(int argc, char **argv)
     parsed = parse_args(argc, argv, &o);
     if (parsed) return parsed == 1 ? 0 : 2;
     memset(&res, 0, sizeof res);
-    if (pfm_read(o.ref_path, &ref, NULL, &e)) return fail(&e);
-    if (pfm_read(o.test_path, &test, NULL, &e)) {
+    if (image_read(o.ref_path, &ref, NULL, &e)) return fail(&e);
+    if (image_read(o.test_path, &test, NULL, &e)) {
         image_free(&ref);
         return fail(&e);
     }

@@ -8,6 +8,7 @@
 #include "restir/atomic_file.h"
 #include "restir/covariance.h"
 #include "restir/image.h"
+#include "restir/image_io.h"
 #include "restir/json_text.h"
 #include "restir/output_set.h"
 #include "args.h"
@@ -69,7 +70,7 @@ static int accumulate(const covariance_args *a, covariance_accum *c, rerror *e)
     for (i = 0; i < a->file_count; ++i) {
         image img;
         int status;
-        if (pfm_read(a->files[i], &img, NULL, e)) return -1;
+        if (image_read(a->files[i], &img, NULL, e)) return -1;
         if (i == 0 && covariance_init(c, img.width, img.height, a->radius, a->exclude_center, e)) {
             image_free(&img);
             return -1;

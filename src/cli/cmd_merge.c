@@ -7,6 +7,7 @@
 #include <string.h>
 #include "args.h"
 #include "output.h"
+#include "restir/image_io.h"
 #include "restir/pt.h"
 
 #define MERGE_MAX_INPUTS 4096
@@ -87,7 +88,7 @@ static int merge_images(const merge_args *a, const char **inputs, int n, image *
         status = 2;
     }
     for (i = 0; i < n && !status; ++i, ++loaded)
-        if (pfm_read(inputs[i], &imgs[i], NULL, &e)) {
+        if (image_read(inputs[i], &imgs[i], NULL, &e)) {
             fprintf(stderr, "%s\n", e.msg);
             status = 2;
         }
