@@ -23,27 +23,51 @@ static inline uint32_t corpus_key(int x, int y, int c)
     return (uint32_t)(x + 4096) * 2654435761u ^ (uint32_t)(y + 4096) * 40503u ^ (uint32_t)c * 0x9e3779b9u;
 }
 
-/* EXR HALF bits: rows cycle through a ramp, a constant (runs for RLE and PIZ), and
- * arbitrary bits (subnormals, infinities and NaNs included). */
-static inline uint16_t corpus_half(int x, int y, int c)
+/* Most pixels are smooth (ramps and constants: PIZ, ZIP and RLE must really compress
+ * them, or the writer stores the chunk raw and the decoder goes untested); every fourth
+ * pixel of every third row is arbitrary bits (subnormals, infinities, NaNs included). */
+static inline int corpus_wild(int x, int y) { return ((y % 3) + 3) % 3 == 2 && ((x + y) % 4 + 4) % 4 == 0; }
+
+/* PIZ files are "tame": their arbitrary bits are kept in a narrow band (PIZ stores a
+ * bitmap of the 16-bit words present, up to 8 KB: words spread over the whole range
+ * would make a small file's chunks incompressible, stored raw, the decoder untested). */
+
+/* EXR HALF bits. */
+static inline uint16_t corpus_half(int x, int y, int c, int tame)
 {
     int m = ((y % 3) + 3) % 3;
+    if (corpus_wild(x, y)) {
+        uint32_t r = corpus_mix(corpus_key(x, y, c));
+        return (uint16_t)(tame ? 0x3c00u | (r & 0x3ffu) : r & 0xffffu);
+    }
     if (m == 0) return (uint16_t)(0x3c00 + 16 * (x & 63) + c);
     if (m == 1) return (uint16_t)(0x4000 + c);
-    return (uint16_t)(corpus_mix(corpus_key(x, y, c)) & 0xffffu);
+    return (uint16_t)(0x3800 + ((x * 5 + c) & 15));
 }
 
 /* EXR FLOAT bits, same pattern. */
-static inline uint32_t corpus_float(int x, int y, int c)
+static inline uint32_t corpus_float(int x, int y, int c, int tame)
 {
     int m = ((y % 3) + 3) % 3;
+    if (corpus_wild(x, y)) {
+        uint32_t r = corpus_mix(corpus_key(x, y, c) + 1u);
+        return tame ? 0x3f800000u | (r & 0x7fe000u) : r;
+    }
     if (m == 0) return 0x3f800000u + ((uint32_t)(x & 1023) << 12) + (uint32_t)c;
     if (m == 1) return 0xc0000000u + (uint32_t)c;
-    return corpus_mix(corpus_key(x, y, c) + 1u);
+    return 0x3f000000u + ((uint32_t)((x * 5 + c) & 15) << 13);
 }
 
 /* EXR UINT values. */
-static inline uint32_t corpus_uint(int x, int y, int c) { return corpus_mix(corpus_key(x, y, c) + 2u); }
+static inline uint32_t corpus_uint(int x, int y, int c, int tame)
+{
+    if (corpus_wild(x, y)) return corpus_mix(corpus_key(x, y, c) + 2u) & (tame ? 0xffu : 0xffffffffu);
+    return (uint32_t)(x + 16 * y + c);
+}
+
+/* HALF bits of the PIZ file that needs the 16-bit wavelet: ramps whose 3 channels take
+ * more than 2^14 distinct values in one 32-line chunk, yet compress. */
+static inline uint16_t corpus_ramp_half(int x, int y, int c) { return (uint16_t)(c * 21000 + (y % 32) * 256 + x); }
 
 /* PNG sample (0 .. 2^depth - 1) of channel c; palette images use it as the index. */
 static inline unsigned corpus_png(int x, int y, int c, int depth)

@@ -43,8 +43,11 @@ using Imath::V2i;
 struct Chan {
     const char *name;
     PixelType type;
-    int c; // value channel of image_corpus.h
+    int c;         // value channel of image_corpus.h
+    int ramp = 0;  // 1: corpus_ramp_half (the 16-bit wavelet file)
 };
+
+static int tame = 0; // the "tame" argument of image_corpus.h: set while writing PIZ files
 
 static size_t type_size(PixelType t) { return t == HALF ? 2 : 4; }
 
@@ -63,10 +66,10 @@ struct Planes {
                 for (int x = dw.min.x; x <= dw.max.x; ++x) {
                     char *p = &buf[k][((size_t)(y - dw.min.y) * w + (x - dw.min.x)) * s];
                     if (chans[k].type == HALF) {
-                        uint16_t v = corpus_half(x, y, chans[k].c);
+                        uint16_t v = chans[k].ramp ? corpus_ramp_half(x, y, chans[k].c) : corpus_half(x, y, chans[k].c, tame);
                         memcpy(p, &v, 2);
                     } else {
-                        uint32_t v = chans[k].type == FLOAT ? corpus_float(x, y, chans[k].c) : corpus_uint(x, y, chans[k].c);
+                        uint32_t v = chans[k].type == FLOAT ? corpus_float(x, y, chans[k].c, tame) : corpus_uint(x, y, chans[k].c, tame);
                         memcpy(p, &v, 4);
                     }
                 }
@@ -88,6 +91,7 @@ static void scanline(const std::string &path, Box2i display, Box2i data, Compres
                      const std::vector<Chan> &chans)
 {
     Header h = make_header(display, data, comp, order, chans);
+    tame = comp == PIZ_COMPRESSION;
     Planes p(data, chans);
     OutputFile out(path.c_str(), h);
     out.setFrameBuffer(p.fb);
@@ -110,16 +114,20 @@ static void corpus(const std::string &dir)
     std::vector<Chan> y_half = {{"Y", HALF, 0}};
     // R half, G float, B uint and a channel the reader skips (Z, float)
     std::vector<Chan> mixed = {{"B", UINT, 2}, {"G", FLOAT, 1}, {"R", HALF, 0}, {"Z", FLOAT, 3}};
-    // 7 x 37: odd sizes (the wavelet's odd row and column) and 3 ZIP / 2 PIZ chunks
+    // 7 x 37: odd sizes and 3 ZIP chunks. PIZ files are 39 x 37 (2 chunks, odd sizes for
+    // the wavelet's odd row and column): PIZ stores a bitmap of the words present, so a
+    // narrower file would not compress and its chunks would be stored raw.
     for (auto &c : comps) {
-        scanline(dir + "/oe_" + c.name + "_half_rgba.exr", box(7, 37), box(7, 37), c.c, INCREASING_Y, rgba_half);
-        scanline(dir + "/oe_" + c.name + "_float_rgba.exr", box(7, 37), box(7, 37), c.c, INCREASING_Y, rgba_float);
-        scanline(dir + "/oe_" + c.name + "_uint_rgb.exr", box(5, 3), box(5, 3), c.c, INCREASING_Y, rgb_uint);
-        scanline(dir + "/oe_" + c.name + "_half_y.exr", box(6, 4), box(6, 4), c.c, INCREASING_Y, y_half);
-        scanline(dir + "/oe_" + c.name + "_mixed.exr", box(9, 35), box(9, 35), c.c, INCREASING_Y, mixed);
+        bool piz = c.c == PIZ_COMPRESSION;
+        Box2i b = piz ? box(39, 37) : box(7, 37);
+        scanline(dir + "/oe_" + c.name + "_half_rgba.exr", b, b, c.c, INCREASING_Y, rgba_half);
+        scanline(dir + "/oe_" + c.name + "_float_rgba.exr", b, b, c.c, INCREASING_Y, rgba_float);
+        scanline(dir + "/oe_" + c.name + "_uint_rgb.exr", piz ? b : box(5, 3), piz ? b : box(5, 3), c.c, INCREASING_Y, rgb_uint);
+        scanline(dir + "/oe_" + c.name + "_half_y.exr", piz ? b : box(6, 4), piz ? b : box(6, 4), c.c, INCREASING_Y, y_half);
+        scanline(dir + "/oe_" + c.name + "_mixed.exr", piz ? box(39, 35) : box(9, 35), piz ? box(39, 35) : box(9, 35), c.c, INCREASING_Y, mixed);
     }
     scanline(dir + "/oe_zip_decreasing.exr", box(7, 37), box(7, 37), ZIP_COMPRESSION, DECREASING_Y, rgba_half);
-    scanline(dir + "/oe_piz_decreasing.exr", box(7, 37), box(7, 37), PIZ_COMPRESSION, DECREASING_Y, rgba_float);
+    scanline(dir + "/oe_piz_decreasing.exr", box(39, 37), box(39, 37), PIZ_COMPRESSION, DECREASING_Y, rgba_float);
     // data window partly outside the display window (0,0)-(9,14)
     scanline(dir + "/oe_piz_window.exr", box(10, 15), Box2i(V2i(-2, 3), V2i(8, 20)), PIZ_COMPRESSION, INCREASING_Y,
              rgba_half);
@@ -127,7 +135,7 @@ static void corpus(const std::string &dir)
              rgba_float);
     // more than 2^14 distinct values in a chunk: PIZ's 16-bit (modular) wavelet
     scanline(dir + "/oe_piz_wav16.exr", box(256, 33), box(256, 33), PIZ_COMPRESSION, INCREASING_Y,
-             {{"B", HALF, 2}, {"G", HALF, 1}, {"R", HALF, 0}});
+             {{"B", HALF, 2, 1}, {"G", HALF, 1, 1}, {"R", HALF, 0, 1}});
     // refused by name
     const struct {
         Compression c;
@@ -210,7 +218,7 @@ static int oracle(const std::string &dir)
             for (int x = 0; x < w; ++x)
                 for (int c = 0; c < 3; ++c) {
                     float f;
-                    uint32_t bits = t ? corpus_half(x, y, c) : corpus_float(x, y, c);
+                    uint32_t bits = t ? corpus_half(x, y, c, 0) : corpus_float(x, y, c, 0);
                     if (t) f = half_to_float((uint16_t)bits);
                     else memcpy(&f, &bits, 4);
                     image_pixel(&img, x, y)[c] = f;
