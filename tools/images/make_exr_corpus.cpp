@@ -9,6 +9,8 @@
 //   /tmp/make_exr_corpus oracle /tmp/exr-oracle     # our writer's files, read back by libOpenEXR
 //   /tmp/make_exr_corpus halfcheck                  # float_to_half == Imath::half(float), every float
 //   /tmp/make_exr_corpus bench /tmp/exr-bench 7      # 1920x1080 half ZIP and PIZ: our decode time
+//   /tmp/make_exr_corpus dump FILE...               # libOpenEXR's half RGBA of other writers' files
+//   sh tools/images/make_exr_others.sh /tmp/make_exr_corpus /tmp/png-src tests/data/images
 //
 // The corpus files are written by libOpenEXR from the values of tests/image_corpus.h
 // (the data-window coordinates of each pixel), so the test recomputes what each pixel
@@ -21,6 +23,7 @@
 #include <ImfOutputFile.h>
 #include <ImfOutputPart.h>
 #include <ImfPartType.h>
+#include <ImfRgbaFile.h>
 #include <ImfTiledOutputFile.h>
 #include <half.h>
 
@@ -322,6 +325,25 @@ static int bench(const std::string &dir, int runs)
     return 0;
 }
 
+// Prints what libOpenEXR reads from each file, as RgbaInputFile gives it (display
+// window, half R G B A): "file width height" then one line per pixel, hex half bits.
+// The expected values of files written by another program (ImageMagick).
+static int dump(int argc, char **argv)
+{
+    for (int i = 2; i < argc; ++i) {
+        RgbaInputFile in(argv[i]);
+        Box2i dw = in.dataWindow();
+        int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+        std::vector<Rgba> px((size_t)w * h);
+        in.setFrameBuffer(px.data() - dw.min.x - (ptrdiff_t)dw.min.y * w, 1, w);
+        in.readPixels(dw.min.y, dw.max.y);
+        const char *base = strrchr(argv[i], '/');
+        printf("%s %d %d\n", base ? base + 1 : argv[i], w, h);
+        for (const Rgba &p : px) printf("%04x %04x %04x %04x\n", p.r.bits(), p.g.bits(), p.b.bits(), p.a.bits());
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     std::string mode = argc > 1 ? argv[1] : "";
@@ -329,6 +351,7 @@ int main(int argc, char **argv)
         if (mode == "corpus" && argc == 3) corpus(argv[2]);
         else if (mode == "oracle" && argc == 3) return oracle(argv[2]);
         else if (mode == "halfcheck") return halfcheck();
+        else if (mode == "dump") return dump(argc, argv);
         else if (mode == "bench" && argc >= 3) return bench(argv[2], argc > 3 ? atoi(argv[3]) : 7);
         else {
             fprintf(stderr, "usage: make_exr_corpus corpus DIR | oracle DIR | halfcheck | bench DIR [RUNS]\n");
