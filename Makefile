@@ -178,7 +178,7 @@ results-mutations: $(BUILD)/restir
 # libFuzzer harnesses of tests/fuzz/ (docs/fuzzing.md): needs clang with libFuzzer.
 # One target at a time, FUZZ_RUNS executions each (FUZZ_TARGETS to choose), under nice.
 # `make test` runs the same targets on the committed inputs of tests/data/fuzz/.
-FUZZ_TARGETS ?= obj mtl scene pfm dump cli
+FUZZ_TARGETS ?= obj mtl scene pfm dump cli exr png inflate
 FUZZ_RUNS ?= 2000000
 fuzz:
 	$(MAKE) FUZZ=1 CC=clang fuzz-build

@@ -22,6 +22,8 @@ seed_corpus() { # target corpus-dir
     case $1 in
     obj | mtl | pfm)
         [ -d "$shared" ] && find "$shared" -type f -name "*.$1" -size -70k -exec cp {} "$2"/ \; 2>/dev/null ;;
+    exr | png) # the image corpus (tests/data/images), small files only
+        find tests/data/images -type f -name "*.$1" -size -8k -exec cp {} "$2"/ \; 2>/dev/null ;;
     esac
 }
 
@@ -30,6 +32,8 @@ max_len() {
     pfm) echo 4096 ;; # headers are where the parsing is; large images: make test-data
     cli) echo 1024 ;;
     dump) echo 4096 ;;
+    exr | png) echo 8192 ;; # the corpus files are 0.3-6 KB
+    inflate) echo 4096 ;;
     *) echo 16384 ;;
     esac
 }

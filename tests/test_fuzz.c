@@ -92,7 +92,8 @@ TEST(fuzz_inputs)
         const char *name;
         fuzz_fn fn;
     } targets[] = {{"obj", fuzz_obj}, {"mtl", fuzz_mtl},   {"scene", fuzz_scene},
-                   {"pfm", fuzz_pfm}, {"dump", fuzz_dump}, {"cli", fuzz_cli}};
+                   {"pfm", fuzz_pfm}, {"dump", fuzz_dump}, {"cli", fuzz_cli},
+                   {"exr", fuzz_exr}, {"png", fuzz_png},   {"inflate", fuzz_inflate}};
     size_t i;
     for (i = 0; i < sizeof targets / sizeof targets[0]; ++i) {
         int n = run_inputs(targets[i].name, targets[i].fn);

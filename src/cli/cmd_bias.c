@@ -11,6 +11,7 @@
 #include <string.h>
 #include "restir/core/atomic_file.h"
 #include "restir/core/image.h"
+#include "restir/core/image_io.h"
 #include "restir/core/pfm.h"
 #include "restir/core/vec.h"
 #include "restir/metrics/bias_runs.h"
@@ -153,8 +154,8 @@ static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
     double *ref_b = NULL, *weight = NULL, *runs = NULL;
     int k, status = -1;
     memset(&mask, 0, sizeof mask);
-    if (pfm_read(a->ref, &ref, NULL, e)) return -1;
-    if (a->mask && pfm_read(a->mask, &mask, NULL, e)) goto done;
+    if (image_read(a->ref, &ref, NULL, e)) return -1;
+    if (a->mask && image_read(a->mask, &mask, NULL, e)) goto done;
     if (a->mask && (mask.width != ref.width || mask.height != ref.height)) {
         rerror_set(e, "%s: %dx%d, the reference is %dx%d", a->mask, mask.width, mask.height, ref.width, ref.height);
         goto done;
@@ -170,7 +171,7 @@ static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
     }
     block_means(&ref, a, a->mask ? &mask : NULL, bw, ref_b, weight);
     for (k = 0; k < a->file_count; ++k) {
-        if (pfm_read(a->files[k], &img, NULL, e)) goto done;
+        if (image_read(a->files[k], &img, NULL, e)) goto done;
         if (img.width != ref.width || img.height != ref.height) {
             rerror_set(e, "%s: %dx%d, the reference is %dx%d", a->files[k], img.width, img.height, ref.width, ref.height);
             image_free(&img);

@@ -10,6 +10,7 @@
 #include <string.h>
 #include "restir/core/atomic_file.h"
 #include "restir/core/image.h"
+#include "restir/core/image_io.h"
 #include "restir/core/json_text.h"
 #include "restir/core/pfm.h"
 #include "restir/core/png.h"
@@ -121,7 +122,7 @@ static int load_runs(check_side *side, const side_args *s, int block, rerror *e)
     for (i = 0; i < s->runs.count; ++i) {
         image img;
         int status;
-        if (pfm_read(s->runs.items[i], &img, NULL, e)) return -1;
+        if (image_read(s->runs.items[i], &img, NULL, e)) return -1;
         if (i == 0 && check_side_begin_runs(side, img.width, img.height, block, e)) {
             image_free(&img);
             return -1;
@@ -140,7 +141,7 @@ static int load_reference(check_side *side, const side_args *s, rerror *e)
     image ref;
     moments_file f;
     size_t i, n;
-    if (pfm_read(s->ref, &ref, NULL, e)) return -1;
+    if (image_read(s->ref, &ref, NULL, e)) return -1;
     n = (size_t)ref.width * (size_t)ref.height * 3;
     for (i = 0; i < n; ++i)
         if (!isfinite(ref.px[i])) {
@@ -152,7 +153,7 @@ static int load_reference(check_side *side, const side_args *s, rerror *e)
     memset(&f, 0, sizeof f);
     f.mean = ref;
     f.runs = s->ref_runs;
-    if (pfm_read(s->ref_var, &f.var, NULL, e)) {
+    if (image_read(s->ref_var, &f.var, NULL, e)) {
         image_free(&ref);
         return -1;
     }

@@ -11,6 +11,7 @@
 #include <string.h>
 #include "restir/core/atomic_file.h"
 #include "restir/core/image.h"
+#include "restir/core/image_io.h"
 #include "restir/core/json_text.h"
 #include "restir/core/pfm.h"
 #include "restir/core/png.h"
@@ -254,8 +255,8 @@ int cmd_compare(int argc, char **argv)
     parsed = parse_args(argc, argv, &o);
     if (parsed) return parsed == 1 ? 0 : 2;
     memset(&res, 0, sizeof res);
-    if (pfm_read(o.ref_path, &ref, NULL, &e)) return fail(&e);
-    if (pfm_read(o.test_path, &test, NULL, &e)) {
+    if (image_read(o.ref_path, &ref, NULL, &e)) return fail(&e);
+    if (image_read(o.test_path, &test, NULL, &e)) {
         image_free(&ref);
         return fail(&e);
     }

@@ -9,6 +9,7 @@
 #include <string.h>
 #include "restir/core/atomic_file.h"
 #include "restir/core/image.h"
+#include "restir/core/image_io.h"
 #include "restir/core/json_text.h"
 #include "restir/core/pfm.h"
 #include "restir/metrics/covariance.h"
@@ -72,7 +73,7 @@ static int accumulate(const covariance_args *a, covariance_accum *c, rerror *e)
     for (i = 0; i < a->file_count; ++i) {
         image img;
         int status;
-        if (pfm_read(a->files[i], &img, NULL, e)) return -1;
+        if (image_read(a->files[i], &img, NULL, e)) return -1;
         if (i == 0 && covariance_init(c, img.width, img.height, a->radius, a->exclude_center, e)) {
             image_free(&img);
             return -1;

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/core/image_io.h"
 #include "restir/core/pfm.h"
 #include "restir/render/pt.h"
 #include "restir/render/pt_checkpoint.h"
@@ -92,7 +93,7 @@ static int merge_images(const merge_args *a, const char **inputs, int n, image *
         status = 2;
     }
     for (i = 0; i < n && !status; ++i, ++loaded)
-        if (pfm_read(inputs[i], &imgs[i], NULL, &e)) {
+        if (image_read(inputs[i], &imgs[i], NULL, &e)) {
             fprintf(stderr, "%s\n", e.msg);
             status = 2;
         }

@@ -1,5 +1,6 @@
 /* Output file naming and writing for the render command. */
 #include "output.h"
+#include "restir/core/image_io.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -25,7 +26,8 @@ void default_output_path(char *buf, size_t size, const char *scene_path, const c
 void output_prefix(char *buf, size_t size, const char *pfm_path)
 {
     size_t n = strlen(pfm_path);
-    snprintf(buf, size, "%.*s", (int)(n > 4 && !strcmp(pfm_path + n - 4, ".pfm") ? n - 4 : n), pfm_path);
+    int strip = (n > 4 && !strcmp(pfm_path + n - 4, ".pfm")) || image_path_is(pfm_path, "exr"); /* x.exr: x.png */
+    snprintf(buf, size, "%.*s", (int)(strip ? n - 4 : n), pfm_path);
 }
 
 void preview_path(char *buf, size_t size, const char *pfm_path)
@@ -75,7 +77,7 @@ int write_outputs_preview(const image *img, const image *preview, const char *pf
                           double exposure)
 {
     rerror e;
-    if (pfm_path && pfm_write(pfm_path, img, &e)) {
+    if (pfm_path && image_write(pfm_path, img, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
@@ -97,7 +99,7 @@ int write_duplicates_outputs(const image *img, const char *pfm_path, const char 
     unsigned char *rgb8 = NULL;
     size_t i, n = (size_t)img->width * (size_t)img->height;
     int status = 0;
-    if (pfm_path && pfm_write(pfm_path, img, &e)) status = 2;
+    if (pfm_path && image_write(pfm_path, img, &e)) status = 2;
     if (!status && png_path && *png_path) {
         if (!(rgb8 = malloc(3 * n))) {
             fprintf(stderr, "%s: out of memory\n", png_path);

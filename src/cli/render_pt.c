@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/image.h"
+#include "restir/core/image_io.h"
 #include "restir/core/pfm.h"
 #include "restir/render/light_ris.h"
 #include "restir/render/pt_state.h"
@@ -72,7 +73,7 @@ static void write_progressive(void *ctx, const pt_state *st)
     image img;
     rerror e;
     if (p->failed || pt_state_mean(st, &img, &e)) return;
-    if (pfm_write(p->path, &img, &e)) {
+    if (image_write(p->path, &img, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         p->failed = 1;
     }

@@ -46,15 +46,23 @@ uint32_t crc32_update(uint32_t crc, const void *data, size_t size)
     return crc ^ 0xFFFFFFFFu;
 }
 
-/* RFC 1950 §8.2: s1 = 1 + sum of bytes, s2 = sum of the s1 values, both mod 65521. */
+/* RFC 1950 §8.2: s1 = 1 + sum of bytes, s2 = sum of the s1 values, both mod 65521.
+ * The modulo is taken every 5552 bytes, the most after which s2 still fits 32 bits
+ * (the inflate of a large EXR or PNG checks megabytes). */
 uint32_t adler32_update(uint32_t adler, const void *data, size_t size)
 {
     const unsigned char *b = data;
     uint32_t s1 = adler & 0xffff, s2 = adler >> 16;
-    size_t i;
-    for (i = 0; i < size; ++i) {
-        s1 = (s1 + b[i]) % 65521u;
-        s2 = (s2 + s1) % 65521u;
+    while (size > 0) {
+        size_t i, n = size < 5552 ? size : 5552;
+        for (i = 0; i < n; ++i) {
+            s1 += b[i];
+            s2 += s1;
+        }
+        s1 %= 65521u;
+        s2 %= 65521u;
+        b += n;
+        size -= n;
     }
     return s2 << 16 | s1;
 }

@@ -31,6 +31,9 @@ int fuzz_scene(const uint8_t *data, size_t size);
 int fuzz_pfm(const uint8_t *data, size_t size);
 int fuzz_dump(const uint8_t *data, size_t size);
 int fuzz_cli(const uint8_t *data, size_t size);
+int fuzz_exr(const uint8_t *data, size_t size);
+int fuzz_png(const uint8_t *data, size_t size);
+int fuzz_inflate(const uint8_t *data, size_t size);
 
 /* The readers take a path, so the input goes to a file NAME in a private directory
  * (on tmpfs, /dev/shm, when there is one; removed at exit). Next to it lie the
