@@ -3,6 +3,8 @@
 
 #include <math.h>
 #include "restir/animation.h"
+#include "restir/invariant.h"
+#include "restir/temporal_check.h"
 
 /* domain_refresh for two frames: x (of frame `from`) re-expressed in frame `to`'s scene, its
  * reconnection vertex moved by its object's motion between the two frames. */
@@ -37,6 +39,7 @@ void temporal_resample(const restir_context *cur, const restir_context *prev, co
     const path_vertex *x1[2];
     const reservoir *in[2];
     reservoir capped;
+    domain_refresh rf;
     st->pixels++;
     if (!x1_prev || !prev_r) {
         st->no_history++;
@@ -55,13 +58,16 @@ void temporal_resample(const restir_context *cur, const restir_context *prev, co
     in[0] = cur_r;
     in[1] = &capped;
     /* domain 1's MIS shifts run in the previous frame (GRIS App. B) */
-    if (frames) {
-        domain_refresh rf;
-        rf.fn = refresh_between_frames;
-        rf.user = frames;
-        gris_resample(cur, prev, &rf, mis, 2, x1, in, u, out, w, &st->step);
-    } else
-        gris_resample(cur, prev, NULL, mis, 2, x1, in, u, out, w, &st->step);
+    rf.fn = refresh_between_frames;
+    rf.user = frames;
+    gris_resample(cur, prev, frames ? &rf : NULL, mis, 2, x1, in, u, out, w, &st->step);
+    /* the deliberately biased ablations evaluate frame t-1 with frame t's camera / scene */
+    if (RESTIR_DEBUG_ENABLED && cur->ablation != RESTIR_ABLATE_TEMPORAL_TARGET &&
+        cur->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX) {
+        char why[512];
+        if (temporal_check_round_trip(prev, frames ? &rf : NULL, x1_prev, &prev_r->y, w, why, sizeof why, NULL))
+            restir_invariant_failed(__FILE__, __LINE__, why);
+    }
 }
 
 void temporal_stats_add(temporal_stats *acc, const temporal_stats *add)
