@@ -105,7 +105,8 @@ static double pearson(const double *obs, const double *expect, int n, int *dof)
 /* On shadow.scene with indirect light only (most reservoirs empty), for pixels with many
  * empty neighbours: the library's step called R times with fresh pick numbers; the Ñ picks
  * against Ñ P(i) (Eq. 17 recomputed here) and the Ñ_c canonical picks against Ñ_c / M over
- * ALL M domains (P_c), and the pick-count invariant after every call. */
+ * ALL M domains (P_c), and the pick-count invariant after every call; two planted
+ * violations per pixel (a canonical pick left without its shift, a pick too many) fire it. */
 TEST(evidence_stochastic_picks_chi2_and_counts)
 {
     scene s;
@@ -116,7 +117,7 @@ TEST(evidence_stochastic_picks_chi2_and_counts)
     stochastic_workspace sw;
     rerror e;
     const int R = 4000, n_picks = 2, nc = 2;
-    int px, tested = 0, worst_dof = 0, violations = 0, with_empty = 0;
+    int px, tested = 0, worst_dof = 0, violations = 0, with_empty = 0, planted = 0, planted_fired = 0;
     double worst_p = 1;
     char why[512] = "";
     if (rt_load_scene("scenes/shadow.scene", 24, &s)) return;
@@ -176,6 +177,19 @@ TEST(evidence_stochastic_picks_chi2_and_counts)
             before = st;
             stochastic_pairwise_resample(&c, &so, m, x1, in, u, up, uc, &out, &sw, &st);
             if (stochastic_check_pick_counts(&so, m, in, &sw, &before, &st, why, sizeof why)) ++violations;
+            if (r == 0) { /* planted: one canonical pick skipped, one pick too many */
+                spatial_stats skipped = st;
+                char w2[512];
+                int last = m - 2;
+                skipped.mis_shifts -= st.mis_shifts > before.mis_shifts;
+                skipped.shifts -= st.mis_shifts > before.mis_shifts;
+                planted_fired += st.mis_shifts > before.mis_shifts &&
+                                 stochastic_check_pick_counts(&so, m, in, &sw, &before, &skipped, w2, sizeof w2);
+                sw.K[last]++;
+                planted_fired += stochastic_check_pick_counts(&so, m, in, &sw, &before, &st, w2, sizeof w2);
+                sw.K[last]--;
+                planted += 1 + (st.mis_shifts > before.mis_shifts);
+            }
             for (i = 0; i < m - 1; ++i) {
                 ok_k[i] += sw.K[i];
                 ok_kc[i] += sw.Kc[i];
@@ -200,5 +214,7 @@ TEST(evidence_stochastic_picks_chi2_and_counts)
                 tested, with_empty, worst_p, worst_dof, violations);
     CHECKF(tested >= 6 && with_empty >= 3, "only %d pixels tested, %d with most neighbours empty", tested, with_empty);
     CHECKF(violations == 0, "%d of %d steps broke the pick counts: %s", violations, tested * R, why);
+    CHECKF(planted_fired == planted && planted >= tested, "the pick-count check fired on %d of %d planted violations",
+           planted_fired, planted);
     CHECKF(worst_p > chi2_sidak(1e-4, 2 * tested), "pick distribution off: chi2 p %.3g (dof %d)", worst_p, worst_dof);
 }

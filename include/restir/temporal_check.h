@@ -19,8 +19,8 @@
  * primary vertex, x the history sample X_1 as it entered the step (refreshed into frame
  * t-1 if rf: the reservoir's sample). Returns 0 if the round trip holds (or there is
  * nothing to check: no valid history candidate, or the reverse shift fails at a grazing
- * configuration), 1 with the reason in why otherwise. Relative tolerance: 1e-3 (double),
- * 2e-2 (float). *checked (may be NULL) is incremented when a round trip was compared. */
+ * configuration), 1 with the reason in why otherwise. Relative tolerance: 1e-3 (double; 5e-2 in
+ * animated scenes, whose suffix re-trace moves p̂ by up to 1e-2), float 2e-2 (1e-1). *checked (may be NULL) is incremented when a round trip was compared. */
 int temporal_check_round_trip(const restir_context *prev, const domain_refresh *rf, const path_vertex *x1_prev,
                               const path_sample *x, const spatial_workspace *w, char *why, size_t why_size,
                               long *checked);

@@ -61,9 +61,10 @@ void temporal_resample(const restir_context *cur, const restir_context *prev, co
     rf.fn = refresh_between_frames;
     rf.user = frames;
     gris_resample(cur, prev, frames ? &rf : NULL, mis, 2, x1, in, u, out, w, &st->step);
-    /* the deliberately biased ablations evaluate frame t-1 with frame t's camera / scene */
+    /* the deliberately biased ablations evaluate frame t-1 with frame t's camera / scene, or
+     * take another pixel's x1 for the history */
     if (RESTIR_DEBUG_ENABLED && cur->ablation != RESTIR_ABLATE_TEMPORAL_TARGET &&
-        cur->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX) {
+        cur->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX && cur->ablation != RESTIR_ABLATE_DUAL_MV_VERTEX) {
         char why[512];
         if (temporal_check_round_trip(prev, frames ? &rf : NULL, x1_prev, &prev_r->y, w, why, sizeof why, NULL))
             restir_invariant_failed(__FILE__, __LINE__, why);
