@@ -9,6 +9,7 @@
 #include "restir/frame/offline.h"
 #include "test.h"
 #include "restir/scene/scene_trace.h"
+#include "restir/frame/options.h"
 
 int rt_load_scene(const char *path, int res, scene *s)
 {

@@ -35,6 +35,8 @@
 #include "restir/frame/pipeline.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/frame_stats.h"
+#include "restir/frame/options.h"
 
 static char out[65536];
 

@@ -11,6 +11,7 @@
 #include <unistd.h>
 #include "fuzz/fuzz.h"
 #include "test.h"
+#include "restir/frame/pipeline.h"
 
 typedef int (*fuzz_fn)(const uint8_t *, size_t);
 

@@ -25,6 +25,7 @@
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/options.h"
 
 TEST(mutate_perturb_symmetric_in_range)
 {

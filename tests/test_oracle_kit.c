@@ -42,6 +42,16 @@ static const char *reference_dump(void)
     return dir;
 }
 
+/* dst becomes a fresh copy of the dump directory src: `cp -r src dst` into an existing dst
+ * (a reused build directory) would nest src inside it and leave dst's old dumps in place,
+ * stale files that the test would then diff (false alarms and false passes). */
+static int fresh_copy(const char *src, const char *dst)
+{
+    char cmd[4000];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && cp -r '%s' '%s'", dst, src, dst);
+    return system(cmd);
+}
+
 /* Copies src to dst, multiplying W of pixel p (record p; p < 0: every pixel) by `scale`. */
 static void copy_scaling_w(const char *src, const char *dst, long p, double scale)
 {
@@ -114,11 +124,7 @@ TEST(oracle_restart_bit_identical_from_every_stage)
                kit_stages[i], out);
     }
     /* planted: pixel (10, 7)'s initial W x 4 in frame 1 -> the restarted frame 1 differs */
-    {
-        char cmd[4000];
-        snprintf(cmd, sizeof cmd, "cp -r %s %s", a, kit_dir("Wplant"));
-        CHECK(system(cmd) == 0);
-    }
+    CHECK(fresh_copy(a, kit_dir("Wplant")) == 0);
     stage_dump_path(fa, sizeof fa, a, 1, "initial", "resv");
     stage_dump_path(fb, sizeof fb, kit_dir("Wplant"), 1, "initial", "resv");
     copy_scaling_w(fa, fb, 7 * 40 + 10, 4.0);
@@ -146,9 +152,14 @@ TEST(oracle_diff_dump_self_is_identical)
 TEST(oracle_diff_dump_finds_planted_w)
 {
     const char *a = reference_dump();
-    char src[1200], dst[1200], cmd[4000];
-    snprintf(cmd, sizeof cmd, "cp -r %s %s", a, kit_dir("P"));
-    CHECK(system(cmd) == 0);
+    char src[1200], dst[1200];
+    /* a stale P from an earlier run: frame 2's spatial2 dump with every W doubled; the fresh
+     * copy must replace it (with `cp -r A P` it stayed and a second row differed) */
+    CHECK(fresh_copy(a, kit_dir("P")) == 0);
+    stage_dump_path(src, sizeof src, a, 2, "spatial2", "resv");
+    stage_dump_path(dst, sizeof dst, kit_dir("P"), 2, "spatial2", "resv");
+    copy_scaling_w(src, dst, -1, 2.0);
+    CHECK(fresh_copy(a, kit_dir("P")) == 0);
     stage_dump_path(src, sizeof src, a, 1, "spatial1", "resv");
     stage_dump_path(dst, sizeof dst, kit_dir("P"), 1, "spatial1", "resv");
     copy_scaling_w(src, dst, 11 * 40 + 23, 1.5);

@@ -26,6 +26,7 @@
 #include "restir_util.h"
 #include "test.h"
 #include "restir/restir/stochastic_check.h"
+#include "restir/frame/options.h"
 
 static int verbose(void) { return getenv("RESTIR_TEST_VERBOSE") != NULL; }
 

@@ -6,6 +6,8 @@
 #include <string.h>
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/offline.h"
+#include "restir/frame/options.h"
 
 #ifdef RESTIR_REAL_FLOAT
 #define LUM_RTOL 2e-4

@@ -15,6 +15,7 @@
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/options.h"
 
 /* A Lambertian floor under eight small lights of different heights and powers, nothing
  * in between: every floor point sees every light's front face, so the reconnection of a

@@ -16,6 +16,7 @@
 #include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/options.h"
 
 #define ALPHA 1e-3
 static int runs = 16; /* K runs per side (the TEST_LONG versions use more) */

@@ -13,6 +13,9 @@
 #include <string.h>
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/offline.h"
+#include "restir/frame/pipeline.h"
+#include "restir/frame/options.h"
 
 #define ALPHA 1e-3
 

@@ -10,6 +10,8 @@
 #include "restir/frame/offline.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/frame_stats.h"
+#include "restir/frame/options.h"
 
 static int render(const scene *s, const restir_options *o, restir_result *r)
 {

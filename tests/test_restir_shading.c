@@ -11,6 +11,7 @@
 #include <string.h>
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/options.h"
 
 #define ALPHA 1e-3
 

@@ -15,6 +15,7 @@
 #include "restir/frame/offline.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/options.h"
 
 #define ALPHA 1e-3
 

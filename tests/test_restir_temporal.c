@@ -22,6 +22,7 @@
 #include "restir/frame/pipeline.h"
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/options.h"
 
 #define ALPHA 1e-3
 #define MAX_TIMES 3

@@ -4,6 +4,8 @@
 #include <string.h>
 #include "restir_util.h"
 #include "test.h"
+#include "restir/frame/offline.h"
+#include "restir/frame/options.h"
 
 static int selections(const scene *s, int paths, uint64_t *direct, uint64_t *longer)
 {

@@ -3,7 +3,9 @@
 
 #include <math.h>
 #include <string.h>
+#include "restir/frame/frame_stats.h"
 #include "restir/frame/offline.h"
+#include "restir/frame/options.h"
 #include "restir/frame/pipeline.h"
 #include "restir/render/gbuffer.h"
 #include "restir/restir/reservoir_dump.h"

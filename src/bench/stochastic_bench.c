@@ -5,6 +5,7 @@
 #include <string.h>
 #include "restir/core/progress.h"
 #include "restir/frame/offline.h"
+#include "restir/frame/options.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
 #include "restir/restir/reuse_cells.h"

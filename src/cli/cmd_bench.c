@@ -16,6 +16,7 @@
 #include "restir/core/progress.h"
 #include "restir/core/threads.h"
 #include "restir/frame/options.h"
+#include "restir/frame/pipeline.h"
 #include "restir/render/light_ris.h"
 #include "restir/render/pt.h"
 #include "restir/scene/animation.h"

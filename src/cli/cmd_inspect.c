@@ -5,6 +5,7 @@
 
 #include <stdio.h>
 #include <string.h>
+#include "restir/frame/options.h"
 #include "restir/oracle/inspect.h"
 #include "restir/scene/animation.h"
 #include "args.h"

@@ -1,5 +1,6 @@
 /* Option rows of `restir render --method restir` (src/cli/render_restir.h). */
 #include "render_restir.h"
+#include "restir/frame/options.h"
 
 #include <stdio.h>
 #include <string.h>

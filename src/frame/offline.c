@@ -6,6 +6,8 @@
 #include <string.h>
 #include "restir/core/progress.h"
 #include "restir/core/threads.h"
+#include "restir/frame/frame_stats.h"
+#include "restir/frame/options.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
 #include "stages.h"

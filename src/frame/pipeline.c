@@ -29,6 +29,8 @@
 #include <string.h>
 #include "restir/core/progress.h"
 #include "restir/core/threads.h"
+#include "restir/frame/frame_stats.h"
+#include "restir/frame/options.h"
 #include "restir/render/motion.h"
 #include "restir/restir/boiling_filter.h"
 #include "restir/restir/duplication.h"

@@ -9,6 +9,8 @@
 #include <string.h>
 #include "restir/core/progress.h"
 #include "restir/core/threads.h"
+#include "restir/frame/frame_stats.h"
+#include "restir/frame/options.h"
 #include "pair_step.h"
 
 /* ---- passes (stages.h) ------------------------------------------------ */

@@ -373,7 +373,9 @@ enum shift_failure rc_retrace_suffix(const restir_context *c, const path_sample 
         real u[4];
         vec3 y, dv;
         real dist;
-        rng_u_slots(path_sample_key(x), RNG_NEE, (uint32_t)k, 0, 4, u);
+        /* the sample's own numbers: a mutated sample keeps its light point numbers in pss[]
+         * (path_sample.h), not in its replay identity (issue 26) */
+        path_nee_numbers(x, u);
         if (!light_sample_point(pc->lights, u, &ls)) return SHIFT_FAIL_NEE;
         y = v3_from_f(ls.position);
         dv = v3_sub(y, pos);

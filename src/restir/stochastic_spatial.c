@@ -4,6 +4,7 @@
 
 #include "restir/core/invariant.h"
 #include "restir/restir/stochastic_check.h"
+#include "restir/restir/stochastic_picks_check.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -101,6 +102,8 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
     int n = m - 1, i, chosen = -1, distinct;
     real scale = so->confidence_scaling ? stochastic_confidence_scale(so->n_picks, n) : 1;
     real c_c = in[0]->confidence, c_S = 0;
+    spatial_stats before;
+    if (RESTIR_DEBUG_ENABLED) before = *st;
     reservoir_init(out);
     st->pixels++;
     st->domains += (uint64_t)m;
@@ -144,7 +147,8 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
     reservoir_finalize(out); /* GRIS Eq. 22 */
     if (RESTIR_DEBUG_ENABLED) {
         char why[512];
-        if (stochastic_check_step(c, so, m, x1, in, out, w, why, sizeof why))
+        if (stochastic_check_step(c, so, m, x1, in, out, w, why, sizeof why) ||
+            stochastic_check_pick_counts(so, m, in, w, &before, st, why, sizeof why))
             restir_invariant_failed(__FILE__, __LINE__, why);
     }
     st->invalid_weights += out->n_invalid;

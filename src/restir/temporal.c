@@ -2,6 +2,8 @@
 #include "restir/restir/temporal.h"
 
 #include <math.h>
+#include "restir/core/invariant.h"
+#include "restir/restir/temporal_check.h"
 #include "restir/scene/animation.h"
 
 /* domain_refresh for two frames: x (of frame `from`) re-expressed in frame `to`'s scene, its
@@ -37,6 +39,7 @@ void temporal_resample(const restir_context *cur, const restir_context *prev, co
     const path_vertex *x1[2];
     const reservoir *in[2];
     reservoir capped;
+    domain_refresh rf;
     st->pixels++;
     if (!x1_prev || !prev_r) {
         st->no_history++;
@@ -55,13 +58,17 @@ void temporal_resample(const restir_context *cur, const restir_context *prev, co
     in[0] = cur_r;
     in[1] = &capped;
     /* domain 1's MIS shifts run in the previous frame (GRIS App. B) */
-    if (frames) {
-        domain_refresh rf;
-        rf.fn = refresh_between_frames;
-        rf.user = frames;
-        gris_resample(cur, prev, &rf, mis, 2, x1, in, u, out, w, &st->step);
-    } else
-        gris_resample(cur, prev, NULL, mis, 2, x1, in, u, out, w, &st->step);
+    rf.fn = refresh_between_frames;
+    rf.user = frames;
+    gris_resample(cur, prev, frames ? &rf : NULL, mis, 2, x1, in, u, out, w, &st->step);
+    /* the deliberately biased ablations evaluate frame t-1 with frame t's camera / scene, or
+     * take another pixel's x1 for the history */
+    if (RESTIR_DEBUG_ENABLED && cur->ablation != RESTIR_ABLATE_TEMPORAL_TARGET &&
+        cur->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX && cur->ablation != RESTIR_ABLATE_DUAL_MV_VERTEX) {
+        char why[512];
+        if (temporal_check_round_trip(prev, frames ? &rf : NULL, x1_prev, &prev_r->y, w, why, sizeof why, NULL))
+            restir_invariant_failed(__FILE__, __LINE__, why);
+    }
 }
 
 void temporal_stats_add(temporal_stats *acc, const temporal_stats *add)
