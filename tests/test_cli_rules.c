@@ -8,6 +8,7 @@
 #include "../src/cli/output.h"
 #include "restir/aov.h"
 #include "restir/image.h"
+#include "capture.h"
 #include "test.h"
 
 #define SCENE "scenes/cornell.scene --size 24x20 --threads 2"
@@ -192,11 +193,16 @@ TEST(cli_rule_png_failure_removes_pfm)
     image img;
     rerror e;
     char pfm[1024], png[1200];
+    int status;
     snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-png-fail.pfm"));
     snprintf(png, sizeof png, "%s/no/such/dir/x.png", test_tmpdir());
     remove(pfm);
     CHECK(image_alloc(&img, 4, 3, &e) == 0);
-    CHECK(write_outputs(&img, pfm, png, 0) == 2);
+    capture_begin();
+    status = write_outputs(&img, pfm, png, 0);
+    capture_end(out, sizeof out);
+    CHECK(status == 2);
+    CHECKF(strstr(out, "cannot create directory") && strstr(out, "removed"), "message: %s", out);
     CHECK(!test_file_exists(pfm));
     snprintf(png, sizeof png, "%s", test_tmp_path("rule-png-ok.png"));
     CHECK(write_outputs(&img, pfm, png, 0) == 0);

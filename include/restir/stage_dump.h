@@ -53,6 +53,7 @@ typedef struct stage_io_s {
     uint32_t frame;                        /* the frame in progress */
     int failed;
     rerror err;                            /* the first failure (sticky) */
+    int created_dir;                       /* stage_io_begin created dump_dir (stage_io_remove_written) */
     int pss_rows;                          /* set by the pipeline: its reservoir buffers have
                                               primary-sample rows (reservoir.h) */
 } stage_io;
@@ -62,6 +63,7 @@ typedef struct {
     char order[STAGE_MAX][STAGE_NAME_SIZE]; /* "stage_order" */
     int n_order;
     long first, last, seed;                 /* "frames" {first, last}, "seed" */
+    long written;                           /* "frames" {written}: frames dumped (-1 if absent) */
     char scene[4096];                       /* "scene" {path} ("" if absent) */
     long width, height;                     /* "image" (0 if absent) */
     char inspect_args[1024];                /* " --size WxH --shift hybrid --mis ...": what
@@ -91,6 +93,13 @@ int stage_io_frame_end(stage_io *io, const void *restir_opts, rerror *e);
 void stage_io_reservoirs(stage_io *io, const char *name, reservoir *rs, int width, int height);
 /* The G-buffer of the frame in progress (after motion vectors). */
 void stage_io_gbuffer(stage_io *io, const gbuffer *g);
+
+/* After a failed run (exit 2 leaves nothing): removes the dump files this run wrote
+ * (frames first_frame .. the frame in progress: the G-buffer and every stage file), their
+ * frame directories and the manifest if they are then empty, and dump_dir if this run
+ * created it. Nothing is removed when the dump directory is also the restart's input.
+ * Returns the number of files removed (stage_dump_undo.c). */
+int stage_io_remove_written(const stage_io *io);
 
 /* G-buffer dump files (docs/formats.md). */
 int gbuffer_dump_write(const char *path, const gbuffer *g, uint32_t frame, rerror *e);

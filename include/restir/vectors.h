@@ -35,6 +35,15 @@ int vectors_write(const char *dir, rerror *e);
  * whose outputs differ (the first one is described in e->msg, returns 1); -1 if the
  * file is malformed, 0 if every line reproduces. */
 int vectors_check_file(const char *path, long *lines, long *bad, rerror *e);
+/* 1 (and why, one line) if an input of a vector for fn lies outside the function's domain:
+ * a seed or RNG word that is not a whole number in [0, 2^32), an RNG address beyond
+ * docs/rng.md's ranges, an index or lobe out of range, a pick's random number outside
+ * [0, 1] (vectors_domain.c). */
+int vectors_input_problem(const char *fn, const double *in, int n_in, char *why, size_t size);
+/* The scene of the shift vectors: scenes/cornell.scene in the working directory if it is
+ * there, else next to the executable's directory (build/restir -> scenes/, via
+ * /proc/self/exe), so `restir vectors` works from any directory (vectors_domain.c). */
+const char *vectors_shift_scene_path(void);
 /* 1 if the generator writes a vector tagged `eq` (e.g. "GRIS 19"). */
 int vectors_cover(const char *eq);
 

@@ -13,6 +13,7 @@
 #include "restir/moments.h"
 #include "restir/output_set.h"
 #include "args.h"
+#include "collide.h"
 
 #define MAX_INPUTS 4096
 
@@ -221,9 +222,10 @@ static int write_z_png(const char *path, const image *z, rerror *e)
     return status;
 }
 
-static int write_z_map(const char *path, const image *z, rerror *e)
+/* The format follows the name the user gave (final), not the temporary file's (staged). */
+static int write_z_map(const char *staged, const char *final, const image *z, rerror *e)
 {
-    return has_suffix(path, ".png") || has_suffix(path, ".PNG") ? write_z_png(path, z, e) : pfm_write(path, z, e);
+    return has_suffix(final, ".png") || has_suffix(final, ".PNG") ? write_z_png(staged, z, e) : pfm_write(staged, z, e);
 }
 
 static const char *side_kind_name(const check_side *s)
@@ -409,10 +411,10 @@ static int write_outputs(const check_args *args, const check_side *a, const chec
     if (args->json &&
         (!(staged = output_set_stage(&out, args->json, e)) || write_json(staged, args, a, b, r, status, e)))
         goto fail;
-    if (args->z_map && (!(staged = output_set_stage(&out, args->z_map, e)) || write_z_map(staged, &r->pixel_z, e)))
+    if (args->z_map && (!(staged = output_set_stage(&out, args->z_map, e)) || write_z_map(staged, args->z_map, &r->pixel_z, e)))
         goto fail;
     if (args->block_z_map &&
-        (!(staged = output_set_stage(&out, args->block_z_map, e)) || write_z_map(staged, &r->block_z, e)))
+        (!(staged = output_set_stage(&out, args->block_z_map, e)) || write_z_map(staged, args->block_z_map, &r->block_z, e)))
         goto fail;
     return output_set_commit(&out, e);
 fail:
@@ -474,6 +476,23 @@ static int scale_side(check_side *a, double scale)
     return 0;
 }
 
+/* --json, --z-map and --block-z-map must not overwrite each other or an input image. */
+static int check_collisions(const check_args *args)
+{
+    named_file outs[3], ins[2 * MAX_INPUTS + 4];
+    int n = 0, side, i;
+    outs[0].path = args->json, outs[0].role = "--json";
+    outs[1].path = args->z_map, outs[1].role = "--z-map";
+    outs[2].path = args->block_z_map, outs[2].role = "--block-z-map";
+    for (side = 0; side < 2; ++side) {
+        const side_args *s = side ? &args->b : &args->a;
+        for (i = 0; i < s->runs.count; ++i) ins[n].path = s->runs.items[i], ins[n++].role = side ? "--b" : "--a";
+        ins[n].path = s->ref, ins[n++].role = "--ref";
+        ins[n].path = s->ref_var, ins[n++].role = "--ref-var";
+    }
+    return outputs_distinct("check", outs, 3, ins, n, NULL);
+}
+
 int cmd_check(int argc, char **argv)
 {
     check_args args;
@@ -482,6 +501,7 @@ int cmd_check(int argc, char **argv)
     rerror e;
     int done, status;
     if ((status = parse_args(argc, argv, &args, &done)) != 0 || done) return status;
+    if (check_collisions(&args)) return 2;
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
     if (load_side(&a, &args.a, args.opt.block_size, &e) || load_side(&b, &args.b, args.opt.block_size, &e) ||

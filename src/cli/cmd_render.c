@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "args.h"
+#include "collide.h"
 #include "output.h"
 #include "restir/animation.h"
 #include "restir/aov.h"
@@ -314,7 +315,16 @@ static int render_sequence(const render_args *a, const scene *s, const char *out
     k.t = t;
     output_prefix(k.prefix, sizeof k.prefix, out);
     if (restir_render_sequence(s, &a->restir, &a->seq, write_frame, &k, &t->restir, &e)) {
+        /* Exit 2 leaves nothing: the frames and dump files this call wrote are removed (the
+         * checkpoint of --resume FILE --checkpoint FILE stays: it was this call's input). */
+        int frames = remove_sequence_frames(k.prefix, t->frame_numbers, t->frame_count, !a->no_png);
+        int dumped = stage_io_remove_written(&a->sio);
+        if (a->seq.checkpoint && t->frame_count > 0 && !(a->seq.resume && !strcmp(a->seq.resume, a->seq.checkpoint)))
+            remove(a->seq.checkpoint);
         fprintf(stderr, "%s\n", e.msg);
+        if (frames || dumped)
+            fprintf(stderr, "restir render: removed what this call wrote before the error: %d frame(s), %d dump file(s)\n",
+                    frames, dumped);
         return 2;
     }
     t->restir_seconds = t->render = now_seconds() - t0;
@@ -357,7 +367,12 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
         t->render = now_seconds() - t0;
         if (png[0]) status = write_outputs(&img, NULL, png, a->exposure);
         if (!status && !a->quiet && !stop_signal())
-            fprintf(stderr, "wrote %d runs as %s mean/var/moments\n", a->runs, out);
+        {
+            char prefix[4096];
+            output_prefix(prefix, sizeof prefix, out);
+            fprintf(stderr, "wrote %d runs as %s.mean.pfm, %s.var.pfm, %s.moments.json, %s.blocks.bin%s%s\n", a->runs,
+                    prefix, prefix, prefix, prefix, png[0] ? " and " : "", png);
+        }
         image_free(&img);
         return status;
     }
@@ -552,6 +567,11 @@ static int check_method_options(const render_args *a, const cli_option *options,
                 return 2;
             }
     }
+    if (cli_given(options, given, "--sample-offset") && cli_given(options, given, "--resume")) {
+        fprintf(stderr, "restir render: --sample-offset and --resume: a resumed run continues the checkpoint's own "
+                        "sample range (for a disjoint range start a fresh run and use restir merge)\n");
+        return 2;
+    }
     if (a->method == METHOD_RESTIR && !a->sequence &&
         (cli_given(options, given, "--checkpoint") || cli_given(options, given, "--resume"))) {
         fprintf(stderr, "restir render: --checkpoint and --resume apply to --method pt and to --method restir with "
@@ -559,6 +579,24 @@ static int check_method_options(const render_args *a, const cli_option *options,
         return 2;
     }
     return 0;
+}
+
+/* No output may overwrite another output or an input (collide.h); --resume FILE
+ * --checkpoint FILE continues one checkpoint in place. --runs writes PREFIX.* instead of
+ * -o (the sidecar files are distinct by construction). */
+static int check_output_collisions(const render_args *a, const char *out, const char *png)
+{
+    char mean[4200], prefix[4096];
+    named_file outs[4], ins[2];
+    output_prefix(prefix, sizeof prefix, out);
+    snprintf(mean, sizeof mean, "%s.mean.pfm", prefix);
+    outs[0].path = a->runs > 0 ? mean : a->sequence ? NULL : out, outs[0].role = "-o";
+    outs[1].path = png, outs[1].role = "the PNG preview";
+    outs[2].path = a->stats, outs[2].role = "--stats";
+    outs[3].path = a->pt.o.checkpoint_path, outs[3].role = "--checkpoint";
+    ins[0].path = a->sio.scene_path, ins[0].role = "the scene";
+    ins[1].path = a->pt.o.resume_path, ins[1].role = "--resume";
+    return outputs_distinct("render", outs, 4, ins, 2, a->pt.o.resume_path);
 }
 
 /* Every file the command will write, checked before anything is rendered. */
@@ -587,21 +625,25 @@ static int check_output_paths(const render_args *a, const char *out, const char 
         fprintf(stderr, "restir render: --png %s is the PFM's own path\n", png);
         return 2;
     }
-    return 0;
+    return check_output_collisions(a, out, png);
 }
 
 /* SIGINT / SIGTERM: what was kept, on stderr even with --quiet; exit 128 + signal. */
 static int interrupted_status(const render_args *a, const render_timings *t, const char *out)
 {
     int sig = stop_signal();
+    char prefix[4096];
     if (!sig) return 0;
+    output_prefix(prefix, sizeof prefix, out);
     if (a->sequence)
         fprintf(stderr, "restir render: interrupted by %s after %d frame(s); frames written so far are kept%s%s\n",
                 stop_signal_name(), t->frame_count, a->seq.checkpoint ? ", checkpoint " : "",
                 a->seq.checkpoint ? a->seq.checkpoint : "");
     else if (a->runs > 0)
-        fprintf(stderr, "restir render: interrupted by %s: %s mean/var/moments hold the runs finished so far (a run cut short is dropped)\n",
-                stop_signal_name(), out);
+        fprintf(stderr, "restir render: interrupted by %s: %s.mean.pfm, .var.pfm, .moments.json hold the runs finished so far (a run cut short is dropped)\n",
+                stop_signal_name(), prefix);
+    else if (a->method == METHOD_AOV) /* not stoppable: the signal came while it was written */
+        fprintf(stderr, "restir render: %s arrived during the render: %s is complete\n", stop_signal_name(), out);
     else if (a->method == METHOD_PT)
         fprintf(stderr, "restir render: interrupted by %s: %s holds %u spp%s%s (resume with --resume)\n",
                 stop_signal_name(), out, t->pt.state.spp, a->pt.o.checkpoint_path ? ", checkpoint " : "",

@@ -23,4 +23,8 @@ int write_duplicates_outputs(const image *img, const char *pfm_path, const char 
 int write_outputs_preview(const image *img, const image *preview, const char *pfm_path, const char *png_path,
                           double exposure);
 
+/* --sequence failed (exit 2): removes PREFIX.NNNN.pfm (and .png) of the frames written
+ * before the failure; returns how many PFMs were removed (output_undo.c). */
+int remove_sequence_frames(const char *prefix, const int *frames, int count, int with_png);
+
 #endif

@@ -214,11 +214,21 @@ static int start_state(const scene *s, const pt_options *o, pt_state *st, rerror
     if (o->resume_path) {
         if (pt_checkpoint_read(o->resume_path, st, e)) return -1;
         if (st->width != s->width || st->height != s->height || st->fingerprint != fp || st->seed != o->seed) {
+            /* The message is formatted before the state is freed (it prints the state's fields). */
+            rerror_set(e, "%s: checkpoint of a different scene or estimator (size %dx%d, seed %u, "
+                          "fingerprint %016llx; this run: %dx%d, seed %u, fingerprint %016llx)",
+                       o->resume_path, st->width, st->height, st->seed, (unsigned long long)st->fingerprint,
+                       s->width, s->height, o->seed, (unsigned long long)fp);
             pt_state_free(st);
-            return rerror_set(e, "%s: checkpoint of a different scene or estimator (size %dx%d, seed %u, "
-                                 "fingerprint %016llx; this run: %dx%d, seed %u, fingerprint %016llx)",
-                              o->resume_path, st->width, st->height, st->seed, (unsigned long long)st->fingerprint,
-                              s->width, s->height, o->seed, (unsigned long long)fp);
+            return -1;
+        }
+        /* A resumed run continues the checkpoint's sample range; another first sample
+         * cannot be honoured, so it is not silently ignored either. */
+        if (o->sample_offset != 0 && o->sample_offset != st->sample_offset) {
+            rerror_set(e, "%s: the checkpoint holds samples from %u on; --sample-offset %u cannot apply to a resumed run",
+                       o->resume_path, st->sample_offset, o->sample_offset);
+            pt_state_free(st);
+            return -1;
         }
         return 0;
     }
