@@ -306,3 +306,18 @@ TEST(hostile_check_z_map_png_is_png)
     status = test_cli(out, sizeof out, "check --a %s %s --b %s %s --z-map %s --quiet", a[0], a[1], a[2], a[3], a[0]);
     CHECKF(status == 2 && strstr(out, "would overwrite an input"), "%d: %s", status, out);
 }
+
+/* The hostile-case table (scripts/hostile.sh, docs/hostile-cases.md) in CI: every case
+ * exits with its expected status. */
+TEST(hostile_table_script)
+{
+    char cmd[2048], *text;
+    int status;
+    const char *table = test_tmp_path("hostile-table.md");
+    snprintf(cmd, sizeof cmd, "HOSTILE_DIR=%s sh scripts/hostile.sh > %s 2>&1", test_tmp_path("hostile-cases"), table);
+    status = system(cmd);
+    text = test_read_text(table);
+    CHECKF(text != NULL, "%s missing", table);
+    CHECKF(status == 0 && strstr(text, " 0 with an unexpected exit status"), "status %d:\n%s", status, text);
+    free(text);
+}

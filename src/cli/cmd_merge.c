@@ -99,7 +99,11 @@ static int merge_images(const merge_args *a, const char **inputs, int n, image *
     int i, loaded = 0, status = 0;
     if (!imgs || !counts) status = 2;
     if (!status && (!a->counts || parse_counts(a->counts, counts, n) != n)) {
-        fprintf(stderr, "restir merge: images need --counts with one sample count per input (e.g. --counts 512,512)\n");
+        if (a->counts)
+            fprintf(stderr, "restir merge: --counts %s: expected %d finite sample counts >= 0, one per input (e.g. "
+                            "--counts 512,512)\n", a->counts, n);
+        else
+            fprintf(stderr, "restir merge: images need --counts with one sample count per input (e.g. --counts 512,512)\n");
         status = 2;
     }
     for (i = 0; i < n && !status; ++i, ++loaded)
