@@ -23,7 +23,8 @@ static const char help_notes[] =
     "(PREFIX.moments.json + .mean.pfm + .var.pfm); SIDE_B is --b RUN.pfm..., --b-moments PREFIX\n"
     "or --ref REF.pfm (a reference taken as exact, or with --ref-var VAR.pfm --ref-runs N its\n"
     "single-run variance over N runs).\n"
-    "exit status: 0 consistent, 1 different, 2 usage or input error\n";
+    "exit status: 0 consistent, 1 different, 2 usage or input error, 3 inconclusive (a side's runs are\n"
+    "heavy-tailed: the t-tests cannot be trusted at this K; docs/statistics.md)\n";
 
 typedef struct {
     const char *run_names[MAX_INPUTS];
@@ -324,6 +325,38 @@ static int side_warning(char *msg, size_t size, int side_b, int index, const che
     return 0;
 }
 
+/* The verdict word: inconclusive overrides both (the tests ran, but cannot be trusted). */
+static const char *verdict_word(const check_result *r)
+{
+    return r->inconclusive ? "inconclusive" : r->different ? "different" : "consistent";
+}
+
+/* "heavy-tailed runs (A: tail index 1.3 < 2, skewness 3.1), need K >= 240 per side" */
+static void inconclusive_reason(char *buf, size_t size, const check_result *r)
+{
+    const check_tail *t = r->tail_a.heavy ? &r->tail_a : &r->tail_b;
+    double g = fabs(t->skew_image) > fabs(t->skew_blocks) ? t->skew_image : t->skew_blocks;
+    snprintf(buf, size,
+             "heavy-tailed runs (side %c: tail index %.2g < %g, skewness %.2g%s), need K >= %ld per side%s",
+             r->tail_a.heavy ? 'A' : 'B', t->tail_index, CHECK_TAIL_ALPHA_MIN, g,
+             r->tail_a.heavy && r->tail_b.heavy ? "; side B too" : "", r->runs_needed,
+             t->tail_index <= 2 ? " and a finite variance (a tail index <= 2 means none: more runs may not help)" : "");
+}
+
+static void put_tail(FILE *fp, const char *name, const check_tail *t, int last)
+{
+    fprintf(fp, "    \"%s\": {\"measured\": %s, \"skewness_image_mean\": ", name, t->measured ? "true" : "false");
+    json_put_number(fp, t->skew_image);
+    fputs(", \"skewness_blocks\": ", fp);
+    json_put_number(fp, t->skew_blocks);
+    fputs(", \"tail_index\": ", fp);
+    json_put_number(fp, isfinite(t->tail_index) ? t->tail_index : NAN);
+    fputs(", \"tail_index_upper\": ", fp);
+    json_put_number(fp, isfinite(t->tail_upper) ? t->tail_upper : NAN);
+    fprintf(fp, ", \"exceedances\": %ld, \"tail_count\": %ld, \"heavy\": %s}%s\n", t->exceedances, t->tail_count,
+            t->heavy ? "true" : "false", last ? "" : ",");
+}
+
 static int write_json(const char *path, const check_args *args, const check_side *a, const check_side *b,
                       const check_result *r, int status, rerror *e)
 {
@@ -332,8 +365,20 @@ static int write_json(const char *path, const check_args *args, const check_side
     int side, count;
     if (atomic_file_open(&f, path, e)) return -1;
     fp = f.fp;
-    fprintf(fp, "{\n  \"verdict\": \"%s\",\n  \"exit_status\": %d,\n", r->different ? "different" : "consistent",
-            status);
+    fprintf(fp, "{\n  \"verdict\": \"%s\",\n  \"exit_status\": %d,\n", verdict_word(r), status);
+    fprintf(fp, "  \"tests_say\": \"%s\",\n", r->different ? "different" : "consistent");
+    if (r->inconclusive) {
+        char reason[512];
+        inconclusive_reason(reason, sizeof reason, r);
+        fputs("  \"inconclusive_reason\": ", fp);
+        json_put_string(fp, reason);
+        fprintf(fp, ",\n  \"runs_needed\": %ld,\n", r->runs_needed);
+    }
+    fprintf(fp, "  \"tails\": {\n");
+    put_key_number(fp, "    ", "tail_index_min", CHECK_TAIL_ALPHA_MIN, 0);
+    put_tail(fp, "a", &r->tail_a, 0);
+    put_tail(fp, "b", &r->tail_b, 1);
+    fprintf(fp, "  },\n");
     fprintf(fp, "  \"width\": %d,\n  \"height\": %d,\n", a->width, a->height);
     put_key_number(fp, "  ", "alpha", args->opt.alpha, 0);
     fprintf(fp, "  \"paired\": %s,\n", r->paired ? "true" : "false");
@@ -370,7 +415,8 @@ static int write_json(const char *path, const check_args *args, const check_side
     fputs(", \"z\": ", fp);
     json_put_number(fp, r->worst.z);
     fputs("}\n  },\n", fp);
-    fprintf(fp, "  \"pixels\": {\"tests\": %ld, \"p_below_alpha\": %ld, \"expected_if_consistent\": ", r->pixel_tests,
+    fprintf(fp, "  \"pixels\": {\"diagnostic\": \"uncorrected per-pixel tests, not part of the verdict\", "
+                "\"tests\": %ld, \"p_below_alpha\": %ld, \"expected_if_consistent\": ", r->pixel_tests,
             r->pixels_p_below_alpha);
     json_put_number(fp, args->opt.alpha * (double)r->pixel_tests);
     fputs("},\n  \"relative_bias\": {\"estimate\": ", fp);
@@ -432,6 +478,26 @@ static void describe_side(const char *label, const check_side *s)
         printf("%s: %ld runs (%s)\n", label, s->runs, side_kind_name(s));
 }
 
+static void print_tail(const char *side, const check_tail *t)
+{
+    if (!t->measured) {
+        printf("  %s: not measured (needs >= %d runs with per-run block means)\n", side, CHECK_TAIL_MIN_RUNS);
+        return;
+    }
+    printf("  %s: skewness of the per-run image means %.3g, of the block means %.3g; tail index %.3g, + 1 sd %.3g "
+           "(Hill, %ld of %ld standardised deviations)%s\n",
+           side, t->skew_image, t->skew_blocks, t->tail_index, t->tail_upper, t->tail_count, t->exceedances,
+           t->heavy ? ": HEAVY" : "");
+}
+
+static void print_tails(const check_result *r)
+{
+    printf("tails of the per-run statistics (a tail index + 1 sd < %g: the t-tests cannot be trusted):\n",
+           CHECK_TAIL_ALPHA_MIN);
+    print_tail("A", &r->tail_a);
+    print_tail("B", &r->tail_b);
+}
+
 static void print_summary(const check_args *args, const check_side *a, const check_side *b, const check_result *r)
 {
     const check_options *o = &args->opt;
@@ -457,8 +523,10 @@ static void print_summary(const check_args *args, const check_side *a, const che
     printf("  most extreme: block (%d, %d) channel %c, diff %.4g, t = %.4g, dof = %.4g, p = %.3g, z = %.3g\n",
            r->worst.x, r->worst.y, channel_names[r->worst.channel], r->worst.test.diff, r->worst.test.t,
            r->worst.test.dof, r->worst.test.p, r->worst.z);
-    printf("pixels: %ld of %ld uncorrected per-pixel tests have p < %g (about %.0f expected if consistent)\n",
+    printf("diagnostic, not the verdict: %ld of %ld uncorrected per-pixel tests have p < %g (about %.0f expected if "
+           "consistent; pixels of one run are not independent under reuse, so an excess here alone proves nothing)\n",
            r->pixels_p_below_alpha, r->pixel_tests, o->alpha, o->alpha * (double)r->pixel_tests);
+    print_tails(r);
     if (r->bias_ci_bounded)
         printf("relative bias A/B - 1: %+.4f%% [%g%% CI %+.4f%%, %+.4f%%]\n", 100.0 * r->bias, 100.0 * (1.0 - o->alpha),
                100.0 * r->bias_lo, 100.0 * r->bias_hi);
@@ -516,6 +584,7 @@ int cmd_check(int argc, char **argv)
         return 2;
     }
     status = r.different || (args.require_equivalence && !r.tost.equivalent) ? 1 : 0;
+    if (r.inconclusive) status = 3;
     {
         char msg[1024];
         int side, index;
@@ -528,8 +597,15 @@ int cmd_check(int argc, char **argv)
         status = 2;
     } else {
         if (!args.quiet) print_summary(&args, &a, &b, &r);
-        printf("verdict: %s%s\n", r.different ? "different" : "consistent",
-               args.require_equivalence && !r.different && !r.tost.equivalent ? " (but not shown equivalent)" : "");
+        if (r.inconclusive) {
+            char reason[512];
+            inconclusive_reason(reason, sizeof reason, &r);
+            printf("verdict: inconclusive: %s (the tests alone say %s)\n", reason,
+                   r.different ? "different" : "consistent");
+        } else {
+            printf("verdict: %s%s\n", r.different ? "different" : "consistent",
+                   args.require_equivalence && !r.different && !r.tost.equivalent ? " (but not shown equivalent)" : "");
+        }
     }
     check_result_free(&r);
     check_side_free(&a);
