@@ -43,6 +43,8 @@ typedef struct {
     int method, aov;
     const char *output, *png, *stats;
     int no_png, quiet, jitter, threads, frame;
+    int progress;          /* --progress: enum progress_mode */
+    double progress_every; /* --progress-every SECONDS (0: the default) */
     int runs; /* --runs K: K independent renders -> mean, variance and count (restir check) */
     /* Options every lighting method has, parsed once and handed to the method by
      * apply_common_options (seed, jitter, threads, frame, quiet) and apply_shared_options: */
@@ -378,6 +380,13 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
     }
     status = render_one(a, s, a->seed, out, &img, t);
     if (status) return status;
+    if (stop_signal() && (a->method == METHOD_RESTIR ? t->restir.frames == 0 : a->method == METHOD_PT && t->pt.state.spp == 0)) {
+        /* stopped at a tile boundary before anything was complete: no image to write */
+        fprintf(stderr, "restir render: interrupted by %s before the first %s was complete: nothing written\n",
+                stop_signal_name(), a->method == METHOD_RESTIR ? "frame" : "pass");
+        image_free(&img);
+        return 128 + stop_signal();
+    }
     t->render = now_seconds() - t0;
     t0 = now_seconds();
     status = write_image(a, &img, out, png);
@@ -702,8 +711,8 @@ int cmd_render(int argc, char **argv)
 {
     render_args a;
     render_timings t;
-    cli_option options[112];
-    int given[112];
+    cli_option options[116];
+    int given[116];
     method_rows rows[3];
     const char *positional[1];
     char out[4096], png[4096];
@@ -743,6 +752,8 @@ int cmd_render(int argc, char **argv)
             {"--from-stage", OPT_STRING, &a.from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
+            {"--progress", OPT_CHOICE, &a.progress, "auto (default: a bar on a terminal, plain lines with the ETA otherwise), none, bar or lines", progress_mode_names, 0, 0, NULL},
+            {"--progress-every", OPT_REAL, &a.progress_every, "seconds between two progress lines (default 5)", NULL, 0.01, 3600, NULL},
             {"--ablate", OPT_STRING, &a.ablate, "a deliberately broken estimator: pt: light-pdf|mis-sum|mis-lobe|light-ris-pdf, restir: jacobian|light-pdf|...", NULL, 0, 0, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
@@ -777,6 +788,7 @@ int cmd_render(int argc, char **argv)
     status = check_method_options(&a, options, given, rows, 3);
     if (status) return status;
     a.overrides.quiet = a.quiet;
+    progress_set_mode((enum progress_mode)a.progress, a.progress_every);
     apply_common_options(&a);
     status = apply_shared_options(&a, options, given);
     if (status) return status;

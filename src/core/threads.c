@@ -52,11 +52,23 @@ typedef struct {
     int worker;
 } worker_arg;
 
+/* The cancel flag (threads_set_cancel): read by the workers, written by a signal handler. */
+static volatile sig_atomic_t *cancel_flag;
+
+volatile sig_atomic_t *threads_set_cancel(volatile sig_atomic_t *flag)
+{
+    volatile sig_atomic_t *old = cancel_flag;
+    cancel_flag = flag;
+    return old;
+}
+
+int threads_cancelled(void) { return cancel_flag && *cancel_flag; }
+
 static long take_index(pool *p)
 {
     long i;
     pthread_mutex_lock(&p->lock);
-    i = p->next < p->total ? p->next++ : -1;
+    i = p->next < p->total && !threads_cancelled() ? p->next++ : -1;
     pthread_mutex_unlock(&p->lock);
     return i;
 }
