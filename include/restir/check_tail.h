@@ -14,7 +14,7 @@
  *     median absolute deviation, the positive deviations of all blocks are pooled, and
  *     alpha = 1 / mean(ln(y_i / y_(k+1))) over the k = ceil(sqrt(n)) largest of the n.
  *     alpha < 2 means the variance may be infinite (a t-test is then never exact), a
- *     light-tailed (normal-like) side gives alpha well above 3.
+ *     light-tailed (normal-like) side gives about 3 (K = 8) to 7 (K = 32; tools/check_tail).
  * The verdict is inconclusive when a side's alpha is below CHECK_TAIL_ALPHA_MIN by more
  * than its noise (alpha (1 + 1/sqrt(k)) < CHECK_TAIL_ALPHA_MIN, Hill's sd ~ alpha/sqrt(k)); the
  * number of runs it would take is then at least K >= 25 g^2 (Cochran's rule for the t-test

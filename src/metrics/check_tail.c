@@ -92,7 +92,7 @@ void check_tail_measure(check_tail *t, const double *x, long runs, long stride, 
     /* Heavy only when the estimate is below the limit by more than its own noise: Hill's
      * alpha has a standard deviation of about alpha / sqrt(k), so the bound alpha (1 +
      * 1 / sqrt(k)) must be below it (one standard deviation: 1 of 40 normal run sets of
-     * K = 8 with 27 block series flagged, a Pareto 1.5 tail flagged in 28 to 40 of 40;
+     * K = 8 with 27 block series flagged, a Pareto 1.5 tail in 25 to 40 of 40;
      * docs/statistics.md). */
     t->tail_upper = t->tail_count > 0 ? t->tail_index * (1.0 + 1.0 / sqrt((double)t->tail_count)) : HUGE_VAL;
     t->heavy = t->tail_upper < CHECK_TAIL_ALPHA_MIN;
