@@ -17,6 +17,7 @@ typedef struct {
     double start_seconds;
     double last_draw_seconds;
     const char *label;
+    long done, total;          /* the last progress_update (for the heartbeat) */
 } progress;
 
 /* Process-wide: how progress_begin shows progress (`restir render --progress`), and the
@@ -24,8 +25,14 @@ typedef struct {
 void progress_set_mode(enum progress_mode mode, double line_seconds);
 extern const char *const progress_mode_names[]; /* "auto", "none", "bar", "lines", NULL */
 
+/* Plain lines also come while one pass or frame runs for long: progress_begin registers a
+ * heartbeat on the tile pool (threads_set_tick) that repeats the last state with the time
+ * (`restir: 0% (0/1), 10.0 s elapsed, ETA unknown (the first step is running)`);
+ * progress_end removes it. One progress at a time. */
 void progress_begin(progress *p, const char *label, int quiet);
 void progress_update(progress *p, long done, long total); /* rate-limited redraw or line */
+/* The total to report before the first update (the heartbeat's "0/N"). */
+void progress_expect(progress *p, long total);
 void progress_end(progress *p);
 
 /* Monotonic wall-clock seconds. */

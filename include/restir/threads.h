@@ -39,4 +39,9 @@ volatile sig_atomic_t *threads_set_cancel(volatile sig_atomic_t *flag);
 /* 1 if the cancel flag is set and nonzero (a parallel call since may be incomplete). */
 int threads_cancelled(void);
 
+/* A process-wide hook called after every finished tile or chunk, under the pool's lock
+ * (one call at a time), e.g. a progress heartbeat during a long frame (progress.c).
+ * NULL: none. */
+void threads_set_tick(void (*tick)(void *ctx), void *ctx);
+
 #endif

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <time.h>
 #include <unistd.h>
+#include "restir/threads.h"
 
 const char *const progress_mode_names[] = {"auto", "none", "bar", "lines", NULL};
 static enum progress_mode mode = PROGRESS_AUTO;
@@ -22,6 +23,31 @@ double now_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* One line a log can keep: "pt: 37% (370/1000), 4.1 s elapsed, ETA 7.0 s". */
+static void print_line(progress *p, long done, long total, double elapsed, double eta)
+{
+    if (done > 0)
+        fprintf(stderr, "%s: %d%% (%ld/%ld), %.1f s elapsed, ETA %.1f s\n", p->label, (int)(100 * done / total), done,
+                total, elapsed, eta);
+    else
+        fprintf(stderr, "%s: 0%% (0/%ld), %.1f s elapsed, ETA unknown (the first step is running)\n", p->label, total,
+                elapsed);
+    fflush(stderr);
+    p->printed++;
+}
+
+/* The tile pool's tick (threads_set_tick): a line every line_every seconds while a long
+ * pass or frame runs, with the state of the last progress_update. */
+static void heartbeat(void *ctx)
+{
+    progress *p = ctx;
+    double t = now_seconds(), elapsed;
+    if (p->total <= 0 || t - p->last_draw_seconds < line_every) return;
+    p->last_draw_seconds = t;
+    elapsed = t - p->start_seconds;
+    print_line(p, p->done, p->total, elapsed, p->done > 0 ? elapsed * (double)(p->total - p->done) / (double)p->done : 0);
+}
+
 void progress_begin(progress *p, const char *label, int quiet)
 {
     int tty = isatty(2);
@@ -31,22 +57,20 @@ void progress_begin(progress *p, const char *label, int quiet)
     p->start_seconds = now_seconds();
     p->last_draw_seconds = p->start_seconds;
     p->label = label;
+    p->done = p->total = 0;
+    if (p->enabled && p->lines) threads_set_tick(heartbeat, p);
 }
 
-/* One line a log can keep: "pt: 37% (370/1000), 4.1 s elapsed, ETA 7.0 s". */
-static void print_line(progress *p, long done, long total, double elapsed, double eta)
-{
-    fprintf(stderr, "%s: %d%% (%ld/%ld), %.1f s elapsed, ETA %.1f s\n", p->label, (int)(100 * done / total), done,
-            total, elapsed, eta);
-    fflush(stderr);
-    p->printed++;
-}
+/* The total before the first update: the heartbeat can say "0 of N". */
+void progress_expect(progress *p, long total) { p->total = total; }
 
 void progress_update(progress *p, long done, long total)
 {
     double t, elapsed, eta;
     int i, filled;
     if (!p->enabled || total <= 0) return;
+    p->done = done;
+    p->total = total;
     t = now_seconds();
     elapsed = t - p->start_seconds;
     eta = done > 0 ? elapsed * (double)(total - done) / (double)done : 0;
@@ -70,5 +94,6 @@ void progress_update(progress *p, long done, long total)
 
 void progress_end(progress *p)
 {
+    if (p->enabled && p->lines) threads_set_tick(NULL, NULL);
     if (p->enabled && !p->lines && p->printed) fprintf(stderr, "\n");
 }

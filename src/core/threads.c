@@ -64,6 +64,15 @@ volatile sig_atomic_t *threads_set_cancel(volatile sig_atomic_t *flag)
 
 int threads_cancelled(void) { return cancel_flag && *cancel_flag; }
 
+static void (*tick_fn)(void *);
+static void *tick_ctx;
+
+void threads_set_tick(void (*tick)(void *ctx), void *ctx)
+{
+    tick_fn = tick;
+    tick_ctx = ctx;
+}
+
 static long take_index(pool *p)
 {
     long i;
@@ -78,6 +87,7 @@ static void finish_index(pool *p)
     pthread_mutex_lock(&p->lock);
     p->done++;
     if (p->progress) p->progress(p->ctx_progress, p->done, p->total);
+    if (tick_fn) tick_fn(tick_ctx);
     pthread_mutex_unlock(&p->lock);
 }
 

@@ -308,6 +308,7 @@ static int render_passes(pass_job *j, pt_result *res, rerror *e)
     long passes = 0;
     volatile sig_atomic_t *old_cancel = threads_set_cancel(j->stage ? o->stop_flag : NULL);
     progress_begin(&bar, "pt", o->quiet);
+    if (o->spp) progress_expect(&bar, (long)o->spp);
     while (!render_done(o, j->st, now_seconds() - t0)) {
         uint32_t count;
         if (o->stop_flag && *o->stop_flag) {
@@ -327,6 +328,7 @@ static int render_passes(pass_job *j, pt_result *res, rerror *e)
         if (o->checkpoint_path && o->checkpoint_interval > 0 && now_seconds() - last_checkpoint >= o->checkpoint_interval) {
             if (pt_checkpoint_write(o->checkpoint_path, j->st, e)) {
                 threads_set_cancel(old_cancel);
+                progress_end(&bar);
                 return -1;
             }
             last_checkpoint = now_seconds();

@@ -412,6 +412,7 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
                              "which a restart does not compute)");
     cancel = threads_set_cancel(j->o->stop_flag);
     progress_begin(&bar, "restir", j->o->quiet);
+    progress_expect(&bar, q->last - q->first + 1);
     for (f = start; f <= q->last && !status && !(j->o->stop_flag && *j->o->stop_flag); ++f) {
         restir_stats st;
         image img;
@@ -421,11 +422,13 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
         frame_status = pipeline_frame(pl, f, &st, e);
         if (frame_status < 0) {
             threads_set_cancel(cancel);
+            progress_end(&bar);
             return -1;
         }
         if (frame_status > 0) break; /* cancelled at a tile boundary: frame f is not written */
         if (stage_io_frame_end(j->sio, j->o, e)) {
             threads_set_cancel(cancel);
+            progress_end(&bar);
             return -1;
         }
         frame_sum_stats(j, &st);
@@ -435,6 +438,7 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
         if (j->o->output_aov ? count_image(pl, j->o->output_aov == RESTIR_OUTPUT_AGE ? pl->prev_age : pl->dup, &img, e)
                              : frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e)) {
             threads_set_cancel(cancel);
+            progress_end(&bar);
             return -1;
         }
         st.nonfinite_pixels = image_nonfinite_pixels(&img); /* kept, counted (docs/precision.md) */

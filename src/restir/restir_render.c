@@ -511,10 +511,12 @@ static long render_frames(frame_job *j, restir_stats *times, double t0, rerror *
     progress bar;
     long f;
     uint64_t max_frames = (uint64_t)UINT32_MAX / (uint64_t)o->candidates - (uint64_t)o->first_frame;
-    camera_init(&cam, scene_camera_at(j->s, 0), j->s->width, j->s->height);
-    volatile sig_atomic_t *old_cancel = threads_set_cancel(o->stop_flag);
+    volatile sig_atomic_t *old_cancel;
     int status = 0;
+    camera_init(&cam, scene_camera_at(j->s, 0), j->s->width, j->s->height);
+    old_cancel = threads_set_cancel(o->stop_flag);
     progress_begin(&bar, "restir", o->quiet || o->time_limit > 0);
+    progress_expect(&bar, o->frames);
     for (f = 0;; ++f) {
         if (o->time_limit > 0 ? (f > 0 && now_seconds() - t0 >= o->time_limit) : f >= o->frames) break;
         if ((uint64_t)f >= max_frames || (o->stop_flag && *o->stop_flag)) break;
