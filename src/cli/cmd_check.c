@@ -481,7 +481,9 @@ static void describe_side(const char *label, const check_side *s)
 static void print_tail(const char *side, const check_tail *t)
 {
     if (!t->measured) {
-        printf("  %s: not measured (needs >= %d runs with per-run block means)\n", side, CHECK_TAIL_MIN_RUNS);
+        printf("  %s: not measured (needs >= %d runs with per-run block means and >= %d positive deviations of "
+               "them; %ld here)\n",
+               side, CHECK_TAIL_MIN_RUNS, CHECK_TAIL_MIN_EXCEEDANCES, t->exceedances);
         return;
     }
     printf("  %s: skewness of the per-run image means %.3g, of the block means %.3g; tail index %.3g, + 1 sd %.3g "

@@ -78,10 +78,10 @@ void check_tail_measure(check_tail *t, const double *x, long runs, long stride, 
         return;
     }
     for (j = 0; j < nseries; ++j) standardised_exceedances(x + j, runs, stride, work, y, &n);
-    t->measured = 1;
     t->exceedances = n;
+    t->measured = n >= CHECK_TAIL_MIN_EXCEEDANCES;
     k = (long)ceil(sqrt((double)n));
-    if (n >= 4 && k < n) {
+    if (t->measured && k < n) {
         qsort(y, (size_t)n, sizeof *y, cmp_double_desc);
         /* Hill (1975): alpha = 1 / mean ln(y_(i) / y_(k+1)), i = 1..k. */
         for (i = 0; i < k; ++i) h += log(y[i] / y[k]);
@@ -91,9 +91,9 @@ void check_tail_measure(check_tail *t, const double *x, long runs, long stride, 
     }
     /* Heavy only when the estimate is below the limit by more than its own noise: Hill's
      * alpha has a standard deviation of about alpha / sqrt(k), so the bound alpha (1 +
-     * 1 / sqrt(k)) must be below it (one standard deviation: 1 of 40 normal run sets of
-     * K = 8 with 27 block series flagged, a Pareto 1.5 tail in 25 to 40 of 40;
-     * docs/statistics.md). */
+     * 1 / sqrt(k)) must be below it (one standard deviation: no normal or exponential run
+     * set of 40 flagged wherever it is measured, a Pareto 1.5 tail in 25 to 40 of 40;
+     * tools/check_tail, docs/statistics.md). */
     t->tail_upper = t->tail_count > 0 ? t->tail_index * (1.0 + 1.0 / sqrt((double)t->tail_count)) : HUGE_VAL;
     t->heavy = t->tail_upper < CHECK_TAIL_ALPHA_MIN;
     free(work);

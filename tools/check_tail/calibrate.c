@@ -56,7 +56,7 @@ static const struct {
 static void calibrate(int d, int runs, int series)
 {
     double lo = HUGE_VAL, hi = 0, sum = 0;
-    int set, flagged[3] = {0, 0, 0}, c;
+    int set, flagged[3] = {0, 0, 0}, c, measured = 0;
     double *x = malloc(sizeof *x * (size_t)runs * (size_t)series);
     if (!x) return;
     for (set = 0; set < SETS; ++set) {
@@ -64,13 +64,16 @@ static void calibrate(int d, int runs, int series)
         long i;
         for (i = 0; i < (long)runs * series; ++i) x[i] = dists[d].draw();
         check_tail_measure(&t, x, runs, series, series, NULL, 0);
+        measured += t.measured;
+        if (!t.measured) continue;
         lo = fmin(lo, t.tail_index);
         hi = fmax(hi, t.tail_index);
         sum += t.tail_index;
         for (c = 0; c < 3; ++c) flagged[c] += t.tail_index * (1 + c / sqrt((double)t.tail_count)) < 2;
     }
-    printf("%-24s K=%2d series=%3d alpha mean %.2f range %.2f..%.2f flagged c0 %2d c1 %2d c2 %2d /%d\n", dists[d].name,
-           runs, series, sum / SETS, lo, hi, flagged[0], flagged[1], flagged[2], SETS);
+    printf("%-24s K=%2d series=%3d measured %2d alpha mean %.2f range %.2f..%.2f flagged c0 %2d c1 %2d c2 %2d /%d\n",
+           dists[d].name, runs, series, measured, measured ? sum / measured : 0, lo, hi, flagged[0], flagged[1], flagged[2],
+           SETS);
     free(x);
 }
 
