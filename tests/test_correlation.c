@@ -387,8 +387,9 @@ TEST(correlation_duplication_map_only_when_read)
 TEST(correlation_bias_over_runs_planted)
 {
     enum { K = 256, B = 64 };
-    double *runs = malloc(sizeof(double) * K * B), ref[B], weight[B];
+    double *runs = malloc(sizeof(double) * K * B), ref[B], weight[B], ref_var[B], half;
     bias_result r;
+    bias_options o;
     rerror e;
     int k, j, planted;
     CHECK(runs != NULL);
@@ -403,7 +404,11 @@ TEST(correlation_bias_over_runs_planted)
                 runs[k * B + j] = ref[j] * ((planted ? 1.03 : 1.0) + 0.4 * u);
             }
         }
-        CHECKF(!bias_measure(runs, ref, weight, K, B, 200, 5, &r, &e), "%s", e.msg);
+        bias_options_default(&o);
+        o.resamples = 200;
+        o.seed = 5;
+        o.level = 0.95; /* the level these bounds were set at (the default is check's 0.99) */
+        CHECKF(!bias_measure(runs, ref, weight, K, B, &o, &r, &e), "%s", e.msg);
         if (getenv("RESTIR_TEST_VERBOSE"))
             fprintf(stderr, "  planted %d: rel_bias %.4f [%.4f, %.4f], mean_abs_rel %.4f corrected %.4f [%.4f, %.4f], floor %.4f\n",
                     planted, r.rel_bias.value, r.rel_bias.lo, r.rel_bias.hi, r.mean_abs_rel.value, r.corrected,
@@ -420,6 +425,17 @@ TEST(correlation_bias_over_runs_planted)
             CHECK_NEAR(r.corrected, 0.03, 0.004);
         }
     }
+    /* A noisy reference (compare --bias --ref-moments): block variance 4x the runs' mean's,
+     * so the noise floor grows by sqrt(5) and the interval of rel_bias widens. */
+    half = r.rel_bias.hi - r.rel_bias.lo;
+    for (j = 0; j < B; ++j) ref_var[j] = 4 * (0.2 * ref[j]) * (0.2 * ref[j]) / K;
+    o.ref_var = ref_var;
+    o.ref_mean_var = 4 * 0.04 * 9.0 / K / B; /* about 4x the runs' image-mean variance */
+    o.ref_dof = 15;
+    CHECKF(!bias_measure(runs, ref, weight, K, B, &o, &r, &e), "%s", e.msg);
+    CHECK_NEAR(r.noise_floor, sqrt(2 / PI_R) * 0.2 * sqrt(5.0) / sqrt((double)K), 0.003);
+    CHECKF(r.rel_bias.hi - r.rel_bias.lo > 1.5 * half, "interval %g, without the reference's noise %g",
+           r.rel_bias.hi - r.rel_bias.lo, half);
     free(runs);
 }
 

@@ -15,16 +15,25 @@
 #include "restir/core/pfm.h"
 #include "restir/core/vec.h"
 #include "restir/metrics/bias_runs.h"
+#include "restir/metrics/moments.h"
+#include "restir/metrics/stats.h"
 
 static const char usage[] =
-    "usage: restir compare --bias RUN.pfm... --ref REF.pfm [options]\n"
-    "  K >= 2 independent renders against a reference taken as exact: rel_bias (signed, of the\n"
-    "  image mean, 95% t interval), mean_abs_rel = mean over blocks of |mean_k run - ref| / ref\n"
-    "  (Enhanced 5's mean(|bias|/ref), raw: includes noise), its noise_floor (its value for an\n"
-    "  unbiased estimator with the same spread), mean_abs_rel_corrected (the noise's inflation\n"
-    "  removed by the bootstrap, with the 95% basic bootstrap interval); nmse = per run sum (run - ref)^2 / sum ref^2\n"
-    "  over the (masked) pixels, mean and 95% t interval over the runs; on luminance\n"
+    "usage: restir compare --bias RUN.pfm... (--ref REF.pfm | --ref-moments PREFIX) [options]\n"
+    "  K >= 2 independent renders against a reference: rel_bias (signed, of the image mean, t\n"
+    "  interval), mean_abs_rel = mean over blocks of |mean_k run - ref| / ref (Enhanced 5's\n"
+    "  mean(|bias|/ref), raw: includes noise), its noise_floor (its value for an unbiased\n"
+    "  estimator with the same spread and, with --ref-moments, the reference's own noise),\n"
+    "  mean_abs_rel_corrected (the noise's inflation removed by the bootstrap, with the basic\n"
+    "  bootstrap interval); nmse = per run sum (run - ref)^2 / sum ref^2 over the (masked) pixels,\n"
+    "  mean and t interval over the runs; on luminance. Intervals at --level (default 0.99,\n"
+    "  the level of restir check).\n"
     "options:\n"
+    "  --ref REF.pfm         a reference taken as exact\n"
+    "  --ref-moments PREFIX  a reference with its noise: PREFIX.mean.pfm, .var.pfm, .moments.json\n"
+    "                        (render --runs N); its variance widens rel_bias's interval and raises\n"
+    "                        the noise floor\n"
+    "  --level L             interval level in (0, 1) (default 0.99)\n"
     "  --block N             block edge in pixels (default 4; 1 = per pixel)\n"
     "  --mask M.pfm          only pixels whose luminance in M lies in --mask-range\n"
     "  --mask-range LO,HI    (default 0.5,inf)\n"
@@ -34,8 +43,8 @@ static const char usage[] =
 typedef struct {
     const char **files;
     int file_count, block, resamples;
-    const char *ref, *mask, *json;
-    double lo, hi;
+    const char *ref, *ref_moments, *mask, *json;
+    double lo, hi, level;
 } bias_args;
 
 static int usage_error(const char *what, const char *arg)
@@ -64,6 +73,7 @@ static int parse_args(int argc, char **argv, bias_args *a, int *done)
     a->resamples = 400;
     a->lo = 0.5;
     a->hi = 1e300;
+    a->level = 0.99;
     if (!(a->files = calloc((size_t)argc, sizeof *a->files))) return usage_error("out of memory", "");
     for (i = 1; i < argc; ++i) {
         const char *opt = argv[i], *val;
@@ -80,6 +90,13 @@ static int parse_args(int argc, char **argv, bias_args *a, int *done)
         val = i + 1 < argc ? argv[++i] : NULL;
         if (!val) return usage_error("unknown option or missing value: ", opt);
         if (!strcmp(opt, "--ref")) a->ref = val;
+        else if (!strcmp(opt, "--ref-moments")) a->ref_moments = val;
+        else if (!strcmp(opt, "--level")) {
+            char *end;
+            a->level = strtod(val, &end);
+            if (end == val || *end || !(a->level > 0 && a->level < 1))
+                return usage_error("--level must be a number in (0, 1), not ", val);
+        }
         else if (!strcmp(opt, "--mask")) a->mask = val;
         else if (!strcmp(opt, "--json")) a->json = val;
         else if (!strcmp(opt, "--block")) {
@@ -96,7 +113,7 @@ static int parse_args(int argc, char **argv, bias_args *a, int *done)
             return usage_error("unknown option ", opt);
     }
     if (a->file_count < 2 || a->file_count > 65535) return usage_error("needs 2..65535 runs (independent renders)", "");
-    if (!a->ref) return usage_error("needs --ref REF.pfm", "");
+    if (!a->ref == !a->ref_moments) return usage_error("needs one of --ref REF.pfm or --ref-moments PREFIX", "");
     return 0;
 }
 
@@ -134,7 +151,7 @@ static double run_nmse(const image *img, const image *ref, const bias_args *a, c
     return den > 0 ? num / den : 0;
 }
 
-static void mean_t95(const double *v, int n, double *mean, double *half)
+static void mean_t(const double *v, int n, double level, double *mean, double *half)
 {
     double s = 0, s2 = 0, var;
     int i;
@@ -144,7 +161,50 @@ static void mean_t95(const double *v, int n, double *mean, double *half)
     }
     *mean = s / n;
     var = n > 1 ? (s2 - n * *mean * *mean) / (n - 1) : 0;
-    *half = 1.96 * sqrt(var > 0 ? var / n : 0);
+    *half = stats_t_quantile(0.5 + 0.5 * level, n > 1 ? n - 1 : 1) * sqrt(var > 0 ? var / n : 0);
+}
+
+/* The reference's noise from its moments file set: per block the variance of its block
+ * mean of luminance, sum_i var(lum_i) / (n^2 N) with var(lum_i) <= (sum_c w_c sd_ic)^2
+ * (independent pixels, channels taken as fully correlated: an upper bound, as check's
+ * luminance bound); the image mean's variance from the per-run image means when the file
+ * has them and no mask is set (exact for any pixel correlation), else the sum over blocks. */
+static void reference_noise(const moments_file *mf, const bias_args *a, const image *mask, long bw,
+                            const double *weight, double *ref_var, bias_options *o)
+{
+    long x, y, j, blocks = bw * (((long)mf->var.height + a->block - 1) / a->block);
+    double wsum = 0, sum = 0, n = (double)mf->runs;
+    for (y = 0; y < mf->var.height; ++y)
+        for (x = 0; x < mf->var.width; ++x) {
+            long i = y * mf->var.width + x, b = (y / a->block) * bw + x / a->block;
+            const float *v = mf->var.px + 3 * i;
+            double m = mask ? lum_at(mask, i) : 1, sd;
+            if (mask && !(m >= a->lo && m <= a->hi)) continue;
+            sd = (double)luminance(rgb_make(1, 0, 0)) * sqrt(v[0]) + (double)luminance(rgb_make(0, 1, 0)) * sqrt(v[1]) +
+                 (double)luminance(rgb_make(0, 0, 1)) * sqrt(v[2]);
+            ref_var[b] += sd * sd / n;
+        }
+    for (j = 0; j < blocks; ++j) {
+        if (!(weight[j] > 0)) continue;
+        sum += ref_var[j]; /* = weight^2 x the block mean's variance */
+        wsum += weight[j];
+        ref_var[j] /= weight[j] * weight[j];
+    }
+    o->ref_var = ref_var;
+    o->ref_mean_var = wsum > 0 ? sum / (wsum * wsum) : 0;
+    o->ref_dof = n - 1;
+    if (mf->run_means && !mask && mf->runs >= 2) {
+        double s = 0, s2 = 0, l;
+        long k;
+        for (k = 0; k < mf->runs; ++k) {
+            const double *c = mf->run_means + 3 * k;
+            l = (double)luminance(rgb_make(1, 0, 0)) * c[0] + (double)luminance(rgb_make(0, 1, 0)) * c[1] +
+                (double)luminance(rgb_make(0, 0, 1)) * c[2];
+            s += l;
+            s2 += l * l;
+        }
+        o->ref_mean_var = fmax(0, (s2 - s * s / n) / (n - 1)) / n;
+    }
 }
 
 static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
@@ -153,8 +213,21 @@ static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
     long bw, blocks, j;
     double *ref_b = NULL, *weight = NULL, *runs = NULL;
     int k, status = -1;
+    bias_options o;
+    moments_file mf;
+    double *ref_var = NULL;
     memset(&mask, 0, sizeof mask);
-    if (image_read(a->ref, &ref, NULL, e)) return -1;
+    memset(&mf, 0, sizeof mf);
+    bias_options_default(&o);
+    o.level = a->level;
+    o.resamples = a->resamples;
+    if (a->ref_moments) {
+        if (moments_read(a->ref_moments, &mf, e)) return -1;
+        ref = mf.mean;
+        memset(&mf.mean, 0, sizeof mf.mean);
+    } else if (image_read(a->ref, &ref, NULL, e)) {
+        return -1;
+    }
     if (a->mask && image_read(a->mask, &mask, NULL, e)) goto done;
     if (a->mask && (mask.width != ref.width || mask.height != ref.height)) {
         rerror_set(e, "%s: %dx%d, the reference is %dx%d", a->mask, mask.width, mask.height, ref.width, ref.height);
@@ -186,8 +259,17 @@ static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
         ref_b[j] /= weight[j];
         for (k = 0; k < a->file_count; ++k) runs[(long)k * blocks + j] /= weight[j];
     }
-    status = bias_measure(runs, ref_b, weight, a->file_count, blocks, a->resamples, 1, r, e);
+    if (a->ref_moments) {
+        if (!(ref_var = calloc((size_t)blocks, sizeof *ref_var))) {
+            rerror_set(e, "out of memory");
+            goto done;
+        }
+        reference_noise(&mf, a, a->mask ? &mask : NULL, bw, weight, ref_var, &o);
+    }
+    status = bias_measure(runs, ref_b, weight, a->file_count, blocks, &o, r, e);
 done:
+    free(ref_var);
+    moments_file_free(&mf);
     free(ref_b);
     free(weight);
     free(runs);
@@ -196,15 +278,17 @@ done:
     return status;
 }
 
-static int write_json(const char *path, const bias_result *r, int block, double nm, double nh, rerror *e)
+static int write_json(const char *path, const bias_result *r, int block, double level, int ref_noise, double nm,
+                      double nh, rerror *e)
 {
     atomic_file f;
     if (atomic_file_open(&f, path, e)) return -1;
     fprintf(f.fp,
-            "{\"runs\": %d, \"block\": %d, \"blocks\": %ld, \"rel_bias\": [%.9g, %.9g, %.9g], "
+            "{\"runs\": %d, \"block\": %d, \"blocks\": %ld, \"level\": %.9g, \"reference_noise\": %s, "
+            "\"rel_bias\": [%.9g, %.9g, %.9g], "
             "\"mean_abs_rel\": %.9g, \"mean_abs_rel_corrected\": [%.9g, %.9g, %.9g], \"noise_floor\": %.9g, "
             "\"nmse\": [%.9g, %.9g, %.9g]}\n",
-            r->runs, block, r->blocks, r->rel_bias.value, r->rel_bias.lo, r->rel_bias.hi, r->mean_abs_rel.value,
+            r->runs, block, r->blocks, level, ref_noise ? "true" : "false", r->rel_bias.value, r->rel_bias.lo, r->rel_bias.hi, r->mean_abs_rel.value,
             r->corrected, r->mean_abs_rel.lo, r->mean_abs_rel.hi, r->noise_floor, nm, nm - nh, nm + nh);
     return atomic_file_commit(&f, e);
 }
@@ -225,13 +309,14 @@ int cmd_compare_bias(int argc, char **argv)
         return usage_error("out of memory", "");
     }
     status = run(&a, &r, nmse, &e);
-    if (!status) mean_t95(nmse, a.file_count, &nm, &nh);
-    if (status || (a.json && write_json(a.json, &r, a.block, nm, nh, &e))) {
+    if (!status) mean_t(nmse, a.file_count, a.level, &nm, &nh);
+    if (status || (a.json && write_json(a.json, &r, a.block, a.level, a.ref_moments != NULL, nm, nh, &e))) {
         fprintf(stderr, "%s\n", e.msg);
         free(a.files);
         free(nmse);
         return 2;
     }
+    printf("level %g%s\n", a.level, a.ref_moments ? " (the reference's noise included)" : " (the reference taken as exact)");
     printf("runs %d\nblocks %ld\nrel_bias %.6g [%.6g, %.6g]\nmean_abs_rel %.6g\nmean_abs_rel_corrected %.6g [%.6g, %.6g]\n"
            "noise_floor %.6g\nnmse %.6g [%.6g, %.6g]\n",
            r.runs, r.blocks, r.rel_bias.value, r.rel_bias.lo, r.rel_bias.hi, r.mean_abs_rel.value, r.corrected,

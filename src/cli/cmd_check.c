@@ -18,6 +18,7 @@
 #include "restir/metrics/moments.h"
 #include "restir/metrics/output_set.h"
 #include "args.h"
+#include "collide.h"
 
 #define MAX_INPUTS 4096
 
@@ -27,7 +28,8 @@ static const char help_notes[] =
     "(PREFIX.moments.json + .mean.pfm + .var.pfm); SIDE_B is --b RUN.pfm..., --b-moments PREFIX\n"
     "or --ref REF.pfm (a reference taken as exact, or with --ref-var VAR.pfm --ref-runs N its\n"
     "single-run variance over N runs).\n"
-    "exit status: 0 consistent, 1 different, 2 usage or input error\n";
+    "exit status: 0 consistent, 1 different, 2 usage or input error, 3 inconclusive (a side's runs are\n"
+    "heavy-tailed: the t-tests cannot be trusted at this K; docs/statistics.md)\n";
 
 typedef struct {
     const char *run_names[MAX_INPUTS];
@@ -226,9 +228,10 @@ static int write_z_png(const char *path, const image *z, rerror *e)
     return status;
 }
 
-static int write_z_map(const char *path, const image *z, rerror *e)
+/* The format follows the name the user gave (final), not the temporary file's (staged). */
+static int write_z_map(const char *staged, const char *final, const image *z, rerror *e)
 {
-    return has_suffix(path, ".png") || has_suffix(path, ".PNG") ? write_z_png(path, z, e) : pfm_write(path, z, e);
+    return has_suffix(final, ".png") || has_suffix(final, ".PNG") ? write_z_png(staged, z, e) : pfm_write(staged, z, e);
 }
 
 static const char *side_kind_name(const check_side *s)
@@ -327,6 +330,38 @@ static int side_warning(char *msg, size_t size, int side_b, int index, const che
     return 0;
 }
 
+/* The verdict word: inconclusive overrides both (the tests ran, but cannot be trusted). */
+static const char *verdict_word(const check_result *r)
+{
+    return r->inconclusive ? "inconclusive" : r->different ? "different" : "consistent";
+}
+
+/* "heavy-tailed runs (A: tail index 1.3 < 2, skewness 3.1), need K >= 240 per side" */
+static void inconclusive_reason(char *buf, size_t size, const check_result *r)
+{
+    const check_tail *t = r->tail_a.heavy ? &r->tail_a : &r->tail_b;
+    double g = fabs(t->skew_image) > fabs(t->skew_blocks) ? t->skew_image : t->skew_blocks;
+    snprintf(buf, size,
+             "heavy-tailed runs (side %c: tail index %.2g < %g, skewness %.2g%s), need K >= %ld per side%s",
+             r->tail_a.heavy ? 'A' : 'B', t->tail_index, CHECK_TAIL_ALPHA_MIN, g,
+             r->tail_a.heavy && r->tail_b.heavy ? "; side B too" : "", r->runs_needed,
+             t->tail_index <= 2 ? " and a finite variance (a tail index <= 2 means none: more runs may not help)" : "");
+}
+
+static void put_tail(FILE *fp, const char *name, const check_tail *t, int last)
+{
+    fprintf(fp, "    \"%s\": {\"measured\": %s, \"skewness_image_mean\": ", name, t->measured ? "true" : "false");
+    json_put_number(fp, t->skew_image);
+    fputs(", \"skewness_blocks\": ", fp);
+    json_put_number(fp, t->skew_blocks);
+    fputs(", \"tail_index\": ", fp);
+    json_put_number(fp, isfinite(t->tail_index) ? t->tail_index : NAN);
+    fputs(", \"tail_index_upper\": ", fp);
+    json_put_number(fp, isfinite(t->tail_upper) ? t->tail_upper : NAN);
+    fprintf(fp, ", \"exceedances\": %ld, \"tail_count\": %ld, \"heavy\": %s}%s\n", t->exceedances, t->tail_count,
+            t->heavy ? "true" : "false", last ? "" : ",");
+}
+
 static int write_json(const char *path, const check_args *args, const check_side *a, const check_side *b,
                       const check_result *r, int status, rerror *e)
 {
@@ -335,8 +370,20 @@ static int write_json(const char *path, const check_args *args, const check_side
     int side, count;
     if (atomic_file_open(&f, path, e)) return -1;
     fp = f.fp;
-    fprintf(fp, "{\n  \"verdict\": \"%s\",\n  \"exit_status\": %d,\n", r->different ? "different" : "consistent",
-            status);
+    fprintf(fp, "{\n  \"verdict\": \"%s\",\n  \"exit_status\": %d,\n", verdict_word(r), status);
+    fprintf(fp, "  \"tests_say\": \"%s\",\n", r->different ? "different" : "consistent");
+    if (r->inconclusive) {
+        char reason[512];
+        inconclusive_reason(reason, sizeof reason, r);
+        fputs("  \"inconclusive_reason\": ", fp);
+        json_put_string(fp, reason);
+        fprintf(fp, ",\n  \"runs_needed\": %ld,\n", r->runs_needed);
+    }
+    fprintf(fp, "  \"tails\": {\n");
+    put_key_number(fp, "    ", "tail_index_min", CHECK_TAIL_ALPHA_MIN, 0);
+    put_tail(fp, "a", &r->tail_a, 0);
+    put_tail(fp, "b", &r->tail_b, 1);
+    fprintf(fp, "  },\n");
     fprintf(fp, "  \"width\": %d,\n  \"height\": %d,\n", a->width, a->height);
     put_key_number(fp, "  ", "alpha", args->opt.alpha, 0);
     fprintf(fp, "  \"paired\": %s,\n", r->paired ? "true" : "false");
@@ -373,7 +420,8 @@ static int write_json(const char *path, const check_args *args, const check_side
     fputs(", \"z\": ", fp);
     json_put_number(fp, r->worst.z);
     fputs("}\n  },\n", fp);
-    fprintf(fp, "  \"pixels\": {\"tests\": %ld, \"p_below_alpha\": %ld, \"expected_if_consistent\": ", r->pixel_tests,
+    fprintf(fp, "  \"pixels\": {\"diagnostic\": \"uncorrected per-pixel tests, not part of the verdict\", "
+                "\"tests\": %ld, \"p_below_alpha\": %ld, \"expected_if_consistent\": ", r->pixel_tests,
             r->pixels_p_below_alpha);
     json_put_number(fp, args->opt.alpha * (double)r->pixel_tests);
     fputs("},\n  \"relative_bias\": {\"estimate\": ", fp);
@@ -414,10 +462,10 @@ static int write_outputs(const check_args *args, const check_side *a, const chec
     if (args->json &&
         (!(staged = output_set_stage(&out, args->json, e)) || write_json(staged, args, a, b, r, status, e)))
         goto fail;
-    if (args->z_map && (!(staged = output_set_stage(&out, args->z_map, e)) || write_z_map(staged, &r->pixel_z, e)))
+    if (args->z_map && (!(staged = output_set_stage(&out, args->z_map, e)) || write_z_map(staged, args->z_map, &r->pixel_z, e)))
         goto fail;
     if (args->block_z_map &&
-        (!(staged = output_set_stage(&out, args->block_z_map, e)) || write_z_map(staged, &r->block_z, e)))
+        (!(staged = output_set_stage(&out, args->block_z_map, e)) || write_z_map(staged, args->block_z_map, &r->block_z, e)))
         goto fail;
     return output_set_commit(&out, e);
 fail:
@@ -433,6 +481,28 @@ static void describe_side(const char *label, const check_side *s)
         printf("%s: exact reference\n", label);
     else
         printf("%s: %ld runs (%s)\n", label, s->runs, side_kind_name(s));
+}
+
+static void print_tail(const char *side, const check_tail *t)
+{
+    if (!t->measured) {
+        printf("  %s: not measured (needs >= %d runs with per-run block means and >= %d positive deviations of "
+               "them; %ld here)\n",
+               side, CHECK_TAIL_MIN_RUNS, CHECK_TAIL_MIN_EXCEEDANCES, t->exceedances);
+        return;
+    }
+    printf("  %s: skewness of the per-run image means %.3g, of the block means %.3g; tail index %.3g, + 1 sd %.3g "
+           "(Hill, %ld of %ld standardised deviations)%s\n",
+           side, t->skew_image, t->skew_blocks, t->tail_index, t->tail_upper, t->tail_count, t->exceedances,
+           t->heavy ? ": HEAVY" : "");
+}
+
+static void print_tails(const check_result *r)
+{
+    printf("tails of the per-run statistics (a tail index + 1 sd < %g: the t-tests cannot be trusted):\n",
+           CHECK_TAIL_ALPHA_MIN);
+    print_tail("A", &r->tail_a);
+    print_tail("B", &r->tail_b);
 }
 
 static void print_summary(const check_args *args, const check_side *a, const check_side *b, const check_result *r)
@@ -460,8 +530,10 @@ static void print_summary(const check_args *args, const check_side *a, const che
     printf("  most extreme: block (%d, %d) channel %c, diff %.4g, t = %.4g, dof = %.4g, p = %.3g, z = %.3g\n",
            r->worst.x, r->worst.y, channel_names[r->worst.channel], r->worst.test.diff, r->worst.test.t,
            r->worst.test.dof, r->worst.test.p, r->worst.z);
-    printf("pixels: %ld of %ld uncorrected per-pixel tests have p < %g (about %.0f expected if consistent)\n",
+    printf("diagnostic, not the verdict: %ld of %ld uncorrected per-pixel tests have p < %g (about %.0f expected if "
+           "consistent; pixels of one run are not independent under reuse, so an excess here alone proves nothing)\n",
            r->pixels_p_below_alpha, r->pixel_tests, o->alpha, o->alpha * (double)r->pixel_tests);
+    print_tails(r);
     if (r->bias_ci_bounded)
         printf("relative bias A/B - 1: %+.4f%% [%g%% CI %+.4f%%, %+.4f%%]\n", 100.0 * r->bias, 100.0 * (1.0 - o->alpha),
                100.0 * r->bias_lo, 100.0 * r->bias_hi);
@@ -479,6 +551,23 @@ static int scale_side(check_side *a, double scale)
     return 0;
 }
 
+/* --json, --z-map and --block-z-map must not overwrite each other or an input image. */
+static int check_collisions(const check_args *args)
+{
+    named_file outs[3], ins[2 * MAX_INPUTS + 4];
+    int n = 0, side, i;
+    outs[0].path = args->json, outs[0].role = "--json";
+    outs[1].path = args->z_map, outs[1].role = "--z-map";
+    outs[2].path = args->block_z_map, outs[2].role = "--block-z-map";
+    for (side = 0; side < 2; ++side) {
+        const side_args *s = side ? &args->b : &args->a;
+        for (i = 0; i < s->runs.count; ++i) ins[n].path = s->runs.items[i], ins[n++].role = side ? "--b" : "--a";
+        ins[n].path = s->ref, ins[n++].role = "--ref";
+        ins[n].path = s->ref_var, ins[n++].role = "--ref-var";
+    }
+    return outputs_distinct("check", outs, 3, ins, n, NULL);
+}
+
 int cmd_check(int argc, char **argv)
 {
     check_args args;
@@ -487,6 +576,7 @@ int cmd_check(int argc, char **argv)
     rerror e;
     int done, status;
     if ((status = parse_args(argc, argv, &args, &done)) != 0 || done) return status;
+    if (check_collisions(&args)) return 2;
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
     if (load_side(&a, &args.a, args.opt.block_size, &e) || load_side(&b, &args.b, args.opt.block_size, &e) ||
@@ -501,6 +591,7 @@ int cmd_check(int argc, char **argv)
         return 2;
     }
     status = r.different || (args.require_equivalence && !r.tost.equivalent) ? 1 : 0;
+    if (r.inconclusive) status = 3;
     {
         char msg[1024];
         int side, index;
@@ -513,8 +604,15 @@ int cmd_check(int argc, char **argv)
         status = 2;
     } else {
         if (!args.quiet) print_summary(&args, &a, &b, &r);
-        printf("verdict: %s%s\n", r.different ? "different" : "consistent",
-               args.require_equivalence && !r.different && !r.tost.equivalent ? " (but not shown equivalent)" : "");
+        if (r.inconclusive) {
+            char reason[512];
+            inconclusive_reason(reason, sizeof reason, &r);
+            printf("verdict: inconclusive: %s (the tests alone say %s)\n", reason,
+                   r.different ? "different" : "consistent");
+        } else {
+            printf("verdict: %s%s\n", r.different ? "different" : "consistent",
+                   args.require_equivalence && !r.different && !r.tost.equivalent ? " (but not shown equivalent)" : "");
+        }
     }
     check_result_free(&r);
     check_side_free(&a);

@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <sys/stat.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/json_text.h"
@@ -160,13 +161,21 @@ static int diff_stage(const diff_args *a, const stage_manifest *m, long frame, c
     return pass;
 }
 
+static int frame_dir_exists(const char *dir, long frame)
+{
+    char path[4200];
+    struct stat st;
+    snprintf(path, sizeof path, "%s/frame_%04ld", dir, frame);
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
 int cmd_diff_dump(int argc, char **argv)
 {
     diff_args a;
     cli_option options[16];
     const char *positional[2];
     int count, status, n, i, all_pass = 1, first_row = 1, reported = 0;
-    long f;
+    long f, last;
     stage_manifest m;
     dump_diff_tolerance t;
     rerror e;
@@ -217,7 +226,15 @@ int cmd_diff_dump(int argc, char **argv)
         json_put_string(stdout, a.b);
         printf(", \"mode\": \"%s\", \"rows\": [", a.stat ? "stat" : "identity");
     }
-    for (f = m.first; f <= m.last; ++f)
+    /* The frames A holds: "written" of them from the first (an interrupted dump has fewer
+     * than first..last); a missing frame directory is an error, not a pass. */
+    last = m.written >= 0 ? m.first + m.written - 1 : m.last;
+    for (f = m.first; f <= last; ++f) {
+        if (!frame_dir_exists(a.a, f)) {
+            if (a.json) printf("\n]}\n");
+            fprintf(stderr, "%s/frame_%04ld: missing (the manifest says frames %ld..%ld)\n", a.a, f, m.first, last);
+            return 2;
+        }
         for (i = 0; i < m.n_order; ++i) {
             int pass = diff_stage(&a, &m, f, m.order[i], &t, &first_row, &reported, &e);
             if (pass < 0) {
@@ -227,6 +244,7 @@ int cmd_diff_dump(int argc, char **argv)
             }
             if (!pass) all_pass = 0;
         }
+    }
     if (a.json) printf("\n], \"pass\": %s}\n", all_pass ? "true" : "false");
     return all_pass ? 0 : 1;
 }

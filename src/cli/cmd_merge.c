@@ -3,7 +3,7 @@
  * one seed: their double sums are added, the result equals one run over the union up to
  * rounding) or mean images with --counts (the sample-count-weighted mean). */
 #include "cmd_merge.h"
-
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +13,7 @@
 #include "restir/render/pt_checkpoint.h"
 #include "restir/render/pt_state.h"
 #include "args.h"
+#include "collide.h"
 #include "output.h"
 
 #define MERGE_MAX_INPUTS 4096
@@ -42,7 +43,7 @@ static int parse_counts(const char *text, double *counts, int max)
     while (*p && n < max) {
         char *end;
         double v = strtod(p, &end);
-        if (end == p || !(v >= 0)) return -1;
+        if (end == p || !(v >= 0) || !isfinite(v)) return -1;
         counts[n++] = v;
         if (*end == ',') end++;
         else if (*end) return -1;
@@ -81,6 +82,20 @@ static int merge_checkpoints(const merge_args *a, const char **inputs, int n, im
     return status;
 }
 
+/* A mean image with a NaN or Inf pixel has no sample-count-weighted mean: refused. */
+static int image_check_finite(const char *path, const image *img, rerror *e)
+{
+    size_t i, n = 3 * (size_t)img->width * (size_t)img->height;
+    for (i = 0; i < n; ++i)
+        if (!isfinite(img->px[i])) {
+            size_t p = i / 3;
+            return rerror_set(e, "%s: pixel (%zu, %zu) channel %c is %s; a mean image must be finite", path,
+                              p % (size_t)img->width, p / (size_t)img->width, "RGB"[i % 3],
+                              isnan(img->px[i]) ? "NaN" : "Inf");
+        }
+    return 0;
+}
+
 static int merge_images(const merge_args *a, const char **inputs, int n, image *out)
 {
     image *imgs = calloc((size_t)n, sizeof *imgs);
@@ -89,11 +104,15 @@ static int merge_images(const merge_args *a, const char **inputs, int n, image *
     int i, loaded = 0, status = 0;
     if (!imgs || !counts) status = 2;
     if (!status && (!a->counts || parse_counts(a->counts, counts, n) != n)) {
-        fprintf(stderr, "restir merge: images need --counts with one sample count per input (e.g. --counts 512,512)\n");
+        if (a->counts)
+            fprintf(stderr, "restir merge: --counts %s: expected %d finite sample counts >= 0, one per input (e.g. "
+                            "--counts 512,512)\n", a->counts, n);
+        else
+            fprintf(stderr, "restir merge: images need --counts with one sample count per input (e.g. --counts 512,512)\n");
         status = 2;
     }
     for (i = 0; i < n && !status; ++i, ++loaded)
-        if (image_read(inputs[i], &imgs[i], NULL, &e)) {
+        if (image_read(inputs[i], &imgs[i], NULL, &e) || image_check_finite(inputs[i], &imgs[i], &e)) {
             fprintf(stderr, "%s\n", e.msg);
             status = 2;
         }
@@ -104,6 +123,35 @@ static int merge_images(const merge_args *a, const char **inputs, int n, image *
     for (i = 0; i < loaded; ++i) image_free(&imgs[i]);
     free(imgs);
     free(counts);
+    return status;
+}
+
+/* Before reading anything: every output writable, none overwriting another or an input
+ * (`merge -o a.ckpt a.ckpt b.ckpt` would replace an input by a PFM). */
+static int check_merge_outputs(const merge_args *a, const char **inputs, int count)
+{
+    named_file outs[3], *ins = calloc((size_t)count + 1, sizeof *ins);
+    char png[4096], label[MERGE_MAX_INPUTS][24];
+    rerror e;
+    int i, status = 0;
+    if (!ins) return 2;
+    if (a->no_png) png[0] = '\0';
+    else if (a->png) snprintf(png, sizeof png, "%s", a->png);
+    else preview_path(png, sizeof png, a->output);
+    outs[0].path = a->output, outs[0].role = "-o";
+    outs[1].path = png, outs[1].role = "the PNG preview";
+    outs[2].path = a->checkpoint_out, outs[2].role = "--checkpoint-out";
+    for (i = 0; i < 3 && !status; ++i)
+        if (outs[i].path && outs[i].path[0] && output_path_check(outs[i].path, &e)) {
+            fprintf(stderr, "restir merge: %s\n", e.msg);
+            status = 2;
+        }
+    for (i = 0; i < count; ++i) {
+        snprintf(label[i], sizeof label[i], "input %d", i + 1);
+        ins[i].path = inputs[i], ins[i].role = label[i];
+    }
+    if (!status) status = outputs_distinct("merge", outs, 3, ins, count, NULL);
+    free(ins);
     return status;
 }
 
@@ -138,6 +186,7 @@ int cmd_merge(int argc, char **argv)
         fprintf(stderr, "restir merge: expected -o OUT.pfm and at least one input (see restir merge --help)\n");
         status = 2;
     }
+    if (!status) status = check_merge_outputs(&a, inputs, count);
     for (i = 0; i < count; ++i) checkpoints += is_checkpoint(inputs[i]);
     if (!status && checkpoints != 0 && checkpoints != count) {
         fprintf(stderr, "restir merge: inputs must be all checkpoints or all images\n");

@@ -15,6 +15,7 @@
 #include "restir/frame/pipeline.h"
 #include "restir/metrics/moments.h"
 #include "restir/oracle/stage_dump.h"
+#include "restir/oracle/stage_dump_undo.h"
 #include "restir/render/aov.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
@@ -22,7 +23,9 @@
 #include "restir/restir/duplication.h"
 #include "restir/scene/animation.h"
 #include "args.h"
+#include "collide.h"
 #include "output.h"
+#include "output_undo.h"
 #include "render_pt.h"
 #include "render_restir.h"
 #include "scene_args.h"
@@ -49,6 +52,8 @@ typedef struct {
     int method, aov;
     const char *output, *png, *stats;
     int no_png, quiet, jitter, threads, frame;
+    int progress;          /* --progress: enum progress_mode */
+    double progress_every; /* --progress-every SECONDS (0: the default) */
     int runs; /* --runs K: K independent renders -> mean, variance and count (restir check) */
     /* Options every lighting method has, parsed once and handed to the method by
      * apply_common_options (seed, jitter, threads, frame, quiet) and apply_shared_options: */
@@ -322,7 +327,16 @@ static int render_sequence(const render_args *a, const scene *s, const char *out
     k.t = t;
     output_prefix(k.prefix, sizeof k.prefix, out);
     if (restir_render_sequence(s, &a->restir, &a->seq, write_frame, &k, &t->restir, &e)) {
+        /* Exit 2 leaves nothing: the frames and dump files this call wrote are removed (the
+         * checkpoint of --resume FILE --checkpoint FILE stays: it was this call's input). */
+        int frames = remove_sequence_frames(k.prefix, t->frame_numbers, t->frame_count, !a->no_png);
+        int dumped = stage_io_remove_written(&a->sio);
+        if (a->seq.checkpoint && t->frame_count > 0 && !(a->seq.resume && !strcmp(a->seq.resume, a->seq.checkpoint)))
+            remove(a->seq.checkpoint);
         fprintf(stderr, "%s\n", e.msg);
+        if (frames || dumped)
+            fprintf(stderr, "restir render: removed what this call wrote before the error: %d frame(s), %d dump file(s)\n",
+                    frames, dumped);
         return 2;
     }
     t->restir_seconds = t->render = now_seconds() - t0;
@@ -365,12 +379,24 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
         t->render = now_seconds() - t0;
         if (png[0]) status = write_outputs(&img, NULL, png, a->exposure);
         if (!status && !a->quiet && !stop_signal())
-            fprintf(stderr, "wrote %d runs as %s mean/var/moments\n", a->runs, out);
+        {
+            char prefix[4096];
+            output_prefix(prefix, sizeof prefix, out);
+            fprintf(stderr, "wrote %d runs as %s.mean.pfm, %s.var.pfm, %s.moments.json, %s.blocks.bin%s%s\n", a->runs,
+                    prefix, prefix, prefix, prefix, png[0] ? " and " : "", png);
+        }
         image_free(&img);
         return status;
     }
     status = render_one(a, s, a->seed, out, &img, t);
     if (status) return status;
+    if (stop_signal() && (a->method == METHOD_RESTIR ? t->restir.frames == 0 : a->method == METHOD_PT && t->pt.state.spp == 0)) {
+        /* stopped at a tile boundary before anything was complete: no image to write */
+        fprintf(stderr, "restir render: interrupted by %s before the first %s was complete: nothing written\n",
+                stop_signal_name(), a->method == METHOD_RESTIR ? "frame" : "pass");
+        image_free(&img);
+        return 128 + stop_signal();
+    }
     t->render = now_seconds() - t0;
     t0 = now_seconds();
     status = write_image(a, &img, out, png);
@@ -561,6 +587,11 @@ static int check_method_options(const render_args *a, const cli_option *options,
                 return 2;
             }
     }
+    if (cli_given(options, given, "--sample-offset") && cli_given(options, given, "--resume")) {
+        fprintf(stderr, "restir render: --sample-offset and --resume: a resumed run continues the checkpoint's own "
+                        "sample range (for a disjoint range start a fresh run and use restir merge)\n");
+        return 2;
+    }
     if (a->method == METHOD_RESTIR && !a->sequence &&
         (cli_given(options, given, "--checkpoint") || cli_given(options, given, "--resume"))) {
         fprintf(stderr, "restir render: --checkpoint and --resume apply to --method pt and to --method restir with "
@@ -568,6 +599,24 @@ static int check_method_options(const render_args *a, const cli_option *options,
         return 2;
     }
     return 0;
+}
+
+/* No output may overwrite another output or an input (collide.h); --resume FILE
+ * --checkpoint FILE continues one checkpoint in place. --runs writes PREFIX.* instead of
+ * -o (the sidecar files are distinct by construction). */
+static int check_output_collisions(const render_args *a, const char *out, const char *png)
+{
+    char mean[4200], prefix[4096];
+    named_file outs[4], ins[2];
+    output_prefix(prefix, sizeof prefix, out);
+    snprintf(mean, sizeof mean, "%s.mean.pfm", prefix);
+    outs[0].path = a->runs > 0 ? mean : a->sequence ? NULL : out, outs[0].role = "-o";
+    outs[1].path = png, outs[1].role = "the PNG preview";
+    outs[2].path = a->stats, outs[2].role = "--stats";
+    outs[3].path = a->pt.o.checkpoint_path, outs[3].role = "--checkpoint";
+    ins[0].path = a->sio.scene_path, ins[0].role = "the scene";
+    ins[1].path = a->pt.o.resume_path, ins[1].role = "--resume";
+    return outputs_distinct("render", outs, 4, ins, 2, a->pt.o.resume_path);
 }
 
 /* Every file the command will write, checked before anything is rendered. */
@@ -596,21 +645,25 @@ static int check_output_paths(const render_args *a, const char *out, const char 
         fprintf(stderr, "restir render: --png %s is the PFM's own path\n", png);
         return 2;
     }
-    return 0;
+    return check_output_collisions(a, out, png);
 }
 
 /* SIGINT / SIGTERM: what was kept, on stderr even with --quiet; exit 128 + signal. */
 static int interrupted_status(const render_args *a, const render_timings *t, const char *out)
 {
     int sig = stop_signal();
+    char prefix[4096];
     if (!sig) return 0;
+    output_prefix(prefix, sizeof prefix, out);
     if (a->sequence)
         fprintf(stderr, "restir render: interrupted by %s after %d frame(s); frames written so far are kept%s%s\n",
                 stop_signal_name(), t->frame_count, a->seq.checkpoint ? ", checkpoint " : "",
                 a->seq.checkpoint ? a->seq.checkpoint : "");
     else if (a->runs > 0)
-        fprintf(stderr, "restir render: interrupted by %s: %s mean/var/moments hold the runs finished so far (a run cut short is dropped)\n",
-                stop_signal_name(), out);
+        fprintf(stderr, "restir render: interrupted by %s: %s.mean.pfm, .var.pfm, .moments.json hold the runs finished so far (a run cut short is dropped)\n",
+                stop_signal_name(), prefix);
+    else if (a->method == METHOD_AOV) /* not stoppable: the signal came while it was written */
+        fprintf(stderr, "restir render: %s arrived during the render: %s is complete\n", stop_signal_name(), out);
     else if (a->method == METHOD_PT)
         fprintf(stderr, "restir render: interrupted by %s: %s holds %u spp%s%s (resume with --resume)\n",
                 stop_signal_name(), out, t->pt.state.spp, a->pt.o.checkpoint_path ? ", checkpoint " : "",
@@ -669,8 +722,8 @@ int cmd_render(int argc, char **argv)
 {
     render_args a;
     render_timings t;
-    cli_option options[112];
-    int given[112];
+    cli_option options[116];
+    int given[116];
     method_rows rows[3];
     const char *positional[1];
     char out[4096], png[4096];
@@ -710,6 +763,8 @@ int cmd_render(int argc, char **argv)
             {"--from-stage", OPT_STRING, &a.from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
+            {"--progress", OPT_CHOICE, &a.progress, "auto (default: a bar on a terminal, plain lines with the ETA otherwise), none, bar or lines", progress_mode_names, 0, 0, NULL},
+            {"--progress-every", OPT_REAL, &a.progress_every, "seconds between two progress lines (default 5)", NULL, 0.01, 3600, NULL},
             {"--ablate", OPT_STRING, &a.ablate, "a deliberately broken estimator: pt: light-pdf|mis-sum|mis-lobe|light-ris-pdf, restir: jacobian|light-pdf|...", NULL, 0, 0, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
@@ -744,6 +799,7 @@ int cmd_render(int argc, char **argv)
     status = check_method_options(&a, options, given, rows, 3);
     if (status) return status;
     a.overrides.quiet = a.quiet;
+    progress_set_mode((enum progress_mode)a.progress, a.progress_every);
     apply_common_options(&a);
     status = apply_shared_options(&a, options, given);
     if (status) return status;

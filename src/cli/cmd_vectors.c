@@ -33,10 +33,16 @@ int cmd_vectors(int argc, char **argv)
         return 2;
     }
     if (dir) {
+        const char *const *families = vectors_families();
+        long n = 0;
         if (vectors_write(dir, &e)) {
             fprintf(stderr, "%s\n", e.msg);
             return 2;
         }
+        while (families[n]) ++n;
+        /* Say what was written: a silent exit 0 looked like nothing happened. */
+        printf("wrote %ld files %s/{%s,...}.jsonl (restir vectors --check %s/*.jsonl re-evaluates them)\n", n, dir,
+               families[0], dir);
         return 0;
     }
     for (i = 0; i < count; ++i) {

@@ -53,7 +53,7 @@ static int cmd_help(int argc, char **argv)
     const cli_command *c;
     char help[] = "--help";
     char *sub_argv[3];
-    if (argc < 2) {
+    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) { /* help --help: the same list */
         print_usage(stdout);
         return 0;
     }

@@ -102,7 +102,9 @@ int render_pt_image(const render_pt_args *a, const scene *s, const char *progres
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
-    if (!quiet) {
+    if (!quiet && r.state.spp == 0) {
+        fprintf(stderr, "pt: no pass complete in %.2f s%s\n", r.seconds, r.stopped ? ", stopped by a signal" : "");
+    } else if (!quiet) {
         fprintf(stderr, "pt: %u spp (samples %u..%llu) in %.2f s, %.0f paths/s%s\n", r.state.spp,
                 r.state.sample_offset, (unsigned long long)r.state.sample_offset + r.state.spp - 1, r.seconds,
                 r.seconds > 0 ? (double)r.paths / r.seconds : 0.0, r.stopped ? ", stopped by a signal" : "");

@@ -1,8 +1,10 @@
 /* Loading the scene named on the command line, with camera/image overrides. */
 #include "scene_args.h"
 
+#include <math.h>
 #include <stdio.h>
 #include "restir/core/progress.h"
+#include "restir/scene/camera_path.h"
 
 int scene_override_options(cli_option *rows, scene_overrides *o)
 {
@@ -38,10 +40,21 @@ static int apply_overrides(const scene_overrides *o, scene *s, rerror *e)
         s->has_camera = 1;
         s->keyframe_count = 0;
     }
-    if (v3_length(v3_sub(s->camera.target, s->camera.eye)) <= 0 ||
-        v3_length(v3_cross(v3_sub(s->camera.target, s->camera.eye), s->camera.up)) <= 0)
-        return rerror_set(e, "%s: camera eye, target and up are degenerate (eye = target, or up parallel to the view)",
-                          s->path);
+    {
+        const double *v[3];
+        int i, j;
+        enum camera_pose_problem problem;
+        v[0] = o->has_eye ? o->eye : NULL, v[1] = o->has_target ? o->target : NULL, v[2] = o->has_up ? o->up : NULL;
+        for (i = 0; i < 3; ++i)
+            for (j = 0; v[i] && j < 3; ++j)
+                if (!(fabs(v[i][j]) <= SCENE_COORD_MAX))
+                    return rerror_set(e, "%s: %g is out of range (|coordinate| <= %g: float geometry)",
+                                      i == 0 ? "--eye" : i == 1 ? "--target" : "--up", v[i][j], SCENE_COORD_MAX);
+        problem = camera_pose_check(&s->camera);
+        if (problem != CAMERA_POSE_OK)
+            return rerror_set(e, "%s: the camera given on the command line is degenerate: %s", s->path,
+                              camera_pose_problem_text(problem));
+    }
     return 0;
 }
 

@@ -1,6 +1,8 @@
 /* Private to src/cli. SIGINT / SIGTERM during a render (docs/cli.md, "Interrupted renders"):
- * the handler only sets a flag the renderers check between passes (pt) or frames (restir); the
- * render command then writes what it has and exits with 128 + the signal number (130 / 143). */
+ * the handler only sets a flag that stops the parallel loops at the next tile boundary
+ * (threads.h, threads_set_cancel) and the renderers between passes (pt) or frames (restir),
+ * dropping the pass or frame in progress; the render command then writes what is complete and
+ * exits with 128 + the signal number (130 / 143). A second signal exits at once. */
 #ifndef RESTIR_CLI_STOP_H
 #define RESTIR_CLI_STOP_H
 

@@ -52,11 +52,32 @@ typedef struct {
     int worker;
 } worker_arg;
 
+/* The cancel flag (threads_set_cancel): read by the workers, written by a signal handler. */
+static volatile sig_atomic_t *cancel_flag;
+
+volatile sig_atomic_t *threads_set_cancel(volatile sig_atomic_t *flag)
+{
+    volatile sig_atomic_t *old = cancel_flag;
+    cancel_flag = flag;
+    return old;
+}
+
+int threads_cancelled(void) { return cancel_flag && *cancel_flag; }
+
+static void (*tick_fn)(void *);
+static void *tick_ctx;
+
+void threads_set_tick(void (*tick)(void *ctx), void *ctx)
+{
+    tick_fn = tick;
+    tick_ctx = ctx;
+}
+
 static long take_index(pool *p)
 {
     long i;
     pthread_mutex_lock(&p->lock);
-    i = p->next < p->total ? p->next++ : -1;
+    i = p->next < p->total && !threads_cancelled() ? p->next++ : -1;
     pthread_mutex_unlock(&p->lock);
     return i;
 }
@@ -66,6 +87,7 @@ static void finish_index(pool *p)
     pthread_mutex_lock(&p->lock);
     p->done++;
     if (p->progress) p->progress(p->ctx_progress, p->done, p->total);
+    if (tick_fn) tick_fn(tick_ctx);
     pthread_mutex_unlock(&p->lock);
 }
 

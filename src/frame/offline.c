@@ -13,15 +13,19 @@
 #include "stages.h"
 
 /* One independent offline frame: G-buffer, initial resampling, K spatial passes, shading
- * (GRIS §6.3 steps 1, 3, 4; no temporal reuse: GRIS §6.5). */
+ * (GRIS §6.3 steps 1, 3, 4; no temporal reuse: GRIS §6.5). Returns 0, -1 on failure, or 1
+ * if SIGINT/SIGTERM cancelled it at a tile boundary (threads_set_cancel): then nothing of
+ * the frame reached the sum. */
 static int render_frame(frame_job *j, const camera *cam, restir_stats *times, rerror *e)
 {
     double t = now_seconds();
+    reservoir *final;
     if (frame_stage_gbuffer(j, cam, times, &t, e)) return -1;
-    frame_stage_initial(j, times, &t);
-    frame_stage_shade(j, frame_stage_spatial(j, j->initial, j->pong, times, &t), times, &t);
+    if (!threads_cancelled()) frame_stage_initial(j, times, &t);
+    final = threads_cancelled() ? NULL : frame_stage_spatial(j, j->initial, j->pong, times, &t);
+    if (final) frame_stage_shade(j, final, times, &t); /* it checks the cancel flag itself */
     gbuffer_free(&j->g);
-    return 0;
+    return j->shade_cancelled || !final ? 1 : 0;
 }
 
 void restir_result_free(restir_result *r)
@@ -32,7 +36,8 @@ void restir_result_free(restir_result *r)
 }
 
 /* Frames f = first_frame, first_frame + 1, ...: `frames` of them, or (time_limit > 0)
- * until the time is up; a set stop_flag ends it after the current frame (at least one).
+ * until the time is up; a set stop_flag cancels the frame in progress at a tile boundary
+ * (threads_set_cancel) and ends the render with the frames complete so far (maybe none).
  * Returns the number rendered, -1 on failure. */
 static long render_frames(frame_job *j, restir_stats *times, double t0, rerror *e)
 {
@@ -41,17 +46,23 @@ static long render_frames(frame_job *j, restir_stats *times, double t0, rerror *
     progress bar;
     long f;
     uint64_t max_frames = (uint64_t)UINT32_MAX / (uint64_t)o->candidates - (uint64_t)o->first_frame;
+    volatile sig_atomic_t *old_cancel;
+    int status = 0;
     camera_init(&cam, scene_camera_at(j->s, 0), j->s->width, j->s->height);
+    old_cancel = threads_set_cancel(o->stop_flag);
     progress_begin(&bar, "restir", o->quiet || o->time_limit > 0);
+    progress_expect(&bar, o->frames);
     for (f = 0;; ++f) {
         if (o->time_limit > 0 ? (f > 0 && now_seconds() - t0 >= o->time_limit) : f >= o->frames) break;
-        if ((uint64_t)f >= max_frames || (f > 0 && o->stop_flag && *o->stop_flag)) break;
+        if ((uint64_t)f >= max_frames || (o->stop_flag && *o->stop_flag)) break;
         j->frame = (uint32_t)(o->first_frame + f);
-        if (render_frame(j, &cam, times, e)) return -1;
+        status = render_frame(j, &cam, times, e);
+        if (status) break; /* -1: failed; 1: cancelled, the frame is not counted */
         if (o->time_limit <= 0) progress_update(&bar, (int)f + 1, o->frames);
     }
     progress_end(&bar);
-    return f;
+    threads_set_cancel(old_cancel);
+    return status < 0 ? -1 : f;
 }
 
 static int run_frames(frame_job *j, restir_result *out, double t0, rerror *e)
@@ -62,7 +73,9 @@ static int run_frames(frame_job *j, restir_result *out, double t0, rerror *e)
     if (frames < 0) return -1;
     out->stats.frames = (uint64_t)frames;
     if (image_alloc(&out->mean, j->s->width, j->s->height, e)) return -1;
-    for (i = 0; i < 3 * pixels; ++i) out->mean.px[i] = (float)(j->sum[i] / (double)frames); /* GRIS Eq. 47 */
+    /* GRIS Eq. 47; no frame (stopped during the first): a black image with frames = 0,
+     * which the caller must not present as a result */
+    for (i = 0; i < 3 * pixels; ++i) out->mean.px[i] = frames ? (float)(j->sum[i] / (double)frames) : 0.0f;
     out->stats.nonfinite_pixels = image_nonfinite_pixels(&out->mean); /* kept, counted (docs/precision.md) */
     if (o->keep_reservoirs) {
         out->reservoirs = rmalloc(pixels, sizeof *out->reservoirs, e);

@@ -260,21 +260,25 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     times->ms_pose += frame_lap_ms(&t);
     camera_init(&pl->cam, scene_camera_at(j->s, frame), j->s->width, j->s->height);
     if (frame_stage_gbuffer(j, &pl->cam, times, &t, e)) return -1;
+    if (threads_cancelled()) return 1;
     if (pl->has_prev &&
         gbuffer_motion(&j->g, j->s, frame, &pl->prev_cam, pl->prev_frame, &pl->prev_g, NULL, j->o->threads, e))
         return -1;
     times->ms_motion += frame_lap_ms(&t);
+    if (threads_cancelled()) return 1;
     if (j->hook && j->hook->gbuffer) j->hook->gbuffer(j->hook->user, &j->g);
     if (!pipeline_stage_skipped(j, "initial")) {
         frame_stage_initial(j, times, &t);
         stage_mutate(pl, j->initial, MUTATE_AFTER_INITIAL, times, &t); /* part of the "initial" dump */
     }
+    if (threads_cancelled()) return 1; /* before a stage's dump: only complete stages are dumped */
     pipeline_stage_done(j, "initial", j->initial);
     if (j->o->temporal) {
         if (!pipeline_stage_skipped(j, "temporal")) {
             stage_temporal(pl, j->initial, j->pong, times, &t);
             stage_mutate(pl, j->pong, MUTATE_AFTER_TEMPORAL, times, &t); /* part of the "temporal" dump */
         }
+        if (threads_cancelled()) return 1;
         pipeline_stage_done(j, "temporal", j->pong);
         stage_boiling(pl, j->pong, times, &t);
         final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
@@ -282,7 +286,9 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
         stage_boiling(pl, j->initial, times, &t);
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
     }
+    if (threads_cancelled()) return 1;
     if (j->o->spatial_passes > 0) stage_mutate(pl, final, MUTATE_AFTER_SPATIAL, times, &t);
+    if (threads_cancelled()) return 1;
     if (!j->o->no_duplicate_stats) { /* Mutations Fig. 8: duplicated samples among the shaded
        * reservoirs (timed with the duplication map: a statistic of the same kind, not shading) */
         uint64_t valid;
@@ -291,6 +297,7 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
         times->ms_correlation += frame_lap_ms(&t);
     }
     frame_stage_shade(j, final, times, &t);
+    if (j->shade_cancelled) return 1;
     /* The map is read by the next frame's --dedup cap and by --aov duplicates; otherwise it
      * is only a statistic (13% of a 256² real-time frame: docs/performance.md). */
     if (!j->o->no_duplicate_stats || j->o->dedup || j->o->output_aov == RESTIR_OUTPUT_DUPLICATES)
@@ -399,28 +406,44 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
     frame_job *j = &pl->j;
     size_t pixels = (size_t)j->s->width * (size_t)j->s->height;
     progress bar;
+    volatile sig_atomic_t *cancel;
     int f, status = 0, start = q->first;
     if (q->resume && (start = checkpoint_resume(pl, q, e) + 1) < 1) return -1;
     if (j->hook && j->hook->begin && j->hook->begin(j->hook->user, start, q->last, j->pss_rows, e)) return -1;
     if (j->hook && j->hook->restarts && j->o->shading == RESTIR_SHADING_VECTOR)
         return rerror_set(e, "--from-dump: not with --shading vector (it needs the last spatial pass's inputs, "
                              "which a restart does not compute)");
+    cancel = threads_set_cancel(j->o->stop_flag);
     progress_begin(&bar, "restir", j->o->quiet);
-    for (f = start; f <= q->last && !status && !(f > start && j->o->stop_flag && *j->o->stop_flag); ++f) {
+    progress_expect(&bar, q->last - q->first + 1);
+    for (f = start; f <= q->last && !status && !(j->o->stop_flag && *j->o->stop_flag); ++f) {
         restir_stats st;
         image img;
+        int frame_status;
         memset(&st, 0, sizeof st);
         if (!q->accumulate) memset(j->sum, 0, 3 * pixels * sizeof *j->sum);
-        if (pipeline_frame(pl, f, &st, e) ||
-            (j->hook && j->hook->frame_end && j->hook->frame_end(j->hook->user, j->o, e)))
+        frame_status = pipeline_frame(pl, f, &st, e);
+        if (frame_status < 0) {
+            threads_set_cancel(cancel);
+            progress_end(&bar);
             return -1;
+        }
+        if (frame_status > 0) break; /* cancelled at a tile boundary: frame f is not written */
+        if (j->hook && j->hook->frame_end && j->hook->frame_end(j->hook->user, j->o, e)) {
+            threads_set_cancel(cancel);
+            progress_end(&bar);
+            return -1;
+        }
         frame_sum_stats(j, &st);
         stats_reset_workers(j);
         st.frames = 1;
         st.passes = j->o->spatial_passes;
         if (j->o->output_aov ? count_image(pl, j->o->output_aov == RESTIR_OUTPUT_AGE ? pl->prev_age : pl->dup, &img, e)
-                             : frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e))
+                             : frame_image(j, q->accumulate ? (double)(f - q->first + 1) : 1.0, &img, e)) {
+            threads_set_cancel(cancel);
+            progress_end(&bar);
             return -1;
+        }
         st.nonfinite_pixels = image_nonfinite_pixels(&img); /* kept, counted (docs/precision.md) */
         restir_stats_add(total, &st);
         if (sink) status = sink(user, f, &img, &st, e);
@@ -429,6 +452,7 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
         progress_update(&bar, f - q->first + 1, q->last - q->first + 1);
     }
     progress_end(&bar);
+    threads_set_cancel(cancel);
     return status ? -1 : 0;
 }
 

@@ -202,7 +202,7 @@ void frame_stage_initial(frame_job *j, restir_stats *times, double *t)
 reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_stats *times, double *t)
 {
     reservoir *final = a;
-    for (j->pass = 0; j->pass < j->o->spatial_passes; ++j->pass) {
+    for (j->pass = 0; j->pass < j->o->spatial_passes && !threads_cancelled(); ++j->pass) {
         char name[32];
         snprintf(name, sizeof name, "spatial%d", j->pass + 1);
         /* ping-pong: a -> b -> a -> ... */
@@ -220,6 +220,7 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
             parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, spatial_tile, j, NULL, NULL);
             j->no.placements = NULL;
         }
+        if (threads_cancelled()) break; /* an incomplete pass is neither dumped nor used */
         final = j->dst;
         times->ms_spatial[j->pass] += frame_lap_ms(t);
         pipeline_stage_done(j, name, j->dst);
@@ -227,10 +228,17 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
     return final;
 }
 
+/* Shading adds the frame to the sum, so it is all or nothing: not started once the frame
+ * was cancelled (j->shade_cancelled), and not cancellable itself (one estimate per pixel). */
 void frame_stage_shade(frame_job *j, const reservoir *final, restir_stats *times, double *t)
 {
+    volatile sig_atomic_t *cancel;
     j->final = final;
+    j->shade_cancelled = threads_cancelled();
+    if (j->shade_cancelled) return;
+    cancel = threads_set_cancel(NULL);
     parallel_tiles(j->s->width, j->s->height, 16, j->o->threads, shade_tile, j, NULL, NULL);
+    threads_set_cancel(cancel);
     times->ms_shade += frame_lap_ms(t);
 }
 

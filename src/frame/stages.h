@@ -42,6 +42,7 @@ typedef struct frame_job_s {
     const reservoir *src;
     reservoir *dst;
     const reservoir *final;          /* what the frame shades */
+    int shade_cancelled;             /* frame_stage_shade did not run: the frame was cancelled */
     double *sum;                     /* 3 per pixel */
     rgb *vector_shade;               /* --shading vector: the last spatial pass's Enhanced §6.3
                                         estimate per pixel (NULL: scalar shading) */

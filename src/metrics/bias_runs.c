@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include "restir/core/rng.h"
+#include "restir/metrics/stats.h"
 
 /* mean_j |mean over the chosen runs of b_kj - r_j| / r_j; pick[k] = run used as draw k. */
 static double mean_abs_rel(const double *run_block, const double *ref, const double *weight, int runs, long blocks,
@@ -22,13 +23,20 @@ static double mean_abs_rel(const double *run_block, const double *ref, const dou
     return n ? sum / (double)n : 0;
 }
 
-/* The 95% t quantile for n - 1 degrees of freedom (normal beyond 30). */
-static double t95(int n)
+void bias_options_default(bias_options *o)
 {
-    static const double t[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
-                               2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
-                               2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045};
-    return n - 2 < (int)(sizeof t / sizeof t[0]) && n >= 2 ? t[n - 2] : 1.96;
+    o->level = 0.99;
+    o->resamples = 400;
+    o->seed = 1;
+    o->ref_var = NULL;
+    o->ref_mean_var = 0;
+    o->ref_dof = 0;
+}
+
+/* The two-sided t quantile at `level` for dof degrees of freedom. */
+static double t_level(double level, double dof)
+{
+    return stats_t_quantile(0.5 + 0.5 * level, dof > 0 ? dof : 1);
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -37,11 +45,13 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Signed relative bias of the weighted image mean, t interval over the runs. */
+/* Signed relative bias of the weighted image mean, t interval over the runs; with a noisy
+ * reference R the delta method for I / R - 1 adds (I/R)^2 var(R) / R^2 to the runs'
+ * s^2 / K, and the degrees of freedom are Welch-Satterthwaite's. */
 static void signed_bias(const double *run_block, const double *ref, const double *weight, int runs, long blocks,
-                        bias_result *r)
+                        const bias_options *o, bias_result *r)
 {
-    double rm = 0, wsum = 0, s = 0, s2 = 0, mean, sd;
+    double rm = 0, wsum = 0, s = 0, s2 = 0, mean, var_runs, var_ref = 0, se, dof = runs - 1;
     long j;
     int k;
     for (j = 0; j < blocks; ++j) {
@@ -57,14 +67,21 @@ static void signed_bias(const double *run_block, const double *ref, const double
         s2 += im * im;
     }
     mean = s / runs;
-    sd = sqrt(fmax(0, (s2 - runs * mean * mean) / (runs - 1)));
+    var_runs = fmax(0, (s2 - runs * mean * mean) / (runs - 1)) / runs;
+    if (o->ref_mean_var > 0 && o->ref_dof > 0) {
+        double v[2], d[2];
+        var_ref = (1 + mean) * (1 + mean) * o->ref_mean_var / (rm * rm);
+        v[0] = var_runs, v[1] = var_ref, d[0] = runs - 1, d[1] = o->ref_dof;
+        dof = stats_satterthwaite(v, d, 2);
+    }
+    se = sqrt(var_runs + var_ref);
     r->rel_bias.value = mean;
-    r->rel_bias.lo = mean - t95(runs) * sd / sqrt((double)runs);
-    r->rel_bias.hi = mean + t95(runs) * sd / sqrt((double)runs);
+    r->rel_bias.lo = mean - t_level(o->level, dof) * se;
+    r->rel_bias.hi = mean + t_level(o->level, dof) * se;
 }
 
 static double noise_floor(const double *run_block, const double *ref, const double *weight, int runs, long blocks,
-                          long *used)
+                          const double *ref_var, long *used)
 {
     double sum = 0;
     long j;
@@ -80,16 +97,17 @@ static double noise_floor(const double *run_block, const double *ref, const doub
         }
         m = s / runs;
         var = fmax(0, (s2 - runs * m * m) / (runs - 1));
-        sum += sqrt(2 / 3.14159265358979323846) * sqrt(var / runs) / ref[j];
+        sum += sqrt(2 / 3.14159265358979323846) * sqrt(var / runs + (ref_var ? ref_var[j] : 0)) / ref[j];
         ++*used;
     }
     return *used ? sum / (double)*used : 0;
 }
 
 int bias_measure(const double *run_block, const double *ref_block, const double *weight, int runs, long blocks,
-                 int resamples, uint32_t seed, bias_result *r, rerror *e)
+                 const bias_options *o, bias_result *r, rerror *e)
 {
-    int *pick, k, b;
+    int *pick, k, b, resamples = o->resamples, lo_i, hi_i;
+    double tail = 0.5 * (1 - o->level);
     double *draws;
     if (runs < 2 || blocks < 1 || resamples < 10) return rerror_set(e, "bias: needs >= 2 runs, >= 1 block, >= 10 resamples");
     pick = malloc((size_t)runs * sizeof *pick);
@@ -100,28 +118,35 @@ int bias_measure(const double *run_block, const double *ref_block, const double 
         return rerror_set(e, "bias: out of memory");
     }
     r->runs = runs;
-    signed_bias(run_block, ref_block, weight, runs, blocks, r);
-    r->noise_floor = noise_floor(run_block, ref_block, weight, runs, blocks, &r->blocks);
+    if (!(o->level > 0 && o->level < 1)) {
+        free(pick);
+        free(draws);
+        return rerror_set(e, "bias: interval level %g outside (0, 1)", o->level);
+    }
+    signed_bias(run_block, ref_block, weight, runs, blocks, o, r);
+    r->noise_floor = noise_floor(run_block, ref_block, weight, runs, blocks, o->ref_var, &r->blocks);
     for (k = 0; k < runs; ++k) pick[k] = k;
     r->mean_abs_rel.value = mean_abs_rel(run_block, ref_block, weight, runs, blocks, pick);
     for (b = 0; b < resamples; ++b) {
-        rng_key key = rng_key_make(seed, (uint32_t)b, 0);
+        rng_key key = rng_key_make(o->seed, (uint32_t)b, 0);
         for (k = 0; k < runs; ++k) {
             int i = (int)(rng_u(key, 0, 0, (uint32_t)k) * runs);
             pick[k] = i < runs ? i : runs - 1;
         }
         draws[b] = mean_abs_rel(run_block, ref_block, weight, runs, blocks, pick);
     }
-    /* The basic (reverse-percentile) bootstrap interval [2v - q97.5, 2v - q2.5]: a resample
+    /* The basic (reverse-percentile) bootstrap interval [2v - q(1 - t), 2v - q(t)], t the
+     * tail (0.005 at the 99% level): a resample
      * repeats runs, so its block means are noisier and |.| of them is biased upwards; the
      * percentile interval would inherit that shift, the basic interval reflects it away. */
     r->corrected = 0;
     for (b = 0; b < resamples; ++b) r->corrected += draws[b] / resamples;
     r->corrected = 2 * r->mean_abs_rel.value - r->corrected;
     qsort(draws, (size_t)resamples, sizeof *draws, cmp_double);
-    r->mean_abs_rel.lo = 2 * r->mean_abs_rel.value -
-                         draws[(int)(0.975 * resamples) < resamples ? (int)(0.975 * resamples) : resamples - 1];
-    r->mean_abs_rel.hi = 2 * r->mean_abs_rel.value - draws[(int)(0.025 * resamples)];
+    hi_i = (int)((1 - tail) * resamples);
+    lo_i = (int)(tail * resamples);
+    r->mean_abs_rel.lo = 2 * r->mean_abs_rel.value - draws[hi_i < resamples ? hi_i : resamples - 1];
+    r->mean_abs_rel.hi = 2 * r->mean_abs_rel.value - draws[lo_i];
     if (r->mean_abs_rel.lo < 0) r->mean_abs_rel.lo = 0;
     free(pick);
     free(draws);

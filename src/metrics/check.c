@@ -341,6 +341,8 @@ static double pooled_block_skewness(const check_side *s, int b)
  * mean come with a low variance, so t is too often very negative: g moves that tail in.
  * Applied only where it makes |t| smaller (the other tail is already conservative),
  * so the correction can never add a rejection. */
+static void judge_tails(const check_side *a, const check_side *b, const check_options *o, check_result *r);
+
 static stats_welch skew_adjust(stats_welch w, stats_estimate ea, stats_estimate eb, double skew_a, double skew_b)
 {
     double v = ea.var_of_mean + eb.var_of_mean, k3, a, g;
@@ -457,7 +459,33 @@ int check_compare(const check_side *a, const check_side *b, const check_options 
     r->bias_ci_bounded = stats_ratio_ci(r->lum_a, r->lum_b, 1.0 - o->alpha, &r->bias_lo, &r->bias_hi);
     r->bias_lo -= 1.0;
     r->bias_hi -= 1.0;
+    judge_tails(a, b, o, r);
     return 0;
+}
+
+/* The tail of one side's runs (check_tail.h): per-run luminance image means and per-run
+ * block means at the check's block size. */
+static void side_tail(const check_side *s, int block_size, check_tail *t)
+{
+    const double *blocks = s->kind == CHECK_SIDE_EXACT ? NULL : side_run_blocks(s, block_size);
+    long nblocks = moments_block_count(s->width, s->height, block_size), k;
+    double *lum = s->run_means && s->runs > 0 ? malloc((size_t)s->runs * sizeof *lum) : NULL;
+    for (k = 0; lum && k < s->runs; ++k) lum[k] = run_luminance(s, k);
+    check_tail_measure(t, blocks, s->runs, 3 * nblocks, 3 * nblocks, lum,
+                       blocks ? pooled_block_skewness(s, block_size) : 0.0);
+    free(lum);
+}
+
+/* A heavy-tailed side makes the verdict untrustworthy whichever way it went. */
+static void judge_tails(const check_side *a, const check_side *b, const check_options *o, check_result *r)
+{
+    long need_a, need_b;
+    side_tail(a, o->block_size, &r->tail_a);
+    side_tail(b, o->block_size, &r->tail_b);
+    r->inconclusive = r->tail_a.heavy || r->tail_b.heavy;
+    need_a = r->tail_a.heavy ? check_tail_runs_needed(&r->tail_a, a->runs) : 0;
+    need_b = r->tail_b.heavy ? check_tail_runs_needed(&r->tail_b, b->runs) : 0;
+    r->runs_needed = need_a > need_b ? need_a : need_b;
 }
 
 /* ---- the paired comparison (check.h, check_compare_paired) ---- */
@@ -578,6 +606,7 @@ int check_compare_paired(const check_side *a, const check_side *b, const check_o
     } else {
         r->different = r->global_reject || r->rejected > 0;
         paired_bias(o, r);
+        judge_tails(a, b, o, r);
     }
     free(la);
     free(lb);

@@ -72,7 +72,11 @@ int stage_io_begin(stage_io *io, int first, int last, rerror *e)
         for (i = 0; i < m.n_order; ++i) strcpy(io->from_order[i], m.order[i]);
         io->n_from_order = m.n_order;
     }
-    if (io->dump_dir && make_dir(io->dump_dir, e)) return -1;
+    if (io->dump_dir) {
+        struct stat st;
+        io->created_dir = stat(io->dump_dir, &st) != 0;
+        if (make_dir(io->dump_dir, e)) return -1;
+    }
     return 0;
 }
 
@@ -390,6 +394,7 @@ static int read_object(json_reader *r, stage_manifest *m, const char *outer)
         if (json_read_string(r, key, sizeof key) || json_expect(r, ':')) return -1;
         if (!strcmp(outer, "frames") && !strcmp(key, "first")) status = read_long(r, &m->first);
         else if (!strcmp(outer, "frames") && !strcmp(key, "last")) status = read_long(r, &m->last);
+        else if (!strcmp(outer, "frames") && !strcmp(key, "written")) status = read_long(r, &m->written);
         else if (!strcmp(outer, "scene") && !strcmp(key, "path") && json_peek(r) == '"')
             status = json_read_string(r, m->scene, sizeof m->scene);
         else if (!strcmp(outer, "image") && !strcmp(key, "width")) status = read_long(r, &m->width);
@@ -408,7 +413,7 @@ int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e)
     char path[4200], format[64] = "";
     json_reader r;
     memset(m, 0, sizeof *m);
-    m->first = m->last = -1;
+    m->first = m->last = m->written = -1;
     snprintf(path, sizeof path, "%s/manifest.json", dir);
     if (json_reader_open(&r, path, e)) return -1;
     if (json_expect(&r, '{')) goto fail;
@@ -432,6 +437,11 @@ int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e)
         return rerror_at(e, path, 0, "\"format\" must be \"restir-stage-dump\"");
     if (m->first < 0 || m->last < m->first || m->n_order == 0)
         return rerror_at(e, path, 0, "missing \"frames\" {first, last} or \"stage_order\"");
+    /* A sequence has at most 10^8 frames (--sequence); a larger range is a corrupt manifest,
+     * not 2e9 frames to look for (issue 27: diff-dump hung). */
+    if (m->last >= 100000000L || m->written > m->last - m->first + 1)
+        return rerror_at(e, path, 0, "\"frames\" {first %ld, last %ld, written %ld}: out of range (frames < 10^8, "
+                                     "written <= last - first + 1)", m->first, m->last, m->written);
     if (m->width > 0 && m->height > 0) { /* --size first: inspect's pixel is in this image */
         char size[64];
         size_t n = (size_t)snprintf(size, sizeof size, " --size %ldx%ld", m->width, m->height),

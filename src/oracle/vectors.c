@@ -17,6 +17,7 @@
 #include "restir/core/rng.h"
 #include "restir/core/warp.h"
 #include "restir/frame/options.h"
+#include "restir/oracle/vectors_domain.h"
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
 #include "restir/restir/footprint.h"
@@ -678,7 +679,7 @@ static int shift_scene_load(void)
     camera cam;
     if (shift_scene.state) return shift_scene.state > 0 ? 0 : -1;
     shift_scene.state = -1;
-    if (scene_load(&shift_scene.s, SHIFT_SCENE, &e)) return -1;
+    if (scene_load(&shift_scene.s, vectors_shift_scene_path(), &e)) return -1;
     shift_scene.s.width = SHIFT_W;
     shift_scene.s.height = SHIFT_H;
     if (scene_prepare(&shift_scene.s, &e) || lights_build(&shift_scene.lights, &shift_scene.s, &e)) return -1;
@@ -1371,11 +1372,13 @@ int vectors_write(const char *dir, rerror *e)
     char path[4200];
     struct stat st;
     int i;
+    /* The scene first: a failure leaves no empty directory behind. */
+    if (shift_scene_load())
+        return rerror_set(e, "%s: cannot load it for the shift vectors (looked in the working directory and next to "
+                             "the restir binary's build directory)",
+                          SHIFT_SCENE);
     if (stat(dir, &st) != 0 && mkdir(dir, 0777) != 0 && errno != EEXIST)
         return rerror_set(e, "%s: cannot create directory: %s", dir, strerror(errno));
-    if (shift_scene_load())
-        return rerror_set(e, "%s: cannot load it for the shift vectors (run `restir vectors` from the repository root)",
-                          SHIFT_SCENE);
     for (i = 0; i < FAMILY_COUNT; ++i) {
         atomic_file f;
         gen g;
@@ -1432,7 +1435,7 @@ int vectors_check_file(const char *path, long *lines, long *bad, rerror *e)
     *lines = *bad = 0;
     if (json_reader_open(&r, path, e)) return -1;
     while (json_peek(&r) == '{') {
-        char fn[96] = "", key[32], label[128] = "";
+        char fn[96] = "", key[32], label[128] = "", why[160];
         double in[VECTORS_MAX_IN], want[VECTORS_MAX_OUT], got[VECTORS_MAX_OUT];
         int n_in = -1, n_want = -1, n_got, i;
         long line;
@@ -1457,7 +1460,16 @@ int vectors_check_file(const char *path, long *lines, long *bad, rerror *e)
             rerror_at(e, path, line, "unknown \"fn\" '%s' or missing \"in\"/\"out\"", fn);
             goto malformed;
         }
+        /* A bad input or input count is a bad vector (exit 2), not a differing output. */
+        if (vectors_input_problem(fn, in, n_in, why, sizeof why)) {
+            rerror_at(e, path, line, "%s (%s): %s", fn, label, why);
+            goto malformed;
+        }
         n_got = f->eval(in, n_in, got);
+        if (n_got < 0) {
+            rerror_at(e, path, line, "%s (%s): %d inputs do not fit \"%s\"", fn, label, n_in, f->sig);
+            goto malformed;
+        }
         if (n_got != n_want) {
             if (!*bad) rerror_at(e, path, line, "%s (%s): %d outputs, the vector has %d", fn, label, n_got, n_want);
             ++*bad;
@@ -1474,6 +1486,7 @@ int vectors_check_file(const char *path, long *lines, long *bad, rerror *e)
     }
     if (json_expect_end(&r)) goto malformed;
     json_reader_close(&r);
+    if (*lines == 0) return rerror_at(e, path, 0, "no vectors (an empty file checks nothing)");
     return *bad ? 1 : status;
 malformed:
     json_reader_close(&r);

@@ -75,6 +75,12 @@ typedef struct {
     pt_state *st;
     uint32_t first_sample, sample_count; /* absolute sample indices of this pass */
     worker_stats *workers;
+    /* Large images with a stop flag: a pass (1 spp) writes each pixel's sample here and is
+     * added to the state only once complete, so SIGINT can cancel it at a tile boundary
+     * (threads_set_cancel) and the state keeps whole passes; the same additions as
+     * without staging, so the same bits. NULL: the pass adds to the state directly. */
+    real *stage;
+    unsigned char *stage_ok;
 } pass_job;
 
 /* The emitter at x_{i+1}, reached by BSDF sampling (*s) from x_i, weighted against NEE. */
@@ -165,6 +171,16 @@ static void pass_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         for (x = x0; x < x1; ++x) {
             uint32_t pixel = (uint32_t)(y * j->cam.width + x), s;
             double *sum = j->st->sum + 3 * (size_t)pixel, *sq = j->st->sum_sq + 3 * (size_t)pixel;
+            if (j->stage) { /* one sample, kept until the pass is complete */
+                rgb L = trace_path(j, x, y, j->first_sample, &w->rays);
+                w->paths++;
+                j->stage_ok[pixel] = (unsigned char)rgb_finite(L);
+                if (!j->stage_ok[pixel]) record_nonfinite(w, pixel, j->first_sample);
+                j->stage[3 * (size_t)pixel + 0] = L.r;
+                j->stage[3 * (size_t)pixel + 1] = L.g;
+                j->stage[3 * (size_t)pixel + 2] = L.b;
+                continue;
+            }
             for (s = j->first_sample; s < j->first_sample + j->sample_count; ++s) {
                 rgb L = trace_path(j, x, y, s, &w->rays);
                 w->paths++;
@@ -185,7 +201,24 @@ static void pass_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
     }
 }
 
-static void run_pass(pass_job *j, uint32_t count, pt_result *res)
+/* A staged pass, complete: each pixel's sample added as pass_tile adds it. */
+static void apply_stage(pass_job *j)
+{
+    size_t p, n = (size_t)j->cam.width * (size_t)j->cam.height;
+    for (p = 0; p < n; ++p) {
+        double *sum = j->st->sum + 3 * p, *sq = j->st->sum_sq + 3 * p;
+        const real *L = j->stage + 3 * p;
+        int c;
+        if (!j->stage_ok[p]) continue;
+        for (c = 0; c < 3; ++c) {
+            sum[c] += (double)L[c];
+            sq[c] += (double)L[c] * (double)L[c];
+        }
+    }
+}
+
+/* Returns 0 if the pass was cancelled (staged passes only): nothing of it is kept. */
+static int run_pass(pass_job *j, uint32_t count, pt_result *res)
 {
     int t;
     j->first_sample = j->st->sample_offset + j->st->spp;
@@ -195,6 +228,10 @@ static void run_pass(pass_job *j, uint32_t count, pt_result *res)
         j->workers[t].first_nonfinite = UINT64_MAX;
     }
     parallel_tiles(j->cam.width, j->cam.height, 16, j->o->threads, pass_tile, j, NULL, NULL);
+    if (j->stage) {
+        if (threads_cancelled()) return 0;
+        apply_stage(j);
+    }
     for (t = 0; t < j->o->threads; ++t) {
         const worker_stats *w = &j->workers[t];
         uint64_t first = ((uint64_t)j->st->first_nonfinite_sample << 32) | j->st->first_nonfinite_pixel;
@@ -207,6 +244,7 @@ static void run_pass(pass_job *j, uint32_t count, pt_result *res)
         j->st->nonfinite += w->nonfinite;
     }
     j->st->spp += count;
+    return 1;
 }
 
 /* ---- the render loop ------------------------------------------------------------- */
@@ -217,11 +255,21 @@ static int start_state(const scene *s, const pt_options *o, pt_state *st, rerror
     if (o->resume_path) {
         if (pt_checkpoint_read(o->resume_path, st, e)) return -1;
         if (st->width != s->width || st->height != s->height || st->fingerprint != fp || st->seed != o->seed) {
+            /* The message is formatted before the state is freed (it prints the state's fields). */
+            rerror_set(e, "%s: checkpoint of a different scene or estimator (size %dx%d, seed %u, "
+                          "fingerprint %016llx; this run: %dx%d, seed %u, fingerprint %016llx)",
+                       o->resume_path, st->width, st->height, st->seed, (unsigned long long)st->fingerprint,
+                       s->width, s->height, o->seed, (unsigned long long)fp);
             pt_state_free(st);
-            return rerror_set(e, "%s: checkpoint of a different scene or estimator (size %dx%d, seed %u, "
-                                 "fingerprint %016llx; this run: %dx%d, seed %u, fingerprint %016llx)",
-                              o->resume_path, st->width, st->height, st->seed, (unsigned long long)st->fingerprint,
-                              s->width, s->height, o->seed, (unsigned long long)fp);
+            return -1;
+        }
+        /* A resumed run continues the checkpoint's sample range; another first sample
+         * cannot be honoured, so it is not silently ignored either. */
+        if (o->sample_offset != 0 && o->sample_offset != st->sample_offset) {
+            rerror_set(e, "%s: the checkpoint holds samples from %u on; --sample-offset %u cannot apply to a resumed run",
+                       o->resume_path, st->sample_offset, o->sample_offset);
+            pt_state_free(st);
+            return -1;
         }
         return 0;
     }
@@ -233,15 +281,18 @@ static int start_state(const scene *s, const pt_options *o, pt_state *st, rerror
 }
 
 /* Samples per pixel of the next pass: 1 when time, callbacks or stop requests need a
- * fine granularity; otherwise enough that small images keep the threads busy. The
- * per-pixel sums do not depend on this choice (samples are added in index order). */
+ * fine granularity (a stop flag: every pass is staged and cancellable); otherwise enough
+ * that small images keep the threads busy. The per-pixel sums do not depend on this
+ * choice (samples are added in index order). */
 static uint32_t next_pass_size(const pt_options *o, const pt_state *st)
 {
     uint32_t remaining, batch = 1;
     long pixels = (long)st->width * st->height;
     uint64_t end = o->spp ? (uint64_t)o->spp : (uint64_t)UINT32_MAX - st->sample_offset;
     remaining = (uint32_t)(end - st->spp);
-    if (!(o->time_limit > 0) && o->callback_every == 0 && pixels < 65536) batch = (uint32_t)(65536 / pixels);
+    /* a stop flag: 1-spp passes, staged and cancellable at a tile boundary (pass_job.stage) */
+    if (!(o->time_limit > 0) && o->callback_every == 0 && !o->stop_flag && pixels < 65536)
+        batch = (uint32_t)(65536 / pixels);
     return batch < remaining ? batch : remaining;
 }
 
@@ -258,7 +309,9 @@ static int render_passes(pass_job *j, pt_result *res, rerror *e)
     progress bar;
     double t0 = now_seconds(), last_checkpoint = t0;
     long passes = 0;
+    volatile sig_atomic_t *old_cancel = threads_set_cancel(j->stage ? o->stop_flag : NULL);
     progress_begin(&bar, "pt", o->quiet);
+    if (o->spp) progress_expect(&bar, (long)o->spp);
     while (!render_done(o, j->st, now_seconds() - t0)) {
         uint32_t count;
         if (o->stop_flag && *o->stop_flag) {
@@ -266,18 +319,26 @@ static int render_passes(pass_job *j, pt_result *res, rerror *e)
             break;
         }
         count = next_pass_size(o, j->st);
-        run_pass(j, count, res);
+        if (!run_pass(j, count, res)) { /* cancelled at a tile boundary: the pass is dropped */
+            res->stopped = 1;
+            break;
+        }
         res->spp_added += count;
         passes++;
         if (o->spp) progress_update(&bar, (long)j->st->spp, (long)o->spp);
         else progress_update(&bar, (long)((now_seconds() - t0) * 1000), (long)(o->time_limit * 1000));
         if (o->callback_every > 0 && o->on_passes && passes % o->callback_every == 0) o->on_passes(o->callback_ctx, j->st);
         if (o->checkpoint_path && o->checkpoint_interval > 0 && now_seconds() - last_checkpoint >= o->checkpoint_interval) {
-            if (pt_checkpoint_write(o->checkpoint_path, j->st, e)) return -1;
+            if (pt_checkpoint_write(o->checkpoint_path, j->st, e)) {
+                threads_set_cancel(old_cancel);
+                progress_end(&bar);
+                return -1;
+            }
             last_checkpoint = now_seconds();
         }
     }
     progress_end(&bar);
+    threads_set_cancel(old_cancel);
     res->seconds = now_seconds() - t0;
     return 0;
 }
@@ -311,11 +372,20 @@ int pt_render(const scene *s, const pt_options *o, pt_result *out, rerror *e)
     j.ctx.image_width = s->width;
     j.st = &out->state;
     j.workers = rcalloc((size_t)o->threads, sizeof *j.workers, e);
+    if (o->stop_flag) { /* passes of 1 spp (next_pass_size): staged, cancellable */
+        j.stage = rmalloc(3 * (size_t)s->width * (size_t)s->height, sizeof *j.stage, e);
+        j.stage_ok = j.stage ? rmalloc((size_t)s->width * (size_t)s->height, 1, e) : NULL;
+        if (!j.stage_ok) status = -1;
+    }
     if (!j.workers || start_state(s, o, &out->state, e)) status = -1;
     if (!status) status = render_passes(&j, out, e);
-    if (!status && o->checkpoint_path) status = pt_checkpoint_write(o->checkpoint_path, &out->state, e);
+    /* A state without samples (stopped during the first pass) is no checkpoint to resume. */
+    if (!status && o->checkpoint_path && out->state.spp > 0)
+        status = pt_checkpoint_write(o->checkpoint_path, &out->state, e);
     if (!status) status = pt_state_mean(&out->state, &out->mean, e);
     free(j.workers);
+    free(j.stage);
+    free(j.stage_ok);
     lights_free(&lights);
     if (status) pt_result_free(out);
     return status;

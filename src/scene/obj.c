@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/scene/camera_path.h"
 #include "restir/scene/mtl.h"
 #include "restir/scene/scene_builder.h"
 #include "restir/scene/text.h"
@@ -90,7 +91,12 @@ static int read_vertex(obj_parser *o, char *rest, rerror *e)
 {
     float xyz[3];
     /* x y z, optionally w (rational curves) or r g b [a] (a common vertex-colour extension). */
+    int i;
     if (parse_numbers(o, rest, "v", 3, 7, xyz, 3, e)) return -1;
+    for (i = 0; i < 3; ++i) /* float geometry multiplies three coordinates (camera_path.h) */
+        if (!(fabs(xyz[i]) <= SCENE_COORD_MAX))
+            return rerror_at(e, o->path, o->text.line, "v: %g is out of range (|coordinate| <= %g: float geometry)",
+                             (double)xyz[i], SCENE_COORD_MAX);
     return builder_add_position(o->b, v3f(xyz[0], xyz[1], xyz[2]), e) ? at_line(o, e) : 0;
 }
 

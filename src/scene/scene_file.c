@@ -19,6 +19,7 @@
 #include <string.h>
 #include "restir/core/image.h"
 #include "restir/scene/animation.h"
+#include "restir/scene/camera_path.h"
 #include "restir/scene/obj.h"
 #include "restir/scene/scene_builder.h"
 #include "restir/scene/text.h"
@@ -54,7 +55,7 @@ typedef struct {
     size_t keyframe_capacity;
     animate_line *animates;
     size_t animate_count, animate_capacity;
-    long camera_line, size_line, keyframe_line;
+    long camera_line, size_line, keyframe_line, last_keyframe_line;
 } scene_parser;
 
 const char *const material_type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric", NULL};
@@ -106,6 +107,19 @@ static int read_int(scene_parser *p, char **rest, const char *what, long lo, lon
     return 0;
 }
 
+/* read_reals for positions and directions: |value| <= SCENE_COORD_MAX (camera_path.h),
+ * so the float geometry computed from them stays finite. */
+static int read_coords(scene_parser *p, char **rest, const char *what, int count, double *out, rerror *e)
+{
+    int i;
+    if (read_reals(p, rest, what, count, out, e)) return -1;
+    for (i = 0; i < count; ++i)
+        if (!(fabs(out[i]) <= SCENE_COORD_MAX))
+            return rerror_at(e, p->path, p->text.line, "%s: %g is out of range (|coordinate| <= %g: float geometry)",
+                             what, out[i], SCENE_COORD_MAX);
+    return 0;
+}
+
 static int no_more(scene_parser *p, char *rest, const char *what, rerror *e)
 {
     char *tok = text_next_token(&rest);
@@ -120,7 +134,8 @@ static int read_pose(scene_parser *p, char *rest, const char *what, camera_pose 
 {
     int have_eye = 0, have_target = 0, have_up = 0, have_fov = 0;
     char *key;
-    double v[3], forward[3], cross[3], lf, lu, lc;
+    double v[3];
+    enum camera_pose_problem problem;
     while ((key = text_next_token(&rest)) != NULL) {
         int *have = !strcmp(key, "eye") ? &have_eye
                     : !strcmp(key, "target") ? &have_target
@@ -137,7 +152,7 @@ static int read_pose(scene_parser *p, char *rest, const char *what, camera_pose 
             pose->fov_y_degrees = (real)v[0];
             continue;
         }
-        if (read_reals(p, &rest, key, 3, v, e)) return -1;
+        if (read_coords(p, &rest, key, 3, v, e)) return -1;
         if (have == &have_eye) pose->eye = vec3_of(v);
         else if (have == &have_target) pose->target = vec3_of(v);
         else pose->up = vec3_of(v);
@@ -146,18 +161,9 @@ static int read_pose(scene_parser *p, char *rest, const char *what, camera_pose 
         return rerror_at(e, p->path, p->text.line, "%s: missing '%s' (needs eye, target, up and fov)", what,
                          !have_eye ? "eye" : !have_target ? "target" : !have_up ? "up" : "fov");
     /* The gluLookAt basis needs target != eye and up not parallel to the view. */
-    forward[0] = (double)pose->target.x - pose->eye.x;
-    forward[1] = (double)pose->target.y - pose->eye.y;
-    forward[2] = (double)pose->target.z - pose->eye.z;
-    cross[0] = forward[1] * pose->up.z - forward[2] * pose->up.y;
-    cross[1] = forward[2] * pose->up.x - forward[0] * pose->up.z;
-    cross[2] = forward[0] * pose->up.y - forward[1] * pose->up.x;
-    lf = sqrt(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
-    lu = sqrt((double)v3_dot(pose->up, pose->up));
-    lc = sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
-    if (!(lf > 0)) return rerror_at(e, p->path, p->text.line, "%s: eye and target are the same point", what);
-    if (!(lc > 1e-6 * lf * lu))
-        return rerror_at(e, p->path, p->text.line, "%s: up is zero or parallel to the view direction", what);
+    problem = camera_pose_check(pose);
+    if (problem != CAMERA_POSE_OK)
+        return rerror_at(e, p->path, p->text.line, "%s: %s", what, camera_pose_problem_text(problem));
     return 0;
 }
 
@@ -190,8 +196,19 @@ static int directive_keyframe(scene_parser *p, char *rest, rerror *e)
     memset(&k, 0, sizeof k);
     k.frame = (int)frame;
     if (read_pose(p, rest, "keyframe", &k.pose, e)) return -1;
+    if (s->keyframe_count) { /* every frame between this keyframe and the previous one needs a basis too */
+        int bad = 0;
+        enum camera_pose_problem problem = camera_segment_check(&s->keyframes[s->keyframe_count - 1], &k, &bad);
+        if (problem != CAMERA_POSE_OK)
+            return rerror_at(e, p->path, p->text.line,
+                             "keyframe %ld: the camera interpolated from keyframe %d (line %ld) is degenerate at frame "
+                             "%d: %s",
+                             frame, s->keyframes[s->keyframe_count - 1].frame, p->last_keyframe_line, bad,
+                             camera_pose_problem_text(problem));
+    }
     if (builder_reserve((void **)&s->keyframes, &p->keyframe_capacity, s->keyframe_count + 1, sizeof k, e))
         return -1;
+    p->last_keyframe_line = p->text.line;
     s->keyframes[s->keyframe_count++] = k;
     s->camera = s->keyframes[0].pose;
     s->has_camera = 1;
@@ -323,7 +340,7 @@ static int directive_animate(scene_parser *p, char *rest, rerror *e)
             return rerror_at(e, p->path, p->text.line, "animate: unknown key '%.60s' (translate, rotate, pivot)", key);
         if (*have) return rerror_at(e, p->path, p->text.line, "animate: '%s' given twice", key);
         *have = 1;
-        if (read_reals(p, &rest, key, have == &have_r ? 4 : 3, v, e)) return -1;
+        if (read_coords(p, &rest, key, have == &have_r ? 4 : 3, v, e)) return -1;
         if (have == &have_t) a.key.translate = vec3_of(v);
         else if (have == &a.has_pivot) a.pivot = vec3_of(v);
         else {

@@ -34,6 +34,20 @@ static int track_line_length(const char *path, const char *buf, size_t n, size_t
     return 0;
 }
 
+/* A NUL byte outside a UTF-16 file (recognised by its byte-order mark) is binary data:
+ * refused as soon as it is read, so /dev/urandom costs one buffer, not all memory. */
+static int check_binary(const char *path, const char *buf, size_t n, size_t got, long line, rerror *e)
+{
+    const unsigned char *u = (const unsigned char *)buf;
+    const char *nul;
+    if (n + got >= 2 && ((u[0] == 0xFF && u[1] == 0xFE) || (u[0] == 0xFE && u[1] == 0xFF))) return 0;
+    if (n + got < 2 && got && u[0] == 0xFF) return 0; /* maybe a BOM split across reads */
+    nul = got ? memchr(buf + n, '\0', got) : NULL;
+    if (nul)
+        return rerror_at(e, path, line + line_of_offset(buf + n, (size_t)(nul - (buf + n))) - 1, "NUL byte in a text file (binary data, or UTF-16 without a byte-order mark)");
+    return 0;
+}
+
 static int read_whole_file(const char *path, char **data, size_t *size, rerror *e)
 {
     FILE *f = fopen(path, "rb");
@@ -58,10 +72,17 @@ static int read_whole_file(const char *path, char **data, size_t *size, rerror *
             cap *= 2;
         }
         got = fread(buf + n, 1, cap - 1 - n, f);
-        if (track_line_length(path, buf, n, got, &line_bytes, &line, e)) {
+        if (check_binary(path, buf, n, got, line, e) ||
+            track_line_length(path, buf, n, got, &line_bytes, &line, e)) {
             free(buf);
             fclose(f);
             return -1;
+        }
+        if (n + got > TEXT_MAX_FILE) {
+            free(buf);
+            fclose(f);
+            return rerror_at(e, path, 0, "longer than %lu bytes (a corrupt or hostile file, or an endless stream?)",
+                             (unsigned long)TEXT_MAX_FILE);
         }
         n += got;
         if (got == 0) break;

@@ -4,6 +4,8 @@
 #ifndef RESTIR_THREADS_H
 #define RESTIR_THREADS_H
 
+#include <signal.h>
+
 /* Called once per tile: pixels [x0,x1) x [y0,y1). `worker` is in [0, threads). */
 typedef void (*tile_fn)(void *ctx, int x0, int y0, int x1, int y1, int worker);
 /* Called once per item index in [0, count). */
@@ -27,5 +29,19 @@ int parallel_items(long count, int threads, item_fn fn, void *ctx);
  * process's CPU time minus this is its serial part (issue 17: the Amdahl bound of thread
  * scaling, `restir bench scaling`). */
 double threads_parallel_cpu_seconds(void);
+
+/* Stopping at a tile boundary (issue 27: Ctrl-C within about a second in every method):
+ * while a cancel flag is set and nonzero, parallel_tiles and parallel_items hand out no
+ * further tile or chunk (those already started finish), so the work of the call is
+ * incomplete and the caller must discard it (threads_cancelled() says so). Process-wide;
+ * returns the previous flag so that callers can nest. NULL: nothing cancels. */
+volatile sig_atomic_t *threads_set_cancel(volatile sig_atomic_t *flag);
+/* 1 if the cancel flag is set and nonzero (a parallel call since may be incomplete). */
+int threads_cancelled(void);
+
+/* A process-wide hook called after every finished tile or chunk, under the pool's lock
+ * (one call at a time), e.g. a progress heartbeat during a long frame (progress.c).
+ * NULL: none. */
+void threads_set_tick(void (*tick)(void *ctx), void *ctx);
 
 #endif

@@ -91,8 +91,10 @@ typedef struct {
                                    duplicate count when nothing reads them (no --dedup, no
                                    --aov duplicates): the "correlation" and mutation duplicate
                                    counters of restir_stats stay 0 (default 0: computed) */
-    volatile sig_atomic_t *stop_flag; /* checked between frames (NULL: never): nonzero ends the
-                                         render after at least one frame (the CLI's SIGINT/SIGTERM) */
+    volatile sig_atomic_t *stop_flag; /* NULL: never. Nonzero (the CLI's SIGINT/SIGTERM) cancels the
+                                         frame in progress at a tile boundary (threads_set_cancel)
+                                         and ends the render with the frames complete so far, maybe
+                                         none (result frames = 0) */
     /* MCMC mutations (mutate.h; Mutations Algorithm 3), real-time pipeline only: */
     int mutations;              /* N Metropolis-Hastings iterations per pixel and stage (default 0: off) */
     int mutation;               /* enum mutate_strategy (default rv, Mutations §4.3) */

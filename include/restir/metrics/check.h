@@ -14,6 +14,7 @@
 
 #include "restir/core/error.h"
 #include "restir/core/image.h"
+#include "restir/metrics/check_tail.h"
 #include "restir/metrics/moments.h"
 #include "restir/metrics/stats.h"
 
@@ -102,6 +103,10 @@ typedef struct {
     stats_tost tost;
     double bias, bias_lo, bias_hi; /* mean_a / mean_b - 1 and its (1 - alpha) Fieller interval */
     int bias_ci_bounded;
+    /* can the verdict be trusted? (check_tail.h) */
+    check_tail tail_a, tail_b;
+    int inconclusive;        /* a side's runs are heavy-tailed: `different` is reported but not a verdict */
+    long runs_needed;        /* then: the runs per side Cochran's rule asks for (at least) */
     int different;           /* the verdict */
     int paired;              /* 1: from check_compare_paired (tests on per-run differences) */
 } check_result;

@@ -54,6 +54,7 @@ typedef struct stage_io_s {
     uint32_t frame;                        /* the frame in progress */
     int failed;
     rerror err;                            /* the first failure (sticky) */
+    int created_dir;                       /* stage_io_begin created dump_dir (stage_io_remove_written) */
     int pss_rows;                          /* set by the pipeline: its reservoir buffers have
                                               primary-sample rows (reservoir.h) */
 } stage_io;
@@ -67,6 +68,7 @@ typedef struct {
     char order[STAGE_MAX][STAGE_NAME_SIZE]; /* "stage_order" */
     int n_order;
     long first, last, seed;                 /* "frames" {first, last}, "seed" */
+    long written;                           /* "frames" {written}: frames dumped (-1 if absent) */
     char scene[4096];                       /* "scene" {path} ("" if absent) */
     long width, height;                     /* "image" (0 if absent) */
     char inspect_args[1024];                /* " --size WxH --shift hybrid --mis ...": what

@@ -11,6 +11,7 @@
 #include "restir/core/error.h"
 
 #define TEXT_MAX_LINE (1 << 22) /* bytes per physical line (4 MiB) */
+#define TEXT_MAX_FILE ((size_t)1 << 31) /* bytes per file (2 GiB): a stream without end is refused */
 
 typedef struct {
     char *data;        /* the whole file, NUL-terminated (UTF-16 input decoded to UTF-8) */

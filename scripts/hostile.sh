@@ -1,0 +1,118 @@
+#!/bin/sh
+# The hostile-case table (issue 27, docs/hostile-cases.md): runs every hostile case (the
+# ones issue 27 found and the older ones the CLI rules already handled) through build/restir,
+# each in its own empty directory, and prints a Markdown table: the case, the exit status
+# (and the expected one), the first line of the message, and the files left behind.
+#   sh scripts/hostile.sh            the table on stdout; exit 1 if a status is not the expected one
+#   make hostile-table               writes docs/hostile-cases.md
+# The test hostile_table_script (make test) runs it and fails on a mismatch. ~10 s.
+set -u
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+R="$ROOT/build/restir"
+S="$ROOT/scenes"
+W=${HOSTILE_DIR:-$ROOT/build/hostile}
+rm -rf "$W"
+mkdir -p "$W"
+SMALL="$S/cornell.scene --size 16x16 --threads 2 --max-depth 4"
+fails=0
+n=0
+
+# row NAME EXPECTED SETUP COMMAND: SETUP runs first (its files are not leftovers), then
+# COMMAND (a shell line; $R is the binary) with a 20 s limit; the row is printed. The
+# message is the first line of stderr (of stdout when stderr is empty), and the last one
+# when there are more.
+row() {
+    name=$1 expected=$2 setup=$3 cmd=$4
+    n=$((n + 1))
+    d="$W/case$n"
+    mkdir -p "$d"
+    (cd "$d" && eval "$setup") >/dev/null 2>&1
+    (cd "$d" && find . -mindepth 1 | sort) >"$W/before$n"
+    (cd "$d" && eval "timeout 20 $cmd") >"$W/out$n" 2>"$W/err$n" </dev/null
+    status=$?
+    (cd "$d" && find . -mindepth 1 | sort) >"$W/after$n"
+    left=$(comm -13 "$W/before$n" "$W/after$n" | sed 's|^\./||' | while read -r f; do
+        case "$f" in
+        *.png) if [ -f "$d/$f" ] && [ "$(head -c 4 "$d/$f" | tail -c 3)" != PNG ]; then f="$f (not a PNG)"; fi ;;
+        esac
+        printf '%s ' "$f"
+    done)
+    [ -n "$left" ] || left="none"
+    grep -v '^pt: [0-9]* spp' "$W/err$n" >"$W/msg$n"
+    [ -s "$W/msg$n" ] || cp "$W/out$n" "$W/msg$n"
+    msg=$(head -n 1 "$W/msg$n")
+    if [ "$(wc -l <"$W/msg$n")" -gt 1 ]; then msg="$msg / $(tail -n 1 "$W/msg$n")"; fi
+    msg=$(printf '%s' "$msg" | sed "s|$ROOT/||g; s|$W/case$n/||g; s/|/\\\\|/g" | cut -c1-240)
+    mark=""
+    if [ "$status" != "$expected" ]; then
+        mark=" **expected $expected**"
+        fails=$((fails + 1))
+    fi
+    printf '| %d | %s | %s%s | %s | %s |\n' "$n" "$name" "$status" "$mark" "$msg" "$left"
+}
+
+KEYS='printf "mesh '"$S"'/cornell.obj\nkeyframe 0 eye 278 273 -800 target 278 273 0 up 0 1 0 fov 39\nkeyframe 10 eye 278 273 -800 target 278 273 0 up 0 -1 0 fov 39\nsize 8 8\n" > up.scene'
+EYE='printf "mesh '"$S"'/cornell.obj\ncamera eye 1e39 273 -800 target 278 273 0 up 0 1 0 fov 39\n" > eye.scene'
+BIG='printf "v -3e38 -3e38 0\nv 3e38 -3e38 0\nv 0 3e38 0\nf 1 2 3\n" > big.obj; printf "mesh big.obj\ncamera eye 0 0 -10 target 0 0 0 up 0 1 0 fov 39\nmaterial default ke 1 1 1\n" > big.scene'
+CKPTS="\$R render $SMALL --spp 1 --quiet --no-png -o a.pfm --checkpoint a.ckpt; \$R render $SMALL --spp 1 --sample-offset 1 --quiet --no-png -o b.pfm --checkpoint b.ckpt"
+DUMP="\$R render $SMALL --method restir --sequence 0..1 --dump-dir dump --quiet --no-png -o s.pfm; rm -f s.*"
+CORRUPT="$DUMP; head -c 100 dump/frame_0001/initial.resv > t; mv t dump/frame_0001/initial.resv"
+NAN="\$R render $SMALL --spp 1 --quiet --no-png -o a.pfm; python3 -c \"import struct;d=open('a.pfm','rb').read();i=d.index(b'\\\\n',d.index(b'\\\\n',3)+1)+1;open('nan.pfm','wb').write(d[:i]+struct.pack('<f',float('nan'))+d[i+4:])\""
+RARE="printf 'v -2 0 -2\\nv 2 0 -2\\nv 2 0 2\\nv -2 0 2\\nv -1 3 -1\\nv 1 3 -1\\nv 1 3 1\\nv -1 3 1\\nv -0.01 0.05 -0.01\\nv 0.01 0.05 -0.01\\nv 0.01 0.05 0.01\\nv -0.01 0.05 0.01\\nusemtl floor\\nf 1 4 3\\nf 1 3 2\\nusemtl sky\\nf 5 6 7\\nf 5 7 8\\nusemtl spot\\nf 9 10 11\\nf 9 11 12\\n' > rare.obj; printf 'mesh rare.obj\\ncamera eye 0 1 1 target 0 0 0 up 0 1 0 fov 20\\nsize 48 48\\nmaterial floor type lambert kd 0.7 0.7 0.7\\nmaterial sky type lambert kd 0 0 0 ke 5 5 5\\nmaterial spot type lambert kd 0 0 0 ke 5 5 5\\n' > rare.scene; for k in \$(seq 10 41); do \$R render rare.scene --spp 4 --jitter --pt-strategy nee --seed \$k --threads 2 --quiet --no-png -o n\$k.pfm; done"
+RUNS4="for k in 1 2 3 4; do \$R render $SMALL --spp 1 --seed \$k --quiet --no-png -o r\$k.pfm; done"
+
+echo "| # | case | exit | message (first line) | left behind |"
+echo "| --- | --- | --- | --- | --- |"
+echo "| | **issue 27** | | | |"
+row "keyframes whose interpolated up passes through zero (frame 5)" 2 "$KEYS" "\$R render up.scene --frame 5 --spp 1 -o up.pfm"
+row "camera eye 1e39" 2 "$EYE" "\$R render eye.scene --spp 1 -o eye.pfm"
+row "vertices at +-3e38" 2 "$BIG" "\$R render big.scene --spp 1 -o big.pfm"
+row "--eye 1e39,0,0 on the command line" 2 "" "\$R render $SMALL --eye 1e39,0,0 --spp 1 -o x.pfm"
+row "--stats equal to -o" 2 "" "\$R render $SMALL --spp 1 -o a.pfm --stats a.pfm"
+row "--checkpoint equal to the PNG preview (another spelling)" 2 "" "\$R render $SMALL --spp 1 -o a.pfm --checkpoint ./a.png"
+row "merge -o a.ckpt a.ckpt b.ckpt" 2 "$CKPTS" "\$R merge -o a.ckpt a.ckpt b.ckpt"
+row "--sample-offset with --resume" 2 "$CKPTS" "\$R render $SMALL --spp 4 --resume a.ckpt --sample-offset 100 -o c.pfm"
+row "--resume of another seed (the message shows the checkpoint's fields)" 2 "$CKPTS" "\$R render $SMALL --seed 5 --spp 4 --resume a.ckpt -o c.pfm"
+row "--dump-stages initial,bogus" 2 "" "\$R render $SMALL --method restir --sequence 0..1 --dump-dir dump --dump-stages initial,bogus -o s.pfm"
+row "--from-dump with a corrupt frame 1" 2 "$CORRUPT" "\$R render $SMALL --method restir --sequence 0..1 --from-dump dump --from-stage initial -o f.pfm"
+row "vectors --check, a negative RNG input" 2 "printf '{\"fn\": \"rng_u\", \"case\": \"x\", \"in\": [1, 0, 0, -1, 1, 0], \"out\": [1, 0.5]}\n' > neg.jsonl" "\$R vectors --check neg.jsonl"
+row "vectors --check, an empty file" 2 ": > empty.jsonl" "\$R vectors --check empty.jsonl"
+row "vectors --check, a wrong input count" 2 "printf '{\"fn\": \"rng_u\", \"case\": \"x\", \"in\": [1, 0, 0, 1, 1], \"out\": [1, 0.5]}\n' > cnt.jsonl" "\$R vectors --check cnt.jsonl"
+row "vectors --check, a pick's random number -1e10" 2 "printf '{\"fn\": \"stochastic_pairwise_weights\", \"case\": \"x\", \"in\": [1, 1, 1, 1, 1, 0.5, 2, 1, 0.3, 3, 0.9, 0.35, 0.45, 0.5, -1e10], \"out\": [0]}\n' > u.jsonl" "\$R vectors --check u.jsonl"
+row "mesh /dev/urandom" 2 "printf 'mesh /dev/urandom\n' > u.scene" "\$R info u.scene"
+row "manifest with frames.last = 2e9 (diff-dump)" 2 "$DUMP; sed -i 's/\"last\": 1/\"last\": 2000000000/' dump/manifest.json" "\$R diff-dump dump dump"
+row "merge --counts with a NaN pixel" 2 "$NAN" "\$R merge -o m.pfm a.pfm nan.pfm --counts 1,1"
+row "merge --counts 1,inf" 2 "$NAN" "\$R merge -o m.pfm a.pfm a.pfm --counts 1,inf"
+row "SIGTERM during a complete aov render" 143 "" "timeout --preserve-status -s TERM 0.2 \$R render $S/cornell.scene --method aov --aov depth --size 2048x2048 --threads 1 --no-png -o aov.pfm"
+row "--runs 2 (the message names the files written)" 0 "" "\$R render $SMALL --spp 1 --runs 2 --no-png -o r.pfm"
+row "help --help" 0 "" "\$R help --help"
+row "vectors -o outside the repository" 0 "" "\$R vectors -o v"
+row "check --z-map OUT.png" 0 "$RUNS4" "\$R check --a r1.pfm r2.pfm --b r3.pfm r4.pfm --z-map z.png --quiet"
+row "check --z-map naming an input" 2 "$RUNS4" "\$R check --a r1.pfm r2.pfm --b r3.pfm r4.pfm --z-map r1.pfm --quiet"
+row "check on heavy-tailed runs (NEE only under a rare close light, K = 16)" 3 "$RARE" "\$R check --a \$(ls n*.pfm | head -16) --b \$(ls n*.pfm | tail -16) --quiet"
+row "compare --bias --level 2" 2 "$RUNS4" "\$R compare --bias r1.pfm r2.pfm --ref r3.pfm --level 2"
+row "SIGINT during the first offline ReSTIR frame (nothing complete)" 130 "" "timeout --preserve-status -s INT 0.3 \$R render $S/cornell.scene --size 160x160 --method restir --preset gris-offline --threads 2 --quiet -o x.pfm"
+echo "| | **earlier rules (docs/cli.md)** | | | |"
+row "--threads 0" 2 "" "\$R render $SMALL --threads 0 -o x.pfm"
+row "--size 100000x100000" 2 "" "\$R render $SMALL --size 100000x100000 -o x.pfm"
+row "-o x.png" 2 "" "\$R render $SMALL -o x.png"
+row "-o into a missing directory two levels deep" 2 "" "\$R render $SMALL --spp 1 -o no/such/x.pfm"
+row "--stats naming a directory" 2 "mkdir d" "\$R render $SMALL --spp 1 -o x.pfm --stats d"
+row "--spp with --method restir" 2 "" "\$R render $SMALL --method restir --spp 4 -o x.pfm"
+row "--checkpoint with offline restir" 2 "" "\$R render $SMALL --method restir --checkpoint c.ckpt -o x.pfm"
+row "--runs 1" 2 "" "\$R render $SMALL --runs 1 -o x.pfm"
+row "--no-png=1 (a flag given a value)" 2 "" "\$R render $SMALL --no-png=1 -o x.pfm"
+row "OBJ face index 100000000" 2 "printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 100000000\n' > i.obj" "\$R info i.obj"
+row "a 5 MB line" 2 "yes v | tr -d '\\n' | head -c 5000000 > long.obj" "\$R info long.obj"
+row "a coordinate 1e39 in an OBJ" 2 "printf 'v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n' > f.obj" "\$R info f.obj"
+row "a scene without mesh" 2 "printf 'size 8 8\n' > n.scene" "\$R info n.scene"
+row "a scene without emitters, --method pt" 2 "printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > t.obj" "\$R render t.obj --spp 1 -o t.pfm"
+row "unknown command" 2 "" "\$R frobnicate"
+row "check with a truncated PFM" 2 "$RUNS4; head -c 100 r1.pfm > cut.pfm" "\$R check --a cut.pfm r2.pfm --b r3.pfm r4.pfm"
+row "merge images without --counts" 2 "$NAN" "\$R merge -o m.pfm a.pfm a.pfm"
+row "--png into a directory that cannot be created" 2 "" "\$R render $SMALL --spp 1 -o x.pfm --png no/such/x.png"
+row "SIGINT during pt (partial image and checkpoint kept)" 130 "" "timeout --preserve-status -s INT 0.5 \$R render $SMALL --spp 100000000 --quiet --no-png --checkpoint c.ckpt -o x.pfm"
+row "SIGTERM during offline restir (the mean of the frames so far)" 143 "" "timeout --preserve-status -s TERM 0.5 \$R render $SMALL --method restir --frames 100000000 --quiet --no-png -o x.pfm"
+echo
+echo "$n cases, $fails with an unexpected exit status."
+[ "$fails" = 0 ]
