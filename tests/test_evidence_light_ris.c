@@ -99,10 +99,10 @@ static void integrate(int n, int tiles, int batches, int per_batch, bench_paired
     scene_free(&s);
 }
 
-static void matrix(const int *counts, int nc, int batches, int per_batch)
+static void matrix(const int *counts, int nc, int batches, int per_batch, int with_tiles)
 {
     int i, tiles;
-    for (tiles = 0; tiles < 2 && !test_has_failed(); ++tiles)
+    for (tiles = 0; tiles <= with_tiles && !test_has_failed(); ++tiles)
         for (i = 0; i < nc && !test_has_failed(); ++i) {
             bench_paired p;
             char name[160];
@@ -111,18 +111,19 @@ static void matrix(const int *counts, int nc, int batches, int per_batch)
         }
 }
 
-/* make test: N = 2, where the next bounce's count is 1 (the largest relative change). */
+/* make test: N = 2, where the next bounce's count is 1 (the largest relative change), no
+ * tiles (the exact test below covers tiles and every count). */
 TEST(evidence_light_ris_mis_pdf_single_points)
 {
     static const int counts[] = {2};
-    matrix(counts, 1, 32, 3072);
+    matrix(counts, 1, 32, 3072, 0);
 }
 
 /* 10^6 samples per configuration (64 x 4096 at each of the 4 points), every candidate count 1..64. */
 TEST_LONG(evidence_light_ris_mis_pdf_single_points_long)
 {
     static const int counts[] = {1, 2, 4, 8, 16, 32, 64};
-    matrix(counts, 7, 64, 4096);
+    matrix(counts, 7, 64, 4096, 1);
 }
 
 /* ---- the BSDF side's pdf estimate against its definition, exact ---------------------------- */

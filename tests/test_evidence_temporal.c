@@ -62,7 +62,7 @@ static int run_sequence(void *user, uint32_t seed, double mean[3])
     return bench_sequence_mean(c->s, &o, c->frame, mean);
 }
 
-static void pan_options(restir_options *o, int temporal, int temporal_mis)
+static void pan_options(restir_options *o, int temporal, int temporal_mis, int max_depth)
 {
     restir_options_default(o);
     o->temporal = temporal;
@@ -70,14 +70,15 @@ static void pan_options(restir_options *o, int temporal, int temporal_mis)
     o->mis = MIS_TALBOT;
     o->spatial_passes = 0;
     o->candidates = 1;
-    o->max_depth = 3;
+    o->max_depth = max_depth;
     o->shift = RESTIR_SHIFT_HYBRID;
     o->mcap = 20;
     o->threads = 2;
 }
 
 /* Talbot and pairwise-defensive temporal MIS against no temporal reuse, same seeds. */
-static void temporal_paired(int res, int runs, int frame, double pan, bench_paired *talbot, bench_paired *pairwise)
+static void temporal_paired(int res, int runs, int frame, double pan, int max_depth, bench_paired *talbot,
+                            bench_paired *pairwise)
 {
     scene s;
     seq_config none, t, pw;
@@ -86,9 +87,9 @@ static void temporal_paired(int res, int runs, int frame, double pan, bench_pair
     if (load_glossy_pan(&s, res, pan)) return;
     none.s = t.s = pw.s = &s;
     none.frame = t.frame = pw.frame = frame;
-    pan_options(&none.o, 0, MIS_TALBOT);
-    pan_options(&t.o, 1, MIS_TALBOT);
-    pan_options(&pw.o, 1, MIS_PAIRWISE_DEFENSIVE);
+    pan_options(&none.o, 0, MIS_TALBOT, max_depth);
+    pan_options(&t.o, 1, MIS_TALBOT, max_depth);
+    pan_options(&pw.o, 1, MIS_PAIRWISE_DEFENSIVE, max_depth);
     bench_paired_init(talbot, "temporal Talbot vs none, glossy pan");
     bench_paired_init(pairwise, "temporal pairwise-defensive vs none, glossy pan");
     for (k = 0; k < runs && !test_has_failed(); ++k) {
@@ -104,19 +105,22 @@ static void temporal_paired(int res, int runs, int frame, double pan, bench_pair
     bench_paired_finish(pairwise);
 }
 
+/* Direct light only (paths of 2 segments: the glossy highlights change with the view, the
+ * noise is low): 24², K = 48, frame 8 of a pan of 12.5 units per frame. */
 TEST(evidence_temporal_mis_paired_pan)
 {
     bench_paired talbot, pairwise;
-    temporal_paired(24, 32, 8, 200, &talbot, &pairwise);
+    temporal_paired(24, 48, 8, 200, 2, &talbot, &pairwise);
     if (test_has_failed()) return;
     if (bench_paired_expect_consistent(&talbot, BENCH_Z_CONSISTENT)) return;
     bench_paired_expect_consistent(&pairwise, BENCH_Z_CONSISTENT);
 }
 
+/* Paths up to 3 segments at 32², K = 128. */
 TEST_LONG(evidence_temporal_mis_paired_pan_long)
 {
     bench_paired talbot, pairwise;
-    temporal_paired(32, 128, 8, 200, &talbot, &pairwise);
+    temporal_paired(32, 128, 8, 200, 3, &talbot, &pairwise);
     if (test_has_failed()) return;
     if (bench_paired_expect_consistent(&talbot, BENCH_Z_CONSISTENT)) return;
     bench_paired_expect_consistent(&pairwise, BENCH_Z_CONSISTENT);
