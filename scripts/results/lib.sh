@@ -1,8 +1,28 @@
-# Helpers shared by scripts/results.sh and scripts/tradeoffs.sh (sourced). The caller sets
-# R (the restir binary), THREADS, OUT, CACHE (reference cache) and SUMMARY (summary.awk).
+# Helpers shared by the measurement scripts (sourced: scripts/results.sh, tradeoffs.sh,
+# results_*.sh, false-alarm.sh, power.sh); sourcing only defines functions. The caller sets
+# R (the restir binary), THREADS, OUT, CACHE (reference cache) and SUMMARY (summary.awk) as
+# the helpers it uses need them.
 
-# metric NAME TEST.pfm REF.pfm: one value from `restir compare`
-metric() { "$R" compare "$2" "$3" | awk -v m="$1" '$1 == m { print $2 }'; }
+# results_init DEFAULT_OUT [OUT_DIR] [BUILD_DIR]: a script's two arguments -> OUT (created),
+# R (BUILD_DIR/restir, default build/restir) and TMP (OUT/tmp, created by who needs it).
+results_init() { OUT=${2:-$1}; R=${3:-build}/restir; TMP="$OUT/tmp"; mkdir -p "$OUT"; }
+# defaults NAME=VALUE...: each NAME keeps its value from the environment, else takes VALUE
+# (the knobs a script's header documents).
+defaults() { for kv; do eval ": \"\${${kv%%=*}:=\${kv#*=}}\""; done; }
+
+# mean_ci [FORMAT]: the mean and 95% t half-width of the numbers on stdin, "%.4g ± %.2g"
+# unless FORMAT says otherwise: `restir stats mean-ci` (stats_mean_ci, docs/cli.md), the one
+# implementation of every script. With fewer than two numbers: "—" (the reason on stderr).
+mean_ci() { "$R" stats mean-ci ${1:+--format "$1"} || echo "—"; }
+# json_value FILE SECTION KEY: a scalar of `check --json` output inside the object SECTION.
+json_value() {
+    awk -v sec="\"$2\"" -v key="\"$3\"" '
+        index($0, sec ":") { inside = 1 }
+        inside && index($0, key ":") { s = substr($0, index($0, key ":") + length(key) + 1); sub(/^ */, "", s); sub(/[,}].*$/, "", s); print s; exit }' "$1"
+}
+
+# metric NAME TEST.pfm REF.pfm [COMPARE_OPTIONS]: one value from `restir compare`
+metric() { "$R" compare "$2" "$3" ${4:-} | awk -v m="$1" '$1 == m { print $2 }'; }
 # wall seconds of the rendering of the last run (its --stats file)
 render_seconds() { grep -o '"render": [0-9.e+-]*' "$1" | tail -n 1 | awk '{ print $2 }'; }
 # render SIDE SCENE options...: one render at SIDE x SIDE

@@ -12,6 +12,7 @@
 #include "cmd_merge.h"
 #include "cmd_plot.h"
 #include "cmd_render.h"
+#include "cmd_stats.h"
 #include "cmd_vectors.h"
 
 static int cmd_help(int argc, char **argv);
@@ -28,6 +29,7 @@ const cli_command cli_commands[] = {
     {"generate", cmd_generate, "write a generated scene (10 kinds: ajar, atrium, sphere, ...) as OBJ + MTL + scene file"},
     {"diff-dump", cmd_diff_dump, "stage-by-stage comparison of two --dump-dir directories (docs/oracle.md)"},
     {"vectors", cmd_vectors, "golden test vectors (JSON lines, one file per formula family), or --check them"},
+    {"stats", cmd_stats, "mean and t interval of the numbers on stdin (stats mean-ci; used by scripts/results_*.sh)"},
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
     {NULL, NULL, NULL},
 };
