@@ -225,3 +225,14 @@ int test_scene_furnace_sphere(scene *s, rgb le, rgb rho, int res)
     test_scene_camera(s, v3((real)0.1, (real)0.2, 0), v3((real)0.3, (real)0.1, 1), v3(0, 1, 0), 100, res);
     return 0;
 }
+
+double test_image_max_rel_diff(const image *a, const image *b)
+{
+    size_t i, n = 3 * (size_t)a->width * a->height;
+    double worst = 0;
+    for (i = 0; i < n; ++i) {
+        double d = fabs((double)a->px[i] - (double)b->px[i]), m = fmax(fabs((double)a->px[i]), 1e-30);
+        if (d / m > worst) worst = d / m;
+    }
+    return worst;
+}

@@ -4,6 +4,7 @@
 #define RESTIR_TESTS_PT_UTIL_H
 
 #include <stddef.h>
+#include "restir/core/image.h"
 #include "restir/scene/scene.h"
 
 /* Upper tail P(X >= x) of a chi-square variable with `dof` degrees of freedom. */
@@ -40,6 +41,9 @@ void test_scene_scale(scene *s, float k);
  * L_D = Le (1 - rho^D) / (1 - rho) everywhere for paths of at most D segments; the camera
  * sits inside. Unprepared. */
 int test_scene_furnace_sphere(scene *s, rgb le, rgb rho, int res);
+/* The largest relative difference |a - b| / max(|a|, 1e-30) over every pixel and channel
+ * (a and b of the same size). */
+double test_image_max_rel_diff(const image *a, const image *b);
 /* scene_prepare, recording a test failure with its message; returns nonzero on failure. */
 int test_scene_prepare(scene *s);
 

@@ -2,6 +2,8 @@
 #include "pt_util.h"
 #include "restir_util.h"
 
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
@@ -192,7 +194,144 @@ int rt_compare(check_side *a, check_side *b, double alpha, int block, check_resu
     return status;
 }
 
+int rt_compare_paired(const check_side *a, const check_side *b, double alpha, int block, check_result *r)
+{
+    check_options opt;
+    rerror e;
+    int status;
+    check_options_default(&opt);
+    opt.alpha = alpha;
+    opt.block_size = block;
+    status = check_compare_paired(a, b, &opt, r, &e);
+    if (status) test_fail(__FILE__, __LINE__, "check_compare_paired: %s", e.msg);
+    return status;
+}
+
 double rt_mean_z(const check_result *r) { return stats_t_to_z(r->global.t, r->global.dof); }
+
+int rt_expect_verdict(check_side *a, const check_side *ref, double alpha, int block, const char *what, int biased,
+                      check_result *out)
+{
+    check_options opt;
+    check_result c;
+    rerror e;
+    int status, ok;
+    check_options_default(&opt);
+    opt.alpha = alpha;
+    opt.block_size = block;
+    status = check_compare(a, ref, &opt, &c, &e);
+    check_side_free(a);
+    if (status) {
+        test_fail(__FILE__, __LINE__, "check_compare: %s", e.msg);
+        return -1;
+    }
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
+                rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+    ok = !c.different == !biased;
+    if (!ok && biased)
+        test_fail(__FILE__, __LINE__, "%s: the biased estimator was not detected (mean z %.2f, worst block z %.2f)",
+                  what, rt_mean_z(&c), c.worst.z);
+    else if (!ok)
+        test_fail(__FILE__, __LINE__,
+                  "%s: differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks rejected, worst z %.2f",
+                  what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
+    if (out) *out = c;
+    else check_result_free(&c);
+    return ok ? 0 : 1;
+}
+
+int rt_bench_open(rt_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth, uint32_t pt_seed)
+{
+    memset(b, 0, sizeof *b);
+    b->res = res;
+    b->block = 4;
+    b->runs = runs;
+    b->max_depth = max_depth;
+    if (rt_load_scene(path, res, &b->s)) return -1; /* NULL: the spot scene */
+    if (rt_pt_side(&b->s, pt_seed, runs, spp, max_depth, 0, b->block, &b->pt)) {
+        scene_free(&b->s);
+        return -1;
+    }
+    return 0;
+}
+
+void rt_bench_close(rt_bench *b)
+{
+    check_side_free(&b->pt);
+    scene_free(&b->s);
+}
+
+int rt_sequence_runs(const scene *s, const restir_options *o, int first, int last, int runs, restir_frame_sink sink,
+                     void *user, restir_stats *run0)
+{
+    restir_sequence seq;
+    rerror e;
+    int k;
+    memset(&seq, 0, sizeof seq);
+    seq.first = first;
+    seq.last = last;
+    for (k = 0; k < runs; ++k) {
+        restir_options ok = *o;
+        restir_stats total;
+        ok.seed = o->seed + 7919u * (uint32_t)k;
+        if (restir_render_sequence(s, &ok, &seq, sink, user, &total, &e)) {
+            test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
+            return -1;
+        }
+        if (k == 0 && run0) *run0 = total;
+    }
+    return 0;
+}
+
+static int collect_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
+{
+    rt_frame_sides *q = user;
+    int i;
+    (void)st;
+    for (i = 0; i < q->nt; ++i)
+        if (q->times[i] == frame && check_side_add_run(&q->side[i], img, "run", e)) return -1;
+    return 0;
+}
+
+void rt_frame_sides_free(rt_frame_sides *q)
+{
+    int i;
+    for (i = 0; i < q->nt; ++i) check_side_free(&q->side[i]);
+}
+
+int rt_frame_sides_run(const scene *s, const restir_options *o, int runs, int block, rt_frame_sides *q)
+{
+    int i;
+    for (i = 0; i < q->nt; ++i)
+        if (side_begin(s, block, &q->side[i])) {
+            while (i-- > 0) check_side_free(&q->side[i]);
+            return -1;
+        }
+    if (rt_sequence_runs(s, o, 0, q->times[q->nt - 1], runs, collect_frame, q, NULL)) {
+        rt_frame_sides_free(q);
+        return -1;
+    }
+    for (i = 0; i < q->nt; ++i)
+        if (side_end(&q->side[i])) {
+            rt_frame_sides_free(q);
+            return -1;
+        }
+    return 0;
+}
+
+void rt_spatial_options(restir_options *o, uint32_t seed, int shift, int mis, int passes, int neighbors,
+                        double radius)
+{
+    restir_options_default(o);
+    o->seed = seed;
+    o->shift = (enum restir_shift)shift;
+    o->mis = (mis_family)mis;
+    o->spatial_passes = passes;
+    o->neighbors = neighbors;
+    o->radius = radius;
+    o->threads = 2;
+}
 
 int rt_primary_vertex(const scene *s, int x, int y, path_vertex *v)
 {

@@ -35,8 +35,53 @@ int rt_pt_side_at(const scene *s, uint32_t seed, int runs, uint32_t spp, int max
 /* check_compare at level alpha with block x block pixel blocks (the sides' block size);
  * frees both sides. Returns 0 on success. */
 int rt_compare(check_side *a, check_side *b, double alpha, int block, check_result *r);
+/* check_compare_paired of a and b (kept) at level alpha in block x block blocks; a failure
+ * of the comparison itself is recorded as a test failure. Returns 0 on success. */
+int rt_compare_paired(const check_side *a, const check_side *b, double alpha, int block, check_result *r);
 /* The signed normal-equivalent z of the image-mean luminance test of r. */
 double rt_mean_z(const check_result *r);
+
+/* The expected verdict of `restir check` on side a (freed here) against ref at level alpha
+ * in block x block blocks: records a test failure naming `what` (with the mean z, the worst
+ * block z, the rejected blocks) unless the verdict is "different" exactly when `biased`.
+ * With RESTIR_TEST_VERBOSE prints the numbers. The result goes to *out (the caller frees
+ * it) or is freed when out is NULL. Returns 0 when the verdict is the expected one, 1 when
+ * not, -1 when check_compare failed (*out is then untouched). */
+int rt_expect_verdict(check_side *a, const check_side *ref, double alpha, int block, const char *what, int biased,
+                      check_result *out);
+
+/* A scene and its reference: K path-tracer runs (rt_pt_side with seed `pt_seed`, spp per
+ * run, max_depth) in block x block pixel blocks (block 4), shared by the cases of a test. */
+typedef struct {
+    scene s;
+    check_side pt;
+    int res, block, runs, max_depth;
+} rt_bench;
+/* path NULL: the spot scene. 0 on success (a test failure is recorded otherwise). */
+int rt_bench_open(rt_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth, uint32_t pt_seed);
+void rt_bench_close(rt_bench *b);
+
+/* K sequences first..last of the real-time pipeline (restir_render_sequence), run k with the
+ * seed o->seed + 7919 k, every frame to sink(user, ...); *run0 (may be NULL) receives run 0's
+ * totals. 0 on success (a test failure is recorded otherwise). */
+int rt_sequence_runs(const scene *s, const restir_options *o, int first, int last, int runs, restir_frame_sink sink,
+                     void *user, restir_stats *run0);
+
+#define RT_MAX_TIMES 3
+/* Frames times[0..nt) (ascending) of K sequences 0..times[nt-1]: run k of side[i] is frame
+ * times[i] of run k. */
+typedef struct {
+    int times[RT_MAX_TIMES], nt;
+    check_side side[RT_MAX_TIMES];
+} rt_frame_sides;
+/* Fills q (times and nt set by the caller) by rt_sequence_runs in block x block blocks. */
+int rt_frame_sides_run(const scene *s, const restir_options *o, int runs, int block, rt_frame_sides *q);
+void rt_frame_sides_free(rt_frame_sides *q);
+
+/* restir_options_default, then the spatial-reuse fields the statistical tests vary (seed,
+ * shift, MIS family, K passes, neighbours, radius) and 2 threads. */
+void rt_spatial_options(restir_options *o, uint32_t seed, int shift, int mis, int passes, int neighbors,
+                        double radius);
 
 /* Builds the primary vertex x1 of pixel (x, y) (pixel centre, frame 0). 0 if the ray misses. */
 int rt_primary_vertex(const scene *s, int x, int y, path_vertex *v);

@@ -290,31 +290,21 @@ static int g_first_frame = 0; /* 0, or LAST_FRAME for chains after initial witho
 
 static int pipeline_side(const scene *s, const restir_options *o, int runs, check_side *side)
 {
-    restir_sequence seq;
+    restir_stats total;
     rerror e;
-    int k;
-    memset(&seq, 0, sizeof seq);
-    seq.first = g_first_frame;
-    seq.last = LAST_FRAME;
     if (check_side_begin_runs(side, s->width, s->height, 4, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         return -1;
     }
-    for (k = 0; k < runs; ++k) {
-        restir_options ok = *o;
-        restir_stats total;
-        ok.seed = o->seed + 7919u * (uint32_t)k;
-        if (restir_render_sequence(s, &ok, &seq, keep_last, side, &total, &e)) {
-            test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
-            check_side_free(side);
-            return -1;
-        }
-        if (k == 0 && getenv("RESTIR_TEST_VERBOSE") && o->mutations > 0)
-            fprintf(stderr, "    run 0: %llu pixels, %llu skipped (%llu empty), %llu proposals, %llu accepted\n",
-                    (unsigned long long)total.mutate.pixels, (unsigned long long)total.mutate.skipped,
-                    (unsigned long long)total.mutate.skip[MUTATE_SKIP_EMPTY], (unsigned long long)total.mutate.proposals,
-                    (unsigned long long)total.mutate.accepted);
+    if (rt_sequence_runs(s, o, g_first_frame, LAST_FRAME, runs, keep_last, side, &total)) {
+        check_side_free(side);
+        return -1;
     }
+    if (getenv("RESTIR_TEST_VERBOSE") && o->mutations > 0)
+        fprintf(stderr, "    run 0: %llu pixels, %llu skipped (%llu empty), %llu proposals, %llu accepted\n",
+                (unsigned long long)total.mutate.pixels, (unsigned long long)total.mutate.skipped,
+                (unsigned long long)total.mutate.skip[MUTATE_SKIP_EMPTY], (unsigned long long)total.mutate.proposals,
+                (unsigned long long)total.mutate.accepted);
     if (check_side_end_runs(side, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         check_side_free(side);
@@ -418,9 +408,7 @@ static double expect_paired(const char *path, int res, int runs, const mutate_ca
     scene s;
     restir_options oa, ob;
     check_side a, b;
-    check_options opt;
     check_result c;
-    rerror e;
     double z = 0;
     if (!strcmp(path, "two-tone")) {
         if (make_two_tone(&s, res)) return 0;
@@ -446,12 +434,7 @@ static double expect_paired(const char *path, int res, int runs, const mutate_ca
         scene_free(&s);
         return 0;
     }
-    check_options_default(&opt);
-    opt.alpha = ALPHA;
-    opt.block_size = 4;
-    if (check_compare_paired(&a, &b, &opt, &c, &e)) {
-        test_fail(__FILE__, __LINE__, "check_compare_paired: %s", e.msg);
-    } else {
+    if (rt_compare_paired(&a, &b, ALPHA, 4, &c) == 0) {
         z = rt_mean_z(&c);
         if (getenv("RESTIR_TEST_VERBOSE"))
             fprintf(stderr, "  paired %s %s shift %s %d mutations after %s ablate %s vs none: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks, worst z %.2f\n",

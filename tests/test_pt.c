@@ -627,17 +627,6 @@ TEST(pt_checkpoint_rejects_mismatch_and_corruption)
     scene_free(&s);
 }
 
-static double max_rel_diff(const image *a, const image *b)
-{
-    size_t i, n = 3 * (size_t)a->width * a->height;
-    double worst = 0;
-    for (i = 0; i < n; ++i) {
-        double d = fabs((double)a->px[i] - (double)b->px[i]), m = fmax(fabs((double)a->px[i]), 1e-30);
-        if (d / m > worst) worst = d / m;
-    }
-    return worst;
-}
-
 /* Runs over the sample ranges [0, 5) and [5, 12) merge into the run over [0, 12):
  * from the checkpoint states (double sums) and from the float mean images with counts. */
 TEST(pt_merge_sample_ranges)
@@ -666,9 +655,9 @@ TEST(pt_merge_sample_ranges)
     CHECK(a.state.spp == 12 && a.state.sample_offset == 0);
     CHECKF(pt_state_mean(&a.state, &merged, &e) == 0, "%s", e.msg);
     /* Double sums in another order: equal to float rounding (at most one float ulp). */
-    CHECKF(max_rel_diff(&merged, &whole.mean) <= 1.2e-7, "state merge differs by %g", max_rel_diff(&merged, &whole.mean));
-    CHECKF(max_rel_diff(&merged_means, &whole.mean) <= 4e-7, "mean merge differs by %g",
-           max_rel_diff(&merged_means, &whole.mean));
+    CHECKF(test_image_max_rel_diff(&merged, &whole.mean) <= 1.2e-7, "state merge differs by %g", test_image_max_rel_diff(&merged, &whole.mean));
+    CHECKF(test_image_max_rel_diff(&merged_means, &whole.mean) <= 4e-7, "mean merge differs by %g",
+           test_image_max_rel_diff(&merged_means, &whole.mean));
     /* Overlapping or non-adjacent ranges are refused. */
     CHECK(pt_state_merge(&a.state, &b.state, &e) != 0);
     CHECKF(strstr(e.msg, "not adjacent") != NULL, "%s", e.msg);
