@@ -3,11 +3,13 @@
 #ifndef RESTIR_TESTS_RESTIR_UTIL_H
 #define RESTIR_TESTS_RESTIR_UTIL_H
 
+#include "restir/core/json_text.h"
 #include "restir/metrics/check.h"
 #include "restir/render/pt.h"
 #include "restir/frame/offline.h"
 #include "restir/frame/options.h"
 #include "restir/frame/pipeline.h"
+#include "restir/restir/initial.h"
 #include "restir/restir/shift.h"
 
 /* The name rt_load_scene takes for the generated mirror corridor (generate_corridor). */
@@ -18,9 +20,16 @@
  * 0 on success (a test failure is recorded otherwise). */
 int rt_load_scene(const char *path, int res, scene *s);
 
+/* rt_load_scene, then the scene's light set into *ls (lights_free it). 0 on success (a test
+ * failure is recorded otherwise). */
+int rt_load_scene_lights(const char *path, int res, scene *s, light_set *ls);
+
 /* One side of a comparison (block: the block edge of the per-block tests): K runs of restir_render with disjoint frame ranges
  * [k * frames, (k+1) * frames), images as the runs. */
 int rt_restir_side(const scene *s, const restir_options *o, int runs, int block, check_side *side);
+/* Run k of restir_render with the options `base`: frames [first + k frames, first + (k+1) frames)
+ * (a test failure is recorded if it fails). 0 on success. */
+int rt_restir_run(const scene *s, const restir_options *base, int k, restir_result *r);
 /* K runs of the reference path tracer (disjoint sample ranges of spp each); with
  * indirect_only the run image is PT(max_depth) - PT(2) of the same samples: exactly the
  * paths of length >= 3. */
@@ -35,8 +44,14 @@ int rt_pt_side_at(const scene *s, uint32_t seed, int runs, uint32_t spp, int max
 /* check_compare at level alpha with block x block pixel blocks (the sides' block size);
  * frees both sides. Returns 0 on success. */
 int rt_compare(check_side *a, check_side *b, double alpha, int block, check_result *r);
-/* check_compare_paired of a and b (kept) at level alpha in block x block blocks; a failure
- * of the comparison itself is recorded as a test failure. Returns 0 on success. */
+/* check_options_default with level alpha and, when block > 0, block x block pixel blocks. */
+check_options rt_check_options(double alpha, int block);
+/* check_compare (paired 0) or check_compare_paired (paired 1) of a and b (kept) at level
+ * alpha in block x block blocks; a failure of the comparison itself is recorded as a test
+ * failure. Returns 0 on success. */
+int rt_compare_sides(const check_side *a, const check_side *b, double alpha, int block, int paired,
+                     check_result *r);
+/* rt_compare_sides(a, b, alpha, block, 1, r). */
 int rt_compare_paired(const check_side *a, const check_side *b, double alpha, int block, check_result *r);
 /* The signed normal-equivalent z of the image-mean luminance test of r. */
 double rt_mean_z(const check_result *r);
@@ -77,6 +92,15 @@ typedef struct {
 /* Fills q (times and nt set by the caller) by rt_sequence_runs in block x block blocks. */
 int rt_frame_sides_run(const scene *s, const restir_options *o, int runs, int block, rt_frame_sides *q);
 void rt_frame_sides_free(rt_frame_sides *q);
+
+/* Runs `restir render ARGS --quiet --no-png -o IMG --stats STATS` (both in the scratch
+ * directory, named after `name`), which must exit 0, and opens the stats in *jr (close it
+ * with json_reader_close). 0 on success (a test failure is recorded otherwise). */
+int rt_render_stats(const char *args, const char *name, json_reader *jr);
+
+/* Zeroed initial-sampling options and counters with `trees` path trees per pixel, paths of
+ * at most max_depth segments and Russian roulette from the 3rd vertex. */
+void rt_initial_options(initial_options *io, initial_stats *ist, int trees, int max_depth);
 
 /* restir_options_default, then the spatial-reuse fields the statistical tests vary (seed,
  * shift, MIS family, K passes, neighbours, radius) and 2 threads. */

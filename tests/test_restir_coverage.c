@@ -97,16 +97,10 @@ static void preset_options(restir_options *o, int ablation)
 /* `render --preset gris-offline` echoes defensive pairwise MIS in --stats. */
 TEST(restir_preset_gris_offline_cli_echo)
 {
-    char out[4096];
-    const char *img = test_tmp_path("preset-echo.pfm"), *stats = test_tmp_path("preset-echo.json");
     json_reader jr;
-    rerror e;
-    CHECKF(test_cli(out, sizeof out,
-                    "render scenes/cornell.scene --method restir --preset gris-offline --candidates 1 --size 8x8 "
-                    "--quiet --no-png -o %s --stats %s",
-                    img, stats) == 0,
-           "%s", out);
-    CHECKF(json_reader_open(&jr, stats, &e) == 0, "%s", e.msg);
+    if (rt_render_stats("scenes/cornell.scene --method restir --preset gris-offline --candidates 1 --size 8x8",
+                        "preset-echo", &jr))
+        return;
     CHECKF(strstr(jr.text, "\"mis\": \"pairwise-defensive\"") && strstr(jr.text, "\"spatial_passes\": 3,"), "%s",
            jr.text);
     json_reader_close(&jr);

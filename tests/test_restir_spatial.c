@@ -146,13 +146,7 @@ TEST(restir_spatial_cli_preset_stats_time_limit)
     json_reader_close(&jr);
     CHECK(test_cli(out, sizeof out, "render scenes/cornell.scene --method restir --preset nonsense -o %s", img) == 2);
     /* --time-limit is shared with the path tracer's row and handed to restir */
-    CHECKF(test_cli(out, sizeof out,
-                    "render scenes/cornell.scene --method restir --time-limit 0.1 --size 8x8 --quiet --no-png -o %s "
-                    "--stats %s",
-                    img, stats) == 0,
-           "%s", out);
-    CHECKF(json_reader_open(&jr, stats, &e) == 0, "%s", e.msg);
-    if (test_has_failed()) return;
+    if (rt_render_stats("scenes/cornell.scene --method restir --time-limit 0.1 --size 8x8", "preset", &jr)) return;
     CHECK(strstr(jr.text, "\"time_limit\": 0.1,") && !strstr(jr.text, "\"frames\": 1,\n"));
     json_reader_close(&jr);
     if (rt_load_scene("scenes/cornell.scene", 8, &s)) return;
@@ -186,11 +180,7 @@ static void step_counts_at(const restir_context *c, const scene *s, int cx, int 
     const reservoir *in[STEP_M];
     real u[STEP_M];
     int d, f, exact = 0;
-    memset(&io, 0, sizeof io);
-    memset(&ist, 0, sizeof ist);
-    io.trees = 4;
-    io.max_depth = 5;
-    io.rr_min_depth = 3;
+    rt_initial_options(&io, &ist, 4, 5);
     for (d = 0; d < STEP_M; ++d) {
         int x = cx + dx[d], y = cy + dy[d];
         if (!rt_primary_vertex(s, x, y, &v[d])) return;
@@ -226,8 +216,7 @@ TEST(restir_spatial_step_shift_counts)
     spatial_workspace w;
     rerror e;
     int k, all_exact = 0;
-    if (rt_load_scene("scenes/cornell.scene", 32, &s)) return;
-    CHECKF(lights_build(&lights, &s, &e) == 0, "%s", e.msg);
+    if (rt_load_scene_lights("scenes/cornell.scene", 32, &s, &lights)) return;
     rt_context(&c, &s, &lights, RESTIR_SHIFT_RECONNECTION);
     CHECK(spatial_workspace_alloc(&w, STEP_M, &e) == 0);
     for (k = 0; k < (int)(sizeof centres / sizeof centres[0]) && !test_has_failed(); ++k)
