@@ -44,6 +44,19 @@ TEST(stats_cli_mean_ci_exact)
     CHECKF(!strcmp(out, "2.5 ± 2.1\n"), "output: '%s'", out);
 }
 
+/* The t table of the awk summaries: the quantiles of stats_t_quantile, df = 1..N. */
+TEST(stats_cli_t_table)
+{
+    double t[4];
+    CHECK(test_cli(out, sizeof out, "stats t-table --max-dof 4") == 0);
+    CHECKF(sscanf(out, "%lf %lf %lf %lf", &t[0], &t[1], &t[2], &t[3]) == 4, "output: %s", out);
+    CHECK_NEAR(t[0], 12.706204736174707, 1e-7);
+    CHECK_NEAR(t[2], 3.182446305284263, 1e-8);
+    CHECK_NEAR(t[3], stats_t_quantile(0.975, 4.0), 1e-8);
+    CHECK(test_cli(out, sizeof out, "stats t-table --max-dof 0") == 2);
+    CHECK(test_cli(out, sizeof out, "stats t-table extra") == 2);
+}
+
 TEST(stats_cli_mean_ci_refuses)
 {
     CHECK(mean_ci_cli("", "") == 2);

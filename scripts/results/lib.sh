@@ -14,6 +14,11 @@ defaults() { for kv; do eval ": \"\${${kv%%=*}:=\${kv#*=}}\""; done; }
 # unless FORMAT says otherwise: `restir stats mean-ci` (stats_mean_ci, docs/cli.md), the one
 # implementation of every script. With fewer than two numbers: "—" (the reason on stderr).
 mean_ci() { "$R" stats mean-ci ${1:+--format "$1"} || echo "—"; }
+# t_table: the 0.975 quantiles of Student's t for 1..1000 degrees of freedom on one line, for
+# the awk summaries that compute many intervals at once (awk -v ttable="$(t_table)").
+t_table() { "$R" stats t-table; }
+# summary [AWK OPTIONS] FILE: summary.awk with the t table
+summary() { awk -F, -v ttable="$(t_table)" -f "$SUMMARY" "$@"; }
 # json_value FILE SECTION KEY: a scalar of `check --json` output inside the object SECTION.
 json_value() {
     awk -v sec="\"$2\"" -v key="\"$3\"" '
@@ -64,12 +69,12 @@ ref_mape() { awk '{ print $2 }' "$1.err"; }
 # the markdown table NAME.table.md (mean ± 95% interval over seeds).
 summarise() {
     runs=$1 name=$2 xname=$3
-    awk -F, -v mode=wide -v xname="$xname" -f "$SUMMARY" "$runs" > "$OUT/$name.csv"
-    { awk -F, -v mode=header -v xname="$xname" -f "$SUMMARY" "$runs"
-      awk -F, -v mode=md -f "$SUMMARY" "$runs"; } > "$OUT/$name.table.md"
+    summary -v mode=wide -v xname="$xname" "$runs" > "$OUT/$name.csv"
+    { summary -v mode=header -v xname="$xname" "$runs"
+      summary -v mode=md "$runs"; } > "$OUT/$name.table.md"
     "$R" plot "$OUT/$name.csv" -o "$OUT/$name.svg" --title "$4" --xlabel "$5" --ylabel "$6"
 }
 # paired_ratio RUNS.csv NUM DEN: markdown rows "| x | mean ± hw |" of NUM/DEN per seed
-paired_ratio() { awk -F, -v mode=ratio -v num="$2" -v den="$3" -f "$SUMMARY" "$1"; }
+paired_ratio() { summary -v mode=ratio -v num="$2" -v den="$3" "$1"; }
 # drop RUNS.csv SERIES X1 X2: "mean ± hw" of value(X1)/value(X2) per seed
-drop() { awk -F, -v mode=drop -v num="$2" -v lo="$3" -v hi="$4" -f "$SUMMARY" "$1"; }
+drop() { summary -v mode=drop -v num="$2" -v lo="$3" -v hi="$4" "$1"; }

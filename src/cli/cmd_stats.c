@@ -1,6 +1,8 @@
-/* restir stats mean-ci [FILE]: the mean of the numbers on stdin (or in FILE) and the half-width of its Student t
- * interval, by the library's stats_mean_ci, so the results scripts and the C code report
- * intervals the same way (one implementation instead of an awk t-table per script). */
+/* restir stats mean-ci [FILE]: the mean of the numbers on stdin (or in FILE) and the
+ * half-width of its Student t interval, by the library's stats_mean_ci; restir stats t-table:
+ * the two-sided t quantiles for 1..N degrees of freedom, for the awk summaries that compute
+ * many intervals in one pass. So the results scripts and the C code report intervals the
+ * same way (one implementation instead of an awk t-table per script). */
 #include "cmd_stats.h"
 
 #include <ctype.h>
@@ -19,6 +21,7 @@ static const char help_notes[] =
     "prints their mean and the half-width t_{(1+level)/2, n-1} s / sqrt(n) of the t interval\n"
     "(stats_mean_ci) as FORMAT: text with exactly two conversions %.Ng, %.Nf or %.Ne (N digits,\n"
     "0..17), the mean then the half-width, and %% for a percent sign; a newline follows.\n"
+    "t-table prints t_{(1+level)/2, df} for df = 1..--max-dof on one line (stats_t_quantile).\n"
     "exit status: 0 done, 2 bad usage or bad input (no number, one number, not a number).\n";
 
 static int usage_error(const char *what)
@@ -116,26 +119,42 @@ static int mean_ci(const char *path, double level, const char *format)
     return 0;
 }
 
+/* The two-sided t quantiles of stats_mean_ci for 1..max_dof degrees of freedom. */
+static int t_table(double level, int max_dof)
+{
+    int df;
+    for (df = 1; df <= max_dof; ++df)
+        printf("%s%.9g", df > 1 ? " " : "", stats_t_quantile(0.5 * (1.0 + level), (double)df));
+    putchar('\n');
+    return 0;
+}
+
 int cmd_stats(int argc, char **argv)
 {
     const char *positional[2], *format = DEFAULT_FORMAT;
     double level = 0.95;
-    int status, count;
+    int status, count, max_dof = 1000;
     const cli_option options[] = {
         {"--level", OPT_REAL, &level, "confidence level of the interval, in (0, 1) (default 0.95)", NULL, 0, 1, NULL},
-        {"--format", OPT_STRING, &format, "how to print mean and half-width (default '" DEFAULT_FORMAT "')", NULL, 0,
-         0, NULL},
+        {"--format", OPT_STRING, &format, "mean-ci: how to print mean and half-width (default '" DEFAULT_FORMAT "')",
+         NULL, 0, 0, NULL},
+        {"--max-dof", OPT_INT, &max_dof, "t-table: the largest degrees of freedom (default 1000)", NULL, 1, 100000,
+         NULL},
         {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
     };
     status = cli_parse("stats", argc, argv, options, positional, 2, &count);
     if (status == 1) {
-        cli_print_help(stdout, "stats", "mean-ci [FILE] [options]   (numbers from FILE, else stdin)", options);
+        cli_print_help(stdout, "stats", "mean-ci [FILE] [options]   (numbers from FILE, else stdin) | t-table [options]",
+                       options);
         fputs(help_notes, stdout);
         return 0;
     }
     if (status) return status;
-    if (count < 1 || strcmp(positional[0], "mean-ci")) return usage_error("expected `mean-ci [FILE]`");
+    if (count < 1 || (strcmp(positional[0], "mean-ci") && strcmp(positional[0], "t-table")) ||
+        (!strcmp(positional[0], "t-table") && count > 1))
+        return usage_error("expected `mean-ci [FILE]` or `t-table`");
     if (!(level > 0.0 && level < 1.0)) return usage_error("--level must lie strictly between 0 and 1");
+    if (!strcmp(positional[0], "t-table")) return t_table(level, max_dof);
     if (!format_is_safe(format))
         return usage_error("--format needs exactly two conversions %.Ng, %.Nf or %.Ne (N = 0..17), mean first");
     return mean_ci(count > 1 ? positional[1] : NULL, level, format);
