@@ -14,6 +14,7 @@
 #include "restir/core/pfm.h"
 #include "restir/core/vec.h"
 #include "restir/metrics/bias_runs.h"
+#include "restir/metrics/stats.h"
 
 static const char usage[] =
     "usage: restir compare --bias RUN.pfm... --ref REF.pfm [options]\n"
@@ -133,17 +134,13 @@ static double run_nmse(const image *img, const image *ref, const bias_args *a, c
     return den > 0 ? num / den : 0;
 }
 
+/* Mean and 95% t half-width over the n runs (stats_mean_ci; 0 with one run). */
 static void mean_t95(const double *v, int n, double *mean, double *half)
 {
-    double s = 0, s2 = 0, var;
-    int i;
-    for (i = 0; i < n; ++i) {
-        s += v[i];
-        s2 += v[i] * v[i];
-    }
-    *mean = s / n;
-    var = n > 1 ? (s2 - n * *mean * *mean) / (n - 1) : 0;
-    *half = 1.96 * sqrt(var > 0 ? var / n : 0);
+    double var, lo, hi;
+    stats_mean_var(v, n, mean, &var);
+    stats_mean_ci(stats_estimate_from_samples(*mean, var, n), 0.95, &lo, &hi);
+    *half = 0.5 * (hi - lo);
 }
 
 static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)

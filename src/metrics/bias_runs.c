@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include "restir/core/rng.h"
+#include "restir/metrics/stats.h"
 
 /* mean_j |mean over the chosen runs of b_kj - r_j| / r_j; pick[k] = run used as draw k. */
 static double mean_abs_rel(const double *run_block, const double *ref, const double *weight, int runs, long blocks,
@@ -22,14 +23,9 @@ static double mean_abs_rel(const double *run_block, const double *ref, const dou
     return n ? sum / (double)n : 0;
 }
 
-/* The 95% t quantile for n - 1 degrees of freedom (normal beyond 30). */
-static double t95(int n)
-{
-    static const double t[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
-                               2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
-                               2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045};
-    return n - 2 < (int)(sizeof t / sizeof t[0]) && n >= 2 ? t[n - 2] : 1.96;
-}
+/* The two-sided 95% t quantile for n - 1 degrees of freedom (stats_t_quantile, as every
+ * interval of the statistics code and of the results scripts). */
+static double t95(int n) { return n >= 2 ? stats_t_quantile(0.975, n - 1.0) : 1.96; }
 
 static int cmp_double(const void *a, const void *b)
 {
