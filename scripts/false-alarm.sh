@@ -14,26 +14,13 @@
 # configuration: rejections of the image-mean part, of the block part, and of the verdict,
 # each with its Wilson 95% interval. Run it with `nice -n 10`; not part of `make test`.
 set -eu
-OUT=${1:-out/false-alarm}
-R=${2:-build}/restir
-SEEDS=${SEEDS:-40}
-SIZE=${SIZE:-24}
-RUNS=${RUNS:-8}
-SCENE=${SCENE:-scenes/cornell.scene}
-PT_SPP=${PT_SPP:-64}
+. "$(dirname "$0")/results/lib.sh"
+results_init out/false-alarm "$@"
+defaults SEEDS=40 SIZE=24 RUNS=8 SCENE=scenes/cornell.scene PT_SPP=64 THREADS=1
 RESTIR_ARGS=${RESTIR_ARGS:-}
-THREADS=${THREADS:-1}
 CHECK_ARGS=${CHECK_ARGS:-}
-mkdir -p "$OUT"
 LOG="$OUT/checks.txt"
 : > "$LOG"
-
-# json_value FILE SECTION KEY: a scalar of `check --json` output inside the object SECTION.
-json_value() {
-    awk -v sec="\"$2\"" -v key="\"$3\"" '
-        index($0, sec ":") { inside = 1 }
-        inside && index($0, key ":") { s = substr($0, index($0, key ":") + length(key) + 1); sub(/^ */, "", s); sub(/[,}].*$/, "", s); print s; exit }' "$1"
-}
 
 # moments_only PREFIX OUT_PREFIX: the same file set without the per-run block means.
 moments_only() {

@@ -11,27 +11,13 @@
 # measured standard errors: b80 = (t_{1-alpha/4,nu} + t_{0.8,nu}) se / mean (mean over
 # seeds; t by the Cornish-Fisher expansion). Run it with `nice -n 10`; not in `make test`.
 set -eu
-OUT=${1:-out/power}
-R=${2:-build}/restir
-SEEDS=${SEEDS:-10}
-SIZES=${SIZES:-16 32 64}
-KS=${KS:-4 8 16}
-BIASES=${BIASES:-0.5 1 2 4 8 16 32}
-PASSES=${PASSES:-3}
-PT_SPP=${PT_SPP:-64}
-SCENE=${SCENE:-scenes/cornell.scene}
-ALPHA=${ALPHA:-0.01}
-THREADS=${THREADS:-1}
-mkdir -p "$OUT"
+. "$(dirname "$0")/results/lib.sh"
+results_init out/power "$@"
+defaults SEEDS=10 "SIZES=16 32 64" "KS=4 8 16" "BIASES=0.5 1 2 4 8 16 32" PASSES=3 PT_SPP=64 SCENE=scenes/cornell.scene
+defaults ALPHA=0.01 THREADS=1
 LOG="$OUT/power.txt"
 : > "$LOG"
 
-# json_value FILE SECTION KEY: a scalar of `check --json` output inside the object SECTION.
-json_value() {
-    awk -v sec="\"$2\"" -v key="\"$3\"" '
-        index($0, sec ":") { inside = 1 }
-        inside && index($0, key ":") { s = substr($0, index($0, key ":") + length(key) + 1); sub(/^ */, "", s); sub(/[,}].*$/, "", s); print s; exit }' "$1"
-}
 # se of side X ("a" or "b") of the image mean
 side_se() { grep "\"$2\": {\"source\"" "$1" | sed 's/.*"se": \([^,]*\),.*/\1/'; }
 

@@ -19,31 +19,14 @@
 #       a = 0, 1, 2, 3 frames old (--aov age), single vs dual motion vectors;
 #   (e) heat maps (--aov duplicates, seed 1, frame LAST) and |mean - ref| / ref maps.
 set -eu
-OUT=${1:-out/results-correlation}
-R=${2:-build}/restir
-SIZE=${SIZE:-48}
-K=${K:-256}
-LAST=${LAST:-16}
-BLOCK=${BLOCK:-4}
-THREADS=${THREADS:-2}
-REF_SPP=${REF_SPP:-32768}
-SCENE=${SCENE:-scenes/pillars.scene}
-FIGS=${FIGS:-docs/results}
-TMP="$OUT/tmp"
+. "$(dirname "$0")/results/lib.sh"
+results_init out/results-correlation "$@"
+defaults SIZE=48 K=256 LAST=16 BLOCK=4 THREADS=2 REF_SPP=32768 SCENE=scenes/pillars.scene FIGS=docs/results
 mkdir -p "$TMP" "$FIGS"
 F=$(printf %04d "$LAST")
 PRESET="--method restir --preset gris-realtime --sequence 0..$LAST"
 
 render() { "$R" render "$SCENE" "$@" --size "${SIZE}x${SIZE}" --threads "$THREADS" --quiet --no-png; }
-mean_ci() {
-    awk '{ x[NR] = $1; s += $1 } END {
-        n = NR; m = s / n; v = 0
-        for (i = 1; i <= n; ++i) v += (x[i] - m) ^ 2
-        v = n > 1 ? v / (n - 1) : 0
-        split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262", t, " ")
-        q = n - 1 <= 9 ? t[n - 1] : 1.96
-        printf "%.4g ± %.2g\n", m, (n > 1 ? q * sqrt(v / n) : 0) }'
-}
 pct() { awk -v x="$1" 'BEGIN { printf "%.2f", 100 * x }'; }
 
 # configurations: name and options (the baseline is unbiased real-time ReSTIR PT)

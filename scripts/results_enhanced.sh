@@ -29,25 +29,12 @@
 # adds "+ light RIS (§6.1)" on top of the last row; ENH_EXTRA="--light-ris 32 --light-tiles"
 # adds it to the Enhanced configuration of PART=equaltime (ET_SCENES to add the scene).
 set -eu
-OUT=${1:-out/results-enhanced}
-R=${2:-build}/restir
-SIZE=${SIZE:-256}
-THREADS=${THREADS:-2}
-SEEDS=${SEEDS:-1 2 3}
-SCENES=${SCENES:-scenes/cornell-glossy.scene}
-PART=${PART:-all}
-mkdir -p "$OUT"
+. "$(dirname "$0")/results/lib.sh"
+results_init out/results-enhanced "$@"
+defaults SIZE=256 THREADS=2 "SEEDS=1 2 3" SCENES=scenes/cornell-glossy.scene PART=all
 
-mean_ci() { # [decimals]
-    awk -v d="${1:-1}" '{ x[NR] = $1; s += $1 } END {
-        n = NR; m = s / n; v = 0
-        for (i = 1; i <= n; ++i) v += (x[i] - m) ^ 2
-        v = n > 1 ? v / (n - 1) : 0
-        split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262", t, " ")
-        q = n - 1 <= 9 ? t[n - 1] : 1.96
-        h = n > 1 ? q * sqrt(v / n) : 0
-        printf("%." d "f ± %." d "f", m, h) }'
-}
+# mean_fixed [DECIMALS]: mean_ci (lib.sh) with DECIMALS (default 1) after the point
+mean_fixed() { mean_ci "%.${1:-1}f ± %.${1:-1}f"; }
 # stage NAME of a --stats file: gbuffer, initial, spatial (pass 0), shade
 stage() {
     sed -n 's/.*"milliseconds": {\(.*\)}.*/\1/p' "$2" | head -1 | tr ',' '\n' | tr -d ' "[]' |
@@ -83,8 +70,8 @@ for scene in $SCENES; do
             echo "$g $i $p $h" >>"$OUT/$name.rows"
         done
         cols=""
-        for c in 1 2 3 4; do cols="$cols | $(awk -v c=$c '{ print $c }' "$OUT/$name.rows" | mean_ci)"; done
-        total=$(awk '{ print $1 + $2 + $3 + $4 }' "$OUT/$name.rows" | mean_ci)
+        for c in 1 2 3 4; do cols="$cols | $(awk -v c=$c '{ print $c }' "$OUT/$name.rows" | mean_fixed)"; done
+        total=$(awk '{ print $1 + $2 + $3 + $4 }' "$OUT/$name.rows" | mean_fixed)
         mean_total=$(awk '{ s += $1 + $2 + $3 + $4 } END { print s / NR }' "$OUT/$name.rows")
         [ -n "$base_total" ] || base_total=$mean_total
         ratio=$(awk -v a="$mean_total" -v b="$base_total" 'BEGIN { printf "%.2f", a / b }')
@@ -133,9 +120,9 @@ if [ "$PART" = all ] || [ "$PART" = pairs ]; then
                     print d, n, p, $3 / K, $6 / K, $8 / K, 1, d / n, d / p }' >>"$OUT/pairs.rows"
             done
             row() { # label, ms column, shifts column, ratio column
-                echo "| $nb | $1 | $(awk -v c="$2" '{ print $c }' "$OUT/pairs.rows" | mean_ci) |" \
+                echo "| $nb | $1 | $(awk -v c="$2" '{ print $c }' "$OUT/pairs.rows" | mean_fixed) |" \
                     "$(awk -v c="$3" '{ s += $c } END { printf "%.2f", s / NR }' "$OUT/pairs.rows") |" \
-                    "$(awk -v c="$4" '{ print $c }' "$OUT/pairs.rows" | mean_ci 2) |"
+                    "$(awk -v c="$4" '{ print $c }' "$OUT/pairs.rows" | mean_fixed 2) |"
             }
             row "disk (r2)" 1 4 7
             row "paired, per-pixel step (--no-pair-step)" 2 5 8
@@ -202,7 +189,7 @@ rc_stats() {
           rc = num(so, "rc_earlier") + num(so, "rc_prev") + num(so, "rc_roughness") + num(so, "rc_distance") + num(so, "rc_footprint")
           printf "%.4f %.4f %.3f %.4f\n", idx[3] / sel, idx[1] / sel, (rec > 0 ? sk / rec : 0), (sh > 0 ? rc / sh : 0) }'
 }
-col() { awk -v c="$1" '{ print $c }' "$2" | mean_ci "${3:-4}"; }
+col() { awk -v c="$1" '{ print $c }' "$2" | mean_fixed "${3:-4}"; }
 
 # ---- Table 1 in CPU time: the real-time pipeline, per stage (Enhanced Table 1) -----------
 # --preset gris-realtime (1 path tree, temporal reuse with cap 20, 1 spatial pass of 3

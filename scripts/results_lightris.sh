@@ -11,30 +11,13 @@
 # own relMSE is estimated from its two halves: relMSE(half 1, half 2) / 4.
 # Then the light-selection cost from `restir bench restir --light-ris 32 [--light-tiles]`.
 set -eu
-OUT=${1:-out/results-lightris}
-R=${2:-build}/restir
-SIZE=${SIZE:-48}
-DEPTH=${DEPTH:-3}
-SPP=${SPP:-16}
-SEEDS=${SEEDS:-5}
-REF_SPP=${REF_SPP:-2048}
-THREADS=${THREADS:-2}
+. "$(dirname "$0")/results/lib.sh"
+results_init out/results-lightris "$@"
+defaults SIZE=48 DEPTH=3 SPP=16 SEEDS=5 REF_SPP=2048 THREADS=2
 SCENE=scenes/many-lights.scene
-TMP="$OUT/tmp"
 mkdir -p "$TMP"
 
 render() { "$R" render "$SCENE" --size "${SIZE}x${SIZE}" --max-depth "$DEPTH" --threads "$THREADS" --quiet --no-png "$@"; }
-mean_ci() {
-    awk '{ x[NR] = $1; s += $1 } END {
-        n = NR; if (n == 0) { print "—"; exit }
-        m = s / n; v = 0
-        for (i = 1; i <= n; ++i) v += (x[i] - m) ^ 2
-        v = n > 1 ? v / (n - 1) : 0
-        split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262 2.228", t, " ")
-        q = n - 1 <= 10 ? t[n - 1] : 1.96
-        h = n > 1 ? q * sqrt(v / n) : 0
-        printf "%.4g ± %.2g\n", m, h }'
-}
 relmse() { "$R" compare "$1" "$2" | awk '$1 == "relmse" { print $2 }'; }
 seconds() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["pt"]["seconds"])' "$1"; }
 

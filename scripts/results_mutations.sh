@@ -11,31 +11,12 @@
 #     the frame time without the mutation stage, within each run (robust to machine load);
 #   table 2, the M-cap (Fig. 11): --mcap 20 and 100 with 0 and 5 rv mutations, frames 0..LAST2.
 set -eu
-OUT=${1:-out/results-mutations}
-R=${2:-build}/restir
-SIZE=${SIZE:-48}
-THREADS=${THREADS:-2}
-LAST=${LAST:-3}
-LAST2=${LAST2:-5}
-GROUPS=${GROUPS:-4}
-PER_GROUP=${PER_GROUP:-4}
-REF_SPP=${REF_SPP:-4096}
-SCENES=${SCENES:-"cornell-glossy"}
-TMP="$OUT/tmp"
+. "$(dirname "$0")/results/lib.sh"
+results_init out/results-mutations "$@"
+defaults SIZE=48 THREADS=2 LAST=3 LAST2=5 GROUPS=4 PER_GROUP=4 REF_SPP=4096 SCENES=cornell-glossy
 mkdir -p "$TMP"
 
 render() { "$R" render "$@" --size "${SIZE}x${SIZE}" --threads "$THREADS" --quiet --no-png; }
-mean_ci() {
-    awk '{ x[NR] = $1; s += $1 } END {
-        n = NR; if (n == 0) { print "—"; exit }
-        m = s / n; v = 0
-        for (i = 1; i <= n; ++i) v += (x[i] - m) ^ 2
-        v = n > 1 ? v / (n - 1) : 0
-        split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262 2.228 2.201 2.179 2.160 2.145 2.131 2.120 2.110 2.101 2.093 2.086 2.080 2.074 2.069", t, " ")
-        q = n - 1 <= 23 ? t[n - 1] : 1.96
-        h = n > 1 ? q * sqrt(v / n) : 0
-        printf "%.4g ± %.2g\n", m, h }'
-}
 # acceptance, T = 0 rejections / proposals, duplicates / valid, frame ms (the last frame's stats)
 stats() {
     python3 - "$1" <<'PY'

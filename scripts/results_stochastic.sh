@@ -15,32 +15,13 @@
 #       frame), gris-realtime with its r2 pairwise-defensive spatial pass vs the same with
 #       stochastic pairwise over cells, relMSE per frame against a per-frame reference.
 set -eu
-OUT=${1:-out/results-stochastic}
-R=${2:-build}/restir
-SIZE=${SIZE:-64}
-SEQ_SIZE=${SEQ_SIZE:-32}
-SEQ_LAST=${SEQ_LAST:-8}
-THREADS=${THREADS:-2}
-REF_SPP=${REF_SPP:-4096}
-SEQ_REF_SPP=${SEQ_REF_SPP:-1024}
-SEEDS=${SEEDS:-1 2 3 4 5}
-CROP=${CROP:-8,44,48,16}
+. "$(dirname "$0")/results/lib.sh"
+results_init out/results-stochastic "$@"
+defaults SIZE=64 SEQ_SIZE=32 SEQ_LAST=8 THREADS=2 REF_SPP=4096 SEQ_REF_SPP=1024 "SEEDS=1 2 3 4 5" CROP=8,44,48,16
 SCENE=scenes/cornell.scene
-TMP="$OUT/tmp"
 mkdir -p "$TMP"
 
 render() { "$R" render "$@" --threads "$THREADS" --quiet --no-png; }
-metric() { "$R" compare "$2" "$3" $4 | awk -v m="$1" '$1 == m { print $2 }'; }
-mean_ci() {
-    awk '{ x[NR] = $1; s += $1 } END {
-        n = NR; m = s / n; v = 0
-        for (i = 1; i <= n; ++i) v += (x[i] - m) ^ 2
-        v = n > 1 ? v / (n - 1) : 0
-        split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262", t, " ")
-        q = n - 1 <= 9 ? t[n - 1] : 1.96
-        h = n > 1 ? q * sqrt(v / n) : 0
-        printf "%.4g ± %.2g\n", m, h }'
-}
 # luminances of a PFM, one per line (od reads the little-endian floats after the header)
 lum() {
     hdr=$(head -n 3 "$1" | wc -c)

@@ -10,15 +10,10 @@
 # correlation run's directory can be reused as OUT_DIR/tmp. Prints a markdown section; with
 # UPDATE_DOCS=1 it replaces the stochastic-disocclusion section of docs/results.md.
 set -eu
-OUT=${1:-out/results-correlation}
-R=${2:-build}/restir
-SIZE=${SIZE:-48}
-K=${K:-256}
-LAST=${LAST:-16}
-REF_SPP=${REF_SPP:-32768}
-THREADS=${THREADS:-2}
+. "$(dirname "$0")/results/lib.sh"
+results_init out/results-correlation "$@"
+defaults SIZE=48 K=256 LAST=16 REF_SPP=32768 THREADS=2
 SCENE=scenes/pillars.scene
-TMP="$OUT/tmp"
 mkdir -p "$TMP"
 F=$(printf %04d "$LAST")
 PRESET="--method restir --preset gris-realtime --sequence 0..$LAST"

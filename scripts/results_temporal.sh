@@ -10,31 +10,12 @@
 #       independent frames of the same pipeline without temporal reuse (GRIS §6.5), at
 #       equal time (seconds from the renders' own --stats).
 set -eu
-OUT=${1:-out/results-temporal}
-R=${2:-build}/restir
-SIZE=${SIZE:-32}
-THREADS=${THREADS:-2}
-REF_SPP=${REF_SPP:-16384}
-FRAMES=${FRAMES:-256}
-SEEDS=${SEEDS:-1 2 3 4 5}
-SCENE=${SCENE:-scenes/cornell.scene}
-mkdir -p "$OUT"
-TMP="$OUT/tmp"
+. "$(dirname "$0")/results/lib.sh"
+results_init out/results-temporal "$@"
+defaults SIZE=32 THREADS=2 REF_SPP=16384 FRAMES=256 "SEEDS=1 2 3 4 5" SCENE=scenes/cornell.scene
 mkdir -p "$TMP"
 
-metric() { "$R" compare "$2" "$3" | awk -v m="$1" '$1 == m { print $2 }'; }
 render() { "$R" render "$@" --size "${SIZE}x${SIZE}" --threads "$THREADS" --quiet --no-png; }
-# mean and 95% t half-width of the numbers on stdin ("mean halfwidth")
-mean_ci() {
-    awk '{ x[NR] = $1; s += $1 } END {
-        n = NR; m = s / n; v = 0
-        for (i = 1; i <= n; ++i) v += (x[i] - m) ^ 2
-        v = n > 1 ? v / (n - 1) : 0
-        split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262", t, " ")
-        q = n - 1 <= 9 ? t[n - 1] : 1.96
-        h = n > 1 ? q * sqrt(v / n) : 0
-        printf "%.6g %.3g\n", m, h }'
-}
 FRAME_POINTS=""
 t=1
 while [ "$t" -le "$FRAMES" ]; do FRAME_POINTS="$FRAME_POINTS $t"; t=$((t * 2)); done
@@ -53,11 +34,11 @@ sequence() {
 }
 # relmse_at NAME T METRIC: "mean halfwidth" over seeds of METRIC of the T-frame average
 metric_at() {
-    for seed in $SEEDS; do metric "$3" "$TMP/$1.$seed.$(printf %04d $(($2 - 1))).pfm" "$REF"; done | mean_ci
+    for seed in $SEEDS; do metric "$3" "$TMP/$1.$seed.$(printf %04d $(($2 - 1))).pfm" "$REF"; done | mean_ci "%.6g %.3g"
 }
 seconds_per_frame() {
     for seed in $SEEDS; do grep -o '"render": [0-9.e+-]*' "$TMP/$1.$seed.json" | awk -v f="$FRAMES" '{ print $2 / f }'; done |
-        mean_ci | awk '{ print $1 }'
+        mean_ci "%.6g %.3g" | awk '{ print $1 }'
 }
 
 # ---- (a) GRIS Fig. 9a -------------------------------------------------------------------------

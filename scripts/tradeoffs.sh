@@ -167,9 +167,9 @@ metric_rows() { # KNOB SCENE
 # per-seed ratios to the knob's baseline, geometric mean over scenes and seeds with a 95% t
 # interval on the log: "| label | time ratio | relMSE ratio | efficiency ratio |"
 ratio_table() { # KNOB
-    awk -F, -v k="$1" '
-        BEGIN { split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262 2.228 2.201 2.179 2.160 2.145 2.131 2.120 2.110 2.101 2.093 2.086", T, " ") }
-        function tq(df) { return df <= 20 ? T[df] : 1.96 + 2.4 / df }
+    awk -F, -v k="$1" -v ttable="$(t_table)" '
+        BEGIN { NT = split(ttable, T, " ") }
+        function tq(df) { return df <= NT ? T[df] : T[NT] }
         function gm(s, q, n,    m, v, h) {
             if (n < 1) return "–"
             m = s / n; if (n < 2) return sprintf("%.3g", exp(m))
@@ -242,8 +242,8 @@ section="$OUT/tradeoffs.section.md"
             echo
             echo "**$sc**"
             echo
-            awk -F, -v mode=header -v xname=configuration -f "$SUMMARY" "$TMP/knob.csv"
-            awk -F, -v mode=md -f "$SUMMARY" "$TMP/knob.csv"
+            summary -v mode=header -v xname=configuration "$TMP/knob.csv"
+            summary -v mode=md "$TMP/knob.csv"
         done
     done
 } > "$section"

@@ -1,50 +1,12 @@
 /* Test helpers (tests/pt_util.h). */
 #include "pt_util.h"
+#include "chi2.h"
 #include "test.h"
+#include "restir/core/pfm.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Regularised lower incomplete gamma P(a, x) by its power series, for x < a + 1. */
-static double gamma_p_series(double a, double x)
-{
-    double term = 1.0 / a, sum = term, n;
-    for (n = 1; n < 1000; ++n) {
-        term *= x / (a + n);
-        sum += term;
-        if (fabs(term) < fabs(sum) * 1e-15) break;
-    }
-    return sum * exp(-x + a * log(x) - lgamma(a));
-}
-
-/* Regularised upper incomplete gamma Q(a, x) by its continued fraction (modified
- * Lentz evaluation), for x >= a + 1. */
-static double gamma_q_fraction(double a, double x)
-{
-    const double tiny = 1e-300;
-    double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d, i;
-    for (i = 1; i < 1000; ++i) {
-        double an = -i * (i - a), delta;
-        b += 2;
-        d = an * d + b;
-        if (fabs(d) < tiny) d = tiny;
-        c = b + an / c;
-        if (fabs(c) < tiny) c = tiny;
-        d = 1 / d;
-        delta = d * c;
-        h *= delta;
-        if (fabs(delta - 1) < 1e-15) break;
-    }
-    return exp(-x + a * log(x) - lgamma(a)) * h;
-}
-
-double chi2_upper_tail(double x, double dof)
-{
-    double a = dof / 2, hx = x / 2;
-    if (x <= 0) return 1;
-    return hx < a + 1 ? 1 - gamma_p_series(a, hx) : gamma_q_fraction(a, hx);
-}
 
 double normal_two_sided_p(double z) { return erfc(fabs(z) / sqrt(2.0)); }
 
@@ -76,7 +38,7 @@ double chi2_test(const double *observed, const double *expected, size_t n, doubl
     }
     if (chi2_out) *chi2_out = chi2;
     if (dof_out) *dof_out = cells - 1;
-    return cells > 1 ? chi2_upper_tail(chi2, cells - 1) : 1;
+    return cells > 1 ? chi2_survival(chi2, cells - 1) : 1;
 }
 
 int test_scene_begin(scene *s, size_t max_triangles, size_t max_materials)
@@ -224,4 +186,56 @@ int test_scene_furnace_sphere(scene *s, rgb le, rgb rho, int res)
     }
     test_scene_camera(s, v3((real)0.1, (real)0.2, 0), v3((real)0.3, (real)0.1, 1), v3(0, 1, 0), 100, res);
     return 0;
+}
+
+double test_image_max_rel_diff(const image *a, const image *b)
+{
+    size_t i, n = 3 * (size_t)a->width * a->height;
+    double worst = 0;
+    for (i = 0; i < n; ++i) {
+        double d = fabs((double)a->px[i] - (double)b->px[i]), m = fmax(fabs((double)a->px[i]), 1e-30);
+        if (d / m > worst) worst = d / m;
+    }
+    return worst;
+}
+
+void test_pt_options(pt_options *o, uint32_t seed, uint32_t spp, int max_depth)
+{
+    pt_options_default(o);
+    o->seed = seed;
+    o->spp = spp;
+    o->max_depth = max_depth;
+    o->threads = 2;
+}
+
+int test_pt_render(const scene *s, const pt_options *o, pt_result *r)
+{
+    rerror e;
+    if (pt_render(s, o, r, &e)) {
+        test_fail(__FILE__, __LINE__, "pt_render: %s", e.msg);
+        return -1;
+    }
+    return 0;
+}
+
+int test_write_runs(char *list, size_t size, int width, int height, int runs, const char *stem,
+                    test_run_image_fn make, void *user)
+{
+    image img;
+    rerror e;
+    int k;
+    size_t used = 0;
+    if (image_alloc(&img, width, height, &e)) return -1;
+    list[0] = '\0';
+    for (k = 0; k < runs; ++k) {
+        char name[128];
+        const char *path;
+        snprintf(name, sizeof name, "%s%d.pfm", stem, k);
+        path = test_tmp_path(name);
+        make(user, k, &img);
+        if (pfm_write(path, &img, &e) || used + strlen(path) + 2 > size) break;
+        used += (size_t)snprintf(list + used, size - used, "%s%s", k ? " " : "", path);
+    }
+    image_free(&img);
+    return k < runs ? -1 : 0;
 }

@@ -1,13 +1,14 @@
-/* Helpers shared by the light and path-tracer tests: small statistics (chi-square
- * and normal tail probabilities) and in-memory scene construction. */
+/* Helpers shared by the light and path-tracer tests: small statistics (chi-square test,
+ * normal tail probability; the chi-square tail is chi2.h's), in-memory scene construction,
+ * path-tracer options and runs, run images written as files. */
 #ifndef RESTIR_TESTS_PT_UTIL_H
 #define RESTIR_TESTS_PT_UTIL_H
 
 #include <stddef.h>
+#include "restir/core/image.h"
+#include "restir/render/pt.h"
 #include "restir/scene/scene.h"
 
-/* Upper tail P(X >= x) of a chi-square variable with `dof` degrees of freedom. */
-double chi2_upper_tail(double x, double dof);
 /* Two-sided normal tail P(|Z| >= |z|). */
 double normal_two_sided_p(double z);
 
@@ -40,6 +41,19 @@ void test_scene_scale(scene *s, float k);
  * L_D = Le (1 - rho^D) / (1 - rho) everywhere for paths of at most D segments; the camera
  * sits inside. Unprepared. */
 int test_scene_furnace_sphere(scene *s, rgb le, rgb rho, int res);
+/* pt_options_default with the given seed, samples per pixel, longest path and 2 threads. */
+void test_pt_options(pt_options *o, uint32_t seed, uint32_t spp, int max_depth);
+/* pt_render, recording a test failure with its message; 0 on success. */
+int test_pt_render(const scene *s, const pt_options *o, pt_result *r);
+/* Makes run k of a side (img is allocated at the side's size). */
+typedef void (*test_run_image_fn)(void *user, int k, image *img);
+/* Writes `runs` images make(user, k, img) of width x height as scratch files STEMk.pfm and
+ * lists their paths, separated by spaces, in list (of `size` bytes). 0 on success. */
+int test_write_runs(char *list, size_t size, int width, int height, int runs, const char *stem,
+                    test_run_image_fn make, void *user);
+/* The largest relative difference |a - b| / max(|a|, 1e-30) over every pixel and channel
+ * (a and b of the same size). */
+double test_image_max_rel_diff(const image *a, const image *b);
 /* scene_prepare, recording a test failure with its message; returns nonzero on failure. */
 int test_scene_prepare(scene *s);
 

@@ -2,6 +2,8 @@
 #include "pt_util.h"
 #include "restir_util.h"
 
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "restir/render/camera.h"
 #include "restir/render/gbuffer.h"
@@ -10,6 +12,7 @@
 #include "test.h"
 #include "restir/scene/scene_trace.h"
 #include "restir/frame/options.h"
+#include "restir/frame/pipeline.h"
 
 int rt_load_scene(const char *path, int res, scene *s)
 {
@@ -30,6 +33,17 @@ int rt_load_scene(const char *path, int res, scene *s)
         return -1;
     }
     s->width = s->height = res;
+    return 0;
+}
+
+int rt_load_scene_lights(const char *path, int res, scene *s, light_set *ls)
+{
+    rerror e;
+    if (rt_load_scene(path, res, s)) return -1;
+    if (lights_build(ls, s, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
     return 0;
 }
 
@@ -63,28 +77,19 @@ static int side_end(check_side *side)
     return 0;
 }
 
-int rt_restir_side(const scene *s, const restir_options *o, int runs, int block, check_side *side)
+/* Adds run k of a side to it. */
+typedef int (*side_run_fn)(const scene *s, const void *ctx, int k, check_side *side);
+
+/* A side of `runs` runs made by run(s, ctx, k, side); freed on a failure. */
+static int side_of_runs(const scene *s, int runs, int block, side_run_fn run, const void *ctx, check_side *side)
 {
     int k;
     if (side_begin(s, block, side)) return -1;
-    for (k = 0; k < runs; ++k) {
-        restir_options ok = *o;
-        restir_result r;
-        rerror e;
-        int status;
-        ok.first_frame = o->first_frame + k * o->frames;
-        if (restir_render(s, &ok, &r, &e)) {
-            test_fail(__FILE__, __LINE__, "restir_render: %s", e.msg);
+    for (k = 0; k < runs; ++k)
+        if (run(s, ctx, k, side)) {
             check_side_free(side);
             return -1;
         }
-        status = side_add(side, &r.mean);
-        restir_result_free(&r);
-        if (status) {
-            check_side_free(side);
-            return -1;
-        }
-    }
     if (side_end(side)) {
         check_side_free(side);
         return -1;
@@ -92,47 +97,70 @@ int rt_restir_side(const scene *s, const restir_options *o, int runs, int block,
     return 0;
 }
 
-static int pt_run(const scene *s, uint32_t seed, uint32_t offset, uint32_t spp, int depth, int frame, pt_result *r)
+/* Run k of restir_render into the side. */
+int rt_restir_run(const scene *s, const restir_options *base, int k, restir_result *r)
 {
-    pt_options o;
+    restir_options o = *base;
     rerror e;
-    pt_options_default(&o);
-    o.frame = frame;
-    o.seed = seed;
-    o.sample_offset = offset;
-    o.spp = spp;
-    o.max_depth = depth;
-    o.threads = 2;
-    if (pt_render(s, &o, r, &e)) {
-        test_fail(__FILE__, __LINE__, "pt_render: %s", e.msg);
+    o.first_frame = base->first_frame + k * base->frames;
+    if (restir_render(s, &o, r, &e)) {
+        test_fail(__FILE__, __LINE__, "restir_render: %s", e.msg);
         return -1;
     }
     return 0;
 }
 
+static int restir_run(const scene *s, const void *ctx, int k, check_side *side)
+{
+    restir_result r;
+    int status;
+    if (rt_restir_run(s, ctx, k, &r)) return -1;
+    status = side_add(side, &r.mean);
+    restir_result_free(&r);
+    return status;
+}
+
+int rt_restir_side(const scene *s, const restir_options *o, int runs, int block, check_side *side)
+{
+    return side_of_runs(s, runs, block, restir_run, o, side);
+}
+
+typedef struct {
+    pt_options base;
+    int indirect_only;
+} pt_side_ctx;
+
+/* Run k of the path tracer: the samples [offset + k spp, offset + (k+1) spp); indirect_only:
+ * minus the same samples' paths of at most 2 segments. */
+static int pt_run(const scene *s, const void *ctx, int k, check_side *side)
+{
+    const pt_side_ctx *c = ctx;
+    pt_options o = c->base;
+    pt_result r, direct;
+    int status;
+    o.sample_offset = c->base.sample_offset + (uint32_t)k * c->base.spp;
+    if (test_pt_render(s, &o, &r)) return -1;
+    if (c->indirect_only) {
+        size_t i, n = 3 * (size_t)s->width * s->height;
+        o.max_depth = 2;
+        if (test_pt_render(s, &o, &direct)) {
+            pt_result_free(&r);
+            return -1;
+        }
+        for (i = 0; i < n; ++i) r.mean.px[i] = (float)((r.state.sum[i] - direct.state.sum[i]) / (double)r.state.spp);
+        pt_result_free(&direct);
+    }
+    status = side_add(side, &r.mean);
+    pt_result_free(&r);
+    return status;
+}
+
 int rt_pt_side_options(const scene *s, const pt_options *base, int runs, int block, check_side *side)
 {
-    int k;
-    if (side_begin(s, block, side)) return -1;
-    for (k = 0; k < runs; ++k) {
-        pt_options o = *base;
-        pt_result r;
-        rerror e;
-        int status;
-        o.sample_offset = base->sample_offset + (uint32_t)k * base->spp;
-        if (pt_render(s, &o, &r, &e)) {
-            test_fail(__FILE__, __LINE__, "pt_render: %s", e.msg);
-            check_side_free(side);
-            return -1;
-        }
-        status = side_add(side, &r.mean);
-        pt_result_free(&r);
-        if (status || (k + 1 == runs && side_end(side))) {
-            check_side_free(side);
-            return -1;
-        }
-    }
-    return 0;
+    pt_side_ctx c;
+    c.base = *base;
+    c.indirect_only = 0;
+    return side_of_runs(s, runs, block, pt_run, &c, side);
 }
 
 int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int block,
@@ -144,56 +172,190 @@ int rt_pt_side(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_de
 int rt_pt_side_at(const scene *s, uint32_t seed, int runs, uint32_t spp, int max_depth, int indirect_only, int frame,
                   int block, check_side *side)
 {
-    int k;
-    if (side_begin(s, block, side)) return -1;
-    for (k = 0; k < runs; ++k) {
-        pt_result r, direct;
-        int status;
-        if (pt_run(s, seed, (uint32_t)k * spp, spp, max_depth, frame, &r)) {
-            check_side_free(side);
-            return -1;
-        }
-        if (indirect_only) {
-            size_t i, n = 3 * (size_t)s->width * s->height;
-            if (pt_run(s, seed, (uint32_t)k * spp, spp, 2, frame, &direct)) {
-                pt_result_free(&r);
-                check_side_free(side);
-                return -1;
-            }
-            for (i = 0; i < n; ++i)
-                r.mean.px[i] = (float)((r.state.sum[i] - direct.state.sum[i]) / (double)r.state.spp);
-            pt_result_free(&direct);
-        }
-        status = side_add(side, &r.mean);
-        pt_result_free(&r);
-        if (status) {
-            check_side_free(side);
-            return -1;
-        }
-    }
-    if (side_end(side)) {
-        check_side_free(side);
+    pt_side_ctx c;
+    test_pt_options(&c.base, seed, spp, max_depth);
+    c.base.frame = frame;
+    c.indirect_only = indirect_only;
+    return side_of_runs(s, runs, block, pt_run, &c, side);
+}
+
+check_options rt_check_options(double alpha, int block)
+{
+    check_options o;
+    check_options_default(&o);
+    o.alpha = alpha;
+    if (block > 0) o.block_size = block;
+    return o;
+}
+
+int rt_compare_sides(const check_side *a, const check_side *b, double alpha, int block, int paired,
+                     check_result *r)
+{
+    check_options opt = rt_check_options(alpha, block);
+    rerror e;
+    int status;
+    status = paired ? check_compare_paired(a, b, &opt, r, &e) : check_compare(a, b, &opt, r, &e);
+    if (status) test_fail(__FILE__, __LINE__, "%s: %s", paired ? "check_compare_paired" : "check_compare", e.msg);
+    return status;
+}
+
+int rt_compare_paired(const check_side *a, const check_side *b, double alpha, int block, check_result *r)
+{
+    return rt_compare_sides(a, b, alpha, block, 1, r);
+}
+
+int rt_compare(check_side *a, check_side *b, double alpha, int block, check_result *r)
+{
+    int status = rt_compare_sides(a, b, alpha, block, 0, r);
+    check_side_free(a);
+    check_side_free(b);
+    return status;
+}
+
+double rt_mean_z(const check_result *r) { return stats_t_to_z(r->global.t, r->global.dof); }
+
+int rt_expect_verdict(check_side *a, const check_side *ref, double alpha, int block, const char *what, int biased,
+                      check_result *out)
+{
+    check_result c;
+    int status = rt_compare_sides(a, ref, alpha, block, 0, &c), ok;
+    check_side_free(a);
+    if (status) return -1;
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
+                rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+    ok = !c.different == !biased;
+    if (!ok && biased)
+        test_fail(__FILE__, __LINE__, "%s: the biased estimator was not detected (mean z %.2f, worst block z %.2f)",
+                  what, rt_mean_z(&c), c.worst.z);
+    else if (!ok)
+        test_fail(__FILE__, __LINE__,
+                  "%s: differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks rejected, worst z %.2f",
+                  what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
+    if (out) *out = c;
+    else check_result_free(&c);
+    return ok ? 0 : 1;
+}
+
+int rt_bench_open(rt_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth, uint32_t pt_seed)
+{
+    memset(b, 0, sizeof *b);
+    b->res = res;
+    b->block = 4;
+    b->runs = runs;
+    b->max_depth = max_depth;
+    if (rt_load_scene(path, res, &b->s)) return -1; /* NULL: the spot scene */
+    if (rt_pt_side(&b->s, pt_seed, runs, spp, max_depth, 0, b->block, &b->pt)) {
+        scene_free(&b->s);
         return -1;
     }
     return 0;
 }
 
-int rt_compare(check_side *a, check_side *b, double alpha, int block, check_result *r)
+void rt_bench_close(rt_bench *b)
 {
-    check_options opt;
-    rerror e;
-    int status;
-    check_options_default(&opt);
-    opt.alpha = alpha;
-    opt.block_size = block;
-    status = check_compare(a, b, &opt, r, &e);
-    check_side_free(a);
-    check_side_free(b);
-    if (status) test_fail(__FILE__, __LINE__, "check_compare: %s", e.msg);
-    return status;
+    check_side_free(&b->pt);
+    scene_free(&b->s);
 }
 
-double rt_mean_z(const check_result *r) { return stats_t_to_z(r->global.t, r->global.dof); }
+int rt_sequence_runs(const scene *s, const restir_options *o, int first, int last, int runs, restir_frame_sink sink,
+                     void *user, restir_stats *run0)
+{
+    restir_sequence seq;
+    rerror e;
+    int k;
+    memset(&seq, 0, sizeof seq);
+    seq.first = first;
+    seq.last = last;
+    for (k = 0; k < runs; ++k) {
+        restir_options ok = *o;
+        restir_stats total;
+        ok.seed = o->seed + 7919u * (uint32_t)k;
+        if (restir_render_sequence(s, &ok, &seq, sink, user, &total, &e)) {
+            test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
+            return -1;
+        }
+        if (k == 0 && run0) *run0 = total;
+    }
+    return 0;
+}
+
+static int collect_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
+{
+    rt_frame_sides *q = user;
+    int i;
+    (void)st;
+    for (i = 0; i < q->nt; ++i)
+        if (q->times[i] == frame && check_side_add_run(&q->side[i], img, "run", e)) return -1;
+    return 0;
+}
+
+void rt_frame_sides_free(rt_frame_sides *q)
+{
+    int i;
+    for (i = 0; i < q->nt; ++i) check_side_free(&q->side[i]);
+}
+
+int rt_frame_sides_run(const scene *s, const restir_options *o, int runs, int block, rt_frame_sides *q)
+{
+    int i;
+    for (i = 0; i < q->nt; ++i)
+        if (side_begin(s, block, &q->side[i])) {
+            while (i-- > 0) check_side_free(&q->side[i]);
+            return -1;
+        }
+    if (rt_sequence_runs(s, o, 0, q->times[q->nt - 1], runs, collect_frame, q, NULL)) {
+        rt_frame_sides_free(q);
+        return -1;
+    }
+    for (i = 0; i < q->nt; ++i)
+        if (side_end(&q->side[i])) {
+            rt_frame_sides_free(q);
+            return -1;
+        }
+    return 0;
+}
+
+int rt_render_stats(const char *args, const char *name, json_reader *jr)
+{
+    char out[4096], img[1024], stats[1024], file[256];
+    rerror e;
+    snprintf(file, sizeof file, "%s.pfm", name);
+    snprintf(img, sizeof img, "%s", test_tmp_path(file));
+    snprintf(file, sizeof file, "%s.json", name);
+    snprintf(stats, sizeof stats, "%s", test_tmp_path(file));
+    if (test_cli(out, sizeof out, "render %s --quiet --no-png -o %s --stats %s", args, img, stats) != 0) {
+        test_fail(__FILE__, __LINE__, "%s", out);
+        return -1;
+    }
+    if (json_reader_open(jr, stats, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
+    return 0;
+}
+
+void rt_initial_options(initial_options *io, initial_stats *ist, int trees, int max_depth)
+{
+    memset(io, 0, sizeof *io);
+    memset(ist, 0, sizeof *ist);
+    io->trees = trees;
+    io->max_depth = max_depth;
+    io->rr_min_depth = 3;
+}
+
+void rt_spatial_options(restir_options *o, uint32_t seed, int shift, int mis, int passes, int neighbors,
+                        double radius)
+{
+    restir_options_default(o);
+    o->seed = seed;
+    o->shift = (enum restir_shift)shift;
+    o->mis = (mis_family)mis;
+    o->spatial_passes = passes;
+    o->neighbors = neighbors;
+    o->radius = radius;
+    o->threads = 2;
+}
 
 int rt_primary_vertex(const scene *s, int x, int y, path_vertex *v)
 {

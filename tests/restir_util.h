@@ -3,11 +3,13 @@
 #ifndef RESTIR_TESTS_RESTIR_UTIL_H
 #define RESTIR_TESTS_RESTIR_UTIL_H
 
+#include "restir/core/json_text.h"
 #include "restir/metrics/check.h"
 #include "restir/render/pt.h"
 #include "restir/frame/offline.h"
 #include "restir/frame/options.h"
 #include "restir/frame/pipeline.h"
+#include "restir/restir/initial.h"
 #include "restir/restir/shift.h"
 
 /* The name rt_load_scene takes for the generated mirror corridor (generate_corridor). */
@@ -18,9 +20,16 @@
  * 0 on success (a test failure is recorded otherwise). */
 int rt_load_scene(const char *path, int res, scene *s);
 
+/* rt_load_scene, then the scene's light set into *ls (lights_free it). 0 on success (a test
+ * failure is recorded otherwise). */
+int rt_load_scene_lights(const char *path, int res, scene *s, light_set *ls);
+
 /* One side of a comparison (block: the block edge of the per-block tests): K runs of restir_render with disjoint frame ranges
  * [k * frames, (k+1) * frames), images as the runs. */
 int rt_restir_side(const scene *s, const restir_options *o, int runs, int block, check_side *side);
+/* Run k of restir_render with the options `base`: frames [first + k frames, first + (k+1) frames)
+ * (a test failure is recorded if it fails). 0 on success. */
+int rt_restir_run(const scene *s, const restir_options *base, int k, restir_result *r);
 /* K runs of the reference path tracer (disjoint sample ranges of spp each); with
  * indirect_only the run image is PT(max_depth) - PT(2) of the same samples: exactly the
  * paths of length >= 3. */
@@ -35,8 +44,68 @@ int rt_pt_side_at(const scene *s, uint32_t seed, int runs, uint32_t spp, int max
 /* check_compare at level alpha with block x block pixel blocks (the sides' block size);
  * frees both sides. Returns 0 on success. */
 int rt_compare(check_side *a, check_side *b, double alpha, int block, check_result *r);
+/* check_options_default with level alpha and, when block > 0, block x block pixel blocks. */
+check_options rt_check_options(double alpha, int block);
+/* check_compare (paired 0) or check_compare_paired (paired 1) of a and b (kept) at level
+ * alpha in block x block blocks; a failure of the comparison itself is recorded as a test
+ * failure. Returns 0 on success. */
+int rt_compare_sides(const check_side *a, const check_side *b, double alpha, int block, int paired,
+                     check_result *r);
+/* rt_compare_sides(a, b, alpha, block, 1, r). */
+int rt_compare_paired(const check_side *a, const check_side *b, double alpha, int block, check_result *r);
 /* The signed normal-equivalent z of the image-mean luminance test of r. */
 double rt_mean_z(const check_result *r);
+
+/* The expected verdict of `restir check` on side a (freed here) against ref at level alpha
+ * in block x block blocks: records a test failure naming `what` (with the mean z, the worst
+ * block z, the rejected blocks) unless the verdict is "different" exactly when `biased`.
+ * With RESTIR_TEST_VERBOSE prints the numbers. The result goes to *out (the caller frees
+ * it) or is freed when out is NULL. Returns 0 when the verdict is the expected one, 1 when
+ * not, -1 when check_compare failed (*out is then untouched). */
+int rt_expect_verdict(check_side *a, const check_side *ref, double alpha, int block, const char *what, int biased,
+                      check_result *out);
+
+/* A scene and its reference: K path-tracer runs (rt_pt_side with seed `pt_seed`, spp per
+ * run, max_depth) in block x block pixel blocks (block 4), shared by the cases of a test. */
+typedef struct {
+    scene s;
+    check_side pt;
+    int res, block, runs, max_depth;
+} rt_bench;
+/* path NULL: the spot scene. 0 on success (a test failure is recorded otherwise). */
+int rt_bench_open(rt_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth, uint32_t pt_seed);
+void rt_bench_close(rt_bench *b);
+
+/* K sequences first..last of the real-time pipeline (restir_render_sequence), run k with the
+ * seed o->seed + 7919 k, every frame to sink(user, ...); *run0 (may be NULL) receives run 0's
+ * totals. 0 on success (a test failure is recorded otherwise). */
+int rt_sequence_runs(const scene *s, const restir_options *o, int first, int last, int runs, restir_frame_sink sink,
+                     void *user, restir_stats *run0);
+
+#define RT_MAX_TIMES 3
+/* Frames times[0..nt) (ascending) of K sequences 0..times[nt-1]: run k of side[i] is frame
+ * times[i] of run k. */
+typedef struct {
+    int times[RT_MAX_TIMES], nt;
+    check_side side[RT_MAX_TIMES];
+} rt_frame_sides;
+/* Fills q (times and nt set by the caller) by rt_sequence_runs in block x block blocks. */
+int rt_frame_sides_run(const scene *s, const restir_options *o, int runs, int block, rt_frame_sides *q);
+void rt_frame_sides_free(rt_frame_sides *q);
+
+/* Runs `restir render ARGS --quiet --no-png -o IMG --stats STATS` (both in the scratch
+ * directory, named after `name`), which must exit 0, and opens the stats in *jr (close it
+ * with json_reader_close). 0 on success (a test failure is recorded otherwise). */
+int rt_render_stats(const char *args, const char *name, json_reader *jr);
+
+/* Zeroed initial-sampling options and counters with `trees` path trees per pixel, paths of
+ * at most max_depth segments and Russian roulette from the 3rd vertex. */
+void rt_initial_options(initial_options *io, initial_stats *ist, int trees, int max_depth);
+
+/* restir_options_default, then the spatial-reuse fields the statistical tests vary (seed,
+ * shift, MIS family, K passes, neighbours, radius) and 2 threads. */
+void rt_spatial_options(restir_options *o, uint32_t seed, int shift, int mis, int passes, int neighbors,
+                        double radius);
 
 /* Builds the primary vertex x1 of pixel (x, y) (pixel centre, frame 0). 0 if the ray misses. */
 int rt_primary_vertex(const scene *s, int x, int y, path_vertex *v);

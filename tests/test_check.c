@@ -8,6 +8,8 @@
 #include "restir/metrics/check.h"
 #include "restir/metrics/moments.h"
 #include "restir/core/rng.h"
+#include "pt_util.h"
+#include "restir_util.h"
 #include "test.h"
 #include "restir/core/pfm.h"
 
@@ -224,10 +226,8 @@ static void report(const char *what, const tally *t)
 TEST(check_calibration_runs)
 {
     synth p = synth_default();
-    check_options o;
+    check_options o = rt_check_options(0.1, 0);
     tally t;
-    check_options_default(&o);
-    o.alpha = 0.1;
     CHECK(run_trials(&t, 200, &p, &p, FROM_RUNS, FROM_RUNS, 8, 8, &o, 1) == 0);
     report("A/A runs, heavy tails, K=8", &t);
     CHECKF(binomial_ok(t.global_rejects, t.trials, 0.05, 3.0), "global rejections %d of %d", t.global_rejects, t.trials);
@@ -239,10 +239,8 @@ TEST(check_calibration_runs)
 TEST(check_calibration_reference)
 {
     synth p = synth_default();
-    check_options o;
+    check_options o = rt_check_options(0.1, 0);
     tally t;
-    check_options_default(&o);
-    o.alpha = 0.1;
     CHECK(run_trials(&t, 200, &p, &p, FROM_RUNS, FROM_EXACT, 8, 0, &o, 2) == 0);
     report("runs vs exact reference, K=8", &t);
     CHECKF(binomial_ok(t.global_rejects, t.trials, 0.05, 3.0), "global rejections %d of %d", t.global_rejects, t.trials);
@@ -254,10 +252,8 @@ TEST(check_calibration_reference)
 TEST(check_calibration_moments)
 {
     synth p = synth_default();
-    check_options o;
+    check_options o = rt_check_options(0.1, 0);
     tally t;
-    check_options_default(&o);
-    o.alpha = 0.1;
     CHECK(run_trials(&t, 200, &p, &p, FROM_MOMENTS, FROM_MOMENTS_NO_RUN_MEANS, 8, 8, &o, 3) == 0);
     report("moments vs moments without run means, K=8", &t);
     CHECKF(t.global_rejects <= t.trials * 0.05 + 3.0 * sqrt(t.trials * 0.05) + 1, "global %d", t.global_rejects);
@@ -271,10 +267,8 @@ TEST(check_calibration_moments)
 TEST(check_correlated_pixels)
 {
     synth p = synth_default();
-    check_options o;
+    check_options o = rt_check_options(0.1, 0);
     tally t;
-    check_options_default(&o);
-    o.alpha = 0.1;
     p.tile_sd = 0.3;
     CHECK(run_trials(&t, 200, &p, &p, FROM_RUNS, FROM_RUNS, 8, 8, &o, 4) == 0);
     report("A/A runs, correlated 4x4 tiles, K=8", &t);
@@ -400,11 +394,9 @@ TEST(check_zero_variance_pixels)
 TEST_LONG(check_calibration_long)
 {
     synth p = synth_default(), pc = synth_default();
-    check_options o;
+    check_options o = rt_check_options(0.1, 0);
     tally t;
     int k;
-    check_options_default(&o);
-    o.alpha = 0.1;
     pc.tile_sd = 0.3;
     for (k = 4; k <= 16; k *= 4) {
         char what[100];
@@ -428,26 +420,26 @@ TEST_LONG(check_calibration_long)
 
 /* ---- moments files and the command line ---- */
 
+typedef struct {
+    const synth *p;
+    uint32_t side;
+} synth_files;
+
+static void synth_side_run(void *user, int k, image *img)
+{
+    const synth_files *q = user;
+    synth_run(img, q->p, test_seed(), q->side, (uint32_t)k);
+}
+
 /* Writes runs of a synthetic side as PREFIX_k.pfm and returns the file list "a b c". */
 static int write_runs(char *list, size_t size, const synth *p, uint32_t side, int runs, const char *prefix)
 {
-    image img;
-    rerror e;
-    int k;
-    size_t used = 0;
-    if (image_alloc(&img, p->width, p->height, &e)) return -1;
-    list[0] = '\0';
-    for (k = 0; k < runs; ++k) {
-        char name[128];
-        const char *path;
-        snprintf(name, sizeof name, "%s_%d.pfm", prefix, k);
-        path = test_tmp_path(name);
-        synth_run(&img, p, test_seed(), side, (uint32_t)k);
-        if (pfm_write(path, &img, &e)) break;
-        used += (size_t)snprintf(list + used, size - used, "%s%s", k ? " " : "", path);
-    }
-    image_free(&img);
-    return k == runs && used < size ? 0 : -1;
+    synth_files q;
+    char stem[128];
+    q.p = p;
+    q.side = side;
+    snprintf(stem, sizeof stem, "%s_", prefix);
+    return test_write_runs(list, size, p->width, p->height, runs, stem, synth_side_run, &q);
 }
 
 TEST(check_moments_file_roundtrip)
@@ -549,14 +541,11 @@ TEST(check_cli_verdicts_and_outputs)
     CHECK(strstr(out, "verdict: different"));
     CHECK(test_file_exists(zpng));
     {
-        FILE *f = fopen(json, "rb");
-        size_t n;
-        CHECK(f != NULL);
-        n = fread(out, 1, sizeof out - 1, f);
-        fclose(f);
-        out[n] = '\0';
-        CHECK(strstr(out, "\"verdict\": \"different\"") && strstr(out, "\"exit_status\": 1"));
-        CHECK(strstr(out, "\"correction\": \"bh\""));
+        char *text = test_read_text(json);
+        CHECK(text != NULL);
+        CHECK(strstr(text, "\"verdict\": \"different\"") && strstr(text, "\"exit_status\": 1"));
+        CHECK(strstr(text, "\"correction\": \"bh\""));
+        free(text);
     }
     /* A against its own moments file set and against an exact reference. */
     {

@@ -10,6 +10,7 @@
 #include "restir/metrics/check.h"
 #include "restir/metrics/moments.h"
 #include "restir/core/rng.h"
+#include "restir_util.h"
 #include "test.h"
 
 /* ---- synthetic correlated renders ---- */
@@ -219,10 +220,8 @@ TEST(check_correlated_moments_calibration)
 {
     const int trials = 100;
     int t, with_blocks = 0, moments_only = 0;
-    check_options o;
+    check_options o = rt_check_options(0.1, 0);
     rerror e;
-    check_options_default(&o);
-    o.alpha = 0.1;
     for (t = 0; t < trials; ++t) {
         moments ma, mb;
         check_side a, b;
@@ -384,10 +383,8 @@ TEST(check_skewed_block_calibration)
 {
     const int trials = 200, runs = 8;
     int t, corrected = 0, plain = 0, plain_low = 0;
-    check_options o;
+    check_options o = rt_check_options(0.1, 0);
     rerror e;
-    check_options_default(&o);
-    o.alpha = 0.1;
     for (t = 0; t < trials; ++t) {
         check_side a, ref;
         check_result r;

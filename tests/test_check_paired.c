@@ -10,6 +10,7 @@
 #include "restir/metrics/check.h"
 #include "restir/core/image.h"
 #include "restir/core/rng.h"
+#include "pt_util.h"
 #include "test.h"
 #include "restir/core/pfm.h"
 
@@ -119,25 +120,25 @@ TEST(check_paired_rejects_unpaired_sides)
 }
 
 /* Writes `runs` synthetic runs of one side as PFM files; list receives their names. */
+typedef struct {
+    uint32_t seed;
+    int side;
+    double scale;
+} file_side;
+
+static void file_side_run(void *user, int k, image *img)
+{
+    const file_side *q = user;
+    synth_run(img, q->seed, k, q->side, 0.03, q->scale);
+}
+
 static int write_side(char *list, size_t n, uint32_t seed, int runs, int side, double scale, const char *stem)
 {
-    image img;
-    rerror e;
-    int k;
-    size_t used = 0;
-    if (image_alloc(&img, PW, PH, &e)) return -1;
-    list[0] = '\0';
-    for (k = 0; k < runs; ++k) {
-        char name[64];
-        const char *path;
-        snprintf(name, sizeof name, "%s%d.pfm", stem, k);
-        path = test_tmp_path(name);
-        synth_run(&img, seed, k, side, 0.03, scale);
-        if (pfm_write(path, &img, &e) || used + strlen(path) + 2 > n) break;
-        used += (size_t)snprintf(list + used, n - used, "%s ", path);
-    }
-    image_free(&img);
-    return k < runs ? -1 : 0;
+    file_side q;
+    q.seed = seed;
+    q.side = side;
+    q.scale = scale;
+    return test_write_runs(list, n, PW, PH, runs, stem, file_side_run, &q);
 }
 
 /* restir check --paired: the 1 % bias that the unpaired check calls consistent is called
@@ -158,13 +159,10 @@ TEST(check_paired_cli)
     CHECKF(status == 1 && strstr(out, "verdict: different") && strstr(out, "paired: run k of A with run k of B"),
            "paired: status %d: %s", status, out);
     {
-        FILE *f = fopen(json, "rb");
-        size_t n;
-        CHECK(f != NULL);
-        n = fread(out, 1, sizeof out - 1, f);
-        fclose(f);
-        out[n] = '\0';
-        CHECK(strstr(out, "\"paired\": true"));
+        char *text = test_read_text(json);
+        CHECK(text != NULL);
+        CHECK(strstr(text, "\"paired\": true"));
+        free(text);
     }
     status = test_cli(out, sizeof out, "check --a %s --b %s --paired", a_list, c_list);
     CHECKF(status == 2 && strstr(out, "--paired"), "unequal runs: status %d: %s", status, out);

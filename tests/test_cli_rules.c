@@ -38,6 +38,16 @@ static int run_interrupted(const char *sig, double seconds, const char *args)
     return status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/* run_interrupted, which must exit with the signal's status 128 + n (SIGINT 130, SIGTERM
+ * 143); a test failure otherwise. */
+static int expect_interrupted(const char *sig, double seconds, const char *args)
+{
+    int want = strcmp(sig, "INT") ? 143 : 130, status = run_interrupted(sig, seconds, args);
+    if (status == want) return 0;
+    test_fail(__FILE__, __LINE__, "status %d, expected %d: %s", status, want, out);
+    return -1;
+}
+
 static void remove_files(const char *a, const char *b, const char *c)
 {
     remove(a);
@@ -50,19 +60,16 @@ static void remove_files(const char *a, const char *b, const char *c)
 TEST(cli_rule_pt_interrupted_exit_130_143)
 {
     char args[4096], pfm[1024], ck[1024];
-    int status;
     snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-int.pfm"));
     snprintf(ck, sizeof ck, "%s", test_tmp_path("rule-int.ckpt"));
     remove_files(pfm, ck, NULL);
     snprintf(args, sizeof args, "render " SMALL " --method pt --spp 100000000 --quiet --no-png --checkpoint %s -o %s",
              ck, pfm);
-    status = run_interrupted("INT", 0.6, args);
-    CHECKF(status == 130, "status %d, expected 130: %s", status, out);
+    if (expect_interrupted("INT", 0.6, args)) return;
     CHECKF(strstr(out, "interrupted by SIGINT") && strstr(out, " spp") && strstr(out, ck), "message: %s", out);
     CHECK(test_file_exists(pfm) && test_file_exists(ck));
     remove_files(pfm, ck, NULL);
-    status = run_interrupted("TERM", 0.6, args);
-    CHECKF(status == 143, "status %d, expected 143: %s", status, out);
+    if (expect_interrupted("TERM", 0.6, args)) return;
     CHECKF(strstr(out, "interrupted by SIGTERM"), "message: %s", out);
     CHECK(test_file_exists(pfm) && test_file_exists(ck));
 }
@@ -72,21 +79,18 @@ TEST(cli_rule_pt_interrupted_exit_130_143)
 TEST(cli_rule_restir_interrupted_exit_143)
 {
     char args[4096], pfm[1024], png[1024], frame0[1024];
-    int status;
     snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-restir-int.pfm"));
     snprintf(png, sizeof png, "%s", test_tmp_path("rule-restir-int.png"));
     remove_files(pfm, png, NULL);
     snprintf(args, sizeof args, "render " SMALL " --method restir --frames 100000000 --quiet -o %s", pfm);
-    status = run_interrupted("TERM", 0.6, args);
-    CHECKF(status == 143, "status %d, expected 143: %s", status, out);
+    if (expect_interrupted("TERM", 0.6, args)) return;
     CHECKF(strstr(out, "interrupted by SIGTERM") && strstr(out, "frame(s)"), "message: %s", out);
     CHECK(test_file_exists(pfm) && test_file_exists(png));
     snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-seq-int.pfm"));
     snprintf(frame0, sizeof frame0, "%s", test_tmp_path("rule-seq-int.0000.pfm"));
     remove(frame0);
     snprintf(args, sizeof args, "render " SMALL " --method restir --sequence 0..99999999 --quiet --no-png -o %s", pfm);
-    status = run_interrupted("INT", 0.6, args);
-    CHECKF(status == 130, "status %d, expected 130: %s", status, out);
+    if (expect_interrupted("INT", 0.6, args)) return;
     CHECKF(strstr(out, "interrupted by SIGINT") && strstr(out, "frame(s)"), "message: %s", out);
     CHECK(test_file_exists(frame0));
 }
@@ -96,7 +100,6 @@ TEST(cli_rule_restir_interrupted_exit_143)
 TEST(cli_rule_runs_interrupted_keeps_finished_runs)
 {
     char args[4096], pfm[1024], mean[1024], json[1024];
-    int status;
     FILE *f;
     long runs = -1;
     snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-runs-int.pfm"));
@@ -104,13 +107,11 @@ TEST(cli_rule_runs_interrupted_keeps_finished_runs)
     snprintf(json, sizeof json, "%s", test_tmp_path("rule-runs-int.moments.json"));
     remove_files(mean, json, NULL);
     snprintf(args, sizeof args, "render " SMALL " --method pt --spp 100000000 --runs 3 --quiet --no-png -o %s", pfm);
-    status = run_interrupted("INT", 1.5, args); /* later than the others: loading under load */
-    CHECKF(status == 130, "status %d, expected 130: %s", status, out);
+    if (expect_interrupted("INT", 1.5, args)) return; /* later than the others: loading under load */
     CHECKF(strstr(out, "after 0 finished run(s)") && strstr(out, "nothing written"), "message: %s", out);
     CHECK(!test_file_exists(mean) && !test_file_exists(json));
     snprintf(args, sizeof args, "render " SMALL " --method pt --spp 1 --runs 1000000 --quiet --no-png -o %s", pfm);
-    status = run_interrupted("TERM", 1.0, args);
-    CHECKF(status == 143, "status %d, expected 143: %s", status, out);
+    if (expect_interrupted("TERM", 1.0, args)) return;
     CHECKF(strstr(out, "runs finished so far"), "message: %s", out);
     CHECK(test_file_exists(mean));
     f = fopen(json, "rb");

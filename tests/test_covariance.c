@@ -199,31 +199,44 @@ static int noise_metric(int w, int h, int k_count, int radius, int exclude, int 
 }
 
 /* |mean - expected| must be below this many standard errors: the two-sided 1e-4
- * quantile of t with SETS - 1 dof (the standard error is itself estimated). */
+ * quantile of t with NOISE_SETS - 1 dof (the standard error is itself estimated). */
 static double tolerance_in_se(int sets) { return stats_t_quantile(1.0 - 0.5e-4, sets - 1.0); }
+
+/* The data sets of covariance_white_noise and covariance_blurred_noise. */
+enum { NOISE_W = 40, NOISE_H = 32, NOISE_K = 12, NOISE_R = 4, NOISE_SETS = 40 };
+
+/* The metric at radii 0..NOISE_R over NOISE_SETS data sets of white (blurred 0) or blurred
+ * noise, data set s from the seed test_seed() * seed_factor + s + 100 exclude. */
+static int noise_spread(spread *sp, int exclude, int blurred, uint32_t seed_factor)
+{
+    int s;
+    memset(sp, 0, sizeof *sp);
+    for (s = 0; s < NOISE_SETS; ++s) {
+        double v[NOISE_R + 1];
+        uint32_t seed = test_seed() * seed_factor + (uint32_t)(s + 100 * exclude);
+        if (noise_metric(NOISE_W, NOISE_H, NOISE_K, NOISE_R, exclude, blurred, seed, v)) return -1;
+        spread_add(sp, v, NOISE_R);
+    }
+    return 0;
+}
 
 /* Independent pixels: with the centre excluded the metric is 0, with it included it is
  * the pixel variance over the box size, both within tolerance over 40 data sets. */
 TEST(covariance_white_noise)
 {
-    enum { W = 40, H = 32, K = 12, R = 4, SETS = 40 };
-    int exclude, r, s;
+    int exclude, r;
     for (exclude = 0; exclude <= 1; ++exclude) {
         spread sp;
-        memset(&sp, 0, sizeof sp);
-        for (s = 0; s < SETS; ++s) {
-            double v[R + 1];
-            CHECK(noise_metric(W, H, K, R, exclude, 0, test_seed() * 977u + (uint32_t)(s + 100 * exclude), v) == 0);
-            spread_add(&sp, v, R);
-        }
-        for (r = exclude; r <= R; ++r) {
-            double want = expected_metric(W, H, r, exclude, white_cov);
-            CHECKF(fabs(spread_mean(&sp, r) - want) < tolerance_in_se(SETS) * spread_se(&sp, r) + 1e-12,
+        CHECK(noise_spread(&sp, exclude, 0, 977u) == 0);
+        for (r = exclude; r <= NOISE_R; ++r) {
+            double want = expected_metric(NOISE_W, NOISE_H, r, exclude, white_cov);
+            CHECKF(fabs(spread_mean(&sp, r) - want) < tolerance_in_se(NOISE_SETS) * spread_se(&sp, r) + 1e-12,
                    "exclude %d radius %d: %g +- %g, expected %g", exclude, r, spread_mean(&sp, r), spread_se(&sp, r),
                    want);
         }
-        if (exclude) printf("     white noise, no centre, r=%d: %.3g +- %.3g (expected 0)\n", R, spread_mean(&sp, R),
-                            spread_se(&sp, R));
+        if (exclude)
+            printf("     white noise, no centre, r=%d: %.3g +- %.3g (expected 0)\n", NOISE_R, spread_mean(&sp, NOISE_R),
+                   spread_se(&sp, NOISE_R));
     }
 }
 
@@ -231,23 +244,17 @@ TEST(covariance_white_noise)
  * must match its box average at every radius (0: the variance 36/256). */
 TEST(covariance_blurred_noise)
 {
-    enum { W = 40, H = 32, K = 12, R = 4, SETS = 40 };
-    int exclude, r, s;
+    int exclude, r;
     CHECK_NEAR(kernel_autocorrelation(0, 0), 36.0 / 256.0, 1e-15);
     for (exclude = 0; exclude <= 1; ++exclude) {
         spread sp;
-        memset(&sp, 0, sizeof sp);
-        for (s = 0; s < SETS; ++s) {
-            double v[R + 1];
-            CHECK(noise_metric(W, H, K, R, exclude, 1, test_seed() * 1013u + (uint32_t)(s + 100 * exclude), v) == 0);
-            spread_add(&sp, v, R);
-        }
-        for (r = exclude; r <= R; ++r) {
-            double want = expected_metric(W, H, r, exclude, kernel_autocorrelation);
-            CHECKF(fabs(spread_mean(&sp, r) - want) < tolerance_in_se(SETS) * spread_se(&sp, r),
+        CHECK(noise_spread(&sp, exclude, 1, 1013u) == 0);
+        for (r = exclude; r <= NOISE_R; ++r) {
+            double want = expected_metric(NOISE_W, NOISE_H, r, exclude, kernel_autocorrelation);
+            CHECKF(fabs(spread_mean(&sp, r) - want) < tolerance_in_se(NOISE_SETS) * spread_se(&sp, r),
                    "exclude %d radius %d: %g +- %g, expected %g", exclude, r, spread_mean(&sp, r), spread_se(&sp, r),
                    want);
-            if (r == 1 || r == R)
+            if (r == 1 || r == NOISE_R)
                 printf("     blurred noise, exclude %d, r=%d: %.5f +- %.5f (expected %.5f)\n", exclude, r,
                        spread_mean(&sp, r), spread_se(&sp, r), want);
         }

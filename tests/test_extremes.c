@@ -27,6 +27,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include "pt_util.h"
+#include "restir_util.h"
 #include "restir/restir/mis.h"
 #include "restir/metrics/stats.h"
 #include "restir/restir/stochastic_mis.h"
@@ -88,12 +89,8 @@ static int pt_runs(const scene *s, int max_depth, int runs, uint32_t spp, unsign
         pt_options o;
         pt_result res;
         rerror e;
-        pt_options_default(&o);
-        o.spp = spp;
-        o.max_depth = max_depth;
-        o.seed = test_seed() * 7919u + 11u;
+        test_pt_options(&o, test_seed() * 7919u + 11u, spp, max_depth);
         o.sample_offset = (uint32_t)k * spp;
-        o.threads = 2;
         o.quiet = 1;
         o.ablations = ablations;
         if (pt_render(s, &o, &res, &e)) {
@@ -126,14 +123,8 @@ static int restir_runs(const scene *s, const restir_options *base, int runs, ext
     int k;
     r->nonfinite = 0;
     for (k = 0; k < runs; ++k) {
-        restir_options o = *base;
         restir_result res;
-        rerror e;
-        o.first_frame = base->first_frame + k * base->frames;
-        if (restir_render(s, &o, &res, &e)) {
-            test_fail(__FILE__, __LINE__, "restir_render: %s", e.msg);
-            return -1;
-        }
+        if (rt_restir_run(s, base, k, &res)) return -1;
         x[k] = image_mean(&res.mean, &r->nonfinite);
         restir_result_free(&res);
     }

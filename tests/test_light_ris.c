@@ -27,16 +27,12 @@ static void options(pt_options *o, int depth, uint32_t spp)
 static void ablation_paired(const scene *s, const check_side *ref, const pt_options *a, const char *what)
 {
     check_side sa;
-    check_options opt;
     check_result c;
-    rerror e;
     int status;
     if (rt_pt_side_options(s, a, 16, 8, &sa)) return;
-    check_options_default(&opt);
-    opt.alpha = 1e-3;
-    status = check_compare_paired(&sa, ref, &opt, &c, &e);
+    status = rt_compare_sides(&sa, ref, 1e-3, 8, 1, &c);
     check_side_free(&sa);
-    CHECKF(status == 0, "%s", e.msg);
+    if (status) return;
     check_result_free(&c);
     test_margin(fabs(rt_mean_z(&c)) > fabs(c.worst.z) ? rt_mean_z(&c) : c.worst.z);
     if (getenv("RESTIR_TEST_VERBOSE"))
@@ -62,17 +58,13 @@ static void compare_with(const scene *s, const check_side *ref, const pt_options
 {
     pt_options a_seeded = *a;
     check_side sa;
-    check_options opt;
     check_result c;
-    rerror e;
     int status;
     a_seeded.seed = test_seed() * 131u + 7;
     if (rt_pt_side_options(s, &a_seeded, 8, 8, &sa)) return;
-    check_options_default(&opt);
-    opt.alpha = 1e-3;
-    status = check_compare(&sa, ref, &opt, &c, &e);
+    status = rt_compare_sides(&sa, ref, 1e-3, 8, 0, &c);
     check_side_free(&sa);
-    CHECKF(status == 0, "%s", e.msg);
+    if (status) return;
     check_result_free(&c);
     test_margin(fabs(rt_mean_z(&c)) > fabs(c.worst.z) ? rt_mean_z(&c) : c.worst.z);
     if (getenv("RESTIR_TEST_VERBOSE"))
@@ -126,10 +118,8 @@ TEST(nee_light_pdf_equals_path_light_pdf)
     scene s;
     light_set ls;
     path_context c;
-    rerror e;
     uint32_t i, checked = 0;
-    if (rt_load_scene("scenes/many-lights.scene", 16, &s)) return;
-    CHECKF(lights_build(&ls, &s, &e) == 0, "%s", e.msg);
+    if (rt_load_scene_lights("scenes/many-lights.scene", 16, &s, &ls)) return;
     memset(&c, 0, sizeof c);
     c.scene = &s;
     c.lights = &ls;

@@ -242,6 +242,21 @@ static int keep_last(void *user, int frame, const image *img, const restir_stats
     return status;
 }
 
+/* The red and the green Lambertian materials of the two-tone wall. */
+static void red_and_green(scene *s, uint32_t *red, uint32_t *green)
+{
+    *red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.9, (real)0.1, (real)0.1), rgb_gray(0));
+    *green = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1, (real)0.9, (real)0.1), rgb_gray(0));
+}
+
+/* The floor (material floor) and the back wall, its left half red, its right half green. */
+static void floor_and_two_tone_wall(scene *s, uint32_t floor, uint32_t red, uint32_t green)
+{
+    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), floor);
+    test_scene_quad(s, v3f(-1, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), red);
+    test_scene_quad(s, v3f(0, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), green);
+}
+
 /* A glossy floor (roughness 0.3: not connectable with --roughness-threshold 0.5, so paths
  * reconnect at k = 3 and prefix mutations move y_2), a back wall half red, half green, and a
  * small light 8 cm above the floor: the colour of a pixel depends on where y_2 lands. */
@@ -253,12 +268,9 @@ static int make_two_tone(scene *s, int res)
     metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
     test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.9, (real)0.9);
     test_scene_last_material(s)->roughness = (real)0.3;
-    red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.9, (real)0.1, (real)0.1), rgb_gray(0));
-    green = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1, (real)0.9, (real)0.1), rgb_gray(0));
+    red_and_green(s, &red, &green);
     light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(1, 1, 1));
-    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), metal);
-    test_scene_quad(s, v3f(-1, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), red);
-    test_scene_quad(s, v3f(0, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), green);
+    floor_and_two_tone_wall(s, metal, red, green);
     /* facing the wall (+z) just in front of its red half: G(y_2 -> light) varies a lot */
     test_scene_quad(s, v3f(-0.9f, h, 0.45f), v3f(a, 0, 0), v3f(0, a, 0), light);
     test_scene_camera(s, v3(0, (real)1.2, (real)-0.9), v3(0, 0, (real)0.05), v3(0, 1, 0), 40, res);
@@ -275,12 +287,9 @@ static int make_panel(scene *s, int res)
     uint32_t white, red, green, light;
     if (test_scene_begin(s, 12, 4)) return -1;
     white = test_scene_material(s, MAT_LAMBERT, rgb_gray((real)0.8), rgb_gray(0));
-    red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.9, (real)0.1, (real)0.1), rgb_gray(0));
-    green = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1, (real)0.9, (real)0.1), rgb_gray(0));
+    red_and_green(s, &red, &green);
     light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(10, 10, 10));
-    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), white);
-    test_scene_quad(s, v3f(-1, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), red);
-    test_scene_quad(s, v3f(0, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), green);
+    floor_and_two_tone_wall(s, white, red, green);
     test_scene_quad(s, v3f(-0.6f, 0.05f, 0.5f), v3f(0.4f, 0, 0), v3f(0, 0.4f, 0), white);
     test_scene_quad(s, v3f(-0.6f, 0.5f, 0.51f), v3f(0.4f, 0, 0), v3f(0, 0, 0.08f), light);
     test_scene_camera(s, v3(0, (real)1.2, (real)-0.9), v3(0, 0, (real)0.05), v3(0, 1, 0), 40, res);
@@ -291,37 +300,38 @@ static int g_first_frame = 0; /* 0, or LAST_FRAME for chains after initial witho
 
 static int pipeline_side(const scene *s, const restir_options *o, int runs, check_side *side)
 {
-    restir_sequence seq;
+    restir_stats total;
     rerror e;
-    int k;
-    memset(&seq, 0, sizeof seq);
-    seq.first = g_first_frame;
-    seq.last = LAST_FRAME;
     if (check_side_begin_runs(side, s->width, s->height, 4, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         return -1;
     }
-    for (k = 0; k < runs; ++k) {
-        restir_options ok = *o;
-        restir_stats total;
-        ok.seed = o->seed + 7919u * (uint32_t)k;
-        if (restir_render_sequence(s, &ok, &seq, keep_last, side, &total, &e)) {
-            test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
-            check_side_free(side);
-            return -1;
-        }
-        if (k == 0 && getenv("RESTIR_TEST_VERBOSE") && o->mutations > 0)
-            fprintf(stderr, "    run 0: %llu pixels, %llu skipped (%llu empty), %llu proposals, %llu accepted\n",
-                    (unsigned long long)total.mutate.pixels, (unsigned long long)total.mutate.skipped,
-                    (unsigned long long)total.mutate.skip[MUTATE_SKIP_EMPTY], (unsigned long long)total.mutate.proposals,
-                    (unsigned long long)total.mutate.accepted);
+    if (rt_sequence_runs(s, o, g_first_frame, LAST_FRAME, runs, keep_last, side, &total)) {
+        check_side_free(side);
+        return -1;
     }
+    if (getenv("RESTIR_TEST_VERBOSE") && o->mutations > 0)
+        fprintf(stderr, "    run 0: %llu pixels, %llu skipped (%llu empty), %llu proposals, %llu accepted\n",
+                (unsigned long long)total.mutate.pixels, (unsigned long long)total.mutate.skipped,
+                (unsigned long long)total.mutate.skip[MUTATE_SKIP_EMPTY], (unsigned long long)total.mutate.proposals,
+                (unsigned long long)total.mutate.accepted);
     if (check_side_end_runs(side, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         check_side_free(side);
         return -1;
     }
     return 0;
+}
+
+/* With RESTIR_TEST_VERBOSE: the case and the numbers of its check ("paired" when `vs` is not
+ * empty). */
+static void verbose_line(const char *name, const char *vs, const mutate_case *m, const check_result *c)
+{
+    if (!getenv("RESTIR_TEST_VERBOSE")) return;
+    fprintf(stderr, "  %s%s %s shift %s %d mutations after %s ablate %s%s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks, worst z %.2f\n",
+            *vs ? "paired " : "", name, mutate_strategy_names[m->strategy], restir_shift_names[m->shift], m->mutations,
+            mutate_after_names[m->after], restir_ablation_names[m->ablation], vs, rt_mean_z(c), c->lum_a.mean,
+            c->lum_b.mean, c->rejected, c->tests, c->worst.z);
 }
 
 static void case_options(const mutate_case *m, restir_options *o)
@@ -363,10 +373,7 @@ static double expect(const scene *s, const char *name, const check_side *pt, con
         return 0;
     }
     z = rt_mean_z(&c);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s %s shift %s %d mutations after %s ablate %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks, worst z %.2f\n",
-                name, mutate_strategy_names[m->strategy], restir_shift_names[m->shift], m->mutations,
-                mutate_after_names[m->after], restir_ablation_names[m->ablation], z, c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+    verbose_line(name, "", m, &c);
     if (biased == 0)
         if (c.different) test_fail(__FILE__, __LINE__, "%s %s shift %s, %d mutations after %s: differs from the path tracer (mean z %.2f, %ld of %ld blocks, worst z %.2f)",
                name, mutate_strategy_names[m->strategy], restir_shift_names[m->shift], m->mutations, mutate_after_names[m->after], z, c.rejected, c.tests,
@@ -419,9 +426,7 @@ static double expect_paired(const char *path, int res, int runs, const mutate_ca
     scene s;
     restir_options oa, ob;
     check_side a, b;
-    check_options opt;
     check_result c;
-    rerror e;
     double z = 0;
     if (!strcmp(path, "two-tone")) {
         if (make_two_tone(&s, res)) return 0;
@@ -447,17 +452,9 @@ static double expect_paired(const char *path, int res, int runs, const mutate_ca
         scene_free(&s);
         return 0;
     }
-    check_options_default(&opt);
-    opt.alpha = ALPHA;
-    opt.block_size = 4;
-    if (check_compare_paired(&a, &b, &opt, &c, &e)) {
-        test_fail(__FILE__, __LINE__, "check_compare_paired: %s", e.msg);
-    } else {
+    if (rt_compare_paired(&a, &b, ALPHA, 4, &c) == 0) {
         z = rt_mean_z(&c);
-        if (getenv("RESTIR_TEST_VERBOSE"))
-            fprintf(stderr, "  paired %s %s shift %s %d mutations after %s ablate %s vs none: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks, worst z %.2f\n",
-                    path, mutate_strategy_names[m->strategy], restir_shift_names[m->shift], m->mutations,
-                    mutate_after_names[m->after], restir_ablation_names[m->ablation], z, c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+        verbose_line(path, " vs none", m, &c);
         if (biased == 0)
             if (c.different) test_fail(__FILE__, __LINE__, "paired %s shift %s, %d mutations after %s: mutations change the mean (z %.2f, worst %.2f)",
                    path, restir_shift_names[m->shift], m->mutations, mutate_after_names[m->after], z, c.worst.z);

@@ -70,24 +70,22 @@ static void copy_scaling_w(const char *src, const char *dst, long p, double scal
 TEST(oracle_dump_layout_and_manifest)
 {
     const char *a = reference_dump();
-    char path[1200];
-    FILE *fp;
+    char path[1200], *manifest;
     size_t n;
     int i;
     gbuffer g;
     uint32_t frame;
     rerror e;
     snprintf(path, sizeof path, "%s/manifest.json", a);
-    fp = fopen(path, "rb");
-    CHECKF(fp != NULL, "%s missing", path);
-    if (!fp) return;
-    n = fread(out, 1, sizeof out - 1, fp);
-    out[n] = '\0';
-    fclose(fp);
-    CHECKF(strstr(out, "\"stage_order\": [\"initial\", \"temporal\", \"spatial1\", \"spatial2\"]") != NULL, "%s", out);
-    CHECKF(strstr(out, "\"format\": \"restir-stage-dump\"") && strstr(out, "\"crc32\": \"") &&
-               strstr(out, "\"rng_spec_version\": 1") && strstr(out, "\"mcap\": 20") && strstr(out, "\"seed\": 1"),
-           "%s", out);
+    manifest = test_read_text(path);
+    CHECKF(manifest != NULL, "%s missing", path);
+    CHECKF(strstr(manifest, "\"stage_order\": [\"initial\", \"temporal\", \"spatial1\", \"spatial2\"]") != NULL, "%s",
+           manifest);
+    CHECKF(strstr(manifest, "\"format\": \"restir-stage-dump\"") && strstr(manifest, "\"crc32\": \"") &&
+               strstr(manifest, "\"rng_spec_version\": 1") && strstr(manifest, "\"mcap\": 20") &&
+               strstr(manifest, "\"seed\": 1"),
+           "%s", manifest);
+    free(manifest);
     for (i = 0; i < 4; ++i) {
         stage_dump_path(path, sizeof path, a, 2, kit_stages[i], "resv");
         CHECKF(test_file_exists(path), "%s missing", path);

@@ -8,6 +8,7 @@
 #include "restir/metrics/check.h"
 #include "restir/render/pt.h"
 #include "pt_util.h"
+#include "restir_util.h"
 #include "test.h"
 #include "restir/render/pt_state.h"
 #include "restir/render/pt_checkpoint.h"
@@ -71,16 +72,6 @@ static int make_glossy_box_at(scene *s, int res, real dx, real dy)
 static int make_glossy_box(scene *s, int res) { return make_glossy_box_at(s, res, (real)0.003, (real)0.0017); }
 
 
-static int render(const scene *s, const pt_options *o, pt_result *r)
-{
-    rerror e;
-    if (pt_render(s, o, r, &e)) {
-        test_fail(__FILE__, __LINE__, "pt_render: %s", e.msg);
-        return -1;
-    }
-    return 0;
-}
-
 static double channel(rgb c, int k) { return k == 0 ? c.r : (k == 1 ? c.g : c.b); }
 
 /* ---- furnace ---------------------------------------------------------------------- */
@@ -105,7 +96,7 @@ static void furnace_case(enum pt_strategy strategy, int rr, int depth, uint32_t 
     o.max_depth = depth;
     o.spp = spp;
     o.seed = test_seed() * 7919u + (uint32_t)strategy;
-    if (render(&s, &o, &r)) return;
+    if (test_pt_render(&s, &o, &r)) return;
     for (k = 0; k < 3; ++k) {
         double l = channel(le, k), p = channel(rho, k);
         double expected = depth >= PT_MAX_DEPTH_LIMIT ? l / (1 - p) : l * (1 - pow(p, depth)) / (1 - p);
@@ -165,42 +156,11 @@ TEST(pt_furnace_russian_roulette_infinite_depth)
 static int render_side(const scene *s, enum pt_strategy strategy, unsigned ablations, uint32_t seed, int runs,
                        uint32_t spp_per_run, int depth, int block, check_side *side)
 {
-    rerror e;
-    int k;
-    if (check_side_begin_runs(side, s->width, s->height, block, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    for (k = 0; k < runs; ++k) {
-        pt_options o;
-        pt_result r;
-        int status;
-        pt_options_default(&o);
-        o.strategy = strategy;
-        o.ablations = ablations;
-        o.seed = seed;
-        o.sample_offset = (uint32_t)k * spp_per_run;
-        o.spp = spp_per_run;
-        o.max_depth = depth;
-        o.threads = 2;
-        if (render(s, &o, &r)) {
-            check_side_free(side);
-            return -1;
-        }
-        status = check_side_add_run(side, &r.mean, "run", &e);
-        pt_result_free(&r);
-        if (status) {
-            test_fail(__FILE__, __LINE__, "%s", e.msg);
-            check_side_free(side);
-            return -1;
-        }
-    }
-    if (check_side_end_runs(side, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        check_side_free(side);
-        return -1;
-    }
-    return 0;
+    pt_options o;
+    test_pt_options(&o, seed, spp_per_run, depth);
+    o.strategy = strategy;
+    o.ablations = ablations;
+    return rt_pt_side_options(s, &o, runs, block, side);
 }
 
 #define ALPHA 1e-3
@@ -304,10 +264,10 @@ TEST_LONG(pt_strategies_agree_on_exact_edges)
     o.threads = 2;
     o.strategy = PT_STRATEGY_NEE;
     o.seed = test_seed() * 31u + 1;
-    if (render(&s, &o, &nee)) return;
+    if (test_pt_render(&s, &o, &nee)) return;
     o.strategy = PT_STRATEGY_BSDF;
     o.seed = test_seed() * 31u + 2;
-    if (render(&s, &o, &bsdf)) return;
+    if (test_pt_render(&s, &o, &bsdf)) return;
     /* The diagonal pixels (k, k) of the lower right quarter: the floor/wall edge. Per-pixel
      * z from the per-pixel variances (8192 samples; both sides have >= 100 effective
      * samples there), Sidak over 8 pixels x 3 channels at level 1e-3: |z| > 4.3. */
@@ -509,11 +469,11 @@ TEST(pt_threads_deterministic)
     o.russian_roulette = 1;
     o.seed = test_seed();
     o.threads = 1;
-    if (render(&s, &o, &r1)) return;
+    if (test_pt_render(&s, &o, &r1)) return;
     o.threads = 2;
-    if (render(&s, &o, &r2)) return;
+    if (test_pt_render(&s, &o, &r2)) return;
     o.threads = 7;
-    if (render(&s, &o, &r7)) return;
+    if (test_pt_render(&s, &o, &r7)) return;
     CHECK(states_identical(&r1.state, &r2.state) && states_identical(&r1.state, &r7.state));
     CHECK(images_identical(&r1.mean, &r2.mean) && images_identical(&r1.mean, &r7.mean));
     CHECK(r1.rays == r7.rays && r1.paths == r7.paths && r1.paths == 6u * 44 * 40);
@@ -554,7 +514,7 @@ TEST(pt_checkpoint_resume_bit_exact)
     o.seed = test_seed() + 5;
     o.sample_offset = 100;
     o.threads = 2;
-    if (render(&s, &o, &full)) return;
+    if (test_pt_render(&s, &o, &full)) return;
 
     ctx.flag = &flag;
     ctx.calls = 0;
@@ -564,7 +524,7 @@ TEST(pt_checkpoint_resume_bit_exact)
     o.on_passes = stop_after_passes;
     o.callback_ctx = &ctx;
     o.checkpoint_path = ck_path;
-    if (render(&s, &o, &part)) return;
+    if (test_pt_render(&s, &o, &part)) return;
     CHECK(part.stopped && part.state.spp == 3 && test_file_exists(ck_path));
 
     flag = 0;
@@ -575,7 +535,7 @@ TEST(pt_checkpoint_resume_bit_exact)
     o.resume_path = ck_path;
     o.sample_offset = 0; /* ignored on resume: the checkpoint's range continues */
     o.threads = 7;
-    if (render(&s, &o, &resumed)) return;
+    if (test_pt_render(&s, &o, &resumed)) return;
     CHECK(resumed.spp_added == 6 && resumed.state.sample_offset == 100);
     CHECK(states_identical(&full.state, &resumed.state));
     CHECK(images_identical(&full.mean, &resumed.mean));
@@ -601,7 +561,7 @@ TEST(pt_checkpoint_rejects_mismatch_and_corruption)
     pt_options_default(&o);
     o.spp = 2;
     o.checkpoint_path = path;
-    if (render(&s, &o, &r)) return;
+    if (test_pt_render(&s, &o, &r)) return;
     pt_result_free(&r);
     CHECK(pt_checkpoint_read(path, &st, &e) == 0 && st.spp == 2 && st.seed == 1);
     pt_state_free(&st);
@@ -627,17 +587,6 @@ TEST(pt_checkpoint_rejects_mismatch_and_corruption)
     scene_free(&s);
 }
 
-static double max_rel_diff(const image *a, const image *b)
-{
-    size_t i, n = 3 * (size_t)a->width * a->height;
-    double worst = 0;
-    for (i = 0; i < n; ++i) {
-        double d = fabs((double)a->px[i] - (double)b->px[i]), m = fmax(fabs((double)a->px[i]), 1e-30);
-        if (d / m > worst) worst = d / m;
-    }
-    return worst;
-}
-
 /* Runs over the sample ranges [0, 5) and [5, 12) merge into the run over [0, 12):
  * from the checkpoint states (double sums) and from the float mean images with counts. */
 TEST(pt_merge_sample_ranges)
@@ -653,12 +602,12 @@ TEST(pt_merge_sample_ranges)
     pt_options_default(&o);
     o.seed = test_seed() + 11;
     o.spp = 12;
-    if (render(&s, &o, &whole)) return;
+    if (test_pt_render(&s, &o, &whole)) return;
     o.spp = 5;
-    if (render(&s, &o, &a)) return;
+    if (test_pt_render(&s, &o, &a)) return;
     o.spp = 7;
     o.sample_offset = 5;
-    if (render(&s, &o, &b)) return;
+    if (test_pt_render(&s, &o, &b)) return;
     means[0] = a.mean;
     means[1] = b.mean;
     CHECKF(pt_merge_means(means, counts, 2, &merged_means, &e) == 0, "%s", e.msg);
@@ -666,9 +615,9 @@ TEST(pt_merge_sample_ranges)
     CHECK(a.state.spp == 12 && a.state.sample_offset == 0);
     CHECKF(pt_state_mean(&a.state, &merged, &e) == 0, "%s", e.msg);
     /* Double sums in another order: equal to float rounding (at most one float ulp). */
-    CHECKF(max_rel_diff(&merged, &whole.mean) <= 1.2e-7, "state merge differs by %g", max_rel_diff(&merged, &whole.mean));
-    CHECKF(max_rel_diff(&merged_means, &whole.mean) <= 4e-7, "mean merge differs by %g",
-           max_rel_diff(&merged_means, &whole.mean));
+    CHECKF(test_image_max_rel_diff(&merged, &whole.mean) <= 1.2e-7, "state merge differs by %g", test_image_max_rel_diff(&merged, &whole.mean));
+    CHECKF(test_image_max_rel_diff(&merged_means, &whole.mean) <= 4e-7, "mean merge differs by %g",
+           test_image_max_rel_diff(&merged_means, &whole.mean));
     /* Overlapping or non-adjacent ranges are refused. */
     CHECK(pt_state_merge(&a.state, &b.state, &e) != 0);
     CHECKF(strstr(e.msg, "not adjacent") != NULL, "%s", e.msg);
@@ -690,7 +639,7 @@ TEST(pt_time_limit_whole_passes)
     pt_options_default(&o);
     o.spp = 0;
     o.time_limit = 0.2;
-    if (render(&s, &o, &r)) return;
+    if (test_pt_render(&s, &o, &r)) return;
     CHECKF(r.state.spp >= 1 && r.seconds >= 0.2 && r.seconds < 2, "spp %u in %g s", r.state.spp, r.seconds);
     CHECK(r.paths == (uint64_t)r.state.spp * 16 * 16);
     pt_result_free(&r);
@@ -742,7 +691,7 @@ TEST(pt_nonfinite_samples_counted)
     pt_options_default(&o);
     o.spp = 1;
     o.max_depth = 2;
-    if (render(&s, &o, &r)) return;
+    if (test_pt_render(&s, &o, &r)) return;
     pixels = (size_t)s.width * s.height;
     CHECKF(r.state.nonfinite > 0 && r.state.nonfinite < pixels / 2, "%llu nonfinite samples",
            (unsigned long long)r.state.nonfinite);
@@ -791,12 +740,12 @@ TEST(pt_min_depth_splits_light_exactly)
     o.seed = test_seed() + 5;
     o.spp = 6;
     o.max_depth = 6;
-    if (render(&s, &o, &all)) return;
+    if (test_pt_render(&s, &o, &all)) return;
     o.min_depth = 3;
-    if (render(&s, &o, &indirect)) return;
+    if (test_pt_render(&s, &o, &indirect)) return;
     o.min_depth = 1;
     o.max_depth = 2;
-    if (render(&s, &o, &direct)) return;
+    if (test_pt_render(&s, &o, &direct)) return;
     n = 3 * (size_t)s.width * s.height;
     for (i = 0; i < n; ++i) {
         double a = all.mean.px[i], d = direct.mean.px[i], x = indirect.mean.px[i];

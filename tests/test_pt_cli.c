@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/image.h"
+#include "pt_util.h"
 #include "test.h"
 #include "restir/core/pfm.h"
 
@@ -18,17 +19,6 @@ static int read_pfm(const char *path, image *img)
         return -1;
     }
     return 0;
-}
-
-static double max_rel_diff(const image *a, const image *b)
-{
-    size_t i, n = 3 * (size_t)a->width * a->height;
-    double worst = 0;
-    for (i = 0; i < n; ++i) {
-        double d = fabs((double)a->px[i] - (double)b->px[i]), m = fmax(fabs((double)a->px[i]), 1e-30);
-        if (d / m > worst) worst = d / m;
-    }
-    return worst;
 }
 
 TEST(pt_cli_resume_equals_single_run)
@@ -71,8 +61,8 @@ TEST(pt_cli_merge_sample_ranges)
     CHECKF(test_cli(out, sizeof out, "merge --quiet --no-png -o %s %s %s --counts 4,6", m2, a_pfm, b_pfm) == 0, "%s",
            out);
     if (read_pfm(whole, &w) || read_pfm(m1, &x) || read_pfm(m2, &y)) return;
-    CHECKF(max_rel_diff(&w, &x) <= 1.2e-7, "checkpoint merge differs by %g", max_rel_diff(&w, &x));
-    CHECKF(max_rel_diff(&w, &y) <= 4e-7, "image merge differs by %g", max_rel_diff(&w, &y));
+    CHECKF(test_image_max_rel_diff(&w, &x) <= 1.2e-7, "checkpoint merge differs by %g", test_image_max_rel_diff(&w, &x));
+    CHECKF(test_image_max_rel_diff(&w, &y) <= 4e-7, "image merge differs by %g", test_image_max_rel_diff(&w, &y));
     image_free(&w);
     image_free(&x);
     image_free(&y);

@@ -23,30 +23,12 @@
 
 #define ALPHA 1e-3
 
-typedef struct {
-    scene s;
-    check_side pt;
-    int block, runs;
-} coverage_bench;
+typedef rt_bench coverage_bench;
 
 /* path NULL: the spot scene. */
 static int bench_open(coverage_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth)
 {
-    memset(b, 0, sizeof *b);
-    b->block = 4;
-    b->runs = runs;
-    if (rt_load_scene(path, res, &b->s)) return -1; /* NULL: the spot scene */
-    if (rt_pt_side(&b->s, test_seed() * 7919u + 11, runs, spp, max_depth, 0, b->block, &b->pt)) {
-        scene_free(&b->s);
-        return -1;
-    }
-    return 0;
-}
-
-static void bench_close(coverage_bench *b)
-{
-    check_side_free(&b->pt);
-    scene_free(&b->s);
+    return rt_bench_open(b, path, res, runs, spp, max_depth, test_seed() * 7919u + 11);
 }
 
 /* K runs of ReSTIR with options o against the bench's path tracer; `biased` is the
@@ -54,29 +36,8 @@ static void bench_close(coverage_bench *b)
 static void expect(coverage_bench *b, const char *what, const restir_options *o, int biased)
 {
     check_side a;
-    check_result c;
-    check_options opt;
-    rerror e;
-    int status;
-    double z;
     if (rt_restir_side(&b->s, o, b->runs, b->block, &a)) return;
-    check_options_default(&opt);
-    opt.alpha = ALPHA;
-    opt.block_size = b->block;
-    status = check_compare(&a, &b->pt, &opt, &c, &e);
-    check_side_free(&a);
-    CHECKF(status == 0, "check_compare: %s", e.msg);
-    z = rt_mean_z(&c);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what, z,
-                c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
-    if (biased)
-        CHECKF(c.different, "%s: the biased estimator was not detected (mean z %.2f, worst block z %.2f)", what, z,
-               c.worst.z);
-    else
-        CHECKF(!c.different, "%s: differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks rejected, worst z %.2f",
-               what, z, c.global.p, c.rejected, c.tests, c.worst.z);
-    check_result_free(&c);
+    rt_expect_verdict(&a, &b->pt, ALPHA, b->block, what, biased, NULL);
 }
 
 static void corridor_options(restir_options *o, int shift, int mis)
@@ -115,7 +76,7 @@ static void corridor(int res, int runs, int all)
         corridor_options(&o, RESTIR_SHIFT_REPLAY, MIS_PAIRWISE_DEFENSIVE);
         expect(&b, "corridor replay pairwise-defensive 3 passes", &o, 0);
     }
-    bench_close(&b);
+    rt_bench_close(&b);
 }
 
 TEST(restir_corridor_unbiased) { corridor(12, 16, 0); }
@@ -137,16 +98,10 @@ static void preset_options(restir_options *o, int ablation)
 /* `render --preset gris-offline` echoes defensive pairwise MIS in --stats. */
 TEST(restir_preset_gris_offline_cli_echo)
 {
-    char out[4096];
-    const char *img = test_tmp_path("preset-echo.pfm"), *stats = test_tmp_path("preset-echo.json");
     json_reader jr;
-    rerror e;
-    CHECKF(test_cli(out, sizeof out,
-                    "render scenes/cornell.scene --method restir --preset gris-offline --candidates 1 --size 8x8 "
-                    "--quiet --no-png -o %s --stats %s",
-                    img, stats) == 0,
-           "%s", out);
-    CHECKF(json_reader_open(&jr, stats, &e) == 0, "%s", e.msg);
+    if (rt_render_stats("scenes/cornell.scene --method restir --preset gris-offline --candidates 1 --size 8x8",
+                        "preset-echo", &jr))
+        return;
     CHECKF(strstr(jr.text, "\"mis\": \"pairwise-defensive\"") && strstr(jr.text, "\"spatial_passes\": 3,"), "%s",
            jr.text);
     json_reader_close(&jr);
@@ -163,7 +118,7 @@ TEST(restir_preset_gris_offline_unbiased_and_jacobian_ablation_detected)
     expect(&b, "spot gris-offline", &o, 0);
     preset_options(&o, RESTIR_ABLATE_JACOBIAN);
     if (!test_has_failed()) expect(&b, "spot gris-offline --ablate jacobian", &o, 1);
-    bench_close(&b);
+    rt_bench_close(&b);
 }
 
 /* ---- paired: K spatial passes minus 0 passes, per run ---------------------------- */

@@ -216,11 +216,7 @@ static void step_run(step_bench *b, int shift, mis_family f, int passes, int max
     restir_options_default(&o);
     o.shift = shift;
     restir_context_for(&b->c, &b->s, &b->lights, &o);
-    memset(&io, 0, sizeof io);
-    memset(&ist, 0, sizeof ist);
-    io.trees = 2;
-    io.max_depth = max_depth;
-    io.rr_min_depth = 3;
+    rt_initial_options(&io, &ist, 2, max_depth);
     b->steps = b->failed_shifts = b->failed_steps = b->selected_neighbor = b->max_m = 0;
     b->worst_target = b->worst_w = 0;
     for (y = 0; y < H; ++y)
@@ -494,11 +490,7 @@ static int debug_cross(step_bench *b, int x, int y, reservoir *r, const path_ver
     initial_options io;
     initial_stats ist;
     int k;
-    memset(&io, 0, sizeof io);
-    memset(&ist, 0, sizeof ist);
-    io.trees = 2;
-    io.max_depth = 4;
-    io.rr_min_depth = 3;
+    rt_initial_options(&io, &ist, 2, 4);
     for (k = 0; k < STEP_MAX_M; ++k) {
         long q = (long)(y + oy[k]) * b->s.width + x + ox[k];
         if (!b->hit[q]) return k;

@@ -160,45 +160,20 @@ static void expect(const scene *s, const check_side *pt, const char *name, const
 {
     restir_options o;
     check_side a;
-    check_result c;
-    check_options opt;
-    rerror e;
     char what[256];
-    int status;
-    restir_options_default(&o);
-    o.seed = test_seed() * 2389u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->passes;
-    o.shift = m->shift;
-    o.mis = m->mis;
-    o.spatial_passes = m->passes;
-    o.neighbors = 4;
-    o.radius = 4.0 * s->width / 16;
+    rt_spatial_options(&o, test_seed() * 2389u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->passes,
+                       m->shift, m->mis, m->passes, 4, 4.0 * s->width / 16);
     o.ablation = m->ablation;
     o.frames = m->frames;
     o.candidates = 2;
     o.max_depth = 4;
-    o.threads = 2;
     o.rc_criterion = RC_MODE_FOOTPRINT;
     o.force_nee_reconnection = m->force_nee;
     if (rt_restir_side(s, &o, runs, 4, &a)) return;
-    check_options_default(&opt);
-    opt.alpha = ALPHA;
-    opt.block_size = 4;
-    status = check_compare(&a, pt, &opt, &c, &e);
-    check_side_free(&a);
-    CHECKF(status == 0, "check_compare: %s", e.msg);
     snprintf(what, sizeof what, "%s footprint%s shift %s mis %s passes %d ablate %s", name,
              m->force_nee ? " forced-nee" : "", restir_shift_names[m->shift], restir_mis_names[m->mis], m->passes,
              restir_ablation_names[m->ablation]);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
-                rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
-    if (biased)
-        CHECKF(c.different, "%s: the biased estimator was not detected (mean z %.2f, worst block z %.2f)", what,
-               rt_mean_z(&c), c.worst.z);
-    else
-        CHECKF(!c.different, "%s: differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks rejected, "
-                             "worst z %.2f", what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
-    check_result_free(&c);
+    rt_expect_verdict(&a, pt, ALPHA, 4, what, biased, NULL);
 }
 
 /* path NULL: the spot scene (glossy floor, small light: the footprint test fires there);
@@ -292,10 +267,7 @@ static void paired_expect(const char *path, const char *name, const fp_side *sa,
     scene s;
     restir_options oa, ob;
     check_side a, b;
-    check_options opt;
     check_result r;
-    rerror e;
-    int status;
     if (open_scene(path, 16, &s)) return;
     restir_options_default(&oa);
     oa.seed = test_seed() * 2654435761u + 29u;
@@ -318,12 +290,7 @@ static void paired_expect(const char *path, const char *name, const fp_side *sa,
     ob.ablation = sb->ablation;
     if (rt_restir_side(&s, &oa, runs, 4, &a) == 0) {
         if (rt_restir_side(&s, &ob, runs, 4, &b) == 0) {
-            check_options_default(&opt);
-            opt.alpha = ALPHA;
-            opt.block_size = 4;
-            status = check_compare_paired(&a, &b, &opt, &r, &e);
-            CHECKF(status == 0, "check_compare_paired: %s", e.msg);
-            if (status == 0) {
+            if (rt_compare_paired(&a, &b, ALPHA, 4, &r) == 0) {
                 double z = stats_t_to_z(r.global.t, r.global.dof);
                 char what[256];
                 snprintf(what, sizeof what, "%s: %s%s %d passes%s%s vs %s %d passes", name, rc_mode_names[sa->criterion],

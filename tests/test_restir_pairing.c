@@ -66,54 +66,26 @@ static void expect(const scene *s, const check_side *pt, const char *name, const
 {
     restir_options o;
     check_side a;
-    check_result c;
-    check_options opt;
-    rerror e;
-    int status;
-    restir_options_default(&o);
-    o.seed = test_seed() * 3571u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->passes;
-    o.shift = m->shift;
-    o.mis = m->mis;
-    o.spatial_passes = m->passes;
-    o.neighbors = 3;
-    o.radius = 4.0 * s->width / 16;
+    char what[256];
+    rt_spatial_options(&o, test_seed() * 3571u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->passes,
+                       m->shift, m->mis, m->passes, 3, 4.0 * s->width / 16);
     o.pairing = RESTIR_PAIRING_PAIRED;
     o.frames = m->frames;
     o.candidates = 2;
     o.max_depth = 4;
-    o.threads = 2;
     if (rt_restir_side(s, &o, runs, 4, &a)) return;
-    check_options_default(&opt);
-    opt.alpha = ALPHA;
-    opt.block_size = 4;
-    status = check_compare(&a, pt, &opt, &c, &e);
-    check_side_free(&a);
-    CHECKF(status == 0, "check_compare: %s", e.msg);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s paired shift %s mis %s passes %d: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks "
-                        "rejected, worst block z %.2f\n",
-                name, restir_shift_names[m->shift], restir_mis_names[m->mis], m->passes, rt_mean_z(&c), c.lum_a.mean,
-                c.lum_b.mean, c.rejected, c.tests, c.worst.z);
-    CHECKF(!c.different, "%s paired shift %s mis %s: differs from the path tracer: mean z %.2f, %ld of %ld blocks "
-                         "rejected, worst z %.2f",
-           name, restir_shift_names[m->shift], restir_mis_names[m->mis], rt_mean_z(&c), c.rejected, c.tests,
-           c.worst.z);
-    check_result_free(&c);
+    snprintf(what, sizeof what, "%s paired shift %s mis %s passes %d", name, restir_shift_names[m->shift],
+             restir_mis_names[m->mis], m->passes);
+    rt_expect_verdict(&a, pt, ALPHA, 4, what, 0, NULL);
 }
 
 static void cases_on(const char *path, const pr_case *cases, int n, int runs, uint32_t spp)
 {
-    scene s;
-    check_side pt;
+    rt_bench b;
     int i;
-    if (rt_load_scene(path, 16, &s)) return;
-    if (rt_pt_side(&s, test_seed() * 7919u + 5, runs, spp, 4, 0, 4, &pt)) {
-        scene_free(&s);
-        return;
-    }
-    for (i = 0; i < n && !test_has_failed(); ++i) expect(&s, &pt, path, &cases[i], runs);
-    check_side_free(&pt);
-    scene_free(&s);
+    if (rt_bench_open(&b, path, 16, runs, spp, 4, test_seed() * 7919u + 5)) return;
+    for (i = 0; i < n && !test_has_failed(); ++i) expect(&b.s, &b.pt, path, &cases[i], runs);
+    rt_bench_close(&b);
 }
 
 TEST(restir_pairing_unbiased_subset)
@@ -171,17 +143,10 @@ TEST(restir_pair_step_bit_identical)
             restir_options o;
             restir_result a, b;
             const spatial_stats *sa = &a.stats.spatial, *sb = &b.stats.spatial;
-            restir_options_default(&o);
-            o.seed = test_seed() * 7u + 3u;
-            o.shift = sh;
-            o.mis = families[f];
-            o.spatial_passes = 2;
-            o.neighbors = 4;
-            o.radius = 5;
+            rt_spatial_options(&o, test_seed() * 7u + 3u, sh, families[f], 2, 4, 5);
             o.pairing = RESTIR_PAIRING_PAIRED;
             o.candidates = 2;
             o.max_depth = 5;
-            o.threads = 2;
             o.shading = sh == RESTIR_SHIFT_HYBRID ? RESTIR_SHADING_VECTOR : RESTIR_SHADING_SCALAR;
             if (render_paired(&s, &o, &a)) break;
             o.no_pair_step = 1;
@@ -226,33 +191,18 @@ TEST(restir_pair_mis_detected)
     scene s;
     restir_options o, ob;
     check_side a, b;
-    check_options opt;
     check_result r;
-    rerror e;
     if (rt_load_scene("scenes/cornell-glossy.scene", 16, &s)) return;
-    restir_options_default(&o);
-    o.seed = test_seed() * 2246822519u + 13u;
-    o.shift = RESTIR_SHIFT_HYBRID;
-    o.mis = MIS_PAIRWISE_DEFENSIVE;
-    o.spatial_passes = 1;
-    o.neighbors = 3;
-    o.radius = 4;
+    rt_spatial_options(&o, test_seed() * 2246822519u + 13u, RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, 3, 4);
     o.pairing = RESTIR_PAIRING_PAIRED;
     o.frames = 2;
     o.candidates = 2;
     o.max_depth = 4;
-    o.threads = 2;
     ob = o;
     o.ablation = RESTIR_ABLATE_PAIR_MIS;
     if (rt_restir_side(&s, &o, 16, 4, &a) == 0) {
         if (rt_restir_side(&s, &ob, 16, 4, &b) == 0) {
-            int status;
-            check_options_default(&opt);
-            opt.alpha = ALPHA;
-            opt.block_size = 4;
-            status = check_compare_paired(&a, &b, &opt, &r, &e);
-            CHECKF(status == 0, "check_compare_paired: %s", e.msg);
-            if (status == 0) {
+            if (rt_compare_paired(&a, &b, ALPHA, 4, &r) == 0) {
                 double z = stats_t_to_z(r.global.t, r.global.dof);
                 if (getenv("RESTIR_TEST_VERBOSE"))
                     fprintf(stderr, "  pair-mis vs pair step: mean z %.2f (relative diff %+.3f%%), %ld/%ld blocks "

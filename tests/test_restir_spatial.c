@@ -24,32 +24,12 @@ typedef struct {
     int frames;
 } spatial_case;
 
-typedef struct {
-    scene s;
-    check_side pt;
-    int res, block, runs, max_depth;
-} spatial_bench;
+typedef rt_bench spatial_bench;
 
 /* path NULL: the spot scene of restir_util.h. */
 static int bench_open(spatial_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth)
 {
-    memset(b, 0, sizeof *b);
-    b->res = res;
-    b->block = 4;
-    b->runs = runs;
-    b->max_depth = max_depth;
-    if (rt_load_scene(path, res, &b->s)) return -1; /* NULL: the spot scene */
-    if (rt_pt_side(&b->s, test_seed() * 7919u + 5, runs, spp, max_depth, 0, b->block, &b->pt)) {
-        scene_free(&b->s);
-        return -1;
-    }
-    return 0;
-}
-
-static void bench_close(spatial_bench *b)
-{
-    check_side_free(&b->pt);
-    scene_free(&b->s);
+    return rt_bench_open(b, path, res, runs, spp, max_depth, test_seed() * 7919u + 5);
 }
 
 /* K runs of offline ReSTIR PT for case m against the reference; `biased` says which
@@ -58,42 +38,17 @@ static void expect(spatial_bench *b, const char *name, const spatial_case *m, in
 {
     restir_options o;
     check_side a;
-    check_result c;
-    check_options opt;
-    rerror e;
     char what[256];
-    int status;
-    restir_options_default(&o);
-    o.seed = test_seed() * 1181u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->passes;
-    o.shift = m->shift;
-    o.mis = m->mis;
-    o.spatial_passes = m->passes;
-    o.neighbors = m->neighbors;
-    o.radius = 4.0 * b->res / 16;
+    rt_spatial_options(&o, test_seed() * 1181u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->passes,
+                       m->shift, m->mis, m->passes, m->neighbors, 4.0 * b->res / 16);
     o.ablation = m->ablation;
     o.frames = m->frames;
     o.candidates = 2;
     o.max_depth = b->max_depth;
-    o.threads = 2;
     if (rt_restir_side(&b->s, &o, b->runs, b->block, &a)) return;
-    check_options_default(&opt);
-    opt.alpha = ALPHA;
-    opt.block_size = b->block;
-    status = check_compare(&a, &b->pt, &opt, &c, &e);
-    check_side_free(&a);
-    CHECKF(status == 0, "check_compare: %s", e.msg);
     snprintf(what, sizeof what, "%s shift %s mis %s passes %d ablate %s", name, restir_shift_names[m->shift],
              restir_mis_names[m->mis], m->passes, restir_ablation_names[m->ablation]);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
-                rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
-    if (biased)
-        CHECKF(c.different, "%s: the biased estimator was not detected (mean z %.2f, worst block z %.2f)", what,
-               rt_mean_z(&c), c.worst.z);
-    else
-        CHECKF(!c.different, "%s: differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks rejected, worst z %.2f",
-               what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
-    check_result_free(&c);
+    rt_expect_verdict(&a, &b->pt, ALPHA, b->block, what, biased, NULL);
 }
 
 /* The whole matrix on one scene: shift x {talbot, pairwise, defensive} x {1, 3 passes}. */
@@ -113,7 +68,7 @@ static void matrix(const char *path, int res, int runs, int frames, uint32_t spp
                 m.passes = passes[p];
                 expect(&b, path, &m, 0);
             }
-    bench_close(&b);
+    rt_bench_close(&b);
 }
 
 /* A light but discriminating subset: every shift, every unbiased family and both pass
@@ -132,13 +87,13 @@ TEST(restir_spatial_unbiased_subset)
     size_t i;
     if (bench_open(&b, "scenes/cornell-glossy.scene", 16, 16, 64, 4)) return;
     for (i = 0; i < sizeof glossy / sizeof glossy[0] && !test_has_failed(); ++i) expect(&b, "cornell-glossy", &glossy[i], 0);
-    bench_close(&b);
+    rt_bench_close(&b);
     if (test_has_failed() || bench_open(&b, "scenes/cornell.scene", 16, 16, 64, 4)) return;
     expect(&b, "cornell", &cornell, 0);
-    bench_close(&b);
+    rt_bench_close(&b);
     if (test_has_failed() || bench_open(&b, "scenes/glass.scene", 16, 16, 256, 4)) return;
     expect(&b, "glass", &glass, 0);
-    bench_close(&b);
+    rt_bench_close(&b);
 }
 
 /* Constant MIS where shifts fail (occlusion at the tall block, cornell-glossy) and the
@@ -152,11 +107,11 @@ TEST(restir_spatial_constant_mis_and_jacobian_ablation_detected)
     spatial_case fine = {RESTIR_SHIFT_RECONNECTION, MIS_PAIRWISE_DEFENSIVE, 3, RESTIR_ABLATE_NONE, 4, 8};
     if (bench_open(&b, "scenes/cornell-glossy.scene", 16, 16, 64, 4)) return;
     expect(&b, "cornell-glossy", &constant, 1);
-    bench_close(&b);
+    rt_bench_close(&b);
     if (test_has_failed() || bench_open(&b, NULL, 16, 16, 256, 3)) return;
     expect(&b, "spot", &jacobian, 1);
     if (!test_has_failed()) expect(&b, "spot", &fine, 0);
-    bench_close(&b);
+    rt_bench_close(&b);
 }
 
 TEST_LONG(restir_spatial_unbiased_matrix_long)
@@ -192,13 +147,7 @@ TEST(restir_spatial_cli_preset_stats_time_limit)
     json_reader_close(&jr);
     CHECK(test_cli(out, sizeof out, "render scenes/cornell.scene --method restir --preset nonsense -o %s", img) == 2);
     /* --time-limit is shared with the path tracer's row and handed to restir */
-    CHECKF(test_cli(out, sizeof out,
-                    "render scenes/cornell.scene --method restir --time-limit 0.1 --size 8x8 --quiet --no-png -o %s "
-                    "--stats %s",
-                    img, stats) == 0,
-           "%s", out);
-    CHECKF(json_reader_open(&jr, stats, &e) == 0, "%s", e.msg);
-    if (test_has_failed()) return;
+    if (rt_render_stats("scenes/cornell.scene --method restir --time-limit 0.1 --size 8x8", "preset", &jr)) return;
     CHECK(strstr(jr.text, "\"time_limit\": 0.1,") && !strstr(jr.text, "\"frames\": 1,\n"));
     json_reader_close(&jr);
     if (rt_load_scene("scenes/cornell.scene", 8, &s)) return;
@@ -232,11 +181,7 @@ static void step_counts_at(const restir_context *c, const scene *s, int cx, int 
     const reservoir *in[STEP_M];
     real u[STEP_M];
     int d, f, exact = 0;
-    memset(&io, 0, sizeof io);
-    memset(&ist, 0, sizeof ist);
-    io.trees = 4;
-    io.max_depth = 5;
-    io.rr_min_depth = 3;
+    rt_initial_options(&io, &ist, 4, 5);
     for (d = 0; d < STEP_M; ++d) {
         int x = cx + dx[d], y = cy + dy[d];
         if (!rt_primary_vertex(s, x, y, &v[d])) return;
@@ -272,8 +217,7 @@ TEST(restir_spatial_step_shift_counts)
     spatial_workspace w;
     rerror e;
     int k, all_exact = 0;
-    if (rt_load_scene("scenes/cornell.scene", 32, &s)) return;
-    CHECKF(lights_build(&lights, &s, &e) == 0, "%s", e.msg);
+    if (rt_load_scene_lights("scenes/cornell.scene", 32, &s, &lights)) return;
     rt_context(&c, &s, &lights, RESTIR_SHIFT_RECONNECTION);
     CHECK(spatial_workspace_alloc(&w, STEP_M, &e) == 0);
     for (k = 0; k < (int)(sizeof centres / sizeof centres[0]) && !test_has_failed(); ++k)

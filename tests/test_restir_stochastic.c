@@ -21,11 +21,7 @@
 
 #define ALPHA 1e-3
 
-typedef struct {
-    scene s;
-    check_side pt;
-    int res, block, runs, max_depth;
-} sto_bench;
+typedef rt_bench sto_bench;
 
 typedef struct {
     int shift, n, nc, no_scaling, passes, ablation, frames;
@@ -35,23 +31,7 @@ typedef struct {
 
 static int bench_open(sto_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth)
 {
-    memset(b, 0, sizeof *b);
-    b->res = res;
-    b->block = 4;
-    b->runs = runs;
-    b->max_depth = max_depth;
-    if (rt_load_scene(path, res, &b->s)) return -1;
-    if (rt_pt_side(&b->s, test_seed() * 7919u + 11, runs, spp, max_depth, 0, b->block, &b->pt)) {
-        scene_free(&b->s);
-        return -1;
-    }
-    return 0;
-}
-
-static void bench_close(sto_bench *b)
-{
-    check_side_free(&b->pt);
-    scene_free(&b->s);
+    return rt_bench_open(b, path, res, runs, spp, max_depth, test_seed() * 7919u + 11);
 }
 
 static void options_for(const sto_bench *b, const sto_case *m, uint32_t seed, int mis, restir_options *o)
@@ -86,33 +66,11 @@ static void expect_pt(sto_bench *b, const char *scene_name, const sto_case *m, i
 {
     restir_options o;
     check_side a;
-    check_result c;
     char what[256];
     options_for(b, m, test_seed() * 1187u + 13u * (uint32_t)m->shift + 7u * (uint32_t)m->n + (uint32_t)m->no_scaling, RESTIR_MIS_STOCHASTIC_PAIRWISE, &o);
     if (rt_restir_side(&b->s, &o, b->runs, b->block, &a)) return;
-    {
-        check_options opt;
-        rerror e;
-        int status;
-        check_options_default(&opt);
-        opt.alpha = ALPHA;
-        opt.block_size = b->block;
-        status = check_compare(&a, &b->pt, &opt, &c, &e);
-        check_side_free(&a);
-        CHECKF(status == 0, "check_compare: %s", e.msg);
-        if (status) return;
-    }
     case_name(scene_name, m, what, sizeof what);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
-                rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
-    if (biased)
-        CHECKF(c.different, "%s: the biased estimator was not detected (mean z %.2f, worst block z %.2f)", what,
-               rt_mean_z(&c), c.worst.z);
-    else
-        CHECKF(!c.different, "%s: differs from the path tracer: mean z %.2f (p %.3g), %ld of %ld blocks rejected, worst z %.2f",
-               what, rt_mean_z(&c), c.global.p, c.rejected, c.tests, c.worst.z);
-    check_result_free(&c);
+    rt_expect_verdict(&a, &b->pt, ALPHA, b->block, what, biased, NULL);
 }
 
 /* Paired against defensive pairwise MIS over the same domains and seeds. */
@@ -120,9 +78,7 @@ static void expect_paired(sto_bench *b, const char *scene_name, const sto_case *
 {
     restir_options oa, ob;
     check_side a, d;
-    check_options opt;
     check_result r;
-    rerror e;
     char what[256];
     int status;
     uint32_t seed = test_seed() * 2654435761u + 101u + (uint32_t)m->n;
@@ -134,13 +90,9 @@ static void expect_paired(sto_bench *b, const char *scene_name, const sto_case *
         check_side_free(&a);
         return;
     }
-    check_options_default(&opt);
-    opt.alpha = ALPHA;
-    opt.block_size = b->block;
-    status = check_compare_paired(&a, &d, &opt, &r, &e);
+    status = rt_compare_paired(&a, &d, ALPHA, b->block, &r);
     check_side_free(&a);
     check_side_free(&d);
-    CHECKF(status == 0, "check_compare_paired: %s", e.msg);
     if (status) return;
     case_name(scene_name, m, what, sizeof what);
     if (getenv("RESTIR_TEST_VERBOSE"))
@@ -172,7 +124,7 @@ static void matrix(const char *path, int res, int runs, int frames, uint32_t spp
                 m.nc = picks[k] > 1 ? 2 : 1;
                 expect_pt(&b, path, &m, 0);
             }
-    bench_close(&b);
+    rt_bench_close(&b);
 }
 
 /* A subset: every shift, every Ñ, scaling on and off, cornell-glossy; the ablation. */
@@ -191,7 +143,7 @@ TEST(restir_stochastic_unbiased_subset)
     if (bench_open(&b, "scenes/cornell-glossy.scene", 16, 16, 16, 4)) return;
     for (i = 0; i < sizeof cases / sizeof cases[0] && !test_has_failed(); ++i)
         expect_pt(&b, "cornell-glossy", &cases[i], 0);
-    bench_close(&b);
+    rt_bench_close(&b);
 }
 
 TEST(restir_stochastic_paired_and_ablation)
@@ -230,49 +182,7 @@ TEST_LONG(restir_stochastic_unbiased_matrix_long)
 
 /* ---- the real-time pipeline: the pillars disocclusion sequence (scenes/pillars.scene) ---- */
 
-#define SEQ_TIMES 3
-
-typedef struct {
-    int times[SEQ_TIMES], nt;
-    check_side side[SEQ_TIMES];
-} seq_sides;
-
-static int seq_collect(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
-{
-    seq_sides *q = user;
-    int i;
-    (void)st;
-    for (i = 0; i < q->nt; ++i)
-        if (q->times[i] == frame && check_side_add_run(&q->side[i], img, "run", e)) return -1;
-    return 0;
-}
-
-/* K sequences 0..last (seed + 7919 k) into one side per frame of q->times. */
-static int seq_run(const scene *s, const restir_options *o, int runs, int block, seq_sides *q)
-{
-    restir_sequence seq;
-    rerror e;
-    int i, k, status = 0;
-    memset(&seq, 0, sizeof seq);
-    seq.last = q->times[q->nt - 1];
-    for (i = 0; i < q->nt; ++i)
-        if (check_side_begin_runs(&q->side[i], s->width, s->height, block, &e)) {
-            test_fail(__FILE__, __LINE__, "%s", e.msg);
-            return -1;
-        }
-    for (k = 0; k < runs && !status; ++k) {
-        restir_options ok = *o;
-        restir_stats total;
-        ok.seed = o->seed + 7919u * (uint32_t)k;
-        status = restir_render_sequence(s, &ok, &seq, seq_collect, q, &total, &e);
-    }
-    for (i = 0; i < q->nt && !status; ++i) status = check_side_end_runs(&q->side[i], &e);
-    if (status) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        for (i = 0; i < q->nt; ++i) check_side_free(&q->side[i]);
-    }
-    return status;
-}
+#define SEQ_TIMES RT_MAX_TIMES
 
 /* Pillars frames `times` with temporal reuse (Talbot) + one stochastic spatial pass per
  * case, each frame against the path tracer on the scene posed at that frame. */
@@ -296,7 +206,7 @@ static void pillars(const sto_case *cases, int n_cases, const int *times, int nt
     for (c = 0; c < n_cases && !test_has_failed(); ++c) {
         const sto_case *m = &cases[c];
         restir_options o;
-        seq_sides q;
+        rt_frame_sides q;
         sto_bench dummy;
         dummy.max_depth = 4;
         options_for(&dummy, m, test_seed() * 1181u + 17u * (uint32_t)c, RESTIR_MIS_STOCHASTIC_PAIRWISE, &o);
@@ -305,7 +215,7 @@ static void pillars(const sto_case *cases, int n_cases, const int *times, int nt
         memset(&q, 0, sizeof q);
         q.nt = nt;
         for (i = 0; i < nt; ++i) q.times[i] = times[i];
-        if (seq_run(&s, &o, runs, 4, &q)) break;
+        if (rt_frame_sides_run(&s, &o, runs, 4, &q)) break;
         for (i = 0; i < nt; ++i) {
             check_options opt;
             check_result r;

@@ -25,7 +25,7 @@
 #include "restir/frame/options.h"
 
 #define ALPHA 1e-3
-#define MAX_TIMES 3
+#define MAX_TIMES RT_MAX_TIMES
 #define MOVING_RUNS 48
 
 typedef struct {
@@ -33,59 +33,6 @@ typedef struct {
     double mcap;
 } temporal_case;
 
-/* K sequences 0..last; frame times[i] of run k is run k of side[i]. */
-typedef struct {
-    int times[MAX_TIMES], nt;
-    check_side side[MAX_TIMES];
-} sequence_sides;
-
-static int collect_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
-{
-    sequence_sides *q = user;
-    int i;
-    (void)st;
-    for (i = 0; i < q->nt; ++i)
-        if (q->times[i] == frame && check_side_add_run(&q->side[i], img, "run", e)) return -1;
-    return 0;
-}
-
-static void sides_free(sequence_sides *q)
-{
-    int i;
-    for (i = 0; i < q->nt; ++i) check_side_free(&q->side[i]);
-}
-
-static int sequence_sides_run(const scene *s, const restir_options *o, int runs, int block, sequence_sides *q)
-{
-    restir_sequence seq;
-    rerror e;
-    int i, k;
-    memset(&seq, 0, sizeof seq);
-    seq.first = 0;
-    seq.last = q->times[q->nt - 1];
-    for (i = 0; i < q->nt; ++i)
-        if (check_side_begin_runs(&q->side[i], s->width, s->height, block, &e)) {
-            test_fail(__FILE__, __LINE__, "%s", e.msg);
-            return -1;
-        }
-    for (k = 0; k < runs; ++k) {
-        restir_options ok = *o;
-        restir_stats total;
-        ok.seed = o->seed + 7919u * (uint32_t)k;
-        if (restir_render_sequence(s, &ok, &seq, collect_frame, q, &total, &e)) {
-            test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
-            sides_free(q);
-            return -1;
-        }
-    }
-    for (i = 0; i < q->nt; ++i)
-        if (check_side_end_runs(&q->side[i], &e)) {
-            test_fail(__FILE__, __LINE__, "%s", e.msg);
-            sides_free(q);
-            return -1;
-        }
-    return 0;
-}
 
 /* A scene with a panning camera: cornell-glossy seen from eye x = 278 - pan/2 at frame
  * 0 to 278 + pan/2 at frame 16 (target moves with it); pan 0: the still camera. */
@@ -239,14 +186,14 @@ static void case_options(const temporal_bench *b, const temporal_case *m, restir
 static void expect(temporal_bench *b, const temporal_case *m, int biased)
 {
     restir_options o;
-    sequence_sides q;
+    rt_frame_sides q;
     int i, detected = 0;
     char what[256];
     case_options(b, m, &o);
     memset(&q, 0, sizeof q);
     q.nt = b->nt;
     for (i = 0; i < b->nt; ++i) q.times[i] = b->times[i];
-    if (sequence_sides_run(&b->s, &o, b->runs, b->block, &q)) return;
+    if (rt_frame_sides_run(&b->s, &o, b->runs, b->block, &q)) return;
     for (i = 0; i < b->nt; ++i) {
         check_options opt;
         check_result c;
@@ -270,7 +217,7 @@ static void expect(temporal_bench *b, const temporal_case *m, int biased)
         detected |= c.different;
         check_result_free(&c);
     }
-    sides_free(&q);
+    rt_frame_sides_free(&q);
     if (biased == 1)
         CHECKF(detected, "%s %s: the biased estimator was not detected at any frame", b->name,
                restir_mis_names[m->temporal_mis]);
@@ -323,31 +270,15 @@ TEST(restir_temporal_constant_mis_and_target_ablation_detected)
  * block. */
 TEST_LONG(restir_temporal_unbiased_matrix_long)
 {
-    static const double pans[] = {0, 80, -4};
-    static const char *const names[] = {"still", "pan", "pillars"};
+    static const double pans[] = {0, 80, -4, -1};
+    static const char *const names[] = {"still", "pan", "pillars", "moving-block"};
     static const int families[] = {MIS_TALBOT, MIS_PAIRWISE_UNIFORM, MIS_PAIRWISE_DEFENSIVE};
     int c;
-    for (c = 0; c < 3 && !test_has_failed(); ++c) {
+    for (c = 0; c < 4 && !test_has_failed(); ++c) {
         temporal_bench b;
         temporal_case m = {0, MIS_PAIRWISE_DEFENSIVE, 0, 0, RESTIR_ABLATE_NONE, 20};
         int f, p;
         if (bench_open(&b, names[c], pans[c], 16, 24, 64, times_full, 3)) return;
-        b.candidates = 4;
-        b.alpha = 1e-4; /* 216 comparisons: one false block rejection (z -4.6) in 87 at 1e-3 */
-        for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift)
-            for (f = 0; f < 3 && !test_has_failed(); ++f)
-                for (p = 0; p < 2 && !test_has_failed(); ++p) {
-                    m.temporal_mis = families[f];
-                    m.passes = p;
-                    expect(&b, &m, 0);
-                }
-        bench_close(&b);
-    }
-    if (!test_has_failed()) {
-        temporal_bench b;
-        temporal_case m = {0, MIS_PAIRWISE_DEFENSIVE, 0, 0, RESTIR_ABLATE_NONE, 20};
-        int f, p;
-        if (bench_open(&b, "moving-block", -1, 16, 24, 64, times_full, 3)) return;
         b.candidates = 4;
         b.alpha = 1e-4; /* 216 comparisons: one false block rejection (z -4.6) in 87 at 1e-3 */
         for (m.shift = 0; m.shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++m.shift)

@@ -31,15 +31,15 @@ et_reference() { # SCENE MODE -> reference path
 
 # geometric mean [low, high] (95% t interval of the mean log) of column 2 of "x,value" rows for x
 geo_ci() {
-    awk -F, -v x="$2" '
-        BEGIN { split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262 2.228", T, " ") }
+    awk -F, -v x="$2" -v ttable="$(t_table)" '
+        BEGIN { NT = split(ttable, T, " ") }
         $1 == x && $2 > 0 { l = log($2); s += l; q += l * l; n++ }
         END {
             if (n == 0) { print "–"; exit }
             m = s / n
             if (n < 2) { printf "%.3g (1 seed)", exp(m); exit }
             v = (q - n * m * m) / (n - 1); if (v < 0) v = 0
-            t = n - 1 <= 10 ? T[n - 1] : 1.96 + 2.4 / (n - 1)
+            t = n - 1 <= NT ? T[n - 1] : T[NT]
             h = t * sqrt(v / n)
             printf "%.3g [%.3g, %.3g]", exp(m), exp(m - h), exp(m + h)
         }' "$1"
@@ -93,14 +93,14 @@ equal_time_section() {
             printf "%s,%.6g\n", x, a * a * v[x, "PT seconds", s] / v[x, "ReSTIR seconds", s] } }' "$runs" > "$OUT/equal_time.speedup_mape.csv"
     # per-seed relMSE of both methods (the spread behind the intervals), for the plot
     awk -F, '$2 == "ReSTIR relMSE" || $2 == "PT relMSE" { print $3 "," $1 " " $2 "," $3 "," $4 }' "$runs" |
-        awk -F, -v mode=wide -v xname=seed -f "$SUMMARY" > "$OUT/equal_time.csv"
+        summary -v mode=wide -v xname=seed > "$OUT/equal_time.csv"
     "$R" plot "$OUT/equal_time.csv" -o "$OUT/equal_time.svg" --logy \
         --title "equal time at ${ET_SIZE}^2: relMSE per seed (ReSTIR $ET_FRAMES frame(s) vs PT)" --xlabel seed --ylabel relMSE
     {
         echo "Setup: ${ET_SIZE} × ${ET_SIZE}, max depth 10, pixel centres, $THREADS threads on the shared 2-core machine, $SEEDS seeds (1–$SEEDS). ReSTIR: \`--preset gris-offline\` (32 path trees, 3 spatial passes, 6 neighbours in radius 10, defensive pairwise MIS, hybrid shift), $ET_FRAMES frame(s). PT: \`--spp 0 --time-limit\` = the ReSTIR run's seconds (whole 1-spp passes, so it stops at most one pass later). Rows \`indirect\`: \`--paths indirect\` / \`--min-depth 3\` (path length ≥ 3), as GRIS §9.3 measures; rows \`all\`: all light. Mean ± 95% Student-t interval over seeds."
         echo
-        awk -F, -v mode=header -v xname="scene, light" -f "$SUMMARY" "$runs"
-        awk -F, -v mode=md -f "$SUMMARY" "$runs"
+        summary -v mode=header -v xname="scene, light" "$runs"
+        summary -v mode=md "$runs"
         echo
         echo "Speed-up (time the path tracer needs for ReSTIR's relMSE / ReSTIR's time = ratio of efficiencies, per seed), geometric mean [95% interval over seeds]:"
         echo

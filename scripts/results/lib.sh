@@ -1,8 +1,33 @@
-# Helpers shared by scripts/results.sh and scripts/tradeoffs.sh (sourced). The caller sets
-# R (the restir binary), THREADS, OUT, CACHE (reference cache) and SUMMARY (summary.awk).
+# Helpers shared by the measurement scripts (sourced: scripts/results.sh, tradeoffs.sh,
+# results_*.sh, false-alarm.sh, power.sh); sourcing only defines functions. The caller sets
+# R (the restir binary), THREADS, OUT, CACHE (reference cache) and SUMMARY (summary.awk) as
+# the helpers it uses need them.
 
-# metric NAME TEST.pfm REF.pfm: one value from `restir compare`
-metric() { "$R" compare "$2" "$3" | awk -v m="$1" '$1 == m { print $2 }'; }
+# results_init DEFAULT_OUT [OUT_DIR] [BUILD_DIR]: a script's two arguments -> OUT (created),
+# R (BUILD_DIR/restir, default build/restir) and TMP (OUT/tmp, created by who needs it).
+results_init() { OUT=${2:-$1}; R=${3:-build}/restir; TMP="$OUT/tmp"; mkdir -p "$OUT"; }
+# defaults NAME=VALUE...: each NAME keeps its value from the environment, else takes VALUE
+# (the knobs a script's header documents).
+defaults() { for kv; do eval ": \"\${${kv%%=*}:=\${kv#*=}}\""; done; }
+
+# mean_ci [FORMAT]: the mean and 95% t half-width of the numbers on stdin, "%.4g ± %.2g"
+# unless FORMAT says otherwise: `restir stats mean-ci` (stats_mean_ci, docs/cli.md), the one
+# implementation of every script. With fewer than two numbers: "—" (the reason on stderr).
+mean_ci() { "$R" stats mean-ci ${1:+--format "$1"} || echo "—"; }
+# t_table: the 0.975 quantiles of Student's t for 1..1000 degrees of freedom on one line, for
+# the awk summaries that compute many intervals at once (awk -v ttable="$(t_table)").
+t_table() { "$R" stats t-table; }
+# summary [AWK OPTIONS] FILE: summary.awk with the t table
+summary() { awk -F, -v ttable="$(t_table)" -f "$SUMMARY" "$@"; }
+# json_value FILE SECTION KEY: a scalar of `check --json` output inside the object SECTION.
+json_value() {
+    awk -v sec="\"$2\"" -v key="\"$3\"" '
+        index($0, sec ":") { inside = 1 }
+        inside && index($0, key ":") { s = substr($0, index($0, key ":") + length(key) + 1); sub(/^ */, "", s); sub(/[,}].*$/, "", s); print s; exit }' "$1"
+}
+
+# metric NAME TEST.pfm REF.pfm [COMPARE_OPTIONS]: one value from `restir compare`
+metric() { "$R" compare "$2" "$3" ${4:-} | awk -v m="$1" '$1 == m { print $2 }'; }
 # wall seconds of the rendering of the last run (its --stats file)
 render_seconds() { grep -o '"render": [0-9.e+-]*' "$1" | tail -n 1 | awk '{ print $2 }'; }
 # render SIDE SCENE options...: one render at SIDE x SIDE
@@ -44,12 +69,12 @@ ref_mape() { awk '{ print $2 }' "$1.err"; }
 # the markdown table NAME.table.md (mean ± 95% interval over seeds).
 summarise() {
     runs=$1 name=$2 xname=$3
-    awk -F, -v mode=wide -v xname="$xname" -f "$SUMMARY" "$runs" > "$OUT/$name.csv"
-    { awk -F, -v mode=header -v xname="$xname" -f "$SUMMARY" "$runs"
-      awk -F, -v mode=md -f "$SUMMARY" "$runs"; } > "$OUT/$name.table.md"
+    summary -v mode=wide -v xname="$xname" "$runs" > "$OUT/$name.csv"
+    { summary -v mode=header -v xname="$xname" "$runs"
+      summary -v mode=md "$runs"; } > "$OUT/$name.table.md"
     "$R" plot "$OUT/$name.csv" -o "$OUT/$name.svg" --title "$4" --xlabel "$5" --ylabel "$6"
 }
 # paired_ratio RUNS.csv NUM DEN: markdown rows "| x | mean ± hw |" of NUM/DEN per seed
-paired_ratio() { awk -F, -v mode=ratio -v num="$2" -v den="$3" -f "$SUMMARY" "$1"; }
+paired_ratio() { summary -v mode=ratio -v num="$2" -v den="$3" "$1"; }
 # drop RUNS.csv SERIES X1 X2: "mean ± hw" of value(X1)/value(X2) per seed
-drop() { awk -F, -v mode=drop -v num="$2" -v lo="$3" -v hi="$4" -f "$SUMMARY" "$1"; }
+drop() { summary -v mode=drop -v num="$2" -v lo="$3" -v hi="$4" "$1"; }

@@ -1,6 +1,8 @@
 # Summaries over seeds of the long-format run tables of scripts/results.sh.
 # Input rows (no header): x,series,seed,value. Every number is a mean over seeds with a
-# 95% Student-t interval (half-width t_{0.975, n-1} * sd / sqrt(n)).
+# 95% Student-t interval (half-width t_{0.975, n-1} * sd / sqrt(n)); the quantiles come from
+# `restir stats t-table` (-v ttable=..., as scripts/results/lib.sh's `summary` passes them), the
+# C code's stats_t_quantile.
 #   awk -F, -v mode=wide  -f summary.awk RUNS.csv   -> CSV "x,s1,s2,..." of means (for `restir plot`)
 #   awk -F, -v mode=md    -f summary.awk RUNS.csv   -> markdown rows "| x | mean ± hw | ... |"
 #   awk -F, -v mode=ratio -v num=A -v den=B -f summary.awk RUNS.csv
@@ -10,10 +12,9 @@
 #        -> "mean ± hw" of the per-seed ratio value(X1)/value(X2) of series S
 #   mode=header prints the markdown header "| x | s1 | s2 |" and its rule.
 # Header text for the x column: -v xname=...
-function tq(df) { # 0.975 quantile of Student's t
+function tq(df) { # 0.975 quantile of Student's t (the table's last entry beyond it: a bit wide)
     if (df < 1) return 0
-    if (df <= 20) return T[df]
-    return 1.96 + 2.4 / df
+    return df <= NT ? T[df] : T[NT]
 }
 function fmt(v) { return sprintf("%.4g", v) }
 function ci(sum, sumsq, n,    m, var) {
@@ -24,7 +25,11 @@ function ci(sum, sumsq, n,    m, var) {
     return fmt(m) " ± " fmt(tq(n - 1) * sqrt(var / n))
 }
 BEGIN {
-    split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262 2.228 2.201 2.179 2.160 2.145 2.131 2.120 2.110 2.101 2.093 2.086", T, " ")
+    NT = split(ttable, T, " ")
+    if (NT == 0 && (mode == "md" || mode == "ratio" || mode == "drop")) {
+        print "summary.awk: no -v ttable (restir stats t-table)" > "/dev/stderr"
+        exit 2
+    }
     if (xname == "") xname = "x"
 }
 NF >= 4 && $4 != "" {

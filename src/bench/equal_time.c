@@ -37,8 +37,6 @@ double equal_time_value(const equal_time_point *p, enum equal_time_metric metric
     return metric == EQUAL_TIME_MAPE ? p->mape : p->relmse;
 }
 
-const char *equal_time_metric_name(enum equal_time_metric metric) { return metric == EQUAL_TIME_MAPE ? "mape" : "relmse"; }
-
 /* The running mean sum / units as a float image, and its errors against the reference. */
 static int record_point(const double *sum, uint32_t units, double seconds, const image *reference, image *mean,
                         equal_time_point *p, rerror *e)

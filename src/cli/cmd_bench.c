@@ -1,4 +1,4 @@
-/* restir bench rays SCENE | rays --generated N | all: machine-readable benchmarks (JSON on
+/* restir bench rays|restir|animation|realtime|stochastic|mutations|scaling|all: machine-readable benchmarks (JSON on
  * stdout). Timings are never asserted in tests; compare ratios measured in one run. */
 #include "cmd_bench.h"
 

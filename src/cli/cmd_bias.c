@@ -151,17 +151,17 @@ static double run_nmse(const image *img, const image *ref, const bias_args *a, c
     return den > 0 ? num / den : 0;
 }
 
+/* Mean and t half-width at `level` over the n runs (stats_mean_ci; 0 with one run). */
 static void mean_t(const double *v, int n, double level, double *mean, double *half)
 {
-    double s = 0, s2 = 0, var;
-    int i;
-    for (i = 0; i < n; ++i) {
-        s += v[i];
-        s2 += v[i] * v[i];
+    double var, lo, hi;
+    stats_mean_var(v, n, mean, &var);
+    if (n < 2) {
+        *half = 0;
+        return;
     }
-    *mean = s / n;
-    var = n > 1 ? (s2 - n * *mean * *mean) / (n - 1) : 0;
-    *half = stats_t_quantile(0.5 + 0.5 * level, n > 1 ? n - 1 : 1) * sqrt(var > 0 ? var / n : 0);
+    stats_mean_ci(stats_estimate_from_samples(*mean, var, n), level, &lo, &hi);
+    *half = 0.5 * (hi - lo);
 }
 
 /* The reference's noise from its moments file set: per block the variance of its block

@@ -24,8 +24,9 @@
 static const char help_notes[] =
     "\nCompares TEST against the reference REF (same size, finite values) and prints\n"
     "mse, rmse, relmse, mape, smape, marb, rel_bias, flip_ldr and flip_hdr (formulas:\n"
-    "docs/metrics.md). `restir compare --covariance RUN.pfm...` is a different measurement\n"
-    "(restir compare --covariance --help).\n"
+    "docs/metrics.md). `restir compare --covariance RUN.pfm...` and `restir compare --bias\n"
+    "RUN.pfm... --ref REF.pfm` are different measurements (restir compare --covariance --help,\n"
+    "restir compare --bias --help).\n"
     "exit status: 0 done, 2 bad usage or bad input.\n";
 
 typedef struct {

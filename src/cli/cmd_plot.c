@@ -51,7 +51,6 @@ int cmd_plot(int argc, char **argv)
     {
         const cli_option options[] = {
             {"-o", OPT_STRING, &output, "FIG.svg: the output (written atomically)", NULL, 0, 0, NULL},
-            {"--output", OPT_STRING, &output, "the same as -o", NULL, 0, 0, NULL},
             {"--title", OPT_STRING, &o.title, "title text", NULL, 0, 0, NULL},
             {"--xlabel", OPT_STRING, &o.xlabel, "x axis label (default: the first header)", NULL, 0, 0, NULL},
             {"--ylabel", OPT_STRING, &o.ylabel, "y axis label", NULL, 0, 0, NULL},

@@ -12,6 +12,7 @@
 #include "cmd_merge.h"
 #include "cmd_plot.h"
 #include "cmd_render.h"
+#include "cmd_stats.h"
 #include "cmd_vectors.h"
 
 static int cmd_help(int argc, char **argv);
@@ -19,15 +20,16 @@ static int cmd_help(int argc, char **argv);
 const cli_command cli_commands[] = {
     {"render", cmd_render, "render a scene (.scene or .obj) to PFM + PNG"},
     {"info", cmd_info, "scene statistics: triangles, materials, emitters, BVH"},
-    {"compare", cmd_compare, "image metrics (MSE ... MAPE, FLIP) of TEST.pfm against REF.pfm"},
+    {"compare", cmd_compare, "image metrics (MSE ... MAPE, FLIP) of TEST.pfm against REF.pfm; --covariance, --bias of K runs"},
     {"check", cmd_check, "statistical test: do two renderers estimate the same image?"},
     {"plot", cmd_plot, "line plots (log-log by default) of a CSV table as SVG"},
-    {"bench", cmd_bench, "benchmarks as JSON: rays SCENE | rays --generated N | all"},
+    {"bench", cmd_bench, "benchmarks as JSON: rays, restir, animation, realtime, stochastic, mutations, scaling, all"},
     {"merge", cmd_merge, "combine path-tracer runs: checkpoints, or images with --counts"},
     {"inspect", cmd_inspect, "one pixel's ReSTIR path sample and its shift to a neighbour"},
-    {"generate", cmd_generate, "write a generated scene (ajar, glass, sphere) as OBJ + MTL + scene file"},
+    {"generate", cmd_generate, "write a generated scene (10 kinds: ajar, atrium, sphere, ...) as OBJ + MTL + scene file"},
     {"diff-dump", cmd_diff_dump, "stage-by-stage comparison of two --dump-dir directories (docs/oracle.md)"},
     {"vectors", cmd_vectors, "golden test vectors (JSON lines, one file per formula family), or --check them"},
+    {"stats", cmd_stats, "mean-ci: mean and t interval of numbers on stdin; t-table (for scripts/results*)"},
     {"help", cmd_help, "list the commands, or `help COMMAND` for one"},
     {NULL, NULL, NULL},
 };

@@ -254,12 +254,6 @@ static int write_sidecar(const char *staged, const char *mean_name, const char *
     return atomic_file_commit(&f, e);
 }
 
-int moments_write_images(const char *prefix, const image *mean, const image *var, long runs,
-                         const double *run_means, rerror *e)
-{
-    return write_set(prefix, mean, var, runs, run_means, NULL, NULL, e);
-}
-
 static int write_set(const char *prefix, const image *mean, const image *var, long runs, const double *run_means,
                      const moments *blocks, const moments_meta *meta, rerror *e)
 {

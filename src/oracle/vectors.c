@@ -853,8 +853,6 @@ static const vector_fn table[] = {
     {"mutation", "mutate_eq20_ratio", "p_k_z,G_z,p_k1_z,p_k_y,G_y,p_k1_y -> T(z->y)/T(y->z)", e_mutate_eq20},
     {NULL, NULL, NULL, NULL}};
 
-const vector_fn *vectors_functions(void) { return table; }
-
 static const vector_fn *find_fn(const char *fn)
 {
     int i;

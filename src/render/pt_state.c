@@ -39,19 +39,6 @@ int pt_state_mean(const pt_state *st, image *out, rerror *e)
     return 0;
 }
 
-int pt_state_variance_of_mean(const pt_state *st, image *out, rerror *e)
-{
-    size_t i, n = 3 * (size_t)st->width * (size_t)st->height;
-    double k = (double)st->spp;
-    if (image_alloc(out, st->width, st->height, e)) return -1;
-    if (st->spp < 2) return 0;
-    for (i = 0; i < n; ++i) {
-        double ss = st->sum_sq[i] - st->sum[i] * st->sum[i] / k;
-        out->px[i] = (float)((ss > 0 ? ss : 0) / (k * (k - 1)));
-    }
-    return 0;
-}
-
 int pt_state_merge(pt_state *acc, const pt_state *add, rerror *e)
 {
     size_t i, n = 3 * (size_t)acc->width * (size_t)acc->height;

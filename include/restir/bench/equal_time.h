@@ -64,7 +64,6 @@ int equal_time_run(const equal_time_method *m, const image *reference, const equ
 void equal_time_curve_free(equal_time_curve *c);
 
 double equal_time_value(const equal_time_point *p, enum equal_time_metric metric);
-const char *equal_time_metric_name(enum equal_time_metric metric); /* "mape", "relmse" */
 
 /* The CSV `restir plot` reads: header "seconds,NAME1,NAME2,...", then one row per point of
  * every curve (curve after curve) with the metric in that curve's column and the other

@@ -74,9 +74,6 @@ int moments_write(const char *prefix, const moments *m, rerror *e);
  * the sidecar keys "block_sizes", "block_means", and from `meta` (may be NULL) "method",
  * "renderer", "correlated_pixels" (docs/statistics.md, "Moments files"). */
 int moments_write_meta(const char *prefix, const moments *m, const moments_meta *meta, rerror *e);
-/* Writes a file set from given images (run_means may be NULL, then omitted). */
-int moments_write_images(const char *prefix, const image *mean, const image *var, long runs,
-                         const double *run_means, rerror *e);
 
 /* A loaded moments file set. */
 typedef struct {

@@ -25,8 +25,6 @@ typedef struct {
     int (*eval)(const double *in, int n_in, double *out);
 } vector_fn;
 
-/* The table of functions (NULL-terminated by fn == NULL). */
-const vector_fn *vectors_functions(void);
 /* The families (NULL-terminated) in file order. */
 const char *const *vectors_families(void);
 /* Writes DIR/FAMILY.jsonl for every family (atomically; creates DIR). */

@@ -11,9 +11,6 @@ int pt_state_alloc(pt_state *st, int width, int height, rerror *e);
 void pt_state_free(pt_state *st);
 /* out (allocated here) = sum / spp; all zero when spp = 0. */
 int pt_state_mean(const pt_state *st, image *out, rerror *e);
-/* out (allocated here) = sample variance of the mean per pixel and channel:
- * (sum_sq - sum^2/n) / (n (n - 1)); zero when spp < 2. */
-int pt_state_variance_of_mean(const pt_state *st, image *out, rerror *e);
 
 /* 64-bit FNV-1a fingerprint of everything that defines the estimator's expectation and its
  * random numbers: geometry, materials, camera at o->frame, image size, seed, max depth,
