@@ -7,6 +7,9 @@
 #include "restir/render/light_ris.h"
 #include "restir/restir/connectability.h"
 
+/* every spatial pass has its own RNG_RIS vertices (rng.h) */
+typedef char passes_have_vertices[RESTIR_MAX_SPATIAL_PASSES <= RNG_VERTEX_PASSES ? 1 : -1];
+
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
 const char *const restir_pairing_names[] = {"disk", "paired", NULL};
 const char *const restir_motion_vector_names[] = {"single", "dual", NULL};

@@ -93,7 +93,7 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     const restir_options *o = j->o;
     const restir_context *back = &pl->prev_ctx;
     temporal_frames tf;
-    rng_key key = rng_key_make(o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+    rng_key key = initial_pixel_key(&j->io, o->seed, j->frame, (uint32_t)p);
     path_vertex *v = w->verts;
     long q = -1, standard = -1;
     int dual;
@@ -116,9 +116,8 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
         if (!gbuffer_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, standard, &v[1])) q = -1;
     } else if (q >= 0)
         gbuffer_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, q, &v[1]); /* valid: reproject checked */
-    /* RNG_RIS vertex 48: spatial passes use 32..47, initial sampling 2..16 (docs/rng.md) */
-    u[0] = rng_u(key, RNG_RIS, 48u, 0u);
-    u[1] = rng_u(key, RNG_RIS, 48u, 1u);
+    u[0] = rng_u(key, RNG_RIS, RNG_VERTEX_TEMPORAL_RIS, 0u);
+    u[1] = rng_u(key, RNG_RIS, RNG_VERTEX_TEMPORAL_RIS, 1u);
     tf.ctx[0] = &j->ctx;
     tf.ctx[1] = back;
     tf.frame[0] = (int)j->frame;
@@ -181,7 +180,7 @@ static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
     for (y = y0; y < y1; ++y)
         for (x = x0; x < x1; ++x) {
             long p = (long)y * j->s->width + x;
-            rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+            rng_key key = initial_pixel_key(&j->io, j->o->seed, j->frame, (uint32_t)p);
             path_vertex v;
             if (!gbuffer_primary_vertex(j->s, &j->g, p, &v)) continue;
             mutate_reservoir(&j->ctx, &v, key, pl->mutate_stage, j->o->mutation, j->o->mutations, &pl->out[p],

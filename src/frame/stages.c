@@ -58,8 +58,8 @@ static const path_vertex *lazy_vertex(void *user, int i)
 }
 
 /* The stochastic pairwise step (stochastic_spatial.h) over the domains spatial_pixel set
- * up. Pick k of pass p draws RNG_RIS vertex 64 + p, slot k; canonical pick k vertex
- * 80 + p, slot k (passes < 16, so no clash with 32 + p or the temporal vertex 48). */
+ * up. Pick k of pass p draws RNG_RIS vertex RNG_VERTEX_STOCHASTIC_PICK(p), slot k;
+ * canonical pick k RNG_VERTEX_STOCHASTIC_CANONICAL(p), slot k (rng.h). */
 static void stochastic_spatial_pixel(frame_job *j, worker_state *w, rng_key key, int m, reservoir *out)
 {
     stochastic_options so;
@@ -68,8 +68,8 @@ static void stochastic_spatial_pixel(frame_job *j, worker_state *w, rng_key key,
     so.n_canonical_picks = j->o->stochastic_nc;
     so.confidence_scaling = !j->o->no_confidence_scaling;
     so.naive_p = j->ctx.ablation == RESTIR_ABLATE_STOCHASTIC_P;
-    for (k = 0; k < so.n_picks; ++k) w->up[k] = rng_u(key, RNG_RIS, 64u + (uint32_t)j->pass, (uint32_t)k);
-    for (k = 0; k < so.n_canonical_picks; ++k) w->uc[k] = rng_u(key, RNG_RIS, 80u + (uint32_t)j->pass, (uint32_t)k);
+    for (k = 0; k < so.n_picks; ++k) w->up[k] = rng_u(key, RNG_RIS, RNG_VERTEX_STOCHASTIC_PICK(j->pass), (uint32_t)k);
+    for (k = 0; k < so.n_canonical_picks; ++k) w->uc[k] = rng_u(key, RNG_RIS, RNG_VERTEX_STOCHASTIC_CANONICAL(j->pass), (uint32_t)k);
     w->sw.vertex = lazy_vertex;
     w->sw.vertex_user = w;
     stochastic_pairwise_resample(&j->ctx, &so, m, w->x1, w->in, w->u, w->up, w->uc, out, &w->sw, &w->st.spatial);
@@ -101,7 +101,7 @@ static rgb vector_estimate(const spatial_workspace *ws, const reservoir *const *
 static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
 {
     long p = (long)y * j->s->width + x;
-    rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+    rng_key key = initial_pixel_key(&j->io, j->o->seed, j->frame, (uint32_t)p);
     uint32_t nsample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass);
     int n, d;
     if (j->pair ? j->pair_n[p] < 0 : !primary_vertex(j, p, &w->verts[0])) {
@@ -130,9 +130,8 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
             w->x1[d] = d > 0 && j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE ? NULL : &w->verts[d];
         }
         w->in[d] = &j->src[q];
-        /* vertex 32 + p: initial sampling uses vertices 2..16 of RNG_RIS (the key packs
-         * vertex < 256 and slot < 65536, so the pass must not go into the slot) */
-        w->u[d] = rng_u(key, RNG_RIS, 32u + (uint32_t)j->pass, (uint32_t)d);
+        /* the pass goes into the vertex, never the slot (the f5df7f5 collision; rng.h) */
+        w->u[d] = rng_u(key, RNG_RIS, RNG_VERTEX_SPATIAL_RIS(j->pass), (uint32_t)d);
     }
     if (j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE) {
         stochastic_spatial_pixel(j, w, key, n + 1, &j->dst[p]);

@@ -45,8 +45,8 @@ int inspect_spatial_step(const restir_context *c, const restir_options *o, const
     const path_vertex *x1[2];
     const reservoir *in[2];
     spatial_stats st;
-    rng_key key = rng_key_make(o->seed, p, initial_tree_sample(io, (uint32_t)o->first_frame, 0));
-    if (step_begin(g, 0, o->mis, ra, rb, key, 32u, e)) return -1; /* spatial pass 1: vertex 32 */
+    rng_key key = initial_pixel_key(io, o->seed, (uint32_t)o->first_frame, p);
+    if (step_begin(g, 0, o->mis, ra, rb, key, RNG_VERTEX_SPATIAL_RIS(0), e)) return -1; /* spatial pass 1 */
     if (!g->shown) return 0;
     x1[0] = xa;
     x1[1] = xb;
@@ -63,14 +63,14 @@ int inspect_spatial_step(const restir_context *c, const restir_options *o, const
  * f - 1 (the real-time pipeline feeds the previous frame's FINAL reservoir, after its
  * spatial passes, at the motion-reprojected pixel: the same arithmetic on other inputs),
  * capped at --mcap times the current confidence, --temporal-mis, the selection numbers of
- * RNG_RIS vertex 48 (pipeline.c temporal_pixel). */
+ * RNG_RIS vertex RNG_VERTEX_TEMPORAL_RIS (pipeline.c temporal_pixel). */
 int inspect_temporal_step(const restir_context *c, const restir_options *o, const initial_options *io,
                           const path_vertex *xa, const path_vertex *xprev, const reservoir *ra, const reservoir *rprev,
                           uint32_t p, inspect_step *g, rerror *e)
 {
     temporal_stats st;
-    rng_key key = rng_key_make(o->seed, p, initial_tree_sample(io, (uint32_t)o->first_frame, 0));
-    if (step_begin(g, 1, o->temporal_mis, ra, rprev, key, 48u, e)) return -1;
+    rng_key key = initial_pixel_key(io, o->seed, (uint32_t)o->first_frame, p);
+    if (step_begin(g, 1, o->temporal_mis, ra, rprev, key, RNG_VERTEX_TEMPORAL_RIS, e)) return -1;
     if (!g->shown) return 0;
     memset(&st, 0, sizeof st);
     temporal_resample(c, c, NULL, (mis_family)o->temporal_mis, xa, xprev, &g->in[0], &g->in[1], (real)o->mcap, g->u,

@@ -48,7 +48,7 @@ typedef struct {
 
 /* The temporal GRIS step. x1_cur: the pixel's primary vertex in frame t; x1_prev: the
  * primary vertex of the reprojected pixel in frame t-1 (x1_prev, prev_r NULL: no history,
- * the output is the current reservoir). u[0], u[1]: selection numbers (RNG_RIS, vertex 48,
+ * the output is the current reservoir). u[0], u[1]: selection numbers (RNG_VERTEX_TEMPORAL_RIS,
  * docs/rng.md). mcap > 0 (may be infinite). The workspace holds >= 2 domains. frames:
  * NULL when nothing but the camera moves (a static scene needs no re-tracing). */
 void temporal_resample(const restir_context *cur, const restir_context *prev, const temporal_frames *frames,
