@@ -168,10 +168,10 @@ static void expect(const scene *s, const check_side *pt, const char *name, const
     restir_options_default(&o);
     o.seed = test_seed() * 2389u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->passes;
     o.shift = m->shift;
-    o.mis = m->mis;
+    o.spatial.mis = m->mis;
     o.spatial_passes = m->passes;
-    o.neighbors = 4;
-    o.radius = 4.0 * s->width / 16;
+    o.spatial.neighbors = 4;
+    o.spatial.radius = 4.0 * s->width / 16;
     o.ablation = m->ablation;
     o.frames = m->frames;
     o.candidates = 2;
@@ -300,9 +300,9 @@ static void paired_expect(const char *path, const char *name, const fp_side *sa,
     restir_options_default(&oa);
     oa.seed = test_seed() * 2654435761u + 29u;
     oa.shift = RESTIR_SHIFT_HYBRID;
-    oa.mis = MIS_PAIRWISE_DEFENSIVE;
-    oa.neighbors = 4;
-    oa.radius = 4.0 * s.width / 16;
+    oa.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
+    oa.spatial.neighbors = 4;
+    oa.spatial.radius = 4.0 * s.width / 16;
     oa.frames = 4;
     oa.candidates = 2;
     oa.max_depth = 4;

@@ -129,16 +129,16 @@ static void expect(const scene *s, const check_side *pt, const lr_case *m, int r
     restir_options_default(&o);
     o.seed = test_seed() * 4099u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->tiles;
     o.shift = m->shift;
-    o.mis = m->mis;
+    o.spatial.mis = m->mis;
     o.spatial_passes = 2;
-    o.neighbors = 4;
-    o.radius = 4.0 * s->width / 16;
+    o.spatial.neighbors = 4;
+    o.spatial.radius = 4.0 * s->width / 16;
     o.ablation = m->ablation;
     o.frames = 4;
     o.max_depth = m->depth;
     o.threads = 2;
-    o.light_ris = 32;
-    o.light_tiles = m->tiles;
+    o.light_ris.candidates = 32;
+    o.light_ris.tiles = m->tiles;
     if (rt_restir_side(s, &o, runs, block, &a)) return;
     check_options_default(&opt);
     opt.alpha = 1e-3;
@@ -200,14 +200,14 @@ static void ablation_paired(void)
     restir_options_default(&o);
     o.seed = test_seed() * 4099u + 5u;
     o.shift = RESTIR_SHIFT_HYBRID;
-    o.mis = MIS_PAIRWISE_DEFENSIVE;
+    o.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
     o.spatial_passes = 2;
-    o.neighbors = 4;
-    o.radius = 6;
+    o.spatial.neighbors = 4;
+    o.spatial.radius = 6;
     o.frames = 4;
     o.max_depth = 2;
     o.threads = 2;
-    o.light_ris = 32;
+    o.light_ris.candidates = 32;
     if (rt_restir_side(&s, &o, 16, 8, &good)) {
         scene_free(&s);
         return;
@@ -377,8 +377,8 @@ TEST(restir_light_ris_temporal_unbiased)
     restir_options_preset_gris_realtime(&o);
     o.max_depth = 3;
     o.threads = 2;
-    o.light_ris = 32;
-    o.light_tiles = 1;
+    o.light_ris.candidates = 32;
+    o.light_ris.tiles = 1;
     memset(&seq, 0, sizeof seq);
     seq.last = 3;
     if (check_side_begin_runs(&a, s.width, s.height, 4, &e)) {

@@ -65,10 +65,10 @@ static void expect(spatial_bench *b, const char *name, const spatial_case *m, in
     restir_options_default(&o);
     o.seed = test_seed() * 1181u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->passes;
     o.shift = m->shift;
-    o.mis = m->mis;
+    o.spatial.mis = m->mis;
     o.spatial_passes = m->passes;
-    o.neighbors = m->neighbors;
-    o.radius = 4.0 * b->res / 16;
+    o.spatial.neighbors = m->neighbors;
+    o.spatial.radius = 4.0 * b->res / 16;
     o.ablation = m->ablation;
     o.frames = m->frames;
     o.candidates = 2;

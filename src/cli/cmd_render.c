@@ -53,6 +53,7 @@ typedef struct {
     const char *ablate; /* --ablate NAME, checked against the method's own list */
     int preset;         /* --preset: index, applied to the restir rows not given */
     restir_options restir;
+    render_restir_flags restir_flags; /* --mis, --no-confidence-scaling (render_restir.h) */
     uint32_t seed;
     double exposure;
     scene_overrides overrides;
@@ -384,7 +385,7 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
 static int add_restir_rows(cli_option *options, int n, render_args *a)
 {
     cli_option rows[RENDER_RESTIR_OPTION_ROWS];
-    int i, j, count = render_restir_options(rows, &a->restir);
+    int i, j, count = render_restir_options(rows, &a->restir, &a->restir_flags);
     for (i = 0; i < n; ++i) {
         if (!strcmp(options[i].name, "--max-depth"))
             options[i].help = "maximum path length d in segments (2 = direct light; pt: 1..255, restir: 2..16; default 10)";
@@ -457,14 +458,14 @@ static int apply_sequence_options(render_args *a)
             fprintf(stderr, "restir render: --mcap: expected a number > 0 or inf, got '%s'\n", a->mcap);
             return 2;
         }
-        a->restir.mcap = c;
+        a->restir.temporal.mcap = c;
     }
-    if (a->no_temporal) a->restir.temporal = 0;
+    if (a->no_temporal) a->restir.temporal.enabled = 0;
     if ((a->sequence || a->accumulate) && a->method != METHOD_RESTIR) {
         fprintf(stderr, "restir render: --sequence and --accumulate need --method restir\n");
         return 2;
     }
-    if (a->restir.mutations > 0 && !a->sequence) { /* mutations live in the real-time pipeline */
+    if (a->restir.mutation.count > 0 && !a->sequence) { /* mutations live in the real-time pipeline */
         fprintf(stderr, "restir render: --mutations needs --method restir --sequence A..B\n");
         return 2;
     }
@@ -641,8 +642,8 @@ static int apply_shared_options(render_args *a, const cli_option *options, const
     if (apply_sequence_options(a) || apply_stage_options(a) || apply_aov_options(a)) return 2;
     if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.o.time_limit; /* --time-limit */
     if (a->method == METHOD_RESTIR) { /* --light-ris N, --light-tiles */
-        a->restir.light_ris = a->pt.o.light_ris;
-        a->restir.light_tiles = a->pt.o.light_tiles;
+        a->restir.light_ris.candidates = a->pt.o.light_ris;
+        a->restir.light_ris.tiles = a->pt.o.light_tiles;
     }
     if (a->method == METHOD_RESTIR && cli_given(options, given, "--max-depth")) {
         if (a->pt.o.max_depth < 2 || a->pt.o.max_depth > PATH_MAX_LENGTH) {
@@ -737,7 +738,7 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "restir render: expected one SCENE argument (see restir render --help)\n");
         return 2;
     }
-    render_restir_apply_preset(options, given, a.preset, &a.restir);
+    render_restir_apply(options, given, a.preset, &a.restir_flags, &a.restir);
     if (a.aov >= AOV_CHOICE_DUPLICATES) rows[2].method = METHOD_RESTIR; /* restir's two --aov images */
     status = check_method_options(&a, options, given, rows, 3);
     if (status) return status;
@@ -745,6 +746,7 @@ int cmd_render(int argc, char **argv)
     apply_common_options(&a);
     status = apply_shared_options(&a, options, given);
     if (status) return status;
+    if (a.method == METHOD_RESTIR && (status = render_restir_validate("render", &a.restir)) != 0) return status;
     a.sio.scene_path = positional[0];
     a.sio.argc = argc;
     a.sio.argv = argv;

@@ -59,4 +59,20 @@ void temporal_resample(const restir_context *cur, const restir_context *prev, co
 
 void temporal_stats_add(temporal_stats *acc, const temporal_stats *add);
 
+/* The temporal technique's options (the real-time pipeline's step 2, GRIS §6.3). Where the
+ * history of a disoccluded pixel comes from: nowhere (single), or the occluder's motion
+ * (dual, Enhanced §6.4 / Zeng et al. 2021; unbiased). */
+enum restir_motion_vectors { RESTIR_MV_SINGLE = 0, RESTIR_MV_DUAL = 1 };
+extern const char *const restir_motion_vector_names[]; /* "single", "dual" */
+typedef struct {
+    int enabled;     /* temporal reuse (default 1; sequences only) */
+    mis_family mis;  /* of the temporal step (default MIS_TALBOT, GRIS §8.3) */
+    double mcap;     /* C > 0: c_prev <= C c_cur (GRIS §6.2, §6.4; default 20; may be inf) */
+    enum restir_motion_vectors motion_vectors; /* default single */
+} temporal_options;
+
+void temporal_options_default(temporal_options *o);
+/* 0, or -1 with "temporal: what is wrong". */
+int temporal_options_validate(const temporal_options *o, rerror *e);
+
 #endif
