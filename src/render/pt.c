@@ -2,6 +2,7 @@
  * over whole passes of the image (include/restir/render/pt.h, docs/path-tracer.md). */
 #include "restir/render/pt.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/progress.h"
@@ -51,9 +52,12 @@ int pt_options_validate(const pt_options *o, rerror *e)
         return rerror_set(e, "pt: give a sample count (spp > 0) or a time limit");
     if (!(o->time_limit >= 0) || !(o->checkpoint_interval >= 0))
         return rerror_set(e, "pt: negative time limit or checkpoint interval");
-    if (o->light_ris < 0 || o->light_ris > LIGHT_RIS_MAX)
-        return rerror_set(e, "pt: --light-ris %d is outside 0..%d candidates", o->light_ris, LIGHT_RIS_MAX);
-    if (o->light_tiles && o->light_ris == 0) return rerror_set(e, "pt: --light-tiles needs --light-ris N");
+    if (light_ris_validate_pair(o->light_ris, o->light_tiles, e)) { /* light RIS's own rules, said by pt */
+        char why[sizeof e->msg];
+        if (!e) return -1;
+        snprintf(why, sizeof why, "%s", e->msg);
+        return rerror_set(e, "pt: %s", why);
+    }
     if ((uint64_t)o->sample_offset + o->spp > UINT32_MAX)
         return rerror_set(e, "pt: sample indices %u + %u exceed 2^32 - 1", o->sample_offset, o->spp);
     return 0;

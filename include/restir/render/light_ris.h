@@ -52,6 +52,8 @@ typedef struct {
 void light_ris_options_default(light_ris_options *o);
 /* 0, or -1 with "light RIS: what is wrong". */
 int light_ris_options_validate(const light_ris_options *o, rerror *e);
+/* The same for a renderer that keeps the two as ints (pt_options). */
+int light_ris_validate_pair(int candidates, int tiles, rerror *e);
 
 /* Candidates at vertex x_i: max(1, N / i^2) (the decay schedule of Enhanced §7), 0 if off. */
 int light_ris_count(const path_context *c, uint32_t vertex_index);
