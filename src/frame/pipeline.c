@@ -302,16 +302,16 @@ static int validate_sequence(const scene *s, const restir_options *o, const rest
 {
     int a, b;
     if (q->first < 0 || q->last < q->first)
-        return rerror_set(e, "restir: --sequence %d..%d (need 0 <= A <= B)", q->first, q->last);
+        return rerror_set(e, "restir: sequence %d..%d (need 0 <= first <= last)", q->first, q->last);
     if (scene_frame_range(s, &a, &b) == 0 && (q->first < a || q->last > b))
-        return rerror_set(e, "restir: --sequence %d..%d outside the keyframes %d..%d of %s", q->first, q->last, a, b,
+        return rerror_set(e, "restir: sequence %d..%d outside the keyframes %d..%d of %s", q->first, q->last, a, b,
                           s->path);
-    if (q->resume && q->accumulate) return rerror_set(e, "restir: a sequence with --accumulate cannot be resumed");
+    if (q->resume && q->accumulate) return rerror_set(e, "restir: an accumulating sequence cannot be resumed");
     if ((uint64_t)((uint64_t)q->last + 1) * (uint64_t)o->candidates > UINT32_MAX)
-        return rerror_set(e, "restir: --sequence %d..%d x path trees exceeds 2^32 sample indices", q->first, q->last);
+        return rerror_set(e, "restir: sequence %d..%d x path trees exceeds 2^32 sample indices", q->first, q->last);
     /* rc_retrace_suffix re-derives a moved x_k's light point with the plain light sampler */
     if (o->light_ris.candidates > 0 && scene_is_animated(s))
-        return rerror_set(e, "restir: --light-ris with --sequence needs a static scene (%s has moving objects; "
+        return rerror_set(e, "restir: light RIS in a sequence needs a static scene (%s has moving objects; "
                              "docs/enhanced.md section 6)", s->path);
     return 0;
 }
@@ -400,8 +400,8 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
     if (q->resume && (start = checkpoint_resume(pl, q, e) + 1) < 1) return -1;
     if (j->hook && j->hook->begin && j->hook->begin(j->hook->user, start, q->last, j->pss_rows, e)) return -1;
     if (j->hook && j->hook->restarts && j->o->shading == RESTIR_SHADING_VECTOR)
-        return rerror_set(e, "--from-dump: not with --shading vector (it needs the last spatial pass's inputs, "
-                             "which a restart does not compute)");
+        return rerror_set(e, "restir: a restart from a stage dump cannot use vector shading (it needs the last "
+                             "spatial pass's inputs, which a restart does not compute)");
     progress_begin(&bar, "restir", j->o->quiet);
     for (f = start; f <= q->last && !status && !(f > start && j->o->stop_flag && *j->o->stop_flag); ++f) {
         restir_stats st;
