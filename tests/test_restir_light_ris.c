@@ -174,7 +174,7 @@ static void cases(const lr_case *m, int n, int res, int runs, uint32_t spp, int 
     ref.seed = test_seed() * 7919u + 11;
     ref.spp = spp;
     ref.max_depth = m[0].depth;
-    ref.light_ris = 8;
+    ref.light_ris.candidates = 8;
     ref.threads = 2;
     if (rt_pt_side_options(&s, &ref, runs, block, &pt)) {
         scene_free(&s);
@@ -401,7 +401,7 @@ TEST(restir_light_ris_temporal_unbiased)
     p.seed = test_seed() * 6007u + 3;
     p.spp = 16;
     p.max_depth = 3;
-    p.light_ris = 8;
+    p.light_ris.candidates = 8;
     p.threads = 2;
     if (check_side_end_runs(&a, &e) || rt_pt_side_options(&s, &p, 12, 4, &ref)) {
         if (!test_has_failed()) test_fail(__FILE__, __LINE__, "%s", e.msg);

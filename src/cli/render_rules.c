@@ -217,10 +217,7 @@ int apply_shared_options(render_args *a, const cli_option *options, const int *g
 {
     if (apply_sequence_options(a) || apply_stage_options(a) || apply_aov_options(a)) return 2;
     if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.o.time_limit; /* --time-limit */
-    if (a->method == METHOD_RESTIR) { /* --light-ris N, --light-tiles */
-        a->restir.light_ris.candidates = a->pt.o.light_ris;
-        a->restir.light_ris.tiles = a->pt.o.light_tiles;
-    }
+    if (a->method == METHOD_RESTIR) a->restir.light_ris = a->pt.o.light_ris; /* --light-ris N, --light-tiles */
     if (a->method == METHOD_RESTIR && cli_given(options, given, "--max-depth")) {
         if (a->pt.o.max_depth < 2 || a->pt.o.max_depth > PATH_MAX_LENGTH) {
             fprintf(stderr, "restir render: --max-depth: restir needs 2..%d, got %d\n", PATH_MAX_LENGTH,

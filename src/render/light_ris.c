@@ -206,14 +206,6 @@ void light_ris_options_default(light_ris_options *o)
     o->tiles = 0;
 }
 
-int light_ris_validate_pair(int candidates, int tiles, rerror *e)
-{
-    light_ris_options o;
-    o.candidates = candidates;
-    o.tiles = tiles;
-    return light_ris_options_validate(&o, e);
-}
-
 int light_ris_options_validate(const light_ris_options *o, rerror *e)
 {
     if (o->candidates < 0 || o->candidates > LIGHT_RIS_MAX)
