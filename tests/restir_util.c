@@ -350,10 +350,10 @@ void rt_spatial_options(restir_options *o, uint32_t seed, int shift, int mis, in
     restir_options_default(o);
     o->seed = seed;
     o->shift = (enum restir_shift)shift;
-    o->mis = (mis_family)mis;
+    o->spatial.mis = (mis_family)mis;
     o->spatial_passes = passes;
-    o->neighbors = neighbors;
-    o->radius = radius;
+    o->spatial.neighbors = neighbors;
+    o->spatial.radius = radius;
     o->threads = 2;
 }
 

@@ -1,10 +1,12 @@
 /* Core: addressed RNG, sampling warps and their inverses, atomic files, threads. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "restir/core/atomic_file.h"
 #include "restir/core/rng.h"
 #include "restir/core/threads.h"
 #include "restir/core/warp.h"
+#include "restir/restir/path_sample.h"
 #include "test.h"
 
 /* Bit-exact vectors: a GPU port of docs/rng.md must reproduce these. */
@@ -205,4 +207,51 @@ TEST(parallel_tiles_cover_once)
         CHECK(parallel_tiles(37, 23, 8, threads[t], mark_tile, cells, NULL, NULL) == 0);
         for (i = 0; i < 37 * 23; ++i) CHECKF(cells[i] == 1, "cell %d visited %d times with %d threads", i, cells[i], threads[t]);
     }
+}
+
+/* docs/rng.md's table of the RNG_RIS vertex ranges ("ReSTIR's addresses") against the
+ * RNG_VERTEX_* constants of rng.h: every documented constant has the documented range,
+ * every constant is documented, and no two ranges overlap. */
+TEST(rng_vertex_table_matches_docs)
+{
+    static const struct {
+        const char *name;
+        uint32_t lo, hi;
+    } constants[] = {
+        {"RNG_VERTEX_INITIAL_RIS(d)", RNG_VERTEX_INITIAL_RIS(2), RNG_VERTEX_INITIAL_RIS(PATH_MAX_LENGTH)},
+        {"RNG_VERTEX_SPATIAL_RIS(p)", RNG_VERTEX_SPATIAL_RIS(0), RNG_VERTEX_SPATIAL_RIS(RNG_VERTEX_PASSES - 1)},
+        {"RNG_VERTEX_TEMPORAL_RIS", RNG_VERTEX_TEMPORAL_RIS, RNG_VERTEX_TEMPORAL_RIS},
+        {"RNG_VERTEX_STOCHASTIC_PICK(p)", RNG_VERTEX_STOCHASTIC_PICK(0), RNG_VERTEX_STOCHASTIC_PICK(RNG_VERTEX_PASSES - 1)},
+        {"RNG_VERTEX_STOCHASTIC_CANONICAL(p)", RNG_VERTEX_STOCHASTIC_CANONICAL(0),
+         RNG_VERTEX_STOCHASTIC_CANONICAL(RNG_VERTEX_PASSES - 1)},
+    };
+    enum { N = sizeof constants / sizeof constants[0] };
+    int seen[N] = {0}, i, k;
+    char *doc = test_read_text("docs/rng.md"), *line;
+    CHECK(doc != NULL);
+    if (!doc) return;
+    for (line = doc; line && *line; line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL) {
+        unsigned lo, hi;
+        char name[64];
+        /* rows "| lo..hi | `NAME` | ..." or "| v | `NAME` | ..." */
+        if (sscanf(line, "| %u..%u | `%63[^`]`", &lo, &hi, name) != 3) {
+            if (sscanf(line, "| %u | `%63[^`]`", &lo, name) != 2) continue;
+            hi = lo;
+        }
+        if (strncmp(name, "RNG_VERTEX_", 11)) continue;
+        for (k = 0; k < N && strcmp(constants[k].name, name); ++k) {}
+        CHECKF(k < N, "docs/rng.md names %s, which rng.h does not define", name);
+        if (k == N) continue;
+        seen[k]++;
+        CHECKF(constants[k].lo == lo && constants[k].hi == hi, "%s: docs/rng.md says %u..%u, rng.h gives %u..%u",
+               name, lo, hi, (unsigned)constants[k].lo, (unsigned)constants[k].hi);
+    }
+    for (k = 0; k < N; ++k) {
+        CHECKF(seen[k] == 1, "%s: %d rows in docs/rng.md (want 1)", constants[k].name, seen[k]);
+        for (i = 0; i < k; ++i)
+            CHECKF(constants[i].hi < constants[k].lo || constants[k].hi < constants[i].lo, "%s overlaps %s",
+                   constants[i].name, constants[k].name);
+        CHECKF(constants[k].hi < 256, "%s beyond the 8-bit vertex field", constants[k].name);
+    }
+    free(doc);
 }

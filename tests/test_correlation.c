@@ -280,10 +280,10 @@ static double paired_z(const scene *s, int frame, int runs, const variant *v, do
             test_fail(__FILE__, __LINE__, "%s", e.msg);
             return 0;
         }
-        o.motion_vectors = v->motion_vectors;
+        o.temporal.motion_vectors = v->motion_vectors;
         o.ablation = v->ablation;
-        o.dedup = v->dedup;
-        o.boiling_filter = v->boiling;
+        o.correlation.dedup = v->dedup;
+        o.correlation.boiling_filter = v->boiling;
         if (restir_render_sequence(s, &o, &seq, take_mean, &b, &st, &e)) {
             test_fail(__FILE__, __LINE__, "%s", e.msg);
             return 0;

@@ -71,8 +71,8 @@ static void integrate(int n, int tiles, int batches, int per_batch, bench_paired
     }
     restir_options_default(&o);
     restir_context_for(&cb, &s, &lights, &o);
-    o.light_ris = n;
-    o.light_tiles = tiles;
+    o.light_ris.candidates = n;
+    o.light_ris.tiles = tiles;
     restir_context_for(&ca, &s, &lights, &o);
     for (i = 0; i < 4; ++i)
         if (rt_primary_vertex(&s, px[i][0], px[i][1], &v[nv])) ++nv;
@@ -204,8 +204,8 @@ TEST(evidence_light_ris_pdf_hit_by_definition_exact)
                     restir_options o;
                     restir_context c;
                     restir_options_default(&o);
-                    o.light_ris = counts[ci];
-                    o.light_tiles = tiles;
+                    o.light_ris.candidates = counts[ci];
+                    o.light_ris.tiles = tiles;
                     restir_context_for(&c, &s, &lights, &o);
                     for (k = 0; k < 300; ++k) {
                         rng_key key = rng_key_make(test_seed() + 5u, (uint32_t)(px[p][1] * 32 + px[p][0]), (uint32_t)k);
@@ -272,8 +272,8 @@ TEST(evidence_light_ris_pt_paired)
         b.o.max_depth = 3;
         b.o.threads = 2;
         a.o = b.o;
-        a.o.light_ris = 8;
-        a.o.light_tiles = tiles;
+        a.o.light_ris.candidates = 8;
+        a.o.light_ris.tiles = tiles;
         bench_paired_init(&p, tiles ? "path tracer light RIS N 8 tiles vs plain NEE, many-lights"
                                     : "path tracer light RIS N 8 vs plain NEE, many-lights");
         if (bench_paired_run(&p, 16, test_seed() * 97u + 13u, run_pt, &a, run_pt, &b)) break;

@@ -254,7 +254,7 @@ static void mutate_paired(const char *path, int res, int runs, int strategy, ben
     restir_options_default(&on.o);
     on.s = off.s = &s;
     on.o.shift = RESTIR_SHIFT_HYBRID;
-    on.o.mis = MIS_PAIRWISE_DEFENSIVE;
+    on.o.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
     on.o.candidates = 2;
     on.o.max_depth = 4;
     on.o.threads = 2;
@@ -262,11 +262,11 @@ static void mutate_paired(const char *path, int res, int runs, int strategy, ben
         on.o.roughness_threshold = 0.5;
         on.o.paths = RESTIR_PATHS_INDIRECT;
     }
-    on.o.mutations = 20;
-    on.o.mutation = strategy;
-    on.o.mutate_after = MUTATE_AFTER_TEMPORAL;
+    on.o.mutation.count = 20;
+    on.o.mutation.strategy = strategy;
+    on.o.mutation.stages = MUTATE_AFTER_TEMPORAL;
     off.o = on.o;
-    off.o.mutations = 0;
+    off.o.mutation.count = 0;
     bench_paired_run(p, runs, test_seed() * 40503u + 7u + 1000u * (uint32_t)strategy, run_mut, &on, run_mut, &off);
     scene_free(&s);
 }

@@ -32,18 +32,22 @@ static int run_sto(void *user, uint32_t seed, double mean[3])
     return bench_restir_mean(c->s, &o, mean);
 }
 
+/* The stochastic pairwise step (an algorithm, not a MIS family: spatial_options.h). */
+#define STOCHASTIC_STEP (-1)
+
 static void sto_options(restir_options *o, int mis, int n, int nc, int scaling_off, int cells, int max_depth)
 {
     restir_options_default(o);
     o->shift = RESTIR_SHIFT_HYBRID;
-    o->mis = mis;
-    o->stochastic_n = n;
-    o->stochastic_nc = nc;
-    o->no_confidence_scaling = scaling_off;
+    if (mis == STOCHASTIC_STEP) o->spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE;
+    else o->spatial.mis = (mis_family)mis;
+    o->stochastic.n_picks = n;
+    o->stochastic.n_canonical_picks = nc;
+    o->stochastic.confidence_scaling = !scaling_off;
     o->spatial_passes = 1;
-    o->pattern = NEIGHBOR_BOX;
-    o->radius = 2;
-    o->cells = cells;
+    o->spatial.pattern = NEIGHBOR_BOX;
+    o->spatial.radius = 2;
+    o->spatial.cells = cells;
     o->candidates = 1;
     o->max_depth = max_depth;
     o->paths = max_depth > 2 ? RESTIR_PATHS_INDIRECT : RESTIR_PATHS_ALL;
@@ -60,7 +64,7 @@ static void sto_paired(int res, int runs, int max_depth, int n, int nc, int cell
     sto_config a, b;
     if (rt_load_scene("scenes/shadow.scene", res, &s)) return;
     a.s = b.s = &s;
-    sto_options(&a.o, RESTIR_MIS_STOCHASTIC_PAIRWISE, n, nc, 0, cells, max_depth);
+    sto_options(&a.o, STOCHASTIC_STEP, n, nc, 0, cells, max_depth);
     sto_options(&b.o, MIS_PAIRWISE_DEFENSIVE, n, nc, 0, cells, max_depth);
     bench_paired_init(p, name);
     bench_paired_run(p, runs, test_seed() * 2654435761u + 977u + (uint32_t)(n * 10 + nc), run_sto, &a, run_sto, &b);
@@ -123,7 +127,7 @@ TEST(evidence_stochastic_picks_chi2_and_counts)
     double worst_p = 1;
     char why[512] = "";
     if (rt_load_scene("scenes/shadow.scene", 24, &s)) return;
-    sto_options(&o, RESTIR_MIS_STOCHASTIC_PAIRWISE, n_picks, nc, 0, 0, 3);
+    sto_options(&o, STOCHASTIC_STEP, n_picks, nc, 0, 0, 3);
     o.spatial_passes = 0;
     o.keep_reservoirs = 1;
     o.seed = test_seed();

@@ -65,14 +65,14 @@ static int run_sequence(void *user, uint32_t seed, double mean[3])
 static void pan_options(restir_options *o, int temporal, int temporal_mis, int max_depth)
 {
     restir_options_default(o);
-    o->temporal = temporal;
-    o->temporal_mis = temporal_mis;
-    o->mis = MIS_TALBOT;
+    o->temporal.enabled = temporal;
+    o->temporal.mis = temporal_mis;
+    o->spatial.mis = MIS_TALBOT;
     o->spatial_passes = 0;
     o->candidates = 1;
     o->max_depth = max_depth;
     o->shift = RESTIR_SHIFT_HYBRID;
-    o->mcap = 20;
+    o->temporal.mcap = 20;
     o->threads = 2;
 }
 
@@ -245,7 +245,7 @@ TEST(evidence_temporal_mcap_on_input_exact)
     o.spatial_passes = 0;
     o.candidates = 1;
     o.max_depth = 3;
-    o.mcap = 2.5;
+    o.temporal.mcap = 2.5;
     o.threads = 2;
     o.seed = test_seed();
     memset(&q, 0, sizeof q);

@@ -110,8 +110,8 @@ static void restir_base(restir_options *o, int max_depth)
     restir_options_default(o);
     o->max_depth = max_depth;
     o->spatial_passes = 1;
-    o->neighbors = 6;
-    o->radius = 4;
+    o->spatial.neighbors = 6;
+    o->spatial.radius = 4;
     o->frames = 1;
     o->threads = 2;
     o->seed = test_seed() * 104729u + 3u;
@@ -373,8 +373,8 @@ static void furnace_case(const char *label, double scale, int res, int runs, int
     r.ref = furnace_reference(PT_MAX_DEPTH_LIMIT);
     if (pt_runs(&s, PT_MAX_DEPTH_LIMIT, runs, 2, 0, &r) == 0) expect_unbiased(name, "pt d255", &r, 1e-5);
     restir_base(&o, PATH_MAX_LENGTH);
-    o.neighbors = neighbors;
-    o.radius = neighbors > 6 ? 64 : 4;
+    o.spatial.neighbors = neighbors;
+    o.spatial.radius = neighbors > 6 ? 64 : 4;
     r.ref = furnace_reference(PATH_MAX_LENGTH);
     if (!test_has_failed() && restir_runs(&s, &o, runs, &r) == 0) expect_unbiased(name, "restir d16", &r, 1e-5);
     scene_free(&s);
@@ -431,8 +431,8 @@ static void mcap_case(double mcap, int frames, int runs)
     int k;
     if (furnace(&s, 8, 1)) return;
     restir_base(&o, 4);
-    o.mcap = mcap;
-    o.temporal = 1;
+    o.temporal.mcap = mcap;
+    o.temporal.enabled = 1;
     memset(&seq, 0, sizeof seq);
     seq.first = 0;
     seq.last = frames - 1;

@@ -45,7 +45,7 @@ static void ablation_paired(const scene *s, const check_side *ref, const pt_opti
 static int plain_side(const scene *s, const pt_options *a, check_side *side)
 {
     pt_options plain = *a;
-    plain.light_ris = plain.light_tiles = 0;
+    plain.light_ris.candidates = plain.light_ris.tiles = 0;
     plain.ablations = 0;
     plain.seed = test_seed() * 131u + 8;
     return rt_pt_side_options(s, &plain, 8, 8, side);
@@ -96,7 +96,7 @@ TEST(light_ris_one_candidate_is_the_plain_sampler)
     options(&o, 4, 4);
     o.seed = test_seed();
     CHECKF(pt_render(&s, &o, &plain, &e) == 0, "%s", e.msg);
-    o.light_ris = 1;
+    o.light_ris.candidates = 1;
     CHECKF(pt_render(&s, &o, &ris, &e) == 0, "%s", e.msg);
     for (i = 0; i < 3 * (size_t)s.width * s.height; ++i) {
         double a = plain.state.sum[i], b = ris.state.sum[i];
@@ -204,12 +204,12 @@ TEST(light_ris_unbiased_many_lights)
     options(&o, 3, 16);
     if (plain_side(&s, &o, &plain) == 0) {
         check_side ris;
-        o.light_ris = 32;
+        o.light_ris.candidates = 32;
         compare_with(&s, &plain, &o, 0, "light RIS N = 32");
-        o.light_tiles = 1;
+        o.light_ris.tiles = 1;
         if (!test_has_failed()) compare_with(&s, &plain, &o, 0, "light RIS N = 32 with tiles");
         check_side_free(&plain);
-        o.light_tiles = 0;
+        o.light_ris.tiles = 0;
         o.seed = test_seed() * 131u + 9;
         o.spp = 8; /* 16 runs of 8: a paired z saturates near 5 with 8 runs (7 dof) */
         if (!test_has_failed() && rt_pt_side_options(&s, &o, 16, 8, &ris) == 0) {
@@ -230,9 +230,9 @@ TEST(light_ris_unbiased_cornell_glossy)
     if (rt_load_scene("scenes/cornell-glossy.scene", 24, &s)) return;
     options(&o, 5, 16);
     if (plain_side(&s, &o, &plain) == 0) {
-        o.light_ris = 8;
+        o.light_ris.candidates = 8;
         compare_with(&s, &plain, &o, 0, "light RIS N = 8");
-        o.light_tiles = 1;
+        o.light_ris.tiles = 1;
         if (!test_has_failed()) compare_with(&s, &plain, &o, 0, "light RIS N = 8 with tiles");
         check_side_free(&plain);
     }

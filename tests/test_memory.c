@@ -115,7 +115,7 @@ TEST(reservoir_state_at_most_256_bytes)
     restir_memory_per_pixel(&o, 1, &m);
     CHECK(m.reservoir == sizeof(reservoir) && m.reservoir_pss == 0);
     CHECK(m.reservoirs_initial == m.reservoir && m.reservoirs_spatial == m.reservoir && m.reservoirs_previous == m.reservoir);
-    o.mutations = 1;
+    o.mutation.count = 1;
     restir_memory_per_pixel(&o, 1, &m);
     CHECK(m.reservoir_pss == PATH_MAX_PSS * sizeof(real) && m.reservoirs_previous == m.reservoir + m.reservoir_pss);
 }

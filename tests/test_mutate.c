@@ -310,7 +310,7 @@ static int pipeline_side(const scene *s, const restir_options *o, int runs, chec
         check_side_free(side);
         return -1;
     }
-    if (getenv("RESTIR_TEST_VERBOSE") && o->mutations > 0)
+    if (getenv("RESTIR_TEST_VERBOSE") && o->mutation.count > 0)
         fprintf(stderr, "    run 0: %llu pixels, %llu skipped (%llu empty), %llu proposals, %llu accepted\n",
                 (unsigned long long)total.mutate.pixels, (unsigned long long)total.mutate.skipped,
                 (unsigned long long)total.mutate.skip[MUTATE_SKIP_EMPTY], (unsigned long long)total.mutate.proposals,
@@ -340,14 +340,14 @@ static void case_options(const mutate_case *m, restir_options *o)
     o->seed = test_seed() * 1187u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mutations + (uint32_t)m->after +
               1000u * (uint32_t)m->ablation + 100003u * (uint32_t)m->strategy;
     o->shift = m->shift;
-    o->mis = MIS_PAIRWISE_DEFENSIVE;
+    o->spatial.mis = MIS_PAIRWISE_DEFENSIVE;
     o->spatial_passes = 0;
     o->candidates = 2;
     o->max_depth = 4;
     o->threads = 2;
-    o->mutations = m->mutations;
-    o->mutation = m->strategy;
-    o->mutate_after = m->after;
+    o->mutation.count = m->mutations;
+    o->mutation.strategy = m->strategy;
+    o->mutation.stages = m->after;
     o->ablation = m->ablation;
     if (m->roughness_threshold > 0) o->roughness_threshold = m->roughness_threshold;
 }
@@ -437,11 +437,11 @@ static double expect_paired(const char *path, int res, int runs, const mutate_ca
     case_options(m, &oa);
     if (!strcmp(path, "two-tone") || !strcmp(path, "panel")) oa.paths = RESTIR_PATHS_INDIRECT; /* DI would dominate */
     if (m->after == MUTATE_AFTER_INITIAL) { /* one long chain per frame: only the last frame */
-        oa.temporal = 0;
+        oa.temporal.enabled = 0;
         g_first_frame = LAST_FRAME;
     }
     ob = oa;
-    ob.mutations = 0;
+    ob.mutation.count = 0;
     ob.ablation = RESTIR_ABLATE_NONE;
     if (pipeline_side(&s, &oa, runs, &a)) {
         scene_free(&s);
@@ -875,10 +875,10 @@ TEST(mutate_threads_identical)
         restir_options_default(&o);
         o.shift = RESTIR_SHIFT_REPLAY;
         o.max_depth = 4;
-        o.mutations = 3;
-        o.mutate_after = MUTATE_AFTER_INITIAL | MUTATE_AFTER_TEMPORAL;
+        o.mutation.count = 3;
+        o.mutation.stages = MUTATE_AFTER_INITIAL | MUTATE_AFTER_TEMPORAL;
         o.spatial_passes = 1;
-        o.mutate_after |= MUTATE_AFTER_SPATIAL;
+        o.mutation.stages |= MUTATE_AFTER_SPATIAL;
         o.threads = t ? 3 : 1;
         o.seed = test_seed();
         if (restir_render_sequence(&s, &o, &q, keep_image, &img[t], &total, &e)) {

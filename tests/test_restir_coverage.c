@@ -45,10 +45,10 @@ static void corridor_options(restir_options *o, int shift, int mis)
     restir_options_default(o);
     o->seed = test_seed() * 1181u + 17u * (uint32_t)shift + (uint32_t)mis;
     o->shift = shift;
-    o->mis = mis;
+    o->spatial.mis = mis;
     o->spatial_passes = 3;
-    o->neighbors = 4;
-    o->radius = 4;
+    o->spatial.neighbors = 4;
+    o->spatial.radius = 4;
     o->frames = 16; /* light through the rough glass block is heavy-tailed: 4 frames gave false block rejections */
     o->candidates = 2;
     o->max_depth = 8;
@@ -112,8 +112,8 @@ TEST(restir_preset_gris_offline_unbiased_and_jacobian_ablation_detected)
     coverage_bench b;
     restir_options o;
     preset_options(&o, RESTIR_ABLATE_NONE);
-    CHECK(o.mis == MIS_PAIRWISE_DEFENSIVE && o.candidates == 32 && o.spatial_passes == 3 && o.neighbors == 6 &&
-          o.radius == 10);
+    CHECK(o.spatial.mis == MIS_PAIRWISE_DEFENSIVE && o.candidates == 32 && o.spatial_passes == 3 && o.spatial.neighbors == 6 &&
+          o.spatial.radius == 10);
     if (bench_open(&b, NULL, 16, 16, 256, 3)) return;
     expect(&b, "spot gris-offline", &o, 0);
     preset_options(&o, RESTIR_ABLATE_JACOBIAN);

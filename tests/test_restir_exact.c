@@ -312,10 +312,10 @@ TEST(restir_exact_shadow_stays_black)
                 uint64_t occluded;
                 restir_options_default(&o);
                 o.shift = shift;
-                o.mis = families[f];
+                o.spatial.mis = families[f];
                 o.spatial_passes = passes;
                 o.max_depth = 2; /* direct light only */
-                o.radius = 6;    /* crosses the wall from 6 pixels away */
+                o.spatial.radius = 6;    /* crosses the wall from 6 pixels away */
                 o.candidates = 2;
                 o.frames = 2;
                 o.threads = 2;
@@ -377,11 +377,11 @@ static int furnace_run(const scene *s, const furnace_size *z, int shift, int mis
     size_t i, n = (size_t)s->width * s->height;
     restir_options_default(&o);
     o.shift = shift;
-    o.mis = mis;
+    o.spatial.mis = mis;
     o.spatial_passes = passes;
     o.max_depth = FURNACE_DEPTH;
-    o.radius = 4;
-    o.neighbors = 4;
+    o.spatial.radius = 4;
+    o.spatial.neighbors = 4;
     o.candidates = z->candidates;
     o.frames = 1;
     o.first_frame = run;

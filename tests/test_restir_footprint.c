@@ -272,9 +272,9 @@ static void paired_expect(const char *path, const char *name, const fp_side *sa,
     restir_options_default(&oa);
     oa.seed = test_seed() * 2654435761u + 29u;
     oa.shift = RESTIR_SHIFT_HYBRID;
-    oa.mis = MIS_PAIRWISE_DEFENSIVE;
-    oa.neighbors = 4;
-    oa.radius = 4.0 * s.width / 16;
+    oa.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
+    oa.spatial.neighbors = 4;
+    oa.spatial.radius = 4.0 * s.width / 16;
     oa.frames = 4;
     oa.candidates = 2;
     oa.max_depth = 4;

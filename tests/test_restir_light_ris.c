@@ -129,8 +129,8 @@ static void expect(const scene *s, const check_side *pt, const lr_case *m, int r
     o.ablation = m->ablation;
     o.frames = 4;
     o.max_depth = m->depth;
-    o.light_ris = 32;
-    o.light_tiles = m->tiles;
+    o.light_ris.candidates = 32;
+    o.light_ris.tiles = m->tiles;
     if (rt_restir_side(s, &o, runs, block, &a)) return;
     snprintf(what, sizeof what, "many-lights light-ris 32%s shift %s mis %s ablate %s", m->tiles ? " tiles" : "",
              restir_shift_names[m->shift], restir_mis_names[m->mis], restir_ablation_names[m->ablation]);
@@ -152,7 +152,7 @@ static void cases(const lr_case *m, int n, int res, int runs, uint32_t spp, int 
     ref.seed = test_seed() * 7919u + 11;
     ref.spp = spp;
     ref.max_depth = m[0].depth;
-    ref.light_ris = 8;
+    ref.light_ris.candidates = 8;
     ref.threads = 2;
     if (rt_pt_side_options(&s, &ref, runs, block, &pt)) {
         scene_free(&s);
@@ -176,7 +176,7 @@ static void ablation_paired(void)
     rt_spatial_options(&o, test_seed() * 4099u + 5u, RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 2, 4, 6);
     o.frames = 4;
     o.max_depth = 2;
-    o.light_ris = 32;
+    o.light_ris.candidates = 32;
     if (rt_restir_side(&s, &o, 16, 8, &good)) {
         scene_free(&s);
         return;
@@ -343,8 +343,8 @@ TEST(restir_light_ris_temporal_unbiased)
     restir_options_preset_gris_realtime(&o);
     o.max_depth = 3;
     o.threads = 2;
-    o.light_ris = 32;
-    o.light_tiles = 1;
+    o.light_ris.candidates = 32;
+    o.light_ris.tiles = 1;
     memset(&seq, 0, sizeof seq);
     seq.last = 3;
     if (check_side_begin_runs(&a, s.width, s.height, 4, &e)) {
@@ -367,7 +367,7 @@ TEST(restir_light_ris_temporal_unbiased)
     p.seed = test_seed() * 6007u + 3;
     p.spp = 16;
     p.max_depth = 3;
-    p.light_ris = 8;
+    p.light_ris.candidates = 8;
     p.threads = 2;
     if (check_side_end_runs(&a, &e) || rt_pt_side_options(&s, &p, 12, 4, &ref)) {
         if (!test_has_failed()) test_fail(__FILE__, __LINE__, "%s", e.msg);

@@ -70,8 +70,8 @@ static void expect(const scene *s, const char *name, const merge_case *m, const 
     o.ablation = m->ablation;
     o.paths = m->paths;
     o.spatial_passes = 1;
-    o.neighbors = 1;
-    o.radius = m->radius;
+    o.spatial.neighbors = 1;
+    o.spatial.radius = m->radius;
     o.frames = m->frames;
     o.max_depth = m->max_depth;
     o.threads = 2;

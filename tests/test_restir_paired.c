@@ -33,10 +33,10 @@ static void options_for(const paired_bench *b, const paired_case *m, int passes,
     restir_options_default(o);
     o->seed = b->seed;
     o->shift = m->shift;
-    o->mis = m->mis;
+    o->spatial.mis = m->mis;
     o->spatial_passes = passes;
-    o->neighbors = 4;
-    o->radius = 4.0 * b->s.width / 16;
+    o->spatial.neighbors = 4;
+    o->spatial.radius = 4.0 * b->s.width / 16;
     o->frames = b->frames;
     o->candidates = 2;
     o->max_depth = b->max_depth;

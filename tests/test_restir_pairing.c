@@ -69,7 +69,7 @@ static void expect(const scene *s, const check_side *pt, const char *name, const
     char what[256];
     rt_spatial_options(&o, test_seed() * 3571u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->mis + (uint32_t)m->passes,
                        m->shift, m->mis, m->passes, 3, 4.0 * s->width / 16);
-    o.pairing = RESTIR_PAIRING_PAIRED;
+    o.spatial.pairing = RESTIR_PAIRING_PAIRED;
     o.frames = m->frames;
     o.candidates = 2;
     o.max_depth = 4;
@@ -144,7 +144,7 @@ TEST(restir_pair_step_bit_identical)
             restir_result a, b;
             const spatial_stats *sa = &a.stats.spatial, *sb = &b.stats.spatial;
             rt_spatial_options(&o, test_seed() * 7u + 3u, sh, families[f], 2, 4, 5);
-            o.pairing = RESTIR_PAIRING_PAIRED;
+            o.spatial.pairing = RESTIR_PAIRING_PAIRED;
             o.candidates = 2;
             o.max_depth = 5;
             o.shading = sh == RESTIR_SHIFT_HYBRID ? RESTIR_SHADING_VECTOR : RESTIR_SHADING_SCALAR;
@@ -194,7 +194,7 @@ TEST(restir_pair_mis_detected)
     check_result r;
     if (rt_load_scene("scenes/cornell-glossy.scene", 16, &s)) return;
     rt_spatial_options(&o, test_seed() * 2246822519u + 13u, RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, 3, 4);
-    o.pairing = RESTIR_PAIRING_PAIRED;
+    o.spatial.pairing = RESTIR_PAIRING_PAIRED;
     o.frames = 2;
     o.candidates = 2;
     o.max_depth = 4;
@@ -267,9 +267,9 @@ TEST(restir_pair_step_sequence_identical)
     restir_options_preset_gris_realtime(&o);
     o.seed = test_seed() * 31u + 5u;
     o.spatial_passes = 2;
-    o.neighbors = 3;
-    o.radius = 5;
-    o.pairing = RESTIR_PAIRING_PAIRED;
+    o.spatial.neighbors = 3;
+    o.spatial.radius = 5;
+    o.spatial.pairing = RESTIR_PAIRING_PAIRED;
     o.max_depth = 5;
     for (v = 0; v < 3; ++v) {
         restir_options ov = o;

@@ -42,9 +42,9 @@ TEST(restir_render_deterministic_across_threads)
         o.seed = test_seed();
         o.shift = shift;
         o.spatial_passes = 2;
-        o.neighbors = 3;
-        o.mis = shift == 0 ? MIS_PAIRWISE_DEFENSIVE : shift == 1 ? MIS_PAIRWISE_UNIFORM : MIS_TALBOT;
-        o.pattern = shift == 2 ? NEIGHBOR_UNIFORM : NEIGHBOR_R2;
+        o.spatial.neighbors = 3;
+        o.spatial.mis = shift == 0 ? MIS_PAIRWISE_DEFENSIVE : shift == 1 ? MIS_PAIRWISE_UNIFORM : MIS_TALBOT;
+        o.spatial.pattern = shift == 2 ? NEIGHBOR_UNIFORM : NEIGHBOR_R2;
         o.frames = 2;
         o.candidates = 2;
         o.max_depth = 5;
@@ -114,6 +114,7 @@ TEST(restir_render_reservoirs_are_valid_and_dumpable)
 TEST(restir_options_rows_and_validation)
 {
     restir_options o, d;
+    render_restir_flags f;
     cli_option rows[RENDER_RESTIR_OPTION_ROWS + 1];
     const char *positional[1];
     char *argv[] = {"render",      "--shift",       "reconnection", "--spatial-passes", "1",     "--frames", "7",
@@ -122,7 +123,7 @@ TEST(restir_options_rows_and_validation)
     int n, count, argc = (int)(sizeof argv / sizeof argv[0]) - 1;
     rerror e;
     restir_options_default(&o);
-    n = render_restir_options(rows, &o);
+    n = render_restir_options(rows, &o, &f);
     CHECK(n > 10 && n <= RENDER_RESTIR_OPTION_ROWS);
     memset(&rows[n], 0, sizeof rows[n]);
     CHECK(cli_parse("render", argc, argv, rows, positional, 1, &count) == 0 && count == 1);
@@ -130,18 +131,19 @@ TEST(restir_options_rows_and_validation)
     CHECK(o.paths == RESTIR_PATHS_INDIRECT && o.ablation == RESTIR_ABLATE_LIGHT_PDF && o.distance_threshold == 0.05);
     CHECKF(restir_options_validate(&o, &e) == 0, "%s", e.msg);
     restir_options_default(&d);
-    CHECK(d.shift == RESTIR_SHIFT_HYBRID && d.spatial_passes == 0 && d.mis == MIS_TALBOT && d.candidates == 1);
+    CHECK(d.shift == RESTIR_SHIFT_HYBRID && d.spatial_passes == 0 && d.spatial.mis == MIS_TALBOT && d.candidates == 1);
     CHECK(d.roughness_threshold == 0.2 && d.distance_threshold == 0.02);
     o = d; o.spatial_passes = RESTIR_MAX_SPATIAL_PASSES + 1; CHECK(restir_options_validate(&o, &e) != 0);
-    o = d; o.neighbors = 0; CHECK(restir_options_validate(&o, &e) != 0);
-    o = d; o.mis = RESTIR_MIS_STOCHASTIC_PAIRWISE + 1; CHECK(restir_options_validate(&o, &e) != 0);
-    o = d; o.mis = RESTIR_MIS_STOCHASTIC_PAIRWISE; CHECK(restir_options_validate(&o, &e) == 0);
-    o = d; o.stochastic_n = 0; CHECK(restir_options_validate(&o, &e) != 0);
-    o = d; o.stochastic_nc = STOCHASTIC_MAX_PICKS + 1; CHECK(restir_options_validate(&o, &e) != 0);
-    o = d; o.temporal_mis = RESTIR_MIS_STOCHASTIC_PAIRWISE; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.spatial.neighbors = 0; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.spatial.mis = MIS_FAMILY_COUNT; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE; CHECK(restir_options_validate(&o, &e) == 0);
+    o = d; o.spatial.algorithm = (enum spatial_algorithm)2; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.stochastic.n_picks = 0; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.stochastic.n_canonical_picks = STOCHASTIC_MAX_PICKS + 1; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.temporal.mis = MIS_FAMILY_COUNT; CHECK(restir_options_validate(&o, &e) != 0);
     o = d; o.time_limit = -1; CHECK(restir_options_validate(&o, &e) != 0);
-    o = d; o.pattern = NEIGHBOR_BOX; o.radius = 16; CHECK(restir_options_validate(&o, &e) != 0);
-    o = d; o.pattern = NEIGHBOR_BOX; o.radius = 3; CHECK(restir_options_validate(&o, &e) == 0);
+    o = d; o.spatial.pattern = NEIGHBOR_BOX; o.spatial.radius = 16; CHECK(restir_options_validate(&o, &e) != 0);
+    o = d; o.spatial.pattern = NEIGHBOR_BOX; o.spatial.radius = 3; CHECK(restir_options_validate(&o, &e) == 0);
     o = d; o.max_depth = 17; CHECK(restir_options_validate(&o, &e) != 0);
     o = d; o.paths = RESTIR_PATHS_INDIRECT; o.max_depth = 2; CHECK(restir_options_validate(&o, &e) != 0);
     o = d; o.candidates = 0; CHECK(restir_options_validate(&o, &e) != 0);
@@ -186,4 +188,80 @@ TEST(restir_stats_json_well_formed)
     json_reader_close(&jr);
     restir_result_free(&r);
     scene_free(&s);
+}
+
+/* Issue 25: each technique validates its own options and says so in its own terms (no
+ * CLI flag in a library message); stochastic pairwise MIS is a spatial algorithm, chosen
+ * by --mis stochastic-pairwise without touching the MIS family, and a preset's family
+ * survives it. */
+TEST(restir_options_techniques_validate_their_own)
+{
+    static const struct {
+        const char *argv, *prefix;
+    } cases[] = {
+        {"mutation count -3", "mutation: count -3"},   {"spatial algorithm 7", "spatial: "},
+        {"temporal mcap 0", "temporal: "},              {"stochastic picks 0", "stochastic: "},
+        {"correlation boiling 2", "correlation: "},     {"light tiles alone", "light RIS: "},
+        {"dedup with infinite cap", "restir: "},        {"vector shading, stochastic", "restir: "},
+    };
+    restir_options d, o;
+    rerror e;
+    int i;
+    restir_options_default(&d);
+    for (i = 0; i < (int)(sizeof cases / sizeof *cases); ++i) {
+        o = d;
+        switch (i) {
+        case 0: o.mutation.count = -3; break;
+        case 1: o.spatial.algorithm = (enum spatial_algorithm)7; break;
+        case 2: o.temporal.mcap = 0; break;
+        case 3: o.stochastic.n_picks = 0; break;
+        case 4: o.correlation.boiling_filter = 2; break;
+        case 5: o.light_ris.tiles = 1; break;
+        case 6: o.correlation.dedup = 1; o.temporal.mcap = INFINITY; break;
+        default: o.shading = RESTIR_SHADING_VECTOR; o.spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE; break;
+        }
+        e.msg[0] = '\0';
+        CHECKF(restir_options_validate(&o, &e) != 0, "%s: accepted", cases[i].argv);
+        CHECKF(!strncmp(e.msg, cases[i].prefix, strlen(cases[i].prefix)), "%s: '%s' (want '%s...')", cases[i].argv,
+               e.msg, cases[i].prefix);
+        CHECKF(!strstr(e.msg, "--"), "%s: a library message names a CLI flag: '%s'", cases[i].argv, e.msg);
+    }
+}
+
+/* --mis stochastic-pairwise and --preset, in both orders, through the CLI's mapping. */
+static void parse_restir_args(const char *args, restir_options *o)
+{
+    cli_option rows[RENDER_RESTIR_OPTION_ROWS + 2];
+    int given[RENDER_RESTIR_OPTION_ROWS + 2], n, count, preset = 0, argc = 0;
+    render_restir_flags f;
+    char buf[256], *argv[16], *t;
+    const char *positional[1];
+    snprintf(buf, sizeof buf, "render %s", args);
+    for (t = strtok(buf, " "); t && argc < 15; t = strtok(NULL, " ")) argv[argc++] = t;
+    argv[argc] = NULL;
+    restir_options_default(o);
+    rows[0] = render_restir_preset_row(&preset);
+    n = 1 + render_restir_options(rows + 1, o, &f);
+    memset(&rows[n], 0, sizeof rows[n]);
+    cli_track_given(rows, given);
+    CHECKF(cli_parse("render", argc, argv, rows, positional, 1, &count) == 0, "%s", args);
+    render_restir_apply(rows, given, preset, &f, o);
+}
+
+TEST(restir_cli_mis_stochastic_is_an_algorithm)
+{
+    restir_options o;
+    parse_restir_args("--mis stochastic-pairwise", &o);
+    CHECK(o.spatial.algorithm == SPATIAL_STOCHASTIC_PAIRWISE && o.spatial.mis == MIS_TALBOT);
+    CHECK(!strcmp(spatial_mis_name(&o.spatial), "stochastic-pairwise"));
+    parse_restir_args("--preset gris-offline --mis stochastic-pairwise", &o);
+    CHECK(o.spatial.algorithm == SPATIAL_STOCHASTIC_PAIRWISE && o.candidates == 32);
+    parse_restir_args("--mis stochastic-pairwise --preset gris-offline --no-confidence-scaling", &o);
+    CHECK(o.spatial.algorithm == SPATIAL_STOCHASTIC_PAIRWISE && !o.stochastic.confidence_scaling);
+    parse_restir_args("--preset gris-offline", &o);
+    CHECK(o.spatial.algorithm == SPATIAL_GRIS_STEP && o.spatial.mis == MIS_PAIRWISE_DEFENSIVE);
+    CHECK(o.stochastic.confidence_scaling);
+    parse_restir_args("--mis talbot --preset gris-realtime", &o);
+    CHECK(o.spatial.algorithm == SPATIAL_GRIS_STEP && o.spatial.mis == MIS_TALBOT && o.spatial.radius == 20);
+    CHECK(!strcmp(spatial_mis_name(&o.spatial), "talbot"));
 }

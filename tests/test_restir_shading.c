@@ -20,10 +20,10 @@ static void options(restir_options *o, const scene *s, int shift, int mis, int p
     restir_options_default(o);
     o->seed = test_seed() * 4813u + 11u * (uint32_t)shift + (uint32_t)mis;
     o->shift = shift;
-    o->mis = mis;
+    o->spatial.mis = mis;
     o->spatial_passes = passes;
-    o->neighbors = 4;
-    o->radius = 4.0 * s->width / 16;
+    o->spatial.neighbors = 4;
+    o->spatial.radius = 4.0 * s->width / 16;
     o->frames = frames;
     o->candidates = 2;
     o->max_depth = 4;

@@ -34,19 +34,22 @@ static int bench_open(sto_bench *b, const char *path, int res, int runs, uint32_
     return rt_bench_open(b, path, res, runs, spp, max_depth, test_seed() * 7919u + 11);
 }
 
+/* mis: a MIS family of the GRIS step, or STOCHASTIC_STEP (the stochastic pairwise step) */
+#define STOCHASTIC_STEP (-1)
 static void options_for(const sto_bench *b, const sto_case *m, uint32_t seed, int mis, restir_options *o)
 {
     restir_options_default(o);
     o->seed = seed;
     o->shift = m->shift;
-    o->mis = mis;
-    o->stochastic_n = m->n;
-    o->stochastic_nc = m->nc;
-    o->no_confidence_scaling = m->no_scaling;
+    if (mis == STOCHASTIC_STEP) o->spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE;
+    else o->spatial.mis = (mis_family)mis;
+    o->stochastic.n_picks = m->n;
+    o->stochastic.n_canonical_picks = m->nc;
+    o->stochastic.confidence_scaling = !m->no_scaling;
     o->spatial_passes = m->passes;
-    o->pattern = NEIGHBOR_BOX;
-    o->radius = 2;
-    o->cells = m->cells;
+    o->spatial.pattern = NEIGHBOR_BOX;
+    o->spatial.radius = 2;
+    o->spatial.cells = m->cells;
     o->ablation = m->ablation;
     o->frames = m->frames;
     o->candidates = m->candidates ? m->candidates : 2;
@@ -67,7 +70,7 @@ static void expect_pt(sto_bench *b, const char *scene_name, const sto_case *m, i
     restir_options o;
     check_side a;
     char what[256];
-    options_for(b, m, test_seed() * 1187u + 13u * (uint32_t)m->shift + 7u * (uint32_t)m->n + (uint32_t)m->no_scaling, RESTIR_MIS_STOCHASTIC_PAIRWISE, &o);
+    options_for(b, m, test_seed() * 1187u + 13u * (uint32_t)m->shift + 7u * (uint32_t)m->n + (uint32_t)m->no_scaling, STOCHASTIC_STEP, &o);
     if (rt_restir_side(&b->s, &o, b->runs, b->block, &a)) return;
     case_name(scene_name, m, what, sizeof what);
     rt_expect_verdict(&a, &b->pt, ALPHA, b->block, what, biased, NULL);
@@ -82,7 +85,7 @@ static void expect_paired(sto_bench *b, const char *scene_name, const sto_case *
     char what[256];
     int status;
     uint32_t seed = test_seed() * 2654435761u + 101u + (uint32_t)m->n;
-    options_for(b, m, seed, RESTIR_MIS_STOCHASTIC_PAIRWISE, &oa);
+    options_for(b, m, seed, STOCHASTIC_STEP, &oa);
     options_for(b, m, seed, MIS_PAIRWISE_DEFENSIVE, &ob);
     ob.ablation = RESTIR_ABLATE_NONE;
     if (rt_restir_side(&b->s, &oa, b->runs, b->block, &a)) return;
@@ -209,9 +212,9 @@ static void pillars(const sto_case *cases, int n_cases, const int *times, int nt
         rt_frame_sides q;
         sto_bench dummy;
         dummy.max_depth = 4;
-        options_for(&dummy, m, test_seed() * 1181u + 17u * (uint32_t)c, RESTIR_MIS_STOCHASTIC_PAIRWISE, &o);
-        o.temporal = 1;
-        o.temporal_mis = MIS_TALBOT;
+        options_for(&dummy, m, test_seed() * 1181u + 17u * (uint32_t)c, STOCHASTIC_STEP, &o);
+        o.temporal.enabled = 1;
+        o.temporal.mis = MIS_TALBOT;
         memset(&q, 0, sizeof q);
         q.nt = nt;
         for (i = 0; i < nt; ++i) q.times[i] = times[i];

@@ -167,14 +167,14 @@ static void case_options(const temporal_bench *b, const temporal_case *m, restir
     o->seed = test_seed() * 1181u + 31u * (uint32_t)m->shift + 7u * (uint32_t)m->temporal_mis +
               (uint32_t)m->passes + 1000u * (uint32_t)m->ablation;
     o->shift = m->shift;
-    o->mis = m->mis;
-    o->temporal_mis = m->temporal_mis;
+    o->spatial.mis = m->mis;
+    o->temporal.mis = m->temporal_mis;
     o->spatial_passes = m->passes;
-    o->neighbors = 3;
-    o->radius = 4.0 * b->res / 16;
+    o->spatial.neighbors = 3;
+    o->spatial.radius = 4.0 * b->res / 16;
     o->ablation = m->ablation;
-    o->mcap = m->mcap;
-    o->motion_vectors = b->motion_vectors;
+    o->temporal.mcap = m->mcap;
+    o->temporal.motion_vectors = b->motion_vectors;
     o->candidates = b->candidates;
     o->max_depth = 4;
     o->threads = 2;
@@ -446,8 +446,8 @@ static int still_errors(const scene *s, const image *ref, double mcap, int seeds
     int k, i;
     restir_options_default(&o);
     restir_options_preset_gris_realtime(&o);
-    o.radius = 4;
-    o.mcap = mcap;
+    o.spatial.radius = 4;
+    o.temporal.mcap = mcap;
     o.max_depth = 4;
     o.threads = 2;
     memset(&q, 0, sizeof q);

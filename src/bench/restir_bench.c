@@ -103,7 +103,7 @@ int bench_restir(FILE *out, const scene *s, const char *name, const restir_optio
             restir_options b = *o;
             restir_result r;
             b.shift = shift;
-            b.mis = families[f];
+            b.spatial.mis = families[f];
             if (restir_render(s, &b, &r, e)) return -1;
             if (!*first) fprintf(out, ",\n");
             *first = 0;
@@ -287,25 +287,25 @@ int bench_mutations(FILE *out, const scene *s, const char *name, const restir_op
     double ms_off, frames = f1 - f0 + 1;
     int strategy, i;
     off.shift = RESTIR_SHIFT_HYBRID; /* the paper's shift (Mutations §4.3) */
-    off.mutations = 0;
+    off.mutation.count = 0;
     if (mutation_run(s, &off, f0, f1, &a, &ms_off, e)) return -1;
     for (strategy = 0; strategy < MUTATE_STRATEGY_COUNT; ++strategy) {
         restir_options on = off;
         restir_stats b;
         double ms_on;
         const mutate_stats *m = &b.mutate;
-        on.mutations = o->mutations > 0 ? o->mutations : 1;
-        on.mutation = strategy;
+        on.mutation.count = o->mutation.count > 0 ? o->mutation.count : 1;
+        on.mutation.strategy = strategy;
         if (mutation_run(s, &on, f0, f1, &b, &ms_on, e)) return -1;
         if (!*first) fprintf(out, ",\n");
         *first = 0;
         fprintf(out, "  {\"bench\": \"restir-mutations\", \"scene\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": [%d, %d], "
                      "\"strategy\": \"%s\", \"shift\": \"%s\", \"mutations\": %d,\n",
                 name, s->width, s->height, f0, f1, mutate_strategy_names[strategy], restir_shift_names[on.shift],
-                on.mutations);
+                on.mutation.count);
         fprintf(out, "   \"ms_per_mutation_iteration\": %.3f, \"ms_frame_without\": %.3f, \"ms_frame_with\": %.3f, "
                      "\"frame_cost_ratio\": %.3f,\n",
-                b.ms_mutate / frames / on.mutations, ms_off, ms_on, ms_off > 0 ? ms_on / ms_off : 0.0);
+                b.ms_mutate / frames / on.mutation.count, ms_off, ms_on, ms_off > 0 ? ms_on / ms_off : 0.0);
         fprintf(out, "   \"pixels\": %llu, \"skipped_rate\": %.4f, \"proposals\": %llu, \"acceptance_rate\": %.4f, "
                      "\"rejected_mh\": %llu, \"rejected\": {",
                 (unsigned long long)m->pixels, m->pixels ? (double)m->skipped / (double)m->pixels : 0.0,

@@ -78,7 +78,7 @@ static int bench_pass(FILE *out, const scene *s, const char *name, const char *l
     fprintf(out, "{\"bench\": \"stochastic\", \"scene\": \"%s\", \"config\": \"%s\", \"mis\": \"%s\", \"n\": %d, "
                  "\"nc\": %d, \"cells\": %s, \"ms_spatial_pass\": %.3f, \"shifts_per_pixel\": %.3f, "
                  "\"mis_shifts_per_pixel\": %.3f, \"domains_per_pixel\": %.3f}",
-            name, label, restir_mis_names[o->mis], o->stochastic_n, o->stochastic_nc, o->cells ? "true" : "false",
+            name, label, spatial_mis_name(&o->spatial), o->stochastic.n_picks, o->stochastic.n_canonical_picks, o->spatial.cells ? "true" : "false",
             st->ms_spatial[0], (double)st->spatial.shifts / pixels, (double)st->spatial.mis_shifts / pixels,
             (double)st->spatial.domains / pixels);
     restir_result_free(&r);
@@ -95,20 +95,22 @@ int bench_stochastic(FILE *out, const scene *s, const char *name, int threads, i
     restir_options_default(&o);
     o.threads = threads;
     o.spatial_passes = 1;
-    o.cells = 1;
-    o.mis = RESTIR_MIS_STOCHASTIC_PAIRWISE;
+    o.spatial.cells = 1;
+    o.spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE;
     for (i = 0; i < sizeof picks / sizeof *picks; ++i) {
-        o.stochastic_n = picks[i];
+        o.stochastic.n_picks = picks[i];
         snprintf(label, sizeof label, "cells stochastic N~ %d", picks[i]);
         if (bench_pass(out, s, name, label, &o, first, e)) return -1;
     }
-    o.mis = MIS_PAIRWISE_DEFENSIVE;
+    o.spatial.algorithm = SPATIAL_GRIS_STEP;
+    o.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
     if (bench_pass(out, s, name, "cells all-M pairwise-defensive", &o, first, e)) return -1;
-    o.cells = 0;
-    o.mis = RESTIR_MIS_STOCHASTIC_PAIRWISE;
-    o.stochastic_n = 1;
+    o.spatial.cells = 0;
+    o.spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE;
+    o.stochastic.n_picks = 1;
     if (bench_pass(out, s, name, "r2 neighbours stochastic N~ 1", &o, first, e)) return -1;
-    o.mis = MIS_PAIRWISE_DEFENSIVE;
+    o.spatial.algorithm = SPATIAL_GRIS_STEP;
+    o.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
     if (bench_pass(out, s, name, "r2 neighbours pairwise-defensive", &o, first, e)) return -1;
     return 0;
 }

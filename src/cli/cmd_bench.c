@@ -123,12 +123,12 @@ static int bench_restir_on(const scene *s, const char *name, const bench_args *a
     restir_options_default(&o);
     restir_options_preset_gris_offline(&o);
     o.threads = a->rays.threads > 0 ? a->rays.threads : threads_default();
-    o.pairing = a->pairing;
+    o.spatial.pairing = a->pairing;
     o.no_pair_step = a->no_pair_step;
     o.rc_criterion = a->rc_criterion;
     o.shading = a->shading;
-    o.light_ris = a->light_ris;
-    o.light_tiles = a->light_tiles;
+    o.light_ris.candidates = a->light_ris;
+    o.light_ris.tiles = a->light_tiles;
     sized.width = sized.height = 64;
     status = bench_restir(stdout, &sized, name, &o, first, &e);
     if (!status && a->light_ris > 0) {
@@ -303,7 +303,7 @@ static int bench_mutations_on(const scene *s, const char *name, const bench_args
     restir_options_default(&o);
     restir_options_preset_gris_realtime(&o);
     o.threads = a->rays.threads > 0 ? a->rays.threads : threads_default();
-    o.mutations = 1;
+    o.mutation.count = 1;
     sized.width = sized.height = 256;
     status = bench_mutations(stdout, &sized, name, &o, 0, 3, first, &e);
     if (status) fprintf(stderr, "%s\n", e.msg);

@@ -21,6 +21,7 @@ static int parse_pixel(const char *text, int xy[2])
 int cmd_inspect(int argc, char **argv)
 {
     restir_options o;
+    render_restir_flags flags;
     scene_overrides overrides;
     cli_option options[64];
     int given[64];
@@ -43,13 +44,13 @@ int cmd_inspect(int argc, char **argv)
             {"--temporal", OPT_FLAG, &temporal,
              "also the temporal step against the pixel's initial reservoir of frame --first-frame - 1 (static scenes)",
              NULL, 0, 0, NULL},
-            {"--mcap", OPT_REAL, &o.mcap, "with --temporal: the previous confidence is capped at C x the current one (default 20)",
+            {"--mcap", OPT_REAL, &o.temporal.mcap, "with --temporal: the previous confidence is capped at C x the current one (default 20)",
              NULL, 1e-300, 1e300, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
     }
     options[n++] = render_restir_preset_row(&preset);
-    n += render_restir_options(options + n, &o);
+    n += render_restir_options(options + n, &o, &flags);
     n += scene_override_options(options + n, &overrides);
     memset(&options[n], 0, sizeof options[n]);
     cli_track_given(options, given);
@@ -59,7 +60,8 @@ int cmd_inspect(int argc, char **argv)
         return 0;
     }
     if (status) return status;
-    render_restir_apply_preset(options, given, preset, &o);
+    render_restir_apply(options, given, preset, &flags, &o);
+    if ((status = render_restir_validate("inspect", &o)) != 0) return status;
     if (count != 1 || !parse_pixel(pixel, xy)) {
         fprintf(stderr, "restir inspect: expected SCENE and --pixel x,y (see restir inspect --help)\n");
         return 2;

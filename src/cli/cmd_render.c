@@ -1,19 +1,20 @@
 /* restir render SCENE [options]: render a scene with one of the methods and write
- * PFM + PNG preview (+ optional --stats JSON). */
+ * PFM + PNG preview (+ optional --stats JSON). This file reads as the command runs: parse
+ * (the option table, render_table.c), validate (render_rules.c, and the techniques'
+ * options, render_restir.c), run (one image, --runs in render_runs.c, or --sequence), write
+ * (images here, --stats in render_stats.c). */
 #include "cmd_render.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "restir/core/atomic_file.h"
 #include "restir/core/progress.h"
 #include "restir/core/threads.h"
 #include "restir/frame/frame_stats.h"
 #include "restir/frame/offline.h"
 #include "restir/frame/options.h"
 #include "restir/frame/pipeline.h"
-#include "restir/metrics/moments.h"
 #include "restir/oracle/stage_dump.h"
 #include "restir/oracle/stage_dump_undo.h"
 #include "restir/render/aov.h"
@@ -25,107 +26,12 @@
 #include "args.h"
 #include "collide.h"
 #include "output.h"
-#include "output_undo.h"
-#include "render_pt.h"
-#include "render_restir.h"
-#include "scene_args.h"
+#include "render_args.h"
+#include "render_rules.h"
+#include "render_runs.h"
+#include "render_stats.h"
+#include "render_table.h"
 #include "stop.h"
-
-enum render_method { METHOD_AOV, METHOD_PT, METHOD_RESTIR };
-static const char *const method_names[] = {"aov", "pt", "restir", NULL};
-/* --aov: the G-buffer channels of aov.h (--method aov), then two images only --method
- * restir has: "duplicates", each pixel's duplicate count (Enhanced §5; docs/correlation.md),
- * and "age", frames of temporal history per pixel (--sequence). */
-enum { AOV_CHOICE_DUPLICATES = AOV_MOTION + 1, AOV_CHOICE_AGE, AOV_CHOICE_COUNT };
-static const char *aov_choices[AOV_CHOICE_COUNT + 1];
-
-static void fill_aov_choices(void)
-{
-    int i;
-    for (i = 0; i < AOV_CHOICE_DUPLICATES; ++i) aov_choices[i] = aov_names[i];
-    aov_choices[AOV_CHOICE_DUPLICATES] = "duplicates";
-    aov_choices[AOV_CHOICE_AGE] = "age";
-    aov_choices[AOV_CHOICE_COUNT] = NULL;
-}
-
-typedef struct {
-    int method, aov;
-    const char *output, *png, *stats;
-    int no_png, quiet, jitter, threads, frame;
-    int progress;          /* --progress: enum progress_mode */
-    double progress_every; /* --progress-every SECONDS (0: the default) */
-    int runs; /* --runs K: K independent renders -> mean, variance and count (restir check) */
-    /* Options every lighting method has, parsed once and handed to the method by
-     * apply_common_options (seed, jitter, threads, frame, quiet) and apply_shared_options: */
-    const char *ablate; /* --ablate NAME, checked against the method's own list */
-    int preset;         /* --preset: index, applied to the restir rows not given */
-    restir_options restir;
-    uint32_t seed;
-    double exposure;
-    scene_overrides overrides;
-    render_pt_args pt; /* --method pt (render_pt.h) */
-    /* the real-time pipeline (--method restir --sequence A..B) */
-    const char *sequence, *mcap;
-    int accumulate, no_temporal;
-    restir_sequence seq;
-    /* the golden-oracle kit (stage_dump.h): --dump-dir, --dump-stages, --from-dump, --from-stage */
-    const char *dump_stages, *from_stage;
-    stage_io sio;
-    frame_stage_hook hook; /* sio as the frame's stage listener */
-} render_args;
-
-typedef struct {
-    double load, prepare, render, write;
-    pt_result pt;        /* counters of a --method pt render */
-    restir_stats restir; /* counters of a --method restir render (shift failures by reason, ...) */
-    double restir_seconds;
-    restir_stats *frame_stats; /* --sequence: per frame */
-    int *frame_numbers;
-    int frame_count;
-} render_timings;
-
-static int write_stats(const char *path, const render_args *a, const scene *s, const render_timings *t)
-{
-    rerror e;
-    atomic_file f;
-    if (atomic_file_open(&f, path, &e)) {
-        fprintf(stderr, "%s\n", e.msg);
-        return 2;
-    }
-    fprintf(f.fp, "{\n  \"command\": \"render\",\n  \"scene\": \"%s\",\n  \"method\": \"%s\",\n", s->path,
-            method_names[a->method]);
-    fprintf(f.fp, "  \"width\": %d,\n  \"height\": %d,\n  \"threads\": %d,\n  \"seed\": %u,\n  \"frame\": %d,\n",
-            s->width, s->height, a->threads, a->seed, a->frame);
-    if (a->method == METHOD_AOV) fprintf(f.fp, "  \"aov\": \"%s\",\n", aov_names[a->aov]);
-    if (a->method == METHOD_PT) render_pt_stats_json(f.fp, &a->pt, &t->pt);
-    if (a->method == METHOD_RESTIR) {
-        fprintf(f.fp, "  \"restir\": {\"seconds\": %.6f, \"config\": ", t->restir_seconds);
-        restir_options_write_json(f.fp, &a->restir, "    ");
-        fprintf(f.fp, ",\n    \"stats\":\n");
-        restir_stats_write_json(f.fp, &t->restir, "    ");
-        if (a->sequence) {
-            int i;
-            fprintf(f.fp, ",\n    \"sequence\": {\"first\": %d, \"last\": %d, \"accumulate\": %s},\n",
-                    a->seq.first, a->seq.last, a->seq.accumulate ? "true" : "false");
-            fprintf(f.fp, "    \"frames\": [");
-            for (i = 0; i < t->frame_count; ++i) {
-                fprintf(f.fp, "%s\n      {\"frame\": %d, \"stats\":\n", i ? "," : "", t->frame_numbers[i]);
-                restir_stats_write_json(f.fp, &t->frame_stats[i], "      ");
-                fprintf(f.fp, "}");
-            }
-            fprintf(f.fp, "]");
-        }
-        fprintf(f.fp, "\n  },\n");
-    }
-    fprintf(f.fp, "  \"triangles\": %zu,\n", s->triangle_count);
-    fprintf(f.fp, "  \"seconds\": {\"load\": %.6f, \"bvh\": %.6f, \"render\": %.6f, \"write\": %.6f}\n}\n", t->load,
-            t->prepare, t->render, t->write);
-    if (atomic_file_commit(&f, &e)) {
-        fprintf(stderr, "%s\n", e.msg);
-        return 2;
-    }
-    return 0;
-}
 
 static int render_aov_image(const render_args *a, const scene *s, image *img)
 {
@@ -220,78 +126,6 @@ static int render_one(const render_args *a, const scene *s, uint32_t seed, const
     return render_aov_image(a, s, img);
 }
 
-/* The sidecar's "renderer" object of a --runs file set (the options of the first run). */
-static void write_runs_config(FILE *fp, const void *ctx, const char *indent)
-{
-    const render_args *a = ctx;
-    if (a->method == METHOD_RESTIR) {
-        restir_options_write_json(fp, &a->restir, indent);
-    } else if (a->method == METHOD_PT) {
-        fprintf(fp, "{\"spp\": %u, \"max_depth\": %d, \"jitter\": %s, \"seed\": %u}", a->pt.o.spp,
-                a->pt.o.max_depth, a->jitter ? "true" : "false", a->seed);
-    } else {
-        fprintf(fp, "{\"aov\": \"%s\", \"jitter\": %s, \"seed\": %u}", aov_names[a->aov],
-                a->jitter ? "true" : "false", a->seed);
-    }
-}
-
-/* --runs K: K renders with seeds seed, seed+1, ..., seed+K-1 (independent, since every
- * random number's address contains the seed), reduced to per-pixel mean and sample
- * variance, plus the per-run image and block means that keep `restir check` exact when
- * the renderer correlates pixels (ReSTIR's spatial reuse; docs/statistics.md, "moments
- * files"). The mean goes to `img` for the preview. */
-static int render_runs(const render_args *a, const scene *s, const char *out, image *img, render_timings *t)
-{
-    moments m;
-    moments_meta meta;
-    rerror e;
-    char prefix[4096], name[64];
-    int k, status = 0;
-    e.msg[0] = '\0';
-    output_prefix(prefix, sizeof prefix, out);
-    if (moments_init(&m, s->width, s->height, &e) ||
-        moments_set_block_sizes(&m, moments_default_block_sizes, 4, &e)) {
-        fprintf(stderr, "%s\n", e.msg);
-        moments_free(&m);
-        return 2;
-    }
-    meta.method = method_names[a->method];
-    meta.write_config = write_runs_config;
-    meta.ctx = a;
-    /* Spatial reuse shares samples between pixels of one run; everything else keeps the
-     * pixels of a run independent (their random numbers are addressed by pixel). */
-    meta.correlation =
-        a->method == METHOD_RESTIR && a->restir.spatial_passes > 0 ? MOMENTS_CORRELATED : MOMENTS_INDEPENDENT;
-    for (k = 0; k < a->runs && !status && !stop_signal(); ++k) {
-        image run;
-        status = render_one(a, s, a->seed + (uint32_t)k, NULL, &run, t);
-        if (status) break;
-        /* A run cut short by SIGINT/SIGTERM has fewer samples than the others: adding it
-         * would mix two estimators in one mean and variance, so it is dropped. */
-        if (!stop_signal()) {
-            snprintf(name, sizeof name, "seed %u", a->seed + (uint32_t)k);
-            if (moments_add(&m, &run, name, &e)) status = 2;
-        }
-        image_free(&run);
-    }
-    if (!status && stop_signal() && m.runs < 2) {
-        /* A variance needs two runs: nothing is written, and the status says so. */
-        fprintf(stderr, "restir render: interrupted by %s after %ld finished run(s); fewer than 2, nothing written\n",
-                stop_signal_name(), m.runs);
-        moments_free(&m);
-        return 128 + stop_signal();
-    }
-    if (!status && moments_write_meta(prefix, &m, &meta, &e)) status = 2;
-    if (!status) {
-        image var;
-        if (moments_images(&m, img, &var, &e)) status = 2;
-        else image_free(&var);
-    }
-    if (status == 2 && e.msg[0]) fprintf(stderr, "%s\n", e.msg);
-    moments_free(&m);
-    return status;
-}
-
 /* --sequence: one PFM (+ PNG) per frame, PREFIX.0000.pfm ..., each written atomically. */
 typedef struct {
     const render_args *a;
@@ -374,7 +208,7 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
     if (a->sequence) return render_sequence(a, s, out, t);
     t0 = now_seconds();
     if (a->runs > 0) {
-        status = render_runs(a, s, out, &img, t);
+        status = render_runs(a, s, out, &img, t, render_one);
         if (status) return status;
         t->render = now_seconds() - t0;
         if (png[0]) status = write_outputs(&img, NULL, png, a->exposure);
@@ -406,248 +240,6 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
     return status;
 }
 
-/* Appends the ReSTIR rows. --max-depth, --time-limit, --checkpoint and --resume exist for
- * more than one method: the path tracer's rows stay (with help for both), restir's copies
- * are dropped and apply_shared_options() hands the values over. */
-static int add_restir_rows(cli_option *options, int n, render_args *a)
-{
-    cli_option rows[RENDER_RESTIR_OPTION_ROWS];
-    int i, j, count = render_restir_options(rows, &a->restir);
-    for (i = 0; i < n; ++i) {
-        if (!strcmp(options[i].name, "--max-depth"))
-            options[i].help = "maximum path length d in segments (2 = direct light; pt: 1..255, restir: 2..16; default 10)";
-        if (!strcmp(options[i].name, "--checkpoint"))
-            options[i].help = "pt: write the accumulation state here at the end and on SIGINT/SIGTERM; restir "
-                              "--sequence: the previous-frame state after every frame";
-        if (!strcmp(options[i].name, "--resume"))
-            options[i].help = "pt: continue this checkpoint up to --spp; restir --sequence: continue after its frame";
-        if (!strcmp(options[i].name, "--time-limit"))
-            options[i].help = "pt: whole 1-spp passes, restir: whole frames until SECONDS have passed (restir: --frames ignored)";
-    }
-    for (j = 0; j < count; ++j) {
-        int duplicate = 0;
-        for (i = 0; i < n; ++i) duplicate |= !strcmp(options[i].name, rows[j].name);
-        if (!duplicate) options[n++] = rows[j];
-    }
-    return n;
-}
-
-static int ablation_index(const char *const *names, const char *name)
-{
-    int i;
-    for (i = 0; names[i]; ++i)
-        if (!strcmp(names[i], name)) return i;
-    return -1;
-}
-
-/* Hands the shared options to the chosen method. */
-/* --dump-dir DIR [--dump-stages a,b], --from-dump DIR --from-stage S (docs/oracle.md). */
-static int apply_stage_options(render_args *a)
-{
-    rerror e;
-    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage;
-    if (!any) return 0;
-    if (!a->sequence) {
-        fprintf(stderr, "restir render: --dump-dir, --dump-stages, --from-dump and --from-stage need --sequence A..B\n");
-        return 2;
-    }
-    if (a->dump_stages && !a->sio.dump_dir) {
-        fprintf(stderr, "restir render: --dump-stages needs --dump-dir DIR\n");
-        return 2;
-    }
-    if (!a->sio.from_dir != !a->from_stage) {
-        fprintf(stderr, "restir render: --from-dump DIR and --from-stage S go together\n");
-        return 2;
-    }
-    if (a->dump_stages && stage_io_set_stages(&a->sio, a->dump_stages, &e)) {
-        fprintf(stderr, "restir render: %s\n", e.msg);
-        return 2;
-    }
-    if (a->from_stage) {
-        if (strlen(a->from_stage) >= sizeof a->sio.from_stage) {
-            fprintf(stderr, "restir render: --from-stage: '%s' is too long\n", a->from_stage);
-            return 2;
-        }
-        strcpy(a->sio.from_stage, a->from_stage);
-    }
-    stage_io_hook(&a->sio, &a->hook);
-    a->seq.stages = &a->hook;
-    return 0;
-}
-
-/* --sequence A..B, --mcap C|inf, --accumulate, --no-temporal (restir only). */
-static int apply_sequence_options(render_args *a)
-{
-    char *end;
-    if (a->mcap) {
-        double c = strcmp(a->mcap, "inf") ? strtod(a->mcap, &end) : INFINITY;
-        if (strcmp(a->mcap, "inf") && (end == a->mcap || *end || !(c > 0) || isinf(c))) {
-            fprintf(stderr, "restir render: --mcap: expected a number > 0 or inf, got '%s'\n", a->mcap);
-            return 2;
-        }
-        a->restir.mcap = c;
-    }
-    if (a->no_temporal) a->restir.temporal = 0;
-    if ((a->sequence || a->accumulate) && a->method != METHOD_RESTIR) {
-        fprintf(stderr, "restir render: --sequence and --accumulate need --method restir\n");
-        return 2;
-    }
-    if (a->restir.mutations > 0 && !a->sequence) { /* mutations live in the real-time pipeline */
-        fprintf(stderr, "restir render: --mutations needs --method restir --sequence A..B\n");
-        return 2;
-    }
-    if (a->accumulate && !a->sequence) {
-        fprintf(stderr, "restir render: --accumulate needs --sequence A..B\n");
-        return 2;
-    }
-    if (!a->sequence) return 0;
-    if (a->runs > 0 || a->pt.o.time_limit > 0) {
-        fprintf(stderr, "restir render: --sequence cannot be combined with --runs or --time-limit\n");
-        return 2;
-    }
-    {
-        long first = strtol(a->sequence, &end, 10), last;
-        const char *rest = end;
-        int ok = end != a->sequence && rest[0] == '.' && rest[1] == '.';
-        if (ok) {
-            last = strtol(rest + 2, &end, 10);
-            ok = end != rest + 2 && !*end && first >= 0 && last >= first && last < 100000000;
-        }
-        if (!ok) {
-            fprintf(stderr, "restir render: --sequence: expected A..B with 0 <= A <= B, got '%s'\n", a->sequence);
-            return 2;
-        }
-        a->seq.first = (int)first;
-        a->seq.last = (int)last;
-    }
-    a->seq.accumulate = a->accumulate;
-    /* the path tracer's --checkpoint FILE / --resume FILE rows serve sequences too */
-    a->seq.checkpoint = a->pt.o.checkpoint_path;
-    a->seq.resume = a->pt.o.resume_path;
-    return 0;
-}
-
-/* The options every method shares, parsed once into render_args, go to the method's
- * options here, once. */
-static void apply_common_options(render_args *a)
-{
-    a->pt.o.seed = a->restir.seed = a->seed;
-    a->pt.o.jitter = a->restir.jitter = a->jitter;
-    a->pt.o.threads = a->restir.threads = a->threads;
-    a->pt.o.quiet = a->restir.quiet = a->quiet;
-    a->pt.o.frame = a->frame;
-    a->restir.stop_flag = &stop_requested;
-    /* The duplicate counters are reported by --stats only (--dedup and --aov duplicates
-     * read the map themselves). */
-    a->restir.no_duplicate_stats = !a->stats;
-}
-
-/* Rows [first, end) of options[] belong to one method (or, aov: need --method aov). */
-typedef struct {
-    int first, end, method;
-} method_rows;
-
-/* An option that does not apply to the chosen method is an error with a hint, not a
- * silent no-op. The shared rows (--max-depth, --time-limit, --checkpoint, --resume,
- * --ablate) are checked by name. */
-static int check_method_options(const render_args *a, const cli_option *options, const int *given,
-                                const method_rows *rows, int nrows)
-{
-    static const char *const hints[][2] = {
-        {"--spp", "restir averages --frames N frames (or --time-limit) of --candidates N path trees"},
-        {"--spatial-passes", "the path tracer has no reuse; --method restir"},
-        {"--aov", "--method aov --aov CHANNEL"},
-    };
-    static const char *const pt_rows_restir_shares[] = {"--max-depth", "--time-limit", "--checkpoint", "--resume",
-                                                        "--light-ris", "--light-tiles"};
-    int r, i, h;
-    for (r = 0; r < nrows; ++r) {
-        if (rows[r].method == a->method) continue;
-        for (i = rows[r].first; i < rows[r].end; ++i) {
-            const char *hint = "see restir render --help";
-            int shared = 0;
-            if (!given[i]) continue;
-            for (h = 0; h < (int)(sizeof pt_rows_restir_shares / sizeof *pt_rows_restir_shares) && rows[r].method == METHOD_PT; ++h)
-                shared |= !strcmp(options[i].name, pt_rows_restir_shares[h]);
-            if (shared) continue; /* restir takes them; aov: checked below */
-            for (h = 0; h < (int)(sizeof hints / sizeof hints[0]); ++h)
-                if (!strcmp(hints[h][0], options[i].name)) hint = hints[h][1];
-            fprintf(stderr, "restir render: %s applies to --method %s, not --method %s (%s)\n", options[i].name,
-                    method_names[rows[r].method], method_names[a->method], hint);
-            return 2;
-        }
-    }
-    if (a->method == METHOD_AOV) {
-        static const char *const lighting[] = {"--max-depth", "--time-limit", "--checkpoint", "--resume", "--ablate",
-                                               "--runs", "--light-ris", "--light-tiles"};
-        for (h = 0; h < (int)(sizeof lighting / sizeof lighting[0]); ++h)
-            if (cli_given(options, given, lighting[h])) {
-                fprintf(stderr, "restir render: %s applies to --method pt and --method restir, not --method aov\n",
-                        lighting[h]);
-                return 2;
-            }
-    }
-    if (cli_given(options, given, "--sample-offset") && cli_given(options, given, "--resume")) {
-        fprintf(stderr, "restir render: --sample-offset and --resume: a resumed run continues the checkpoint's own "
-                        "sample range (for a disjoint range start a fresh run and use restir merge)\n");
-        return 2;
-    }
-    if (a->method == METHOD_RESTIR && !a->sequence &&
-        (cli_given(options, given, "--checkpoint") || cli_given(options, given, "--resume"))) {
-        fprintf(stderr, "restir render: --checkpoint and --resume apply to --method pt and to --method restir with "
-                        "--sequence A..B (offline restir frames are independent: --first-frame F continues a run)\n");
-        return 2;
-    }
-    return 0;
-}
-
-/* No output may overwrite another output or an input (collide.h); --resume FILE
- * --checkpoint FILE continues one checkpoint in place. --runs writes PREFIX.* instead of
- * -o (the sidecar files are distinct by construction). */
-static int check_output_collisions(const render_args *a, const char *out, const char *png)
-{
-    char mean[4200], prefix[4096];
-    named_file outs[4], ins[2];
-    output_prefix(prefix, sizeof prefix, out);
-    snprintf(mean, sizeof mean, "%s.mean.pfm", prefix);
-    outs[0].path = a->runs > 0 ? mean : a->sequence ? NULL : out, outs[0].role = "-o";
-    outs[1].path = png, outs[1].role = "the PNG preview";
-    outs[2].path = a->stats, outs[2].role = "--stats";
-    outs[3].path = a->pt.o.checkpoint_path, outs[3].role = "--checkpoint";
-    ins[0].path = a->sio.scene_path, ins[0].role = "the scene";
-    ins[1].path = a->pt.o.resume_path, ins[1].role = "--resume";
-    return outputs_distinct("render", outs, 4, ins, 2, a->pt.o.resume_path);
-}
-
-/* Every file the command will write, checked before anything is rendered. */
-static int check_output_paths(const render_args *a, const char *out, const char *png)
-{
-    const char *paths[4];
-    rerror e;
-    size_t n = strlen(out);
-    int i, count = 0;
-    if (n >= 4 && !strcmp(out + n - 4, ".png")) {
-        fprintf(stderr, "restir render: -o %s: -o names the PFM (the data); the PNG preview is written next to it "
-                        "(use -o %.*s.pfm, or --png FILE for the preview's name)\n", out, (int)(n - 4), out);
-        return 2;
-    }
-    paths[count++] = out;
-    if (png[0]) paths[count++] = png;
-    if (a->stats) paths[count++] = a->stats;
-    if (a->pt.o.checkpoint_path) paths[count++] = a->pt.o.checkpoint_path;
-    for (i = 0; i < count; ++i) {
-        if (output_path_check(paths[i], &e)) {
-            fprintf(stderr, "restir render: %s\n", e.msg);
-            return 2;
-        }
-    }
-    if (png[0] && !strcmp(png, out)) {
-        fprintf(stderr, "restir render: --png %s is the PFM's own path\n", png);
-        return 2;
-    }
-    return check_output_collisions(a, out, png);
-}
-
 /* SIGINT / SIGTERM: what was kept, on stderr even with --quiet; exit 128 + signal. */
 static int interrupted_status(const render_args *a, const render_timings *t, const char *out)
 {
@@ -674,60 +266,16 @@ static int interrupted_status(const render_args *a, const render_timings *t, con
     return 128 + sig;
 }
 
-/* --aov duplicates|age (issue 12): reservoirs exist only with --method restir (checked by
- * check_method_options), a temporal history only in sequences. */
-static int apply_aov_options(render_args *a)
-{
-    if (a->method != METHOD_RESTIR || (a->aov != AOV_CHOICE_DUPLICATES && a->aov != AOV_CHOICE_AGE)) return 0;
-    if (a->aov == AOV_CHOICE_AGE && !a->sequence) {
-        fprintf(stderr, "restir render: --aov age needs --sequence A..B\n");
-        return 2;
-    }
-    if (a->runs > 0) {
-        fprintf(stderr, "restir render: --aov %s cannot be combined with --runs\n", aov_choices[a->aov]);
-        return 2;
-    }
-    a->restir.output_aov = a->aov == AOV_CHOICE_AGE ? RESTIR_OUTPUT_AGE : RESTIR_OUTPUT_DUPLICATES;
-    return 0;
-}
-
-static int apply_shared_options(render_args *a, const cli_option *options, const int *given)
-{
-    if (apply_sequence_options(a) || apply_stage_options(a) || apply_aov_options(a)) return 2;
-    if (a->method == METHOD_RESTIR) a->restir.time_limit = a->pt.o.time_limit; /* --time-limit */
-    if (a->method == METHOD_RESTIR) { /* --light-ris N, --light-tiles */
-        a->restir.light_ris = a->pt.o.light_ris;
-        a->restir.light_tiles = a->pt.o.light_tiles;
-    }
-    if (a->method == METHOD_RESTIR && cli_given(options, given, "--max-depth")) {
-        if (a->pt.o.max_depth < 2 || a->pt.o.max_depth > PATH_MAX_LENGTH) {
-            fprintf(stderr, "restir render: --max-depth: restir needs 2..%d, got %d\n", PATH_MAX_LENGTH,
-                    a->pt.o.max_depth);
-            return 2;
-        }
-        a->restir.max_depth = a->pt.o.max_depth;
-    }
-    if (!a->ablate) return 0;
-    if (a->method == METHOD_PT && render_pt_set_ablation(&a->pt, a->ablate) == 0) return 0;
-    if (a->method == METHOD_RESTIR && ablation_index(restir_ablation_names, a->ablate) >= 0) {
-        a->restir.ablation = (enum restir_ablation)ablation_index(restir_ablation_names, a->ablate);
-        return 0;
-    }
-    fprintf(stderr, "restir render: --ablate: '%s' is not an ablation of --method %s\n", a->ablate,
-            method_names[a->method]);
-    return 2;
-}
-
 int cmd_render(int argc, char **argv)
 {
     render_args a;
     render_timings t;
-    cli_option options[116];
-    int given[116];
+    cli_option options[RENDER_TABLE_ROWS];
+    int given[RENDER_TABLE_ROWS];
     method_rows rows[3];
     const char *positional[1];
     char out[4096], png[4096];
-    int n = 0, count, status;
+    int count, status;
     scene s;
     rerror e;
     fill_aov_choices();
@@ -738,52 +286,8 @@ int cmd_render(int argc, char **argv)
     a.threads = threads_default();
     a.seed = 1;
     a.method = METHOD_PT;
-    {
-        const cli_option rows[] = {
-            {"-o", OPT_STRING, &a.output, "output PFM (default out/<scene>.pfm)", NULL, 0, 0, NULL},
-            {"--png", OPT_STRING, &a.png, "PNG preview path (default: the PFM path with .png)", NULL, 0, 0, NULL},
-            {"--no-png", OPT_FLAG, &a.no_png, "do not write the PNG preview", NULL, 0, 0, NULL},
-            {"--exposure", OPT_REAL, &a.exposure, "preview exposure in stops (default 0)", NULL, -64, 64, NULL},
-            {"--method", OPT_CHOICE, &a.method, "rendering method", method_names, 0, 0, NULL},
-            {"--aov", OPT_CHOICE, &a.aov, "G-buffer channel for --method aov (encodings: docs/cli.md); --method restir: duplicates, per pixel the copies of its sample in its 17x17 window (PNG: heat map, black 0 .. red >= 20%), or age (--sequence): frames of temporal history per pixel (0: none)", aov_choices, 0, 0, NULL},
-            {"--seed", OPT_UINT32, &a.seed, "run seed of the addressed RNG (default 1)", NULL, 0, 0, NULL},
-            {"--threads", OPT_INT, &a.threads, "worker threads (default: online cores; 1 = no threads)", NULL, 1, 256,
-             NULL},
-            {"--frame", OPT_INT, &a.frame, "frame index (camera keyframes)", NULL, 0, 1e9, NULL},
-            {"--jitter", OPT_FLAG, &a.jitter, "jittered sub-pixel primary rays (default: pixel centres)", NULL, 0, 0,
-             NULL},
-            {"--runs", OPT_INT, &a.runs, "K >= 2 independent runs (seeds seed..seed+K-1; a variance needs two): writes PREFIX.mean.pfm, PREFIX.var.pfm, PREFIX.moments.json for restir check", NULL, 2, 1e6, NULL},
-            {"--sequence", OPT_STRING, &a.sequence, "A..B: the real-time pipeline (restir) over frames A..B inclusive, one -o NAME.pfm -> NAME.0000.pfm ... per frame", NULL, 0, 0, NULL},
-            {"--accumulate", OPT_FLAG, &a.accumulate, "with --sequence: frame f's file holds the average of frames A..f (a still camera, GRIS 6.4)", NULL, 0, 0, NULL},
-            {"--mcap", OPT_STRING, &a.mcap, "with --sequence: cap the previous frame's confidence at C x the current one's (C > 0 or inf; default 20, GRIS 6.2)", NULL, 0, 0, NULL},
-            {"--no-temporal", OPT_FLAG, &a.no_temporal, "with --sequence: no temporal reuse (independent frames through the same pipeline)", NULL, 0, 0, NULL},
-            {"--dump-dir", OPT_STRING, &a.sio.dump_dir, "with --sequence: write DIR/manifest.json and per frame the G-buffer and the reservoirs after each stage (docs/oracle.md)", NULL, 0, 0, NULL},
-            {"--dump-stages", OPT_STRING, &a.dump_stages, "with --dump-dir: only these stages, e.g. initial,temporal,spatial1 (default: all)", NULL, 0, 0, NULL},
-            {"--from-dump", OPT_STRING, &a.sio.from_dir, "with --sequence: restart from this stage dump (needs --from-stage)", NULL, 0, 0, NULL},
-            {"--from-stage", OPT_STRING, &a.from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
-            {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
-            {"--quiet", OPT_FLAG, &a.quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
-            {"--progress", OPT_CHOICE, &a.progress, "auto (default: a bar on a terminal, plain lines with the ETA otherwise), none, bar or lines", progress_mode_names, 0, 0, NULL},
-            {"--progress-every", OPT_REAL, &a.progress_every, "seconds between two progress lines (default 5)", NULL, 0.01, 3600, NULL},
-            {"--ablate", OPT_STRING, &a.ablate, "a deliberately broken estimator: pt: light-pdf|mis-sum|mis-lobe|light-ris-pdf, restir: jacobian|light-pdf|...", NULL, 0, 0, NULL},
-        };
-        for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
-    }
-    n += scene_override_options(options + n, &a.overrides);
-    rows[0].first = n;
-    rows[0].method = METHOD_PT;
-    n += render_pt_options(options + n, &a.pt);
-    rows[0].end = n;
-    options[n++] = render_restir_preset_row(&a.preset);
-    rows[1].first = n - 1;
-    rows[1].method = METHOD_RESTIR;
-    n = add_restir_rows(options, n, &a);
-    rows[1].end = n;
-    memset(&options[n], 0, sizeof options[n]);
+    render_table_build(options, &a, rows);
     cli_track_given(options, given);
-    for (count = 0; count < n; ++count)
-        if (!strcmp(options[count].name, "--aov")) rows[2].first = count, rows[2].end = count + 1;
-    rows[2].method = METHOD_AOV;
     status = cli_parse("render", argc, argv, options, positional, 1, &count);
     if (status == 1) {
         cli_print_help(stdout, "render", "SCENE(.scene|.obj) [options]", options);
@@ -794,7 +298,7 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "restir render: expected one SCENE argument (see restir render --help)\n");
         return 2;
     }
-    render_restir_apply_preset(options, given, a.preset, &a.restir);
+    render_restir_apply(options, given, a.preset, &a.restir_flags, &a.restir);
     if (a.aov >= AOV_CHOICE_DUPLICATES) rows[2].method = METHOD_RESTIR; /* restir's two --aov images */
     status = check_method_options(&a, options, given, rows, 3);
     if (status) return status;
@@ -803,6 +307,7 @@ int cmd_render(int argc, char **argv)
     apply_common_options(&a);
     status = apply_shared_options(&a, options, given);
     if (status) return status;
+    if (a.method == METHOD_RESTIR && (status = render_restir_validate("render", &a.restir)) != 0) return status;
     a.sio.scene_path = positional[0];
     a.sio.argc = argc;
     a.sio.argv = argv;
@@ -840,3 +345,4 @@ int cmd_render(int argc, char **argv)
     scene_free(&s);
     return status;
 }
+

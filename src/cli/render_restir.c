@@ -1,6 +1,7 @@
 /* Option rows of `restir render --method restir` (src/cli/render_restir.h). */
 #include "render_restir.h"
 #include "restir/frame/options.h"
+#include "restir/frame/pipeline.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -21,14 +22,67 @@ cli_option render_restir_preset_row(int *preset)
     return r;
 }
 
-void render_restir_apply_preset(const cli_option *options, const int *given, int preset, restir_options *o)
+void render_restir_apply(const cli_option *options, const int *given, int preset, const render_restir_flags *f,
+                         restir_options *o)
 {
-    restir_options p;
-    if (preset <= 0) return;
-    restir_options_default(&p);
-    if (preset == 1) restir_options_preset_gris_offline(&p);
-    else restir_options_preset_gris_realtime(&p);
-    cli_take_unset(options, given, o, &p, sizeof *o);
+    int mis_given = cli_given(options, given, "--mis");
+    if (preset > 0) {
+        restir_options p;
+        restir_options_default(&p);
+        if (preset == 1) restir_options_preset_gris_offline(&p);
+        else restir_options_preset_gris_realtime(&p);
+        cli_take_unset(options, given, o, &p, sizeof *o);
+        if (!mis_given) { /* --mis writes f->mis, not a field of o */
+            o->spatial.algorithm = p.spatial.algorithm;
+            o->spatial.mis = p.spatial.mis;
+        }
+    }
+    if (mis_given && f->mis == MIS_FAMILY_COUNT) {
+        o->spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE;
+    } else if (mis_given) {
+        o->spatial.algorithm = SPATIAL_GRIS_STEP;
+        o->spatial.mis = (mis_family)f->mis;
+    }
+    if (f->no_confidence_scaling) o->stochastic.confidence_scaling = 0;
+}
+
+/* Each technique's options, with the flags that set them. */
+static int spatial_check(const restir_options *o, rerror *e) { return spatial_options_validate(&o->spatial, e); }
+static int temporal_check(const restir_options *o, rerror *e) { return temporal_options_validate(&o->temporal, e); }
+static int stochastic_check(const restir_options *o, rerror *e) { return stochastic_options_validate(&o->stochastic, e); }
+static int mutation_check(const restir_options *o, rerror *e) { return mutation_options_validate(&o->mutation, e); }
+static int correlation_check(const restir_options *o, rerror *e)
+{
+    return correlation_options_validate(&o->correlation, e);
+}
+static int light_ris_check(const restir_options *o, rerror *e) { return light_ris_options_validate(&o->light_ris, e); }
+
+int render_restir_validate(const char *command, const restir_options *o)
+{
+    static const struct {
+        int (*check)(const restir_options *o, rerror *e);
+        const char *flags;
+    } techniques[] = {
+        {spatial_check, "--mis, --neighbors, --radius, --pattern, --pairing, --no-reject, --normal-cos, "
+                        "--depth-ratio, --reuse-cells"},
+        {temporal_check, "--temporal-mis, --mcap, --motion-vectors"},
+        {stochastic_check, "--stochastic-n, --stochastic-nc"},
+        {mutation_check, "--mutations, --mutation, --mutate-after"},
+        {correlation_check, "--dedup, --dedup-min, --dedup-alpha, --boiling-filter"},
+        {light_ris_check, "--light-ris, --light-tiles"},
+    };
+    rerror e;
+    size_t i;
+    for (i = 0; i < sizeof techniques / sizeof *techniques; ++i)
+        if (techniques[i].check(o, &e)) {
+            fprintf(stderr, "restir %s: %s (%s)\n", command, e.msg, techniques[i].flags);
+            return 2;
+        }
+    if (restir_options_validate(o, &e)) { /* the frame's fields and the rules between techniques */
+        fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    return 0;
 }
 
 /* OPT_CHOICE writes an int: every enum a row chooses must be one (C leaves an enum's
@@ -42,6 +96,19 @@ CHOICE_IS_INT(enum restir_shading, shading_is_int);
 CHOICE_IS_INT(enum rc_mode, rc_mode_is_int);
 CHOICE_IS_INT(enum restir_paths, paths_is_int);
 CHOICE_IS_INT(enum restir_ablation, ablation_is_int);
+CHOICE_IS_INT(enum restir_motion_vectors, motion_vectors_is_int);
+CHOICE_IS_INT(enum mutate_strategy, strategy_is_int);
+
+/* --mis: the MIS families of the GRIS step, then the stochastic pairwise algorithm. */
+static const char *mis_choices[MIS_FAMILY_COUNT + 2];
+
+static void fill_mis_choices(void)
+{
+    int i;
+    for (i = 0; i < MIS_FAMILY_COUNT; ++i) mis_choices[i] = restir_mis_names[i];
+    mis_choices[MIS_FAMILY_COUNT] = spatial_algorithm_names[SPATIAL_STOCHASTIC_PAIRWISE];
+    mis_choices[MIS_FAMILY_COUNT + 1] = NULL;
+}
 
 static cli_option row(const char *name, enum cli_option_type type, void *dest, const char *help,
                       const char *const *choices, double min, double max)
@@ -58,47 +125,50 @@ static cli_option row(const char *name, enum cli_option_type type, void *dest, c
     return r;
 }
 
-int render_restir_options(cli_option *rows, restir_options *o)
+int render_restir_options(cli_option *rows, restir_options *o, render_restir_flags *f)
 {
     int n = 0;
+    fill_mis_choices();
+    f->mis = (int)o->spatial.mis;
+    f->no_confidence_scaling = 0;
     rows[n++] = row("--shift", OPT_CHOICE, &o->shift,
                     "shift mapping: reconnection (y2 = x2), replay (random replay), hybrid (default; GRIS 7.4)",
                     restir_shift_names, 0, 0);
     rows[n++] = row("--spatial-passes", OPT_INT, &o->spatial_passes,
                     "K spatial reuse passes, 0..16 (0: initial resampling only; default 0)", NULL, 0,
                     RESTIR_MAX_SPATIAL_PASSES);
-    rows[n++] = row("--neighbors", OPT_INT, &o->neighbors, "neighbour candidates per pixel and pass (default 6)", NULL,
+    rows[n++] = row("--neighbors", OPT_INT, &o->spatial.neighbors, "neighbour candidates per pixel and pass (default 6)", NULL,
                     1, NEIGHBOR_MAX_COUNT);
-    rows[n++] = row("--radius", OPT_REAL, &o->radius,
+    rows[n++] = row("--radius", OPT_REAL, &o->spatial.radius,
                     "neighbour disk radius in pixels (default 10; box: half-size floor(R))", NULL, 1, 4096);
-    rows[n++] = row("--pattern", OPT_CHOICE, &o->pattern,
+    rows[n++] = row("--pattern", OPT_CHOICE, &o->spatial.pattern,
                     "neighbour pattern: uniform disk, r2 (low-discrepancy disk, default), box window",
                     neighbor_pattern_names, 0, 0);
-    rows[n++] = row("--pairing", OPT_CHOICE, &o->pairing,
+    rows[n++] = row("--pairing", OPT_CHOICE, &o->spatial.pairing,
                     "spatial neighbours: disk (the --pattern, default) or paired (reciprocal pairs from reuse textures, "
                     "Enhanced 3; sigma = 0.532 radius)",
                     restir_pairing_names, 0, 0);
-    rows[n++] = row("--no-reject", OPT_FLAG, &o->no_reject, "keep neighbours whatever their normal and depth", NULL,
+    rows[n++] = row("--no-reject", OPT_FLAG, &o->spatial.no_reject, "keep neighbours whatever their normal and depth", NULL,
                     0, 0);
-    rows[n++] = row("--normal-cos", OPT_REAL, &o->normal_cos,
+    rows[n++] = row("--normal-cos", OPT_REAL, &o->spatial.normal_cos,
                     "reject a neighbour if dot(n_i, n_j) < this (default 0.5)", NULL, -1, 1);
-    rows[n++] = row("--depth-ratio", OPT_REAL, &o->depth_ratio,
+    rows[n++] = row("--depth-ratio", OPT_REAL, &o->spatial.depth_ratio,
                     "reject a neighbour if |d_i - d_j| > this * min(d_i, d_j) (default 0.1)", NULL, 0, 1e9);
-    rows[n++] = row("--mis", OPT_CHOICE, &o->mis,
+    rows[n++] = row("--mis", OPT_CHOICE, &f->mis,
                     "resampling MIS: constant (biased, GRIS 5.6), talbot (default, Eq. 36), pairwise (Eq. 37), "
                     "pairwise-defensive (Eq. 38), stochastic-pairwise (Stochastic MIS Eqs. 16-19: Ne picks by Eq. 17)",
-                    restir_mis_names, 0, 0);
-    rows[n++] = row("--stochastic-n", OPT_INT, &o->stochastic_n,
+                    mis_choices, 0, 0);
+    rows[n++] = row("--stochastic-n", OPT_INT, &o->stochastic.n_picks,
                     "stochastic-pairwise: candidates picked per pixel and pass, N~ (default 1)", NULL, 1,
                     STOCHASTIC_MAX_PICKS);
-    rows[n++] = row("--stochastic-nc", OPT_INT, &o->stochastic_nc,
+    rows[n++] = row("--stochastic-nc", OPT_INT, &o->stochastic.n_canonical_picks,
                     "stochastic-pairwise: uniform picks estimating the canonical weight, N~_c (default 1)", NULL, 1,
                     STOCHASTIC_MAX_PICKS);
-    rows[n++] = row("--reuse-cells", OPT_FLAG, &o->cells,
+    rows[n++] = row("--reuse-cells", OPT_FLAG, &o->spatial.cells,
                     "spatial domains = the pixels of one 8x8-tile reuse cell found by the Stochastic MIS 5.1 search "
                     "(instead of --pattern neighbours; any --mis)",
                     NULL, 0, 0);
-    rows[n++] = row("--no-confidence-scaling", OPT_FLAG, &o->no_confidence_scaling,
+    rows[n++] = row("--no-confidence-scaling", OPT_FLAG, &f->no_confidence_scaling,
                     "stochastic-pairwise: keep the neighbours' confidences (no c_i <- c_i N~/M, Stochastic MIS 4.3)",
                     NULL, 0, 0);
     rows[n++] = row("--time-limit", OPT_REAL, &o->time_limit,
@@ -140,34 +210,34 @@ int render_restir_options(cli_option *rows, restir_options *o)
                     "pre-pass shift to the partner), mutation-w (no Mutations Eq. 16 W update), "
                     "rv-kernel (symmetric path-mutation kernel, Mutations Eq. 20 dropped)",
                     restir_ablation_names, 0, 0);
-    rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal_mis,
+    rows[n++] = row("--temporal-mis", OPT_CHOICE, &o->temporal.mis,
                     "temporal MIS (--sequence): constant (biased), talbot (default), pairwise, pairwise-defensive",
                     restir_mis_names, 0, 0);
-    rows[n++] = row("--mutations", OPT_INT, &o->mutations,
+    rows[n++] = row("--mutations", OPT_INT, &o->mutation.count,
                     "with --sequence: N MCMC mutations per pixel after the --mutate-after stage (Mutations Alg. 3; default 0)",
                     NULL, 0, MUTATE_MAX_ITERATIONS);
-    rows[n++] = row("--mutation", OPT_CHOICE, &o->mutation,
+    rows[n++] = row("--mutation", OPT_CHOICE, &o->mutation.strategy,
                     "path mutation (Mutations §4.3): rv (reconnection vertex, default), pp (partial path), fp (full path)",
                     mutate_strategy_names, 0, 0);
-    rows[n++] = row("--mutate-after", OPT_CHOICE, &o->mutate_after,
+    rows[n++] = row("--mutate-after", OPT_CHOICE, &o->mutation.stages,
                     "stages followed by mutations: temporal (default), initial, spatial, or a comma list of them",
                     mutate_after_names, 0, 0);
     rows[n++] = row("--russian-roulette", OPT_FLAG, &o->russian_roulette,
                     "Russian roulette in initial sampling (in the source pdf only)", NULL, 0, 0);
     /* correlation under motion (issue 12, docs/correlation.md) */
-    rows[n++] = row("--dedup", OPT_FLAG, &o->dedup,
+    rows[n++] = row("--dedup", OPT_FLAG, &o->correlation.dedup,
                     "BIASED. --sequence: duplication-map temporal cap, lerp(--mcap, --dedup-min, D^--dedup-alpha) with D "
                     "the duplicate share of the source pixel's 17x17 window (Enhanced 5)",
                     NULL, 0, 0);
-    rows[n++] = row("--dedup-min", OPT_REAL, &o->dedup_min, "--dedup: c_cap_min, the cap at D = 1 (default 1)", NULL,
+    rows[n++] = row("--dedup-min", OPT_REAL, &o->correlation.dedup_min, "--dedup: c_cap_min, the cap at D = 1 (default 1)", NULL,
                     1e-9, 1e9);
-    rows[n++] = row("--dedup-alpha", OPT_REAL, &o->dedup_alpha,
+    rows[n++] = row("--dedup-alpha", OPT_REAL, &o->correlation.dedup_alpha,
                     "--dedup: sensitivity alpha (default 0.1; 1 = linear, near 0 = quick reduction)", NULL, 1e-9, 1e9);
-    rows[n++] = row("--motion-vectors", OPT_CHOICE, &o->motion_vectors,
+    rows[n++] = row("--motion-vectors", OPT_CHOICE, &o->temporal.motion_vectors,
                     "--sequence: temporal source of disoccluded pixels: single (none, default) or dual (follow the "
                     "occluder's motion, Enhanced 6.4 / Zeng et al. 2021; unbiased)",
                     restir_motion_vector_names, 0, 0);
-    rows[n++] = row("--boiling-filter", OPT_REAL, &o->boiling_filter,
+    rows[n++] = row("--boiling-filter", OPT_REAL, &o->correlation.boiling_filter,
                     "BIASED. --sequence: RTXDI boiling filter of strength S in (0,1] after temporal reuse: clears "
                     "reservoirs with weight > (10/S - 9) x their 16x16 group's mean (0 = off, default)",
                     NULL, 0, 1);

@@ -106,7 +106,7 @@ void restir_memory_per_pixel(const restir_options *o, int sequence, restir_memor
     m->reservoir = (unsigned)sizeof(reservoir);
     /* the primary-sample rows of every buffer (reservoir.h), allocated by mutation runs only
      * (and by sequences that read a checkpoint or a stage dump) */
-    m->reservoir_pss = sequence && o->mutations > 0 ? (unsigned)(PATH_MAX_PSS * sizeof(real)) : 0;
+    m->reservoir_pss = sequence && o->mutation.count > 0 ? (unsigned)(PATH_MAX_PSS * sizeof(real)) : 0;
     per_buffer = m->reservoir + m->reservoir_pss;
     m->reservoirs_initial = per_buffer;
     m->reservoirs_spatial = sequence || o->spatial_passes > 0 ? per_buffer : 0; /* ping-pong */
@@ -117,11 +117,11 @@ void restir_memory_per_pixel(const restir_options *o, int sequence, restir_memor
     m->vector_shade = o->shading == RESTIR_SHADING_VECTOR && o->spatial_passes > 0 ? (unsigned)sizeof(rgb) : 0;
     /* reuse_cells.h: cell_of, start, pixels, nz_start, nz_pixels, hash per pixel, and at most
      * one confidence per pixel (one cell per pixel at worst). */
-    m->reuse_cells = o->cells ? (unsigned)(3 * sizeof(int) + 3 * sizeof(uint32_t) + sizeof(double)) : 0;
+    m->reuse_cells = o->spatial.cells ? (unsigned)(3 * sizeof(int) + 3 * sizeof(uint32_t) + sizeof(double)) : 0;
     /* pair_step.c: one pre-pass shift, partner pixel and texture per neighbour, the accepted
      * count and x1 of every pixel (Enhanced §3) */
     m->pair_step = restir_pair_step_active(o) && o->spatial_passes > 0
-                       ? (unsigned)((size_t)o->neighbors * (sizeof(pair_shift) + sizeof(uint32_t) + 1) + sizeof(int) +
+                       ? (unsigned)((size_t)o->spatial.neighbors * (sizeof(pair_shift) + sizeof(uint32_t) + 1) + sizeof(int) +
                                     sizeof(path_vertex))
                        : 0;
     /* pipeline.c: the duplication map and the history ages of frames t and t-1 (issue 12) */

@@ -102,7 +102,7 @@ int restir_render(const scene *s, const restir_options *o, restir_result *out, r
     j.o = o;
     restir_context_for(&j.ctx, s, &lights, o);
     restir_initial_options_for(&j.io, o);
-    restir_neighbor_options_for(&j.no, o);
+    spatial_neighbor_options(&j.no, &o->spatial);
     if (restir_pairing_build(&j.no, o, textures, e)) {
         lights_free(&lights);
         return -1;

@@ -7,9 +7,10 @@
 #include "restir/render/light_ris.h"
 #include "restir/restir/connectability.h"
 
+/* every spatial pass has its own RNG_RIS vertices (rng.h) */
+typedef char passes_have_vertices[RESTIR_MAX_SPATIAL_PASSES <= RNG_VERTEX_PASSES ? 1 : -1];
+
 const char *const restir_paths_names[] = {"all", "indirect", NULL};
-const char *const restir_pairing_names[] = {"disk", "paired", NULL};
-const char *const restir_motion_vector_names[] = {"single", "dual", NULL};
 const char *const restir_shading_names[] = {"scalar", "vector", NULL};
 
 void restir_options_default(restir_options *o)
@@ -17,12 +18,7 @@ void restir_options_default(restir_options *o)
     memset(o, 0, sizeof *o);
     o->shift = RESTIR_SHIFT_HYBRID;
     o->spatial_passes = 0;
-    o->neighbors = 6;
-    o->radius = 10;
-    o->pattern = NEIGHBOR_R2;
-    o->normal_cos = NEIGHBOR_DEFAULT_MIN_NORMAL_COS;
-    o->depth_ratio = NEIGHBOR_DEFAULT_MAX_RELATIVE_DEPTH;
-    o->mis = MIS_TALBOT;
+    spatial_options_default(&o->spatial);
     o->frames = 1;
     o->candidates = 1;
     o->max_depth = 10;
@@ -35,41 +31,26 @@ void restir_options_default(restir_options *o)
     o->seed = 1;
     o->threads = 1;
     o->quiet = 1;
-    o->temporal = 1;
-    o->temporal_mis = MIS_TALBOT;
-    o->mcap = 20;
-    o->stochastic_n = 1;
-    o->stochastic_nc = 1;
-    o->dedup_min = 1;    /* Enhanced §5: c_cap_min = 1, alpha = 0.1 */
-    o->dedup_alpha = 0.1;
-    o->mutate_after = MUTATE_AFTER_TEMPORAL;
-}
-
-void restir_neighbor_options_for(neighbor_options *no, const restir_options *o)
-{
-    neighbor_options_default(no);
-    no->pattern = (enum neighbor_pattern)o->pattern;
-    no->count = o->neighbors;
-    no->radius = o->radius;
-    no->reject_geometry = !o->no_reject;
-    no->min_normal_cos = (float)o->normal_cos;
-    no->max_relative_depth = (float)o->depth_ratio;
-    if (o->pairing == RESTIR_PAIRING_PAIRED) no->pattern = NEIGHBOR_PAIRED;
+    temporal_options_default(&o->temporal);
+    stochastic_options_default(&o->stochastic);
+    correlation_options_default(&o->correlation);
+    mutation_options_default(&o->mutation);
+    light_ris_options_default(&o->light_ris);
 }
 
 int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_texture *textures, rerror *e)
 {
     no->textures = NULL;
     if (no->pattern != NEIGHBOR_PAIRED) return 0;
-    if (reuse_textures_build(textures, no->count, pairing_sigma_for_radius(o->radius), o->seed, e)) return -1;
+    if (reuse_textures_build(textures, no->count, pairing_sigma_for_radius(o->spatial.radius), o->seed, e)) return -1;
     no->textures = textures;
     return 0;
 }
 
 int restir_pair_step_active(const restir_options *o)
 {
-    return o->pairing == RESTIR_PAIRING_PAIRED && !o->no_pair_step && o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE &&
-           !o->cells && o->spatial_passes > 0;
+    return o->spatial.pairing == RESTIR_PAIRING_PAIRED && !o->no_pair_step &&
+           o->spatial.algorithm == SPATIAL_GRIS_STEP && !o->spatial.cells && o->spatial_passes > 0;
 }
 
 void restir_pairing_free(neighbor_options *no)
@@ -83,39 +64,60 @@ void restir_pairing_free(neighbor_options *no)
 void restir_options_preset_gris_offline(restir_options *o)
 {
     o->candidates = 32;
-    o->mis = MIS_PAIRWISE_DEFENSIVE;
     o->spatial_passes = 3;
-    o->neighbors = 6;
-    o->radius = 10;
-    o->mis = MIS_PAIRWISE_DEFENSIVE;
+    o->spatial.neighbors = 6;
+    o->spatial.radius = 10;
+    o->spatial.mis = MIS_PAIRWISE_DEFENSIVE;
 }
 
 void restir_options_preset_gris_realtime(restir_options *o)
 {
     o->candidates = 1;
-    o->temporal = 1;
-    o->temporal_mis = MIS_TALBOT;
-    o->mcap = 20;
+    o->temporal.enabled = 1;
+    o->temporal.mis = MIS_TALBOT;
+    o->temporal.mcap = 20;
     o->spatial_passes = 1;
-    o->neighbors = 3;
-    o->radius = 20;
-    o->mis = MIS_PAIRWISE_DEFENSIVE;
+    o->spatial.neighbors = 3;
+    o->spatial.radius = 20;
+    o->spatial.mis = MIS_PAIRWISE_DEFENSIVE;
 }
 
-int restir_options_biased(const restir_options *o) { return o->dedup || o->boiling_filter > 0; }
+int restir_options_biased(const restir_options *o) { return correlation_options_biased(&o->correlation); }
 
-/* Issue 12 (docs/correlation.md): --dedup, --motion-vectors, --boiling-filter. */
-static int correlation_options_validate(const restir_options *o, rerror *e)
+/* Each technique checks its own options (its message names it). */
+static int techniques_validate(const restir_options *o, rerror *e)
 {
-    if (o->dedup && (isinf(o->mcap) || !(o->dedup_min > 0) || isinf(o->dedup_min)))
-        return rerror_set(e, "restir: --dedup needs a finite --mcap and c_cap_min > 0 (got mcap %g, min %g)", o->mcap,
-                          o->dedup_min);
-    if (o->dedup && (!(o->dedup_alpha > 0) || isinf(o->dedup_alpha)))
-        return rerror_set(e, "restir: --dedup-alpha %g (must be finite and > 0)", o->dedup_alpha);
-    if (o->motion_vectors != RESTIR_MV_SINGLE && o->motion_vectors != RESTIR_MV_DUAL)
-        return rerror_set(e, "restir: unknown motion vectors %d", o->motion_vectors);
-    if (!(o->boiling_filter >= 0 && o->boiling_filter <= 1))
-        return rerror_set(e, "restir: --boiling-filter %g (strength in (0, 1], 0 = off)", o->boiling_filter);
+    if (spatial_options_validate(&o->spatial, e) || temporal_options_validate(&o->temporal, e) ||
+        stochastic_options_validate(&o->stochastic, e) || mutation_options_validate(&o->mutation, e) ||
+        correlation_options_validate(&o->correlation, e) || light_ris_options_validate(&o->light_ris, e))
+        return -1;
+    return 0;
+}
+
+/* The rules between techniques, and between a technique and the frame. */
+static int combinations_validate(const restir_options *o, rerror *e)
+{
+    neighbor_options no;
+    spatial_neighbor_options(&no, &o->spatial);
+    if (neighbor_candidate_count(&no) + 1 > RESTIR_MAX_DOMAINS)
+        return rerror_set(e, "restir: %d neighbour candidates per pixel (at most %d)", neighbor_candidate_count(&no),
+                          RESTIR_MAX_DOMAINS - 1);
+    if (o->shading == RESTIR_SHADING_VECTOR && o->spatial.algorithm == SPATIAL_STOCHASTIC_PAIRWISE)
+        return rerror_set(e, "restir: vector shading needs the spatial GRIS step with a MIS family (the stochastic "
+                             "pairwise step keeps no per-input weights to sum)");
+    if (o->ablation == RESTIR_ABLATE_PAIR_MIS && !restir_pair_step_active(o))
+        return rerror_set(e, "restir: the pair-mis ablation needs the pair step (paired reuse, the GRIS step with a "
+                             "MIS family, no reuse cells, the pair step not turned off, spatial passes > 0)");
+    /* Issue 12 (docs/correlation.md): the adaptive cap lowers the temporal cap towards
+     * c_cap_min; an infinite cap has nothing to interpolate from. */
+    if (o->correlation.dedup && isinf(o->temporal.mcap))
+        return rerror_set(e, "restir: the dedup cap needs a finite temporal M-cap (got %g)", o->temporal.mcap);
+    /* The MCMC mutations perturb the light point's two numbers (path_nee_numbers); under
+     * light RIS the NEE vertex is a discrete choice among candidates, which they do not
+     * define a mutation of (docs/enhanced.md §6). */
+    if (o->light_ris.candidates > 0 && o->mutation.count > 0)
+        return rerror_set(e, "restir: mutations cannot be combined with light RIS (no mutation of a light-RIS "
+                             "NEE vertex is defined; docs/enhanced.md section 6)");
     return 0;
 }
 
@@ -123,20 +125,8 @@ int restir_options_validate(const restir_options *o, rerror *e)
 {
     int min_depth = o->paths == RESTIR_PATHS_INDIRECT ? 3 : 2;
     if (o->shift < 0 || o->shift >= RESTIR_SHIFT_COUNT) return rerror_set(e, "restir: unknown shift %d", o->shift);
-    neighbor_options no;
     if (o->spatial_passes < 0 || o->spatial_passes > RESTIR_MAX_SPATIAL_PASSES)
         return rerror_set(e, "restir: %d spatial passes (0..%d)", o->spatial_passes, RESTIR_MAX_SPATIAL_PASSES);
-    if (o->mis < 0 || o->mis > RESTIR_MIS_STOCHASTIC_PAIRWISE) return rerror_set(e, "restir: unknown MIS family %d", o->mis);
-    if (o->stochastic_n < 1 || o->stochastic_n > STOCHASTIC_MAX_PICKS || o->stochastic_nc < 1 ||
-        o->stochastic_nc > STOCHASTIC_MAX_PICKS)
-        return rerror_set(e, "restir: --stochastic-n %d / --stochastic-nc %d outside 1..%d", o->stochastic_n,
-                          o->stochastic_nc, STOCHASTIC_MAX_PICKS);
-    if (!(o->radius >= 1) || !(o->radius <= 4096)) return rerror_set(e, "restir: radius %g outside [1, 4096]", o->radius);
-    restir_neighbor_options_for(&no, o);
-    if (neighbor_options_validate(&no, e)) return -1;
-    if (neighbor_candidate_count(&no) + 1 > RESTIR_MAX_DOMAINS)
-        return rerror_set(e, "restir: %d neighbour candidates per pixel (at most %d)", neighbor_candidate_count(&no),
-                          RESTIR_MAX_DOMAINS - 1);
     if (!(o->time_limit >= 0) || !(o->time_limit < 1e9)) return rerror_set(e, "restir: time limit %g", o->time_limit);
     if (o->frames < 1) return rerror_set(e, "restir: %d frames", o->frames);
     if (o->first_frame < 0) return rerror_set(e, "restir: first frame %d < 0", o->first_frame);
@@ -150,42 +140,17 @@ int restir_options_validate(const restir_options *o, rerror *e)
         return rerror_set(e, "restir: negative (or NaN) roughness or distance threshold");
     if (o->shading != RESTIR_SHADING_SCALAR && o->shading != RESTIR_SHADING_VECTOR)
         return rerror_set(e, "restir: unknown shading %d", o->shading);
-    if (o->shading == RESTIR_SHADING_VECTOR && o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE)
-        return rerror_set(e, "restir: --shading vector needs a deterministic spatial MIS family (the stochastic "
-                             "pairwise step keeps no per-input weights to sum)");
-    if (o->pairing != RESTIR_PAIRING_DISK && o->pairing != RESTIR_PAIRING_PAIRED)
-        return rerror_set(e, "restir: unknown pairing %d", o->pairing);
     if (o->rc_criterion != RC_MODE_GRIS && o->rc_criterion != RC_MODE_FOOTPRINT)
         return rerror_set(e, "restir: unknown reconnection criterion %d", o->rc_criterion);
     if (!(o->footprint_c >= 0) || isinf(o->footprint_c))
         return rerror_set(e, "restir: footprint constant c %g (must be finite and >= 0)", o->footprint_c);
     if (o->paths != RESTIR_PATHS_ALL && o->paths != RESTIR_PATHS_INDIRECT)
-        return rerror_set(e, "restir: unknown --paths %d", o->paths);
+        return rerror_set(e, "restir: unknown path set %d", o->paths);
     if (o->ablation < 0 || o->ablation >= RESTIR_ABLATION_COUNT)
         return rerror_set(e, "restir: unknown ablation %d", o->ablation);
-    if (o->ablation == RESTIR_ABLATE_PAIR_MIS && !restir_pair_step_active(o))
-        return rerror_set(e, "restir: --ablate pair-mis needs the pair step (--pairing paired, a deterministic --mis, "
-                             "no --reuse-cells, no --no-pair-step)");
     if (o->threads < 1) return rerror_set(e, "restir: %d threads", o->threads);
-    if (o->temporal_mis < 0 || o->temporal_mis >= MIS_FAMILY_COUNT)
-        return rerror_set(e, "restir: unknown temporal MIS family %d", o->temporal_mis);
-    if (o->mutations < 0 || o->mutations > MUTATE_MAX_ITERATIONS)
-        return rerror_set(e, "restir: --mutations %d (must be 0..%d)", o->mutations, MUTATE_MAX_ITERATIONS);
-    if (o->mutation < 0 || o->mutation >= MUTATE_STRATEGY_COUNT)
-        return rerror_set(e, "restir: unknown mutation strategy %d", o->mutation);
-    if (o->mutate_after & ~(MUTATE_AFTER_INITIAL | MUTATE_AFTER_TEMPORAL | MUTATE_AFTER_SPATIAL))
-        return rerror_set(e, "restir: unknown mutation stage bits %#x", (unsigned)o->mutate_after);
-    if (!(o->mcap > 0)) return rerror_set(e, "restir: M-cap %g (must be > 0, or inf)", o->mcap);
-    if (o->light_ris < 0 || o->light_ris > LIGHT_RIS_MAX)
-        return rerror_set(e, "restir: --light-ris %d is outside 0..%d candidates", o->light_ris, LIGHT_RIS_MAX);
-    if (o->light_tiles && o->light_ris == 0) return rerror_set(e, "restir: --light-tiles needs --light-ris N");
-    /* The MCMC mutations perturb the light point's two numbers (path_nee_numbers); under
-     * light RIS the NEE vertex is a discrete choice among candidates, which they do not
-     * define a mutation of (docs/enhanced.md §6). */
-    if (o->light_ris > 0 && o->mutations > 0)
-        return rerror_set(e, "restir: --mutations cannot be combined with --light-ris (no mutation of a light-RIS "
-                             "NEE vertex is defined; docs/enhanced.md section 6)");
-    return correlation_options_validate(o, e);
+    if (techniques_validate(o, e)) return -1;
+    return combinations_validate(o, e);
 }
 
 void restir_context_for(restir_context *c, const scene *s, const light_set *lights, const restir_options *o)
@@ -195,8 +160,8 @@ void restir_context_for(restir_context *c, const scene *s, const light_set *ligh
     c->path.lights = lights;
     c->path.strategy = PT_STRATEGY_MIS;
     c->path.ablations = o->ablation == RESTIR_ABLATE_LIGHT_RIS_PDF ? PT_ABLATE_LIGHT_RIS_PDF : 0;
-    c->path.light_ris = o->light_ris;
-    c->path.light_tiles = o->light_tiles;
+    c->path.light_ris = o->light_ris.candidates;
+    c->path.light_tiles = o->light_ris.tiles;
     c->path.image_width = s->width;
     c->shift = o->shift;
     c->rc.roughness_threshold = (real)o->roughness_threshold;
@@ -218,37 +183,41 @@ void restir_initial_options_for(initial_options *io, const restir_options *o)
 
 void restir_options_write_json(FILE *out, const restir_options *o, const char *indent)
 {
+    const spatial_options *sp = &o->spatial;
+    const temporal_options *tp = &o->temporal;
+    const correlation_options *co = &o->correlation;
     fprintf(out, "{\"shift\": \"%s\", \"mis\": \"%s\", \"candidates\": %d, \"spatial_passes\": %d, ",
-            restir_shift_names[o->shift], restir_mis_names[o->mis], o->candidates, o->spatial_passes);
+            restir_shift_names[o->shift], spatial_mis_name(sp), o->candidates, o->spatial_passes);
     fprintf(out, "\"neighbors\": %d, \"radius\": %g, \"pattern\": \"%s\", \"reject\": %s, \"normal_cos\": %g, "
                  "\"depth_ratio\": %g,\n%s  ",
-            o->neighbors, o->radius, neighbor_pattern_names[o->pattern], o->no_reject ? "false" : "true",
-            o->normal_cos, o->depth_ratio, indent);
+            sp->neighbors, sp->radius, neighbor_pattern_names[sp->pattern], sp->no_reject ? "false" : "true",
+            sp->normal_cos, sp->depth_ratio, indent);
     fprintf(out, "\"frames\": %d, \"first_frame\": %d, \"time_limit\": %g, \"max_depth\": %d, "
                  "\"roughness_threshold\": %g, \"distance_threshold\": %g, \"paths\": \"%s\", \"ablate\": \"%s\", ",
             o->frames, o->first_frame, o->time_limit, o->max_depth, o->roughness_threshold, o->distance_threshold,
             restir_paths_names[o->paths], restir_ablation_names[o->ablation]);
-    fprintf(out, "\"pairing\": \"%s\", \"pair_step\": %s, \"shading\": \"%s\", ", restir_pairing_names[o->pairing],
+    fprintf(out, "\"pairing\": \"%s\", \"pair_step\": %s, \"shading\": \"%s\", ", restir_pairing_names[sp->pairing],
             restir_pair_step_active(o) ? "true" : "false", restir_shading_names[o->shading]);
     fprintf(out, "\"force_nee_reconnection\": %s, ", o->force_nee_reconnection ? "true" : "false");
     fprintf(out, "\"rc_criterion\": \"%s\", \"footprint_c\": %g, ", rc_mode_names[o->rc_criterion], o->footprint_c);
     fprintf(out, "\"russian_roulette\": %s, \"jitter\": %s, \"seed\": %u, \"threads\": %d,\n%s  ",
             o->russian_roulette ? "true" : "false", o->jitter ? "true" : "false", o->seed, o->threads, indent);
-    if (o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE || o->cells) /* issue 14 (only when used) */
+    if (sp->algorithm == SPATIAL_STOCHASTIC_PAIRWISE || sp->cells) /* issue 14 (only when used) */
         fprintf(out, "\"stochastic_n\": %d, \"stochastic_nc\": %d, \"confidence_scaling\": %s, \"reuse_cells\": %s,\n%s  ",
-                o->stochastic_n, o->stochastic_nc, o->no_confidence_scaling ? "false" : "true", o->cells ? "true" : "false",
-                indent);
-    if (o->dedup || o->motion_vectors || o->boiling_filter > 0) /* issue 12 (only when used) */
+                o->stochastic.n_picks, o->stochastic.n_canonical_picks, o->stochastic.confidence_scaling ? "true" : "false",
+                sp->cells ? "true" : "false", indent);
+    if (co->dedup || tp->motion_vectors || co->boiling_filter > 0) /* issue 12 (only when used) */
         fprintf(out, "\"dedup\": %s, \"dedup_min\": %g, \"dedup_alpha\": %g, \"motion_vectors\": \"%s\", "
                      "\"boiling_filter\": %g, \"biased\": %s,\n%s  ",
-                o->dedup ? "true" : "false", o->dedup_min, o->dedup_alpha, restir_motion_vector_names[o->motion_vectors],
-                o->boiling_filter, restir_options_biased(o) ? "true" : "false", indent);
-    if (isinf(o->mcap))
-        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"", o->temporal ? "true" : "false",
-                restir_mis_names[o->temporal_mis]);
+                co->dedup ? "true" : "false", co->dedup_min, co->dedup_alpha, restir_motion_vector_names[tp->motion_vectors],
+                co->boiling_filter, restir_options_biased(o) ? "true" : "false", indent);
+    if (isinf(tp->mcap))
+        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": \"inf\"", tp->enabled ? "true" : "false",
+                restir_mis_names[tp->mis]);
     else
-        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g", o->temporal ? "true" : "false",
-                restir_mis_names[o->temporal_mis], o->mcap);
-    fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d, \"light_ris\": %d, \"light_tiles\": %s}", o->mutations,
-            mutate_strategy_names[o->mutation], o->mutate_after, o->light_ris, o->light_tiles ? "true" : "false");
+        fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g", tp->enabled ? "true" : "false",
+                restir_mis_names[tp->mis], tp->mcap);
+    fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d, \"light_ris\": %d, \"light_tiles\": %s}",
+            o->mutation.count, mutate_strategy_names[o->mutation.strategy], o->mutation.stages,
+            o->light_ris.candidates, o->light_ris.tiles ? "true" : "false");
 }

@@ -24,7 +24,7 @@ static long frame_pixels(const frame_job *j) { return (long)j->s->width * j->s->
 
 int frame_pair_alloc(frame_job *j, rerror *e)
 {
-    size_t N = (size_t)frame_pixels(j), k = (size_t)j->o->neighbors;
+    size_t N = (size_t)frame_pixels(j), k = (size_t)j->o->spatial.neighbors;
     /* one shift per pixel and texture */
     j->pair = rcalloc(k * N, sizeof *j->pair, e);
     j->pair_n = rmalloc(N, sizeof *j->pair_n, e);
@@ -67,7 +67,7 @@ static void vertex_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
  * nobody's neighbour: their slots are never read. */
 static void prepass_pixel(frame_job *j, worker_state *w, int x, int y)
 {
-    long p = (long)y * j->s->width + x, N = frame_pixels(j), k = j->o->neighbors;
+    long p = (long)y * j->s->width + x, N = frame_pixels(j), k = j->o->spatial.neighbors;
     const reservoir *r = &j->src[p];
     int valid = path_sample_is_valid(&r->y) && r->W > 0, n, a;
     uint32_t *nbr = &j->pair_nbr[p * k];
@@ -99,7 +99,7 @@ void frame_pair_prepass(frame_job *j)
 
 int frame_pair_domains(frame_job *j, worker_state *w, long p)
 {
-    long k = j->o->neighbors;
+    long k = j->o->spatial.neighbors;
     int n = j->pair_n[p], a;
     w->x1[0] = &j->pair_x1[p];
     for (a = 0; a < n; ++a) {
@@ -123,6 +123,6 @@ void frame_pair_resample(frame_job *j, worker_state *w, long p, int n, reservoir
     pre.forward = w->fwd;
     pre.reverse = w->rev;
     pre.drop_reverse = j->ctx.ablation == RESTIR_ABLATE_PAIR_MIS;
-    spatial_resample_preshifted(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, &pre, w->u, out, &w->ws,
+    spatial_resample_preshifted(&j->ctx, (mis_family)j->o->spatial.mis, n + 1, w->x1, w->in, &pre, w->u, out, &w->ws,
                                 &w->st.spatial);
 }

@@ -69,7 +69,7 @@ static long reproject(const pipeline *pl, long p, long *standard)
     *standard = x >= 0 && y >= 0 && x < w && y < h ? (long)y * w + x : -1; /* even if disoccluded */
     if (ok && *standard >= 0) return pl->prev_g.texels[*standard].valid ? *standard : -1;
     /* --motion-vectors dual (Enhanced §6.4): a disoccluded pixel follows its occluder */
-    if (pl->j.o->motion_vectors != RESTIR_MV_DUAL ||
+    if (pl->j.o->temporal.motion_vectors != RESTIR_MV_DUAL ||
         !gbuffer_dual_previous_pixel(t, pl->j.s, (int)pl->j.frame, &pl->cam, pl->prev_frame, &pl->prev_g, &x, &y))
         return -1;
     return (long)y * w + x;
@@ -81,9 +81,9 @@ static real temporal_cap(const pipeline *pl, long q, temporal_stats *st)
 {
     const restir_options *o = pl->j.o;
     double cap;
-    if (!o->dedup || q < 0) return (real)o->mcap;
-    cap = duplication_cap(o->mcap, o->dedup_min, duplication_score(pl->dup[q], DUPLICATION_RADIUS), o->dedup_alpha);
-    if (cap < o->mcap) st->dedup_lowered++;
+    if (!o->correlation.dedup || q < 0) return (real)o->temporal.mcap;
+    cap = duplication_cap(o->temporal.mcap, o->correlation.dedup_min, duplication_score(pl->dup[q], DUPLICATION_RADIUS), o->correlation.dedup_alpha);
+    if (cap < o->temporal.mcap) st->dedup_lowered++;
     return (real)cap;
 }
 
@@ -95,7 +95,7 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     const restir_options *o = j->o;
     const restir_context *back = &pl->prev_ctx;
     temporal_frames tf;
-    rng_key key = rng_key_make(o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+    rng_key key = initial_pixel_key(&j->io, o->seed, j->frame, (uint32_t)p);
     path_vertex *v = w->verts;
     long q = -1, standard = -1;
     int dual;
@@ -118,15 +118,14 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
         if (!gbuffer_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, standard, &v[1])) q = -1;
     } else if (q >= 0)
         gbuffer_primary_vertex(pl->prev_ctx.path.scene, &pl->prev_g, q, &v[1]); /* valid: reproject checked */
-    /* RNG_RIS vertex 48: spatial passes use 32..47, initial sampling 2..16 (docs/rng.md) */
-    u[0] = rng_u(key, RNG_RIS, 48u, 0u);
-    u[1] = rng_u(key, RNG_RIS, 48u, 1u);
+    u[0] = rng_u(key, RNG_RIS, RNG_VERTEX_TEMPORAL_RIS, 0u);
+    u[1] = rng_u(key, RNG_RIS, RNG_VERTEX_TEMPORAL_RIS, 1u);
     tf.ctx[0] = &j->ctx;
     tf.ctx[1] = back;
     tf.frame[0] = (int)j->frame;
     tf.frame[1] = back == &j->ctx ? (int)j->frame : pl->prev_frame;
     temporal_resample(&j->ctx, back, pl->animated && o->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX ? &tf : NULL,
-                      (mis_family)o->temporal_mis, &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
+                      (mis_family)o->temporal.mis, &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
                       q >= 0 ? &pl->prev[q] : NULL, temporal_cap(pl, q, &w->st.temporal), u, &pl->out[p], &w->ws,
                       &w->st.temporal);
 }
@@ -154,8 +153,8 @@ static void stage_temporal(pipeline *pl, const reservoir *cur, reservoir *out, r
 static void stage_boiling(pipeline *pl, reservoir *rs, restir_stats *times, double *t)
 {
     frame_job *j = &pl->j;
-    if (!(j->o->boiling_filter > 0)) return;
-    times->boiling_cleared += boiling_filter(rs, j->s->width, j->s->height, BOILING_GROUP, j->o->boiling_filter);
+    if (!(j->o->correlation.boiling_filter > 0)) return;
+    times->boiling_cleared += boiling_filter(rs, j->s->width, j->s->height, BOILING_GROUP, j->o->correlation.boiling_filter);
     pipeline_stage_done(j, "boiling", rs);
     times->ms_correlation += frame_lap_ms(t);
 }
@@ -183,10 +182,10 @@ static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
     for (y = y0; y < y1; ++y)
         for (x = x0; x < x1; ++x) {
             long p = (long)y * j->s->width + x;
-            rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+            rng_key key = initial_pixel_key(&j->io, j->o->seed, j->frame, (uint32_t)p);
             path_vertex v;
             if (!gbuffer_primary_vertex(j->s, &j->g, p, &v)) continue;
-            mutate_reservoir(&j->ctx, &v, key, pl->mutate_stage, j->o->mutation, j->o->mutations, &pl->out[p],
+            mutate_reservoir(&j->ctx, &v, key, pl->mutate_stage, j->o->mutation.strategy, j->o->mutation.count, &pl->out[p],
                              reservoir_buffer_pss_row(pl->out, (size_t)j->s->width * (size_t)j->s->height, (size_t)p),
                              &w->st.mutate);
         }
@@ -195,7 +194,7 @@ static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
 /* N mutations of every pixel's reservoir in r (in place) if the options ask for `stage`. */
 static void stage_mutate(pipeline *pl, reservoir *r, int stage, restir_stats *times, double *t)
 {
-    if (pl->j.o->mutations <= 0 || !(pl->j.o->mutate_after & stage)) return;
+    if (pl->j.o->mutation.count <= 0 || !(pl->j.o->mutation.stages & stage)) return;
     pl->out = r;
     pl->mutate_stage = stage;
     parallel_tiles(pl->j.s->width, pl->j.s->height, 16, pl->j.o->threads, mutate_tile, pl, NULL, NULL);
@@ -222,7 +221,7 @@ static void keep_as_previous(pipeline *pl, const reservoir *final)
         pl->age = pl->prev_age;
         pl->prev_age = t;
     }
-    if (!j->o->temporal) memset(pl->prev_age, 0, (size_t)j->s->width * (size_t)j->s->height * sizeof *pl->prev_age);
+    if (!j->o->temporal.enabled) memset(pl->prev_age, 0, (size_t)j->s->width * (size_t)j->s->height * sizeof *pl->prev_age);
     gbuffer_free(&pl->prev_g);
     pl->prev_g = j->g;
     memset(&j->g, 0, sizeof j->g);
@@ -273,7 +272,7 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     }
     if (threads_cancelled()) return 1; /* before a stage's dump: only complete stages are dumped */
     pipeline_stage_done(j, "initial", j->initial);
-    if (j->o->temporal) {
+    if (j->o->temporal.enabled) {
         if (!pipeline_stage_skipped(j, "temporal")) {
             stage_temporal(pl, j->initial, j->pong, times, &t);
             stage_mutate(pl, j->pong, MUTATE_AFTER_TEMPORAL, times, &t); /* part of the "temporal" dump */
@@ -300,7 +299,7 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     if (j->shade_cancelled) return 1;
     /* The map is read by the next frame's --dedup cap and by --aov duplicates; otherwise it
      * is only a statistic (13% of a 256² real-time frame: docs/performance.md). */
-    if (!j->o->no_duplicate_stats || j->o->dedup || j->o->output_aov == RESTIR_OUTPUT_DUPLICATES)
+    if (!j->o->no_duplicate_stats || j->o->correlation.dedup || j->o->output_aov == RESTIR_OUTPUT_DUPLICATES)
         stage_duplication(pl, final, times, &t);
     keep_as_previous(pl, final);
     return 0;
@@ -312,16 +311,16 @@ static int validate_sequence(const scene *s, const restir_options *o, const rest
 {
     int a, b;
     if (q->first < 0 || q->last < q->first)
-        return rerror_set(e, "restir: --sequence %d..%d (need 0 <= A <= B)", q->first, q->last);
+        return rerror_set(e, "restir: sequence %d..%d (need 0 <= first <= last)", q->first, q->last);
     if (scene_frame_range(s, &a, &b) == 0 && (q->first < a || q->last > b))
-        return rerror_set(e, "restir: --sequence %d..%d outside the keyframes %d..%d of %s", q->first, q->last, a, b,
+        return rerror_set(e, "restir: sequence %d..%d outside the keyframes %d..%d of %s", q->first, q->last, a, b,
                           s->path);
-    if (q->resume && q->accumulate) return rerror_set(e, "restir: a sequence with --accumulate cannot be resumed");
+    if (q->resume && q->accumulate) return rerror_set(e, "restir: an accumulating sequence cannot be resumed");
     if ((uint64_t)((uint64_t)q->last + 1) * (uint64_t)o->candidates > UINT32_MAX)
-        return rerror_set(e, "restir: --sequence %d..%d x path trees exceeds 2^32 sample indices", q->first, q->last);
+        return rerror_set(e, "restir: sequence %d..%d x path trees exceeds 2^32 sample indices", q->first, q->last);
     /* rc_retrace_suffix re-derives a moved x_k's light point with the plain light sampler */
-    if (o->light_ris > 0 && scene_is_animated(s))
-        return rerror_set(e, "restir: --light-ris with --sequence needs a static scene (%s has moving objects; "
+    if (o->light_ris.candidates > 0 && scene_is_animated(s))
+        return rerror_set(e, "restir: light RIS in a sequence needs a static scene (%s has moving objects; "
                              "docs/enhanced.md section 6)", s->path);
     return 0;
 }
@@ -411,8 +410,8 @@ static int run_sequence(pipeline *pl, const restir_sequence *q, restir_frame_sin
     if (q->resume && (start = checkpoint_resume(pl, q, e) + 1) < 1) return -1;
     if (j->hook && j->hook->begin && j->hook->begin(j->hook->user, start, q->last, j->pss_rows, e)) return -1;
     if (j->hook && j->hook->restarts && j->o->shading == RESTIR_SHADING_VECTOR)
-        return rerror_set(e, "--from-dump: not with --shading vector (it needs the last spatial pass's inputs, "
-                             "which a restart does not compute)");
+        return rerror_set(e, "restir: a restart from a stage dump cannot use vector shading (it needs the last "
+                             "spatial pass's inputs, which a restart does not compute)");
     cancel = threads_set_cancel(j->o->stop_flag);
     progress_begin(&bar, "restir", j->o->quiet);
     progress_expect(&bar, q->last - q->first + 1);
@@ -477,18 +476,18 @@ int restir_render_sequence(const scene *s, const restir_options *o, const restir
     if (lights_build(&pl.lights, s, e)) status = -1;
     j->s = s;
     j->o = o;
-    j->temporal = o->temporal;
+    j->temporal = o->temporal.enabled;
     j->hook = q->stages;
     restir_context_for(&j->ctx, s, &pl.lights, o);
     pl.prev_ctx = j->ctx;
     restir_initial_options_for(&j->io, o);
-    restir_neighbor_options_for(&j->no, o);
+    spatial_neighbor_options(&j->no, &o->spatial);
     if (!status && restir_pairing_build(&j->no, o, textures, e)) status = -1;
     j->max_domains = neighbor_candidate_count(&j->no) + 1;
     pixels = (size_t)s->width * (size_t)s->height;
     /* primary-sample rows (reservoir.h) where samples with explicit numbers can appear:
      * mutations, or reservoirs read from a checkpoint or a stage dump */
-    j->pss_rows = o->mutations > 0 || q->resume || (q->stages && q->stages->restarts);
+    j->pss_rows = o->mutation.count > 0 || q->resume || (q->stages && q->stages->restarts);
     j->initial = reservoir_buffer_alloc(pixels, j->pss_rows, e);
     j->pong = reservoir_buffer_alloc(pixels, j->pss_rows, e);
     pl.prev = reservoir_buffer_alloc(pixels, j->pss_rows, e);

@@ -60,18 +60,15 @@ static const path_vertex *lazy_vertex(void *user, int i)
 }
 
 /* The stochastic pairwise step (stochastic_spatial.h) over the domains spatial_pixel set
- * up. Pick k of pass p draws RNG_RIS vertex 64 + p, slot k; canonical pick k vertex
- * 80 + p, slot k (passes < 16, so no clash with 32 + p or the temporal vertex 48). */
+ * up. Pick k of pass p draws RNG_RIS vertex RNG_VERTEX_STOCHASTIC_PICK(p), slot k;
+ * canonical pick k RNG_VERTEX_STOCHASTIC_CANONICAL(p), slot k (rng.h). */
 static void stochastic_spatial_pixel(frame_job *j, worker_state *w, rng_key key, int m, reservoir *out)
 {
-    stochastic_options so;
+    stochastic_options so = j->o->stochastic;
     int k;
-    so.n_picks = j->o->stochastic_n;
-    so.n_canonical_picks = j->o->stochastic_nc;
-    so.confidence_scaling = !j->o->no_confidence_scaling;
     so.naive_p = j->ctx.ablation == RESTIR_ABLATE_STOCHASTIC_P;
-    for (k = 0; k < so.n_picks; ++k) w->up[k] = rng_u(key, RNG_RIS, 64u + (uint32_t)j->pass, (uint32_t)k);
-    for (k = 0; k < so.n_canonical_picks; ++k) w->uc[k] = rng_u(key, RNG_RIS, 80u + (uint32_t)j->pass, (uint32_t)k);
+    for (k = 0; k < so.n_picks; ++k) w->up[k] = rng_u(key, RNG_RIS, RNG_VERTEX_STOCHASTIC_PICK(j->pass), (uint32_t)k);
+    for (k = 0; k < so.n_canonical_picks; ++k) w->uc[k] = rng_u(key, RNG_RIS, RNG_VERTEX_STOCHASTIC_CANONICAL(j->pass), (uint32_t)k);
     w->sw.vertex = lazy_vertex;
     w->sw.vertex_user = w;
     stochastic_pairwise_resample(&j->ctx, &so, m, w->x1, w->in, w->u, w->up, w->uc, out, &w->sw, &w->st.spatial);
@@ -103,7 +100,7 @@ static rgb vector_estimate(const spatial_workspace *ws, const reservoir *const *
 static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
 {
     long p = (long)y * j->s->width + x;
-    rng_key key = rng_key_make(j->o->seed, (uint32_t)p, initial_tree_sample(&j->io, j->frame, 0));
+    rng_key key = initial_pixel_key(&j->io, j->o->seed, j->frame, (uint32_t)p);
     uint32_t nsample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass);
     int n, d;
     if (j->pair ? j->pair_n[p] < 0 : !primary_vertex(j, p, &w->verts[0])) {
@@ -114,9 +111,9 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
     /* capacity is checked by restir_options_validate, so this cannot fail */
     if (j->pair) {
         n = frame_pair_domains(j, w, p); /* the pre-pass's neighbours and cached vertices */
-    } else if (j->o->cells) {
+    } else if (j->o->spatial.cells) {
         /* Stochastic MIS §5.1: a reuse cell; its pixels except p are the domains */
-        int c = reuse_cell_search(&j->cells, &j->g, (float)j->o->normal_cos, j->o->seed, nsample, x, y);
+        int c = reuse_cell_search(&j->cells, &j->g, (float)j->o->spatial.normal_cos, j->o->seed, nsample, x, y);
         n = c >= 0 ? reuse_cell_domains(&j->cells, c, (uint32_t)p, w->nbr) : 0;
     } else {
         n = neighbor_select_slots(&j->no, &j->g, j->o->seed, nsample, x, y, w->nbr, w->slot, j->max_domains - 1,
@@ -128,22 +125,21 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
         long q = d == 0 ? p : (long)w->nbr[d - 1];
         /* accepted neighbours have a primary hit; the stochastic step builds them on demand */
         if (!j->pair) {
-            if (d > 0 && j->o->mis != RESTIR_MIS_STOCHASTIC_PAIRWISE) primary_vertex(j, q, &w->verts[d]);
-            w->x1[d] = d > 0 && j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE ? NULL : &w->verts[d];
+            if (d > 0 && j->o->spatial.algorithm != SPATIAL_STOCHASTIC_PAIRWISE) primary_vertex(j, q, &w->verts[d]);
+            w->x1[d] = d > 0 && j->o->spatial.algorithm == SPATIAL_STOCHASTIC_PAIRWISE ? NULL : &w->verts[d];
         }
         w->in[d] = &j->src[q];
-        /* vertex 32 + p: initial sampling uses vertices 2..16 of RNG_RIS (the key packs
-         * vertex < 256 and slot < 65536, so the pass must not go into the slot) */
-        w->u[d] = rng_u(key, RNG_RIS, 32u + (uint32_t)j->pass, (uint32_t)d);
+        /* the pass goes into the vertex, never the slot (the f5df7f5 collision; rng.h) */
+        w->u[d] = rng_u(key, RNG_RIS, RNG_VERTEX_SPATIAL_RIS(j->pass), (uint32_t)d);
     }
-    if (j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE) {
+    if (j->o->spatial.algorithm == SPATIAL_STOCHASTIC_PAIRWISE) {
         stochastic_spatial_pixel(j, w, key, n + 1, &j->dst[p]);
         return;
     }
     if (j->pair)
         frame_pair_resample(j, w, p, n, &j->dst[p]); /* Enhanced §3: the pair's shifts from the pre-pass */
     else
-        spatial_resample(&j->ctx, (mis_family)j->o->mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws,
+        spatial_resample(&j->ctx, (mis_family)j->o->spatial.mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws,
                          &w->st.spatial);
     if (j->vector_shade && j->pass == j->o->spatial_passes - 1)
         j->vector_shade[p] = vector_estimate(&w->ws, w->in, n + 1, &w->st.spatial);
@@ -209,7 +205,7 @@ reservoir *frame_stage_spatial(frame_job *j, reservoir *a, reservoir *b, restir_
         j->src = j->pass % 2 == 0 ? a : b;
         j->dst = j->pass % 2 == 0 ? b : a;
         if (!pipeline_stage_skipped(j, name)) {
-            if (j->o->cells) reuse_cells_build(&j->cells, &j->g, j->src, NULL); /* allocated: cannot fail */
+            if (j->o->spatial.cells) reuse_cells_build(&j->cells, &j->g, j->src, NULL); /* allocated: cannot fail */
             if (j->no.textures) { /* paired: the pass's texture placements, drawn once */
                 neighbor_place(&j->no, j->o->seed,
                                neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass),
@@ -252,7 +248,7 @@ int frame_workers_alloc(frame_job *j, rerror *e)
 {
     int t;
     size_t m = (size_t)j->max_domains;
-    if (j->o->cells) {
+    if (j->o->spatial.cells) {
         if (j->max_domains < REUSE_CELL_MAX_PIXELS + 1) j->max_domains = REUSE_CELL_MAX_PIXELS + 1;
         m = (size_t)j->max_domains;
         if (reuse_cells_alloc(&j->cells, j->s->width, j->s->height, e)) return -1;
@@ -264,7 +260,7 @@ int frame_workers_alloc(frame_job *j, rerror *e)
         worker_state *w = &j->workers[t];
         /* temporal reuse needs 2 domains */
         if (spatial_workspace_alloc(&w->ws, j->max_domains > 2 ? j->max_domains : 2, e)) return -1;
-        if (j->o->mis == RESTIR_MIS_STOCHASTIC_PAIRWISE && stochastic_workspace_alloc(&w->sw, j->max_domains, e))
+        if (j->o->spatial.algorithm == SPATIAL_STOCHASTIC_PAIRWISE && stochastic_workspace_alloc(&w->sw, j->max_domains, e))
             return -1;
         w->nbr = rmalloc(m, sizeof *w->nbr, e);
         w->x1 = rmalloc(m, sizeof *w->x1, e);

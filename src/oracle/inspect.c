@@ -138,16 +138,15 @@ static void print_step_text(FILE *out, const restir_options *o, int nx, int ny, 
 {
     const real *P = g->ws.ptarget;
     int j;
-    int mis = g->temporal ? o->temporal_mis : o->mis;
     if (g->temporal)
         fprintf(out, "temporal GRIS step (M = 2, MIS %s, M-cap %g): domain 0 = this pixel's reservoir of frame %d "
                      "(canonical), domain 1 = its initial reservoir of frame %d\n",
-                mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)mis) : "stochastic-pairwise", o->mcap,
+                mis_family_name(o->temporal.mis), o->temporal.mcap,
                 o->first_frame, o->first_frame - 1);
     else
         fprintf(out, "one GRIS step (spatial, M = 2, MIS %s): domain 0 = this pixel's reservoir (canonical), domain 1 = "
                      "pixel (%d, %d)'s\n",
-                mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)mis) : "stochastic-pairwise", nx, ny);
+                spatial_mis_name(&o->spatial), nx, ny);
     if (!g->shown) {
         fprintf(out, "  (not shown for --mis stochastic-pairwise: docs/stochastic-mis.md)\n");
         return;

@@ -102,9 +102,9 @@ static void json_shift(FILE *out, const restir_context *c, const path_vertex *xb
 
 static void json_step(FILE *out, const restir_options *o, const inspect_step *g)
 {
-    int j, mis = g->temporal ? o->temporal_mis : o->mis;
+    int j;
     fprintf(out, "\"%s\": {\"mis\": \"%s\"", g->temporal ? "temporal_step" : "gris_step",
-            mis < MIS_FAMILY_COUNT ? mis_family_name((mis_family)mis) : "stochastic-pairwise");
+            g->temporal ? mis_family_name(o->temporal.mis) : spatial_mis_name(&o->spatial));
     if (g->shown) {
         fprintf(out, ", \"domains\": [");
         for (j = 0; j < 2; ++j) {

@@ -10,15 +10,16 @@
 #include "restir/restir/temporal.h"
 
 /* The common set-up: g cleared, the two inputs, the selection numbers (RNG_RIS, `vertex`);
- * g->shown = 0 (and nothing else) for a family without a two-domain form. */
-static int step_begin(inspect_step *g, int temporal, int mis, const reservoir *ra, const reservoir *rb, rng_key key,
-                      uint32_t vertex, rerror *e)
+ * g->shown = 0 (and nothing else) for a step without a two-domain form (stochastic pairwise
+ * MIS: has_family = 0). */
+static int step_begin(inspect_step *g, int temporal, int has_family, const reservoir *ra, const reservoir *rb,
+                      rng_key key, uint32_t vertex, rerror *e)
 {
     int j;
     memset(g, 0, sizeof *g);
     g->temporal = temporal;
     g->selected = -1;
-    if (mis >= MIS_FAMILY_COUNT) return 0;
+    if (!has_family) return 0;
     if (spatial_workspace_alloc(&g->ws, 2, e)) return -1;
     g->shown = 1;
     g->in[0] = *ra;
@@ -45,15 +46,15 @@ int inspect_spatial_step(const restir_context *c, const restir_options *o, const
     const path_vertex *x1[2];
     const reservoir *in[2];
     spatial_stats st;
-    rng_key key = rng_key_make(o->seed, p, initial_tree_sample(io, (uint32_t)o->first_frame, 0));
-    if (step_begin(g, 0, o->mis, ra, rb, key, 32u, e)) return -1; /* spatial pass 1: vertex 32 */
+    rng_key key = initial_pixel_key(io, o->seed, (uint32_t)o->first_frame, p);
+    if (step_begin(g, 0, o->spatial.algorithm == SPATIAL_GRIS_STEP, ra, rb, key, RNG_VERTEX_SPATIAL_RIS(0), e)) return -1; /* spatial pass 1 */
     if (!g->shown) return 0;
     x1[0] = xa;
     x1[1] = xb;
     in[0] = &g->in[0];
     in[1] = &g->in[1];
     memset(&st, 0, sizeof st);
-    spatial_resample(c, (mis_family)o->mis, 2, x1, in, g->u, &g->out, &g->ws, &st);
+    spatial_resample(c, (mis_family)o->spatial.mis, 2, x1, in, g->u, &g->out, &g->ws, &st);
     step_end(g);
     return 0;
 }
@@ -63,17 +64,17 @@ int inspect_spatial_step(const restir_context *c, const restir_options *o, const
  * f - 1 (the real-time pipeline feeds the previous frame's FINAL reservoir, after its
  * spatial passes, at the motion-reprojected pixel: the same arithmetic on other inputs),
  * capped at --mcap times the current confidence, --temporal-mis, the selection numbers of
- * RNG_RIS vertex 48 (pipeline.c temporal_pixel). */
+ * RNG_RIS vertex RNG_VERTEX_TEMPORAL_RIS (pipeline.c temporal_pixel). */
 int inspect_temporal_step(const restir_context *c, const restir_options *o, const initial_options *io,
                           const path_vertex *xa, const path_vertex *xprev, const reservoir *ra, const reservoir *rprev,
                           uint32_t p, inspect_step *g, rerror *e)
 {
     temporal_stats st;
-    rng_key key = rng_key_make(o->seed, p, initial_tree_sample(io, (uint32_t)o->first_frame, 0));
-    if (step_begin(g, 1, o->temporal_mis, ra, rprev, key, 48u, e)) return -1;
+    rng_key key = initial_pixel_key(io, o->seed, (uint32_t)o->first_frame, p);
+    if (step_begin(g, 1, 1, ra, rprev, key, RNG_VERTEX_TEMPORAL_RIS, e)) return -1;
     if (!g->shown) return 0;
     memset(&st, 0, sizeof st);
-    temporal_resample(c, c, NULL, (mis_family)o->temporal_mis, xa, xprev, &g->in[0], &g->in[1], (real)o->mcap, g->u,
+    temporal_resample(c, c, NULL, (mis_family)o->temporal.mis, xa, xprev, &g->in[0], &g->in[1], (real)o->temporal.mcap, g->u,
                       &g->out, &g->ws, &st);
     step_end(g);
     return 0;

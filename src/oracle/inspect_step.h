@@ -22,7 +22,7 @@ typedef struct {
 
 /* One spatial GRIS step at pixel p (GRIS §6.3, Alg. 2 for M = 2): domain 0 = p's initial
  * reservoir ra (canonical), domain 1 = the neighbour's rb (primary vertex xb), with the
- * selection numbers of spatial pass 1 (offline.c spatial_pixel) and o->mis. */
+ * selection numbers of spatial pass 1 (offline.c spatial_pixel) and o->spatial.mis. */
 int inspect_spatial_step(const restir_context *c, const restir_options *o, const initial_options *io,
                          const path_vertex *xa, const path_vertex *xb, const reservoir *ra, const reservoir *rb,
                          uint32_t p, inspect_step *g, rerror *e);

@@ -199,3 +199,17 @@ int light_ris_candidate_towards(const path_context *c, const path_vertex *v, rng
     }
     return 0;
 }
+
+void light_ris_options_default(light_ris_options *o)
+{
+    o->candidates = 0;
+    o->tiles = 0;
+}
+
+int light_ris_options_validate(const light_ris_options *o, rerror *e)
+{
+    if (o->candidates < 0 || o->candidates > LIGHT_RIS_MAX)
+        return rerror_set(e, "light RIS: %d candidates (must be 0..%d)", o->candidates, LIGHT_RIS_MAX);
+    if (o->tiles && o->candidates == 0) return rerror_set(e, "light RIS: tiles need candidates (N >= 1)");
+    return 0;
+}

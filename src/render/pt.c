@@ -2,6 +2,7 @@
  * over whole passes of the image (include/restir/render/pt.h, docs/path-tracer.md). */
 #include "restir/render/pt.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/progress.h"
@@ -27,6 +28,7 @@ unsigned pt_ablation_from_name(const char *name)
 void pt_options_default(pt_options *o)
 {
     memset(o, 0, sizeof *o);
+    light_ris_options_default(&o->light_ris);
     o->spp = 16;
     o->seed = 1;
     o->max_depth = 10;
@@ -51,9 +53,12 @@ int pt_options_validate(const pt_options *o, rerror *e)
         return rerror_set(e, "pt: give a sample count (spp > 0) or a time limit");
     if (!(o->time_limit >= 0) || !(o->checkpoint_interval >= 0))
         return rerror_set(e, "pt: negative time limit or checkpoint interval");
-    if (o->light_ris < 0 || o->light_ris > LIGHT_RIS_MAX)
-        return rerror_set(e, "pt: --light-ris %d is outside 0..%d candidates", o->light_ris, LIGHT_RIS_MAX);
-    if (o->light_tiles && o->light_ris == 0) return rerror_set(e, "pt: --light-tiles needs --light-ris N");
+    if (light_ris_options_validate(&o->light_ris, e)) { /* light RIS's own rules, said by pt */
+        char why[sizeof e->msg];
+        if (!e) return -1;
+        snprintf(why, sizeof why, "%s", e->msg);
+        return rerror_set(e, "pt: %s", why);
+    }
     if ((uint64_t)o->sample_offset + o->spp > UINT32_MAX)
         return rerror_set(e, "pt: sample indices %u + %u exceed 2^32 - 1", o->sample_offset, o->spp);
     return 0;
@@ -367,8 +372,8 @@ int pt_render(const scene *s, const pt_options *o, pt_result *out, rerror *e)
     j.ctx.lights = &lights;
     j.ctx.strategy = o->strategy;
     j.ctx.ablations = o->ablations;
-    j.ctx.light_ris = o->light_ris;
-    j.ctx.light_tiles = o->light_tiles;
+    j.ctx.light_ris = o->light_ris.candidates;
+    j.ctx.light_tiles = o->light_ris.tiles;
     j.ctx.image_width = s->width;
     j.st = &out->state;
     j.workers = rcalloc((size_t)o->threads, sizeof *j.workers, e);

@@ -197,9 +197,9 @@ uint64_t pt_fingerprint(const scene *s, const pt_options *o)
     fnv_u64(&f, (uint64_t)o->ablations);
     fnv_u64(&f, (uint64_t)o->frame);
     if (o->min_depth > 1) fnv_u64(&f, (uint64_t)o->min_depth); /* older checkpoints keep their fingerprint */
-    if (o->light_ris > 0) { /* likewise */
-        fnv_u64(&f, (uint64_t)o->light_ris);
-        fnv_u64(&f, (uint64_t)o->light_tiles);
+    if (o->light_ris.candidates > 0) { /* likewise */
+        fnv_u64(&f, (uint64_t)o->light_ris.candidates);
+        fnv_u64(&f, (uint64_t)o->light_ris.tiles);
     }
     fnv_u64(&f, (uint64_t)sizeof(real));
     return f.h;

@@ -21,6 +21,11 @@ uint32_t initial_tree_sample(const initial_options *o, uint32_t frame, int tree)
     return frame * (uint32_t)o->trees + (uint32_t)tree;
 }
 
+rng_key initial_pixel_key(const initial_options *o, uint32_t seed, uint32_t frame, uint32_t pixel)
+{
+    return rng_key_make(seed, pixel, initial_tree_sample(o, frame, 0));
+}
+
 /* GRIS Eq. 1 with M -> N trees and W_x = 1 / roulette survival probability (the RIS
  * weight p̂/p of Stochastic MIS Eq. 2, with the 1/N of the N canonical trees). */
 static void offer(candidate_stream *cs, const initial_options *o, rng_key key, uint32_t sample, int d, int technique,
@@ -29,7 +34,7 @@ static void offer(candidate_stream *cs, const initial_options *o, rng_key key, u
     real w, u;
     if (d < 2 || (o->indirect_only && d < 3)) return;
     w = ris_candidate_weight(luminance(F), 1 / rr_survival, (real)o->trees);
-    u = rng_u(key, RNG_RIS, (uint32_t)d, (uint32_t)technique);
+    u = rng_u(key, RNG_RIS, RNG_VERTEX_INITIAL_RIS(d), (uint32_t)technique);
     if (w > 0) st->candidates++;
     if (!wrs_update(&cs->wsum, w, u, &cs->n_invalid)) return;
     cs->selected = 1;

@@ -184,8 +184,7 @@ real mis_pair_neighbor(real c_n, real p_n_from_n, real c_c, real p_c_at_n)
 }
 
 /* The one name table of the MIS families (mis.h); the CLI's --mis reads it too. */
-const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", "stochastic-pairwise",
-                                        NULL};
+const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairwise-defensive", NULL};
 
 const char *mis_family_name(mis_family f)
 {

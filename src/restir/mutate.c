@@ -384,3 +384,21 @@ uint64_t mutate_count_duplicates(const reservoir *r, size_t n, uint64_t *valid)
     free(h);
     return dup;
 }
+
+void mutation_options_default(mutation_options *o)
+{
+    o->count = 0;
+    o->strategy = MUTATE_RV;
+    o->stages = MUTATE_AFTER_TEMPORAL;
+}
+
+int mutation_options_validate(const mutation_options *o, rerror *e)
+{
+    if (o->count < 0 || o->count > MUTATE_MAX_ITERATIONS)
+        return rerror_set(e, "mutation: count %d (must be 0..%d)", o->count, MUTATE_MAX_ITERATIONS);
+    if ((int)o->strategy < 0 || (int)o->strategy >= MUTATE_STRATEGY_COUNT)
+        return rerror_set(e, "mutation: unknown strategy %d", (int)o->strategy);
+    if (o->stages & ~(MUTATE_AFTER_INITIAL | MUTATE_AFTER_TEMPORAL | MUTATE_AFTER_SPATIAL))
+        return rerror_set(e, "mutation: unknown stage bits %#x", (unsigned)o->stages);
+    return 0;
+}

@@ -153,3 +153,21 @@ void stochastic_pairwise_resample(const restir_context *c, const stochastic_opti
     }
     st->invalid_weights += out->n_invalid;
 }
+
+void stochastic_options_default(stochastic_options *so)
+{
+    so->n_picks = 1;
+    so->n_canonical_picks = 1;
+    so->confidence_scaling = 1;
+    so->naive_p = 0;
+}
+
+int stochastic_options_validate(const stochastic_options *so, rerror *e)
+{
+    if (so->n_picks < 1 || so->n_picks > STOCHASTIC_MAX_PICKS)
+        return rerror_set(e, "stochastic: %d picks (N~ must be 1..%d)", so->n_picks, STOCHASTIC_MAX_PICKS);
+    if (so->n_canonical_picks < 1 || so->n_canonical_picks > STOCHASTIC_MAX_PICKS)
+        return rerror_set(e, "stochastic: %d canonical picks (N~_c must be 1..%d)", so->n_canonical_picks,
+                          STOCHASTIC_MAX_PICKS);
+    return 0;
+}

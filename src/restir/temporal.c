@@ -80,3 +80,23 @@ void temporal_stats_add(temporal_stats *acc, const temporal_stats *add)
     acc->dedup_lowered += add->dedup_lowered;
     spatial_stats_add(&acc->step, &add->step);
 }
+
+const char *const restir_motion_vector_names[] = {"single", "dual", NULL};
+
+void temporal_options_default(temporal_options *o)
+{
+    o->enabled = 1;
+    o->mis = MIS_TALBOT;
+    o->mcap = 20;
+    o->motion_vectors = RESTIR_MV_SINGLE;
+}
+
+int temporal_options_validate(const temporal_options *o, rerror *e)
+{
+    if ((int)o->mis < 0 || (int)o->mis >= MIS_FAMILY_COUNT)
+        return rerror_set(e, "temporal: unknown MIS family %d", (int)o->mis);
+    if (!(o->mcap > 0)) return rerror_set(e, "temporal: M-cap %g (must be > 0, or inf)", o->mcap);
+    if (o->motion_vectors != RESTIR_MV_SINGLE && o->motion_vectors != RESTIR_MV_DUAL)
+        return rerror_set(e, "temporal: unknown motion vectors %d", (int)o->motion_vectors);
+    return 0;
+}

@@ -25,6 +25,17 @@ enum rng_stream {
     RNG_TEST = 8       /* tests and tools (never used by estimators) */
 };
 
+/* The RNG_RIS vertex field of ReSTIR's selection numbers (docs/rng.md, "ReSTIR's addresses",
+ * whose table the test rng_vertex_table_matches_docs checks against these): each resampling
+ * step owns a range, so no two steps ever read the same number. The key is the pixel's
+ * (initial_pixel_key, initial.h) except for initial resampling, which uses each tree's own. */
+#define RNG_VERTEX_INITIAL_RIS(d) ((uint32_t)(d))               /* 2..16: initial RIS, path length d; slot = technique */
+#define RNG_VERTEX_SPATIAL_RIS(pass) (32u + (uint32_t)(pass))   /* 32..47: spatial pass p; slot = domain */
+#define RNG_VERTEX_TEMPORAL_RIS 48u                             /* 48: temporal reuse; slot 0 current, 1 previous */
+#define RNG_VERTEX_STOCHASTIC_PICK(pass) (64u + (uint32_t)(pass))      /* 64..79: Ñ picks of pass p; slot = pick */
+#define RNG_VERTEX_STOCHASTIC_CANONICAL(pass) (80u + (uint32_t)(pass)) /* 80..95: Ñ_c canonical picks of pass p */
+#define RNG_VERTEX_PASSES 16 /* spatial passes a range holds (RESTIR_MAX_SPATIAL_PASSES) */
+
 /* The address of one random number. `sample` identifies the path (or sample) within
  * the pixel: e.g. spp index for the path tracer, frame*trees+tree for ReSTIR.
  * stream < 256, vertex < 256, slot < 65536. */

@@ -9,7 +9,7 @@
  * Random numbers (docs/restir-pt.md, "Random numbers"): tree t of frame f uses the path
  * tracer's addresses with sample index f*N + t; the frame's primary rays (jitter) sample
  * f*N; the neighbours of pass p are RNG_NEIGHBOR with sample f*K + p (neighbors.h); the
- * selection number of domain j in pass p is RNG_RIS (sample f*N, vertex 32 + p, slot j;
+ * selection number of domain j in pass p is RNG_RIS (sample f*N, RNG_VERTEX_SPATIAL_RIS(p), slot j;
  * initial sampling uses vertices 2..16). The result is byte-identical for any thread count. */
 #ifndef RESTIR_FRAME_OFFLINE_H
 #define RESTIR_FRAME_OFFLINE_H

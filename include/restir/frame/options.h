@@ -1,18 +1,23 @@
 /* The configuration of a ReSTIR PT run (offline driver, GRIS §6.5, and real-time
- * pipeline, GRIS §6.3): one field per knob of the four papers' algorithms, the defaults,
- * the GRIS §8.3 presets, validation, and what each estimator module is handed of it
- * (restir_context_for, restir_initial_options_for, restir_neighbor_options_for). */
+ * pipeline, GRIS §6.3), composed of the techniques' own option structs (each with its
+ * default and its validation in its module: spatial_options.h, temporal.h,
+ * stochastic_spatial.h, mutate.h, correlation.h, light_ris.h) and the frame's fields;
+ * the defaults, the GRIS §8.3 presets, validation of the whole, and what each estimator
+ * module is handed of it (restir_context_for, restir_initial_options_for). */
 #ifndef RESTIR_FRAME_OPTIONS_H
 #define RESTIR_FRAME_OPTIONS_H
 
 #include <signal.h>
 #include <stdio.h>
+#include "restir/render/light_ris.h"
+#include "restir/restir/correlation.h"
 #include "restir/restir/initial.h"
 #include "restir/restir/mis.h"
 #include "restir/restir/mutate.h"
 #include "restir/restir/neighbors.h"
 #include "restir/restir/reuse_cells.h"
 #include "restir/restir/spatial.h"
+#include "restir/restir/spatial_options.h"
 #include "restir/restir/stochastic_spatial.h"
 #include "restir/restir/temporal.h"
 
@@ -23,29 +28,15 @@ enum restir_paths { RESTIR_PATHS_ALL = 0, RESTIR_PATHS_INDIRECT = 1 };
 extern const char *const restir_paths_names[]; /* "all", "indirect" */
 enum restir_shading { RESTIR_SHADING_SCALAR = 0, RESTIR_SHADING_VECTOR = 1 };
 extern const char *const restir_shading_names[]; /* "scalar", "vector" */
-enum restir_pairing { RESTIR_PAIRING_DISK = 0, RESTIR_PAIRING_PAIRED = 1 };
-extern const char *const restir_pairing_names[]; /* "disk", "paired" */
-enum restir_motion_vectors { RESTIR_MV_SINGLE = 0, RESTIR_MV_DUAL = 1 };
 /* The frame images: radiance (default), the duplicate count per pixel (Enhanced §5), or the
  * temporal history age per pixel (frames since its chain of temporal sources began: 0 = no
  * history this frame; sequences only) */
 enum restir_output { RESTIR_OUTPUT_RADIANCE = 0, RESTIR_OUTPUT_DUPLICATES = 1, RESTIR_OUTPUT_AGE = 2 };
-extern const char *const restir_motion_vector_names[]; /* "single", "dual" */
-/* --mis stochastic-pairwise: spatial passes only, not a mis_family (stochastic_spatial.h);
- * its name is restir_mis_names[RESTIR_MIS_STOCHASTIC_PAIRWISE] (mis.h). */
-#define RESTIR_MIS_STOCHASTIC_PAIRWISE MIS_FAMILY_COUNT
 
 typedef struct {
     enum restir_shift shift;    /* enum restir_shift (default hybrid) */
     int spatial_passes;         /* K, 0..16 (0: initial resampling alone; default 0) */
-    int neighbors;              /* n candidates per pixel and pass (disk patterns; default 6) */
-    double radius;              /* neighbour disk radius in pixels (default 10, GRIS §8.3 offline) */
-    enum neighbor_pattern pattern; /* enum neighbor_pattern (default r2) */
-    enum restir_pairing pairing; /* enum restir_pairing: disk (default: `pattern`) or paired (Enhanced §3) */
-    int no_reject;              /* 1: no normal/depth rejection of neighbours */
-    double normal_cos;          /* reject if dot(n_i, n_j) < this (default 0.5) */
-    double depth_ratio;         /* reject if |d_i - d_j| > this * min(d_i, d_j) (default 0.1) */
-    mis_family mis;             /* mis_family (default MIS_TALBOT, GRIS Eq. 36) */
+    spatial_options spatial;    /* what each pass reuses, and with which GRIS step */
     int frames;                 /* independent frames averaged (GRIS Eq. 47), >= 1 */
     double time_limit;          /* > 0: render frames until this many seconds have passed
                                    (at least one; `frames` is then ignored) */
@@ -59,7 +50,7 @@ typedef struct {
     int force_nee_reconnection; /* Enhanced §6.2.3 forced NEE light reconnection (hybrid; default 0) */
     enum rc_mode rc_criterion;  /* enum rc_mode: gris (default) or footprint (Enhanced §4, Eq. 5) */
     double footprint_c;         /* c of Enhanced Eq. 5 (default 0.02, Enhanced §7.2) */
-    int no_pair_step;           /* --pairing paired: 1 runs a full GRIS step per pixel (four shifts
+    int no_pair_step;           /* paired reuse: 1 runs a full GRIS step per pixel (four shifts
                                    per pair) instead of the Enhanced §3 pair step (two) */
     enum restir_paths paths;    /* enum restir_paths */
     enum restir_ablation ablation; /* enum restir_ablation */
@@ -71,60 +62,46 @@ typedef struct {
     int quiet;                  /* no progress bar */
     int keep_reservoirs;        /* return the last frame's final reservoirs */
     /* real-time pipeline only (restir_render_sequence; restir_render ignores them): */
-    int temporal;               /* temporal reuse (GRIS §6.3 step 2; default 1 in sequences) */
-    mis_family temporal_mis;    /* mis_family of the temporal step (default MIS_TALBOT, GRIS §8.3) */
-    double mcap;                /* C > 0: c_prev <= C c_cur (GRIS §6.2, §6.4; default 20; may be inf) */
-    /* stochastic pairwise MIS (mis = RESTIR_MIS_STOCHASTIC_PAIRWISE; stochastic_spatial.h): */
-    int stochastic_n;           /* Ñ picks per pixel and pass (default 1) */
-    int stochastic_nc;          /* Ñ_c canonical picks (default 1) */
-    int no_confidence_scaling;  /* 1: no c_i <- c_i min(1, Ñ/M) (Stochastic MIS §4.3) */
-    int cells;                  /* spatial domains = a reuse cell found by the §5.1 search
-                                   (reuse_cells.h) instead of neighbor_select; any --mis */
+    temporal_options temporal;  /* temporal reuse (GRIS §6.3 step 2) */
+    /* stochastic pairwise MIS (spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE, or reuse
+     * cells; naive_p is set from the ablation, not here): */
+    stochastic_options stochastic;
     /* correlation under motion (issue 12, docs/correlation.md; real-time pipeline only): */
-    int dedup;                  /* duplication-map adaptive cap (Enhanced §5): BIASED */
-    double dedup_min;           /* c_cap_min (default 1) */
-    double dedup_alpha;         /* alpha of lerp(mcap, c_cap_min, D^alpha) (default 0.1) */
-    int motion_vectors;         /* enum restir_motion_vectors (default single; dual: Enhanced §6.4) */
-    double boiling_filter;      /* RTXDI boiling filter strength s in (0, 1], 0 = off: BIASED */
+    correlation_options correlation;
     int output_aov;             /* enum restir_output: what the frame images hold (--aov duplicates|age) */
     int no_duplicate_stats;     /* 1: skip the per-frame duplication map and the Mutations Fig. 8
-                                   duplicate count when nothing reads them (no --dedup, no
-                                   --aov duplicates): the "correlation" and mutation duplicate
+                                   duplicate count when nothing reads them (no dedup, no
+                                   duplicate images): the "correlation" and mutation duplicate
                                    counters of restir_stats stay 0 (default 0: computed) */
     volatile sig_atomic_t *stop_flag; /* NULL: never. Nonzero (the CLI's SIGINT/SIGTERM) cancels the
                                          frame in progress at a tile boundary (threads_set_cancel)
                                          and ends the render with the frames complete so far, maybe
                                          none (result frames = 0) */
-    /* MCMC mutations (mutate.h; Mutations Algorithm 3), real-time pipeline only: */
-    int mutations;              /* N Metropolis-Hastings iterations per pixel and stage (default 0: off) */
-    int mutation;               /* enum mutate_strategy (default rv, Mutations §4.3) */
-    int mutate_after;           /* enum mutate_stage bits (default MUTATE_AFTER_TEMPORAL, Mutations §3) */
-    /* light RIS for NEE (light_ris.h; Enhanced §6.1): */
-    int light_ris;              /* N candidates at x1 (0: the plain light sampler, default) */
-    int light_tiles;            /* 1: candidates from light tiles */
+    mutation_options mutation;  /* MCMC mutations (Mutations Algorithm 3), real-time pipeline only */
+    light_ris_options light_ris; /* light RIS for NEE (Enhanced §6.1) */
 } restir_options;
 
 void restir_options_default(restir_options *o);
-/* 1 if o turns on a feature that is biased by design (--dedup, --boiling-filter): the
+/* 1 if o turns on a feature that is biased by design (correlation_options_biased): the
  * estimator is then no longer unbiased (docs/correlation.md); --stats says "biased". */
 int restir_options_biased(const restir_options *o);
+/* Each technique's validation (its message names the technique: "mutation: ..."), then
+ * the frame's own fields and the rules between techniques ("restir: ..."). */
 int restir_options_validate(const restir_options *o, rerror *e);
 
 /* The context (shift, criterion with d_min in scene units, ablation, MIS strategy) that
  * restir_render uses for scene s; lights must outlive it. */
 void restir_context_for(restir_context *c, const scene *s, const light_set *lights, const restir_options *o);
 void restir_initial_options_for(initial_options *io, const restir_options *o);
-/* --pairing paired: builds no->count reuse textures (sigma from the radius, pairing.h) into
+/* Paired reuse: builds no->count reuse textures (sigma from the radius, pairing.h) into
  * `textures` (PAIRING_MAX_TEXTURES entries) and points no at them; other patterns: no-op.
  * restir_pairing_free releases them. */
 int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_texture *textures, rerror *e);
 void restir_pairing_free(neighbor_options *no);
-/* Whether spatial passes run the Enhanced §3 pair step (pair_step.c): --pairing paired, a
- * deterministic MIS family, no reuse cells, no --no-pair-step. */
+/* Whether spatial passes run the Enhanced §3 pair step (pair_step.c): paired reuse, the
+ * GRIS step (a deterministic MIS family), no reuse cells, no_pair_step off. */
 int restir_pair_step_active(const restir_options *o);
 
-/* The neighbour selection options of o (neighbors.h). */
-void restir_neighbor_options_for(neighbor_options *no, const restir_options *o);
 /* The effective configuration as a JSON object (no trailing newline). */
 void restir_options_write_json(FILE *out, const restir_options *o, const char *indent);
 /* The GRIS offline preset (GRIS §8.3): 32 path trees, 3 spatial passes, 6 neighbours in

@@ -29,7 +29,7 @@ typedef struct {
  * camera at that frame, G-buffer, initial resampling, temporal reuse against the previous
  * frame's final reservoirs (if o->temporal), o->spatial_passes spatial passes, shading;
  * the spatial output is the next frame's temporal input. Frame f draws the addresses of
- * an offline frame f (docs/restir-pt.md "Random numbers"), plus RNG_RIS vertex 48 for
+ * an offline frame f (docs/restir-pt.md "Random numbers"), plus RNG_VERTEX_TEMPORAL_RIS for
  * the temporal selection. Byte-identical for any thread count. *total sums the frames. */
 int restir_render_sequence(const scene *s, const restir_options *o, const restir_sequence *seq,
                            restir_frame_sink sink, void *user, restir_stats *total, rerror *e);

@@ -43,6 +43,17 @@
 #define LIGHT_RIS_SLOT_FRESH 8192u
 #define LIGHT_RIS_SLOT_VIRTUAL 16384u
 
+/* The light-RIS technique's options (Enhanced §6.1), as both renderers are configured
+ * (pt_options.light_ris, restir_options.light_ris). */
+typedef struct {
+    int candidates; /* N candidates at x1 (0: the plain light sampler, default) */
+    int tiles;      /* 1: candidates from light tiles */
+} light_ris_options;
+
+void light_ris_options_default(light_ris_options *o);
+/* 0, or -1 with "light RIS: what is wrong". */
+int light_ris_options_validate(const light_ris_options *o, rerror *e);
+
 /* Candidates at vertex x_i: max(1, N / i^2) (the decay schedule of Enhanced §7), 0 if off. */
 int light_ris_count(const path_context *c, uint32_t vertex_index);
 

@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include "restir/core/error.h"
 #include "restir/core/image.h"
+#include "restir/render/light_ris.h"
 #include "restir/render/path_sampler.h"
 #include "restir/scene/scene.h"
 
@@ -59,8 +60,7 @@ typedef struct {
     int rr_min_depth;       /* roulette decides continuation after vertex x_i for i >= this (default 3) */
     int jitter;             /* 1: sub-pixel jitter from RNG_CAMERA; 0: pixel centres (default) */
     unsigned ablations;     /* enum pt_ablation bits */
-    int light_ris;          /* N > 0: NEE by light RIS, N candidates at x1 (light_ris.h); 0 = plain (default) */
-    int light_tiles;        /* 1: light RIS candidates from light tiles (needs light_ris) */
+    light_ris_options light_ris; /* NEE by light RIS (light_ris.h; default: off, the plain sampler) */
     int frame;              /* camera keyframe time */
     int threads;            /* >= 1 */
     int quiet;              /* no progress bar */

@@ -50,6 +50,12 @@ void initial_sample_pixel(const restir_context *c, const initial_options *o, con
  * frame's primary rays, with t = 0). */
 uint32_t initial_tree_sample(const initial_options *o, uint32_t frame, int tree);
 
+/* The key of pixel `pixel` in `frame`: (seed, pixel, the frame's tree-0 sample). Every
+ * per-pixel number of a frame after initial sampling (temporal, spatial and stochastic
+ * selection numbers at the RNG_VERTEX_* of rng.h, mutations) and the primary ray's jitter
+ * are addressed from it, by the frame and by the oracle alike. */
+rng_key initial_pixel_key(const initial_options *o, uint32_t seed, uint32_t frame, uint32_t pixel);
+
 void initial_stats_add(initial_stats *acc, const initial_stats *add);
 
 #endif

@@ -86,9 +86,9 @@ real mis_pair_canonical(real c_c, real p_c, real c_n, real p_n_from_c);
  *   p_n_from_n = p̂_n(x_n) / |dT/dx_n|, p_c_at_n = p̂_c(x_n'). A zero denominator gives 0. */
 real mis_pair_neighbor(real c_n, real p_n_from_n, real c_c, real p_c_at_n);
 
-/* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive", then
- * "stochastic-pairwise" (index MIS_FAMILY_COUNT = RESTIR_MIS_STOCHASTIC_PAIRWISE, the
- * CLI's --mis choice; restir.h); NULL-terminated. The one name table of these families. */
+/* index = mis_family: "constant", "talbot", "pairwise", "pairwise-defensive";
+ * NULL-terminated. The one name table of these families. (Stochastic pairwise MIS is not a
+ * family but a spatial algorithm: spatial_options.h.) */
 extern const char *const restir_mis_names[];
 /* c_n p_n / (c_a p_a + c_b p_b) for finite c, p >= 0 (the ratio inside every balance
  * weight above), or -1 when the denominator is 0. When a product overflows (the float

@@ -69,10 +69,21 @@ enum mutate_reject {
 extern const char *const mutate_skip_names[];
 extern const char *const mutate_reject_names[];
 
-/* Where in the frame (bits of restir_options.mutate_after; also the RNG_MUTATE vertex). */
+/* Where in the frame (bits of mutation_options.stages; also the RNG_MUTATE vertex). */
 enum mutate_stage { MUTATE_AFTER_INITIAL = 1, MUTATE_AFTER_TEMPORAL = 2, MUTATE_AFTER_SPATIAL = 4 };
 /* index = the bit set: "none", "initial", "temporal", "initial,temporal", "spatial", ... */
 extern const char *const mutate_after_names[];
+
+/* The mutation technique's options (Mutations Algorithm 3; the real-time pipeline). */
+typedef struct {
+    int count;                     /* N Metropolis-Hastings iterations per pixel and stage (default 0: off) */
+    enum mutate_strategy strategy; /* default rv (Mutations §4.3) */
+    int stages;                    /* enum mutate_stage bits (default MUTATE_AFTER_TEMPORAL, Mutations §3) */
+} mutation_options;
+
+void mutation_options_default(mutation_options *o);
+/* 0, or -1 with "mutation: what is wrong". */
+int mutation_options_validate(const mutation_options *o, rerror *e);
 
 typedef struct {
     uint64_t pixels;      /* reservoirs offered to the chain */

@@ -28,6 +28,11 @@ typedef struct {
                                every one of the M domains had P = 1/M (no P(i) correction) */
 } stochastic_options;
 
+/* Ñ = Ñ_c = 1, confidence scaling on, no ablation. */
+void stochastic_options_default(stochastic_options *so);
+/* 0, or -1 with "stochastic: what is wrong". */
+int stochastic_options_validate(const stochastic_options *so, rerror *e);
+
 typedef struct {
     int max_domains;
     real *a, *P;   /* Eq. 17 inputs and probabilities, per non-canonical domain */

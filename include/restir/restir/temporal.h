@@ -48,7 +48,7 @@ typedef struct {
 
 /* The temporal GRIS step. x1_cur: the pixel's primary vertex in frame t; x1_prev: the
  * primary vertex of the reprojected pixel in frame t-1 (x1_prev, prev_r NULL: no history,
- * the output is the current reservoir). u[0], u[1]: selection numbers (RNG_RIS, vertex 48,
+ * the output is the current reservoir). u[0], u[1]: selection numbers (RNG_VERTEX_TEMPORAL_RIS,
  * docs/rng.md). mcap > 0 (may be infinite). The workspace holds >= 2 domains. frames:
  * NULL when nothing but the camera moves (a static scene needs no re-tracing). */
 void temporal_resample(const restir_context *cur, const restir_context *prev, const temporal_frames *frames,
@@ -58,5 +58,21 @@ void temporal_resample(const restir_context *cur, const restir_context *prev, co
                        temporal_stats *st);
 
 void temporal_stats_add(temporal_stats *acc, const temporal_stats *add);
+
+/* The temporal technique's options (the real-time pipeline's step 2, GRIS §6.3). Where the
+ * history of a disoccluded pixel comes from: nowhere (single), or the occluder's motion
+ * (dual, Enhanced §6.4 / Zeng et al. 2021; unbiased). */
+enum restir_motion_vectors { RESTIR_MV_SINGLE = 0, RESTIR_MV_DUAL = 1 };
+extern const char *const restir_motion_vector_names[]; /* "single", "dual" */
+typedef struct {
+    int enabled;     /* temporal reuse (default 1; sequences only) */
+    mis_family mis;  /* of the temporal step (default MIS_TALBOT, GRIS §8.3) */
+    double mcap;     /* C > 0: c_prev <= C c_cur (GRIS §6.2, §6.4; default 20; may be inf) */
+    enum restir_motion_vectors motion_vectors; /* default single */
+} temporal_options;
+
+void temporal_options_default(temporal_options *o);
+/* 0, or -1 with "temporal: what is wrong". */
+int temporal_options_validate(const temporal_options *o, rerror *e);
 
 #endif
