@@ -103,7 +103,7 @@ TEST(cli_rule_runs_interrupted_keeps_finished_runs)
     snprintf(json, sizeof json, "%s", test_tmp_path("rule-runs-int.moments.json"));
     remove_files(mean, json, NULL);
     snprintf(args, sizeof args, "render " SMALL " --method pt --spp 100000000 --runs 3 --quiet --no-png -o %s", pfm);
-    status = run_interrupted("INT", 1.5, args); /* later than the others: loading under load */
+    status = run_interrupted("INT", 0.6, args);
     CHECKF(status == 130, "status %d, expected 130: %s", status, out);
     CHECKF(strstr(out, "after 0 finished run(s)") && strstr(out, "nothing written"), "message: %s", out);
     CHECK(!test_file_exists(mean) && !test_file_exists(json));
