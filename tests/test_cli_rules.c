@@ -107,7 +107,7 @@ TEST(cli_rule_runs_interrupted_keeps_finished_runs)
     snprintf(json, sizeof json, "%s", test_tmp_path("rule-runs-int.moments.json"));
     remove_files(mean, json, NULL);
     snprintf(args, sizeof args, "render " SMALL " --method pt --spp 100000000 --runs 3 --quiet --no-png -o %s", pfm);
-    if (expect_interrupted("INT", 1.5, args)) return; /* later than the others: loading under load */
+    if (expect_interrupted("INT", 0.6, args)) return;
     CHECKF(strstr(out, "after 0 finished run(s)") && strstr(out, "nothing written"), "message: %s", out);
     CHECK(!test_file_exists(mean) && !test_file_exists(json));
     snprintf(args, sizeof args, "render " SMALL " --method pt --spp 1 --runs 1000000 --quiet --no-png -o %s", pfm);

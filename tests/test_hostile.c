@@ -10,10 +10,20 @@
 #include <unistd.h>
 #include "test.h"
 
-#define CORNELL_FROM_TMP "../../scenes/cornell.obj" /* scenes written in build/test-tmp */
 #define SMALL "scenes/cornell.scene --size 16x16 --threads 2 --max-depth 4"
 
 static char out[65536];
+
+/* A scene file in the scratch directory (whatever the build directory) whose mesh is the
+ * Cornell box by absolute path, then `rest`; returns its path (test_write_file's). */
+static const char *cornell_scene(const char *name, const char *rest)
+{
+    static char text[8192];
+    char cwd[4096];
+    if (!getcwd(cwd, sizeof cwd)) cwd[0] = '\0';
+    snprintf(text, sizeof text, "mesh \"%s/scenes/cornell.obj\"\n%s", cwd, rest);
+    return test_write_file(name, text);
+}
 
 static int starts_with_bytes(const char *path, const char *magic, size_t n)
 {
@@ -32,11 +42,10 @@ static int starts_with_bytes(const char *path, const char *magic, size_t n)
 TEST(hostile_interpolated_camera_up_through_zero)
 {
     const char *pfm = test_tmp_path("hostile-up.pfm");
-    const char *scene = test_write_file("hostile-up.scene",
-                                        "mesh " CORNELL_FROM_TMP "\n"
-                                        "keyframe 0 eye 278 273 -800 target 278 273 0 up 0 1 0 fov 39\n"
-                                        "keyframe 10 eye 278 273 -800 target 278 273 0 up 0 -1 0 fov 39\n"
-                                        "size 8 8\n");
+    const char *scene = cornell_scene("hostile-up.scene",
+                                      "keyframe 0 eye 278 273 -800 target 278 273 0 up 0 1 0 fov 39\n"
+                                      "keyframe 10 eye 278 273 -800 target 278 273 0 up 0 -1 0 fov 39\n"
+                                      "size 8 8\n");
     char sc[1024];
     int status;
     snprintf(sc, sizeof sc, "%s", scene);
@@ -46,10 +55,9 @@ TEST(hostile_interpolated_camera_up_through_zero)
     CHECKF(strstr(out, "hostile-up.scene:3:") && strstr(out, "degenerate at frame 5"), "message: %s", out);
     CHECK(!test_file_exists(pfm));
     /* frames that never pass through zero stay fine (a quarter turn of up) */
-    scene = test_write_file("hostile-up-ok.scene", "mesh " CORNELL_FROM_TMP "\n"
-                                                   "keyframe 0 eye 278 273 -800 target 278 273 0 up 0 1 0 fov 39\n"
-                                                   "keyframe 10 eye 278 273 -800 target 278 273 0 up 1 0 0 fov 39\n"
-                                                   "size 8 8\n");
+    scene = cornell_scene("hostile-up-ok.scene", "keyframe 0 eye 278 273 -800 target 278 273 0 up 0 1 0 fov 39\n"
+                                                 "keyframe 10 eye 278 273 -800 target 278 273 0 up 1 0 0 fov 39\n"
+                                                 "size 8 8\n");
     snprintf(sc, sizeof sc, "%s", scene);
     status = test_cli(out, sizeof out, "render %s --frame 5 --spp 1 --quiet --no-png -o %s", sc, pfm);
     CHECKF(status == 0, "status %d: %s", status, out);
@@ -63,8 +71,7 @@ TEST(hostile_coordinates_out_of_range)
     char sc[1024];
     int status;
     snprintf(sc, sizeof sc, "%s",
-             test_write_file("hostile-eye.scene", "mesh " CORNELL_FROM_TMP "\n"
-                                                  "camera eye 1e39 273 -800 target 278 273 0 up 0 1 0 fov 39\n"));
+             cornell_scene("hostile-eye.scene", "camera eye 1e39 273 -800 target 278 273 0 up 0 1 0 fov 39\n"));
     remove(pfm);
     status = test_cli(out, sizeof out, "render %s --spp 1 --quiet -o %s", sc, pfm);
     CHECKF(status == 2 && strstr(out, "hostile-eye.scene:2: eye:") && strstr(out, "out of range"), "%d: %s", status,

@@ -554,8 +554,10 @@ static int scale_side(check_side *a, double scale)
 /* --json, --z-map and --block-z-map must not overwrite each other or an input image. */
 static int check_collisions(const check_args *args)
 {
-    named_file outs[3], ins[2 * MAX_INPUTS + 4];
-    int n = 0, side, i;
+    static const char *const moments_files[] = {".mean.pfm", ".var.pfm", ".moments.json", ".blocks.bin"};
+    named_file outs[3], ins[2 * MAX_INPUTS + 12];
+    char names[8][4200];
+    int n = 0, side, i, m = 0;
     outs[0].path = args->json, outs[0].role = "--json";
     outs[1].path = args->z_map, outs[1].role = "--z-map";
     outs[2].path = args->block_z_map, outs[2].role = "--block-z-map";
@@ -564,6 +566,12 @@ static int check_collisions(const check_args *args)
         for (i = 0; i < s->runs.count; ++i) ins[n].path = s->runs.items[i], ins[n++].role = side ? "--b" : "--a";
         ins[n].path = s->ref, ins[n++].role = "--ref";
         ins[n].path = s->ref_var, ins[n++].role = "--ref-var";
+        for (i = 0; s->moments && i < 4; ++i, ++m) { /* PREFIX or PREFIX.moments.json */
+            size_t len = strlen(s->moments), suffix = strlen(".moments.json");
+            int stem = (int)(len > suffix && !strcmp(s->moments + len - suffix, ".moments.json") ? len - suffix : len);
+            snprintf(names[m], sizeof names[m], "%.*s%s", stem, s->moments, moments_files[i]);
+            ins[n].path = names[m], ins[n++].role = side ? "a file of --b-moments" : "a file of --a-moments";
+        }
     }
     return outputs_distinct("check", outs, 3, ins, n, NULL);
 }

@@ -26,6 +26,7 @@
 #include "args.h"
 #include "collide.h"
 #include "output.h"
+#include "output_undo.h"
 #include "render_args.h"
 #include "render_rules.h"
 #include "render_runs.h"

@@ -8,6 +8,9 @@
 
 #include <signal.h>
 
+/* A repeat of the stop signal this soon after the first is the same request (stop.c). */
+#define STOP_REPEAT_SECONDS 0.25
+
 /* Nonzero once SIGINT or SIGTERM arrived after stop_signals_install. */
 extern volatile sig_atomic_t stop_requested;
 
