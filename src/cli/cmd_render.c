@@ -62,7 +62,7 @@ typedef struct {
     int accumulate, no_temporal;
     restir_sequence seq;
     /* the golden-oracle kit (stage_dump.h): --dump-dir, --dump-stages, --from-dump, --from-stage */
-    const char *dump_stages, *from_stage;
+    const char *dump_stages, *from_stage, *dump_region;
     stage_io sio;
     frame_stage_hook hook; /* sio as the frame's stage listener */
 } render_args;
@@ -417,7 +417,7 @@ static int ablation_index(const char *const *names, const char *name)
 static int apply_stage_options(render_args *a)
 {
     rerror e;
-    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage;
+    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage || a->dump_region;
     if (!any) return 0;
     if (!a->sequence) {
         fprintf(stderr, "restir render: --dump-dir, --dump-stages, --from-dump and --from-stage need --sequence A..B\n");
@@ -425,6 +425,10 @@ static int apply_stage_options(render_args *a)
     }
     if (a->dump_stages && !a->sio.dump_dir) {
         fprintf(stderr, "restir render: --dump-stages needs --dump-dir DIR\n");
+        return 2;
+    }
+    if (a->dump_region && (!a->sio.dump_dir || stage_region_parse(a->dump_region, &a->sio.region, &e))) {
+        fprintf(stderr, "restir render: %s\n", a->sio.dump_dir ? e.msg : "--dump-region needs --dump-dir DIR");
         return 2;
     }
     if (!a->sio.from_dir != !a->from_stage) {
@@ -704,6 +708,7 @@ int cmd_render(int argc, char **argv)
             {"--no-temporal", OPT_FLAG, &a.no_temporal, "with --sequence: no temporal reuse (independent frames through the same pipeline)", NULL, 0, 0, NULL},
             {"--dump-dir", OPT_STRING, &a.sio.dump_dir, "with --sequence: write DIR/manifest.json and per frame the G-buffer and the reservoirs after each stage (docs/oracle.md)", NULL, 0, 0, NULL},
             {"--dump-stages", OPT_STRING, &a.dump_stages, "with --dump-dir: only these stages, e.g. initial,temporal,spatial1 (default: all)", NULL, 0, 0, NULL},
+            {"--dump-region", OPT_STRING, &a.dump_region, "with --dump-dir: dump only the pixels of the rectangle X,Y,W,H (docs/oracle.md)", NULL, 0, 0, NULL},
             {"--from-dump", OPT_STRING, &a.sio.from_dir, "with --sequence: restart from this stage dump (needs --from-stage)", NULL, 0, 0, NULL},
             {"--from-stage", OPT_STRING, &a.from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a.stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
