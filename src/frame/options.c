@@ -104,6 +104,14 @@ void restir_options_preset_gris_realtime(restir_options *o)
 
 int restir_options_biased(const restir_options *o) { return o->dedup || o->boiling_filter > 0; }
 
+const char *const restir_pairwise_confidence_names[] = {"stochastic", "falcor", NULL};
+
+mis_family restir_step_mis(const restir_options *o, int mis)
+{
+    if (mis == MIS_PAIRWISE_DEFENSIVE && o->pairwise_confidence == 1) return MIS_PAIRWISE_DEFENSIVE_FALCOR;
+    return (mis_family)mis;
+}
+
 /* Issue 12 (docs/correlation.md): --dedup, --motion-vectors, --boiling-filter. */
 static int correlation_options_validate(const restir_options *o, rerror *e)
 {
@@ -169,6 +177,8 @@ int restir_options_validate(const restir_options *o, rerror *e)
     if (o->threads < 1) return rerror_set(e, "restir: %d threads", o->threads);
     if (o->temporal_mis < 0 || o->temporal_mis >= MIS_FAMILY_COUNT)
         return rerror_set(e, "restir: unknown temporal MIS family %d", o->temporal_mis);
+    if (o->pairwise_confidence < 0 || o->pairwise_confidence > 1)
+        return rerror_set(e, "restir: unknown pairwise confidence form %d", o->pairwise_confidence);
     if (o->mutations < 0 || o->mutations > MUTATE_MAX_ITERATIONS)
         return rerror_set(e, "restir: --mutations %d (must be 0..%d)", o->mutations, MUTATE_MAX_ITERATIONS);
     if (o->mutation < 0 || o->mutation >= MUTATE_STRATEGY_COUNT)
@@ -249,6 +259,8 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
     else
         fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g", o->temporal ? "true" : "false",
                 restir_mis_names[o->temporal_mis], o->mcap);
+    if (o->pairwise_confidence) /* issue 31 (only when used) */
+        fprintf(out, ", \"pairwise_confidence\": \"%s\"", restir_pairwise_confidence_names[o->pairwise_confidence]);
     fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d, \"light_ris\": %d, \"light_tiles\": %s}", o->mutations,
             mutate_strategy_names[o->mutation], o->mutate_after, o->light_ris, o->light_tiles ? "true" : "false");
 }

@@ -232,16 +232,16 @@ static int restart_load(stage_io *io, const char *name, reservoir *rs, int width
         return rerror_at(&io->err, path, 0, "is %ux%u, frame %u, stage '%s'; the run needs %dx%d, frame %u, stage '%s'",
                          info.width, info.height, info.frame, info.tag, width, height, (unsigned)io->frame, name);
     }
-    if (restart_records_check(io, path, in, (size_t)width * (size_t)height)) {
-        free(in);
-        return -1;
-    }
     memcpy(rs, in, (size_t)width * (size_t)height * sizeof *rs);
     if (io->pss_rows) {
         reservoir_buffer_keep_pss(rs, (size_t)width * (size_t)height, 1); /* before in's rows are freed */
     } else if (info.flags & RESERVOIR_DUMP_FLAG_PSS) {
         free(in);
         return rerror_at(&io->err, path, 0, "holds primary-sample vectors, the run has no rows for them");
+    }
+    if (restart_records_check(io, path, in, (size_t)width * (size_t)height)) {
+        free(in);
+        return -1;
     }
     free(in);
     io->restarted++;

@@ -100,7 +100,16 @@ typedef struct {
     /* light RIS for NEE (light_ris.h; Enhanced §6.1): */
     int light_ris;              /* N candidates at x1 (0: the plain light sampler, default) */
     int light_tiles;            /* 1: candidates from light tiles */
+    /* the confidence form of pairwise-defensive MIS (mis.h; issue 31): 0 = stochastic (the
+       Stochastic MIS Eq. 11 form, default), 1 = falcor (1/(k+1) per pair, c_c/k inside) */
+    int pairwise_confidence;
 } restir_options;
+
+/* "stochastic", "falcor" (--pairwise-confidence) */
+extern const char *const restir_pairwise_confidence_names[];
+/* The mis_family a step with family `mis` (o->mis or o->temporal_mis) runs: pairwise-
+ * defensive in the confidence form o->pairwise_confidence chooses, else mis itself. */
+mis_family restir_step_mis(const restir_options *o, int mis);
 
 void restir_options_default(restir_options *o);
 /* 1 if o turns on a feature that is biased by design (--dedup, --boiling-filter): the
