@@ -53,7 +53,7 @@ int inspect_spatial_step(const restir_context *c, const restir_options *o, const
     in[0] = &g->in[0];
     in[1] = &g->in[1];
     memset(&st, 0, sizeof st);
-    spatial_resample(c, (mis_family)o->mis, 2, x1, in, g->u, &g->out, &g->ws, &st);
+    spatial_resample(c, restir_step_mis(o, o->mis), 2, x1, in, g->u, &g->out, &g->ws, &st);
     step_end(g);
     return 0;
 }
@@ -73,7 +73,7 @@ int inspect_temporal_step(const restir_context *c, const restir_options *o, cons
     if (step_begin(g, 1, o->temporal_mis, ra, rprev, key, 48u, e)) return -1;
     if (!g->shown) return 0;
     memset(&st, 0, sizeof st);
-    temporal_resample(c, c, NULL, (mis_family)o->temporal_mis, xa, xprev, &g->in[0], &g->in[1], (real)o->mcap, g->u,
+    temporal_resample(c, c, NULL, restir_step_mis(o, o->temporal_mis), xa, xprev, &g->in[0], &g->in[1], (real)o->mcap, g->u,
                       &g->out, &g->ws, &st);
     step_end(g);
     return 0;

@@ -498,7 +498,8 @@ static const char *const inspect_options[][2] = {
     {"roughness_threshold", "--roughness-threshold"}, {"distance_threshold", "--distance-threshold"},
     {"paths", "--paths"},         {"rc_criterion", "--rc-criterion"},
     {"footprint_c", "--footprint-c"}, {"force_nee_reconnection", "--force-nee-reconnection"},
-    {"russian_roulette", "--russian-roulette"}, {"jitter", "--jitter"}};
+    {"russian_roulette", "--russian-roulette"}, {"jitter", "--jitter"},
+    {"pairwise_confidence", "--pairwise-confidence"}};
 
 /* One member of "options": appended to m->inspect_args if inspect needs it. */
 static int read_inspect_option(json_reader *r, stage_manifest *m, const char *key)
