@@ -1,7 +1,8 @@
 /* The dump kit of tools/dumpkit (docs/oracle.md §1 step 4): the C structs of restir_dump.h
  * hold exactly the bytes the oracle's encoder writes and its decoder reads (both ways, on a
  * little-endian host), and the stdlib-only Python reader/writer reads a whole stage dump and
- * writes every file back byte for byte (skipped when python3 is absent). */
+ * writes every file back byte for byte, validating the manifest against
+ * docs/dump-manifest.schema.json (skipped when python3 is absent). */
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -118,6 +119,14 @@ TEST(dumpkit_python_round_trip)
              test_tmpdir());
     status = system(cmd);
     CHECKF(status == 0, "the Python kit did not read or write back a file of %s (%s/selftest.txt)", dir, test_tmpdir());
+    /* the manifest is validated against docs/dump-manifest.schema.json: a word for the
+       numeric mutate_after is refused */
+    snprintf(cmd, sizeof cmd,
+             "mkdir -p %s/badm && sed 's/\"mutate_after\": 2/\"mutate_after\": \"temporal\"/' %s/manifest.json > "
+             "%s/badm/manifest.json && grep -q '\"mutate_after\": \"temporal\"' %s/badm/manifest.json && "
+             "! python3 tools/dumpkit/restir_dump.py check %s/badm >/dev/null 2>&1",
+             test_tmpdir(), dir, test_tmpdir(), test_tmpdir(), test_tmpdir());
+    CHECKF(system(cmd) == 0, "the schema check accepted \"mutate_after\": \"temporal\" (%s)", cmd);
     /* and it refuses a cut-short file */
     snprintf(cmd, sizeof cmd,
              "cp %s/frame_0001/temporal.resv %s/short.resv && truncate -s -8 %s/short.resv && "

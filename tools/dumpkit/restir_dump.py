@@ -167,6 +167,51 @@ def read_manifest(directory):
     return m
 
 
+SCHEMA_PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "docs", "dump-manifest.schema.json")
+_TYPES = {"object": dict, "array": list, "string": str, "boolean": bool, "null": type(None)}
+
+
+def _is_type(value, name):
+    if name == "integer":
+        return isinstance(value, int) and not isinstance(value, bool)
+    if name == "number":
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+    return isinstance(value, _TYPES[name])
+
+
+def validate(value, schema, where="manifest"):
+    """The subset of JSON Schema docs/dump-manifest.schema.json uses (type, required,
+    properties, items, enum, const, minimum); raises DumpError naming the first violation."""
+    types = schema.get("type")
+    if types is not None and not any(_is_type(value, t) for t in (types if isinstance(types, list) else [types])):
+        raise DumpError("%s: %r is not of type %s" % (where, value, types))
+    if "const" in schema and value != schema["const"]:
+        raise DumpError("%s: %r is not %r" % (where, value, schema["const"]))
+    if "enum" in schema and value not in schema["enum"]:
+        raise DumpError("%s: %r is not one of %r" % (where, value, schema["enum"]))
+    if "minimum" in schema and _is_type(value, "number") and value < schema["minimum"]:
+        raise DumpError("%s: %r < %r" % (where, value, schema["minimum"]))
+    if isinstance(value, dict):
+        for key in schema.get("required", []):
+            if key not in value:
+                raise DumpError("%s: missing \"%s\"" % (where, key))
+        for key, sub in schema.get("properties", {}).items():
+            if key in value:
+                validate(value[key], sub, "%s.%s" % (where, key))
+    if isinstance(value, list) and "items" in schema:
+        for i, item in enumerate(value):
+            validate(item, schema["items"], "%s[%d]" % (where, i))
+
+
+def validate_manifest(manifest, schema_path=SCHEMA_PATH):
+    """Validates against docs/dump-manifest.schema.json when the kit sits in its repository."""
+    if os.path.exists(schema_path):
+        with open(schema_path) as f:
+            validate(manifest, json.load(f))
+        return True
+    return False
+
+
 def stage_path(directory, frame, stage, ext="resv"):
     return os.path.join(directory, "frame_%04d" % frame, "%s.%s" % (stage, ext))
 
@@ -181,6 +226,7 @@ def _atomic_write(path, data):
 def check_dir(directory):
     """Every dumped stage of every written frame is present and readable; returns the file count."""
     m = read_manifest(directory)
+    validate_manifest(m)
     frames = m["frames"]
     last = frames["first"] + frames.get("written", frames["last"] - frames["first"] + 1) - 1
     region = m.get("region")
