@@ -322,3 +322,27 @@ TEST(oracle_restart_refuses_zero_reconnection_data)
            "%s", out);
     CHECKF(strstr(out, "must be finite") != NULL, "%s", out);
 }
+
+/* --pairwise-confidence falcor: the manifest records it, a run with it agrees with the
+ * default to rounding (1e-12) while every confidence is 1 (frame 0, spatial1) and differs once
+ * confidences are unequal (frame 0, spatial2: its inputs carry spatial1's summed
+ * confidences): the form a Falcor-derived build must be diffed against (docs/oracle.md §3,
+ * docs/mis-derivations.md §3.5). */
+TEST(oracle_pairwise_confidence_forms_diff)
+{
+    const char *a = reference(), *f = diff_dir("falcor");
+    char path[1200];
+    char *text;
+    CHECKF(test_cli(out, sizeof out, "render " DIFF_COMMON " --pairwise-confidence falcor -o %s/pf.pfm --dump-dir %s",
+                    test_tmpdir(), f) == 0,
+           "%s", out);
+    snprintf(path, sizeof path, "%s/manifest.json", f);
+    text = test_read_text(path);
+    CHECKF(text && strstr(text, "\"pairwise_confidence\": \"falcor\""), "%s", text ? text : "no manifest");
+    free(text);
+    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s --max-rel all=1e-12", a, f) == 1, "%s", out);
+    CHECKF(strstr(out, "first difference: frame 0, stage spatial2") != NULL, "%s", out);
+    CHECKF(strstr(out, "frame    0 spatial1     same 1.000000") && strstr(out, "frame    1 initial      same 1.000000"),
+           "%s", out);
+    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", f, f) == 0, "%s", out);
+}
