@@ -335,6 +335,8 @@ static int load_side(const char *dir, int required, const dump_side *other, dump
         return 0;
     }
     if (s->m.region.width) s->region = s->m.region;
+    else if (s->m.width <= 0 && other) /* B's manifest without "image": A's image and region */
+        s->region = other->region;
     else {
         s->region.width = s->m.width;
         s->region.height = s->m.height;
@@ -351,7 +353,7 @@ static int check_sides(const diff_args *a, const dump_side *sa, const dump_side 
         return rerror_set(e, "%s: the run was cut short: its manifest says %ld of the %ld frames %ld..%ld were written",
                           a->a, sa->m.written, frames, sa->m.first, sa->m.last);
     if (!sb->has_manifest) return 0;
-    if (sb->m.width != sa->m.width || sb->m.height != sa->m.height)
+    if (sb->m.width > 0 && (sb->m.width != sa->m.width || sb->m.height != sa->m.height))
         return rerror_set(e, "A's image is %ldx%ld, B's %ldx%ld", sa->m.width, sa->m.height, sb->m.width, sb->m.height);
     if (sb->m.first > sa->m.first || sb->m.last < sa->m.last)
         return rerror_set(e, "B holds frames %ld..%ld, A %ld..%ld", sb->m.first, sb->m.last, sa->m.first, sa->m.last);
