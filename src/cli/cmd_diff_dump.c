@@ -401,6 +401,12 @@ static int run(const diff_args *a, rerror *e)
         printf(", \"mode\": \"%s\", \"region\": [%ld, %ld, %ld, %ld], \"rows\": [", a->stat ? "stat" : "identity",
                sa.region.x, sa.region.y, sa.region.width, sa.region.height);
     }
+    if (!a->json && (sa.region.width != sa.m.width || sa.region.height != sa.m.height ||
+                     sb.region.width != sa.m.width || sb.region.height != sa.m.height)) {
+        const stage_region *c = region_inside(&sa.region, &sb.region) ? &sa.region : &sb.region;
+        printf("region %ld,%ld,%ld,%ld of the %ldx%ld image (%ld pixels per row; pixels in image coordinates)\n", c->x,
+               c->y, c->width, c->height, sa.m.width, sa.m.height, c->width * c->height);
+    }
     for (f = sa.m.first; f <= sa.m.last; ++f)
         for (i = 0; i < sa.m.n_order; ++i) {
             int pass = diff_stage(a, &sa, &sb, f, sa.m.order[i], &t, &first_row, &reported, e);
