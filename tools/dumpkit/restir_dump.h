@@ -1,11 +1,14 @@
 /* The restir stage-dump records as C structs, for a GPU build that writes its passes in our
  * format (docs/formats.md "Reservoir dump", "G-buffer dump"; docs/oracle.md §1 step 4).
- * Standalone: C99 (or C++), <stdint.h> only, no part of the restir library.
+ * Standalone: <stdint.h> only, no part of the restir library. Compiles warning-free as C99
+ * (gcc, clang: -Wall -Wextra -Wpedantic) and as C++11 (g++), so CUDA code can include it too
+ * (not compiled with nvcc here). HLSL has no 8-bit types and doubles are an optional GPU
+ * feature: write the bytes of this layout through a ByteAddressBuffer instead.
  *
  * The structs mirror the bytes of the files exactly: every field sits at its natural
  * alignment, so there is no padding, and the compile-time checks below fail on an ABI that
  * would add some. The files are LITTLE-ENDIAN: on a little-endian host (x86, ARM as usually
- * run, every GPU) a record is written with fwrite(&rec, sizeof rec, 1, f); elsewhere swap
+ * run) a record is written with fwrite(&rec, sizeof rec, 1, f); elsewhere swap
  * the bytes of every field first. Every `real` of the oracle is stored as binary64 (double)
  * whatever the precision of the build; geometry fields are binary32.
  *
