@@ -151,7 +151,7 @@ static int toy_domain_sample(toy_kind k, rng_key key, uint32_t domain, real *x, 
 }
 
 /* ---- one GRIS step ---- */
-typedef enum { TOY_CORRECT, TOY_DROP_JACOBIAN, TOY_IGNORE_BACKSHIFT_FAILURE } toy_variant;
+typedef enum { TOY_CORRECT, TOY_DROP_JACOBIAN, TOY_IGNORE_BACKSHIFT_FAILURE, TOY_FALCOR_PAIR_WITHOUT_K } toy_variant;
 
 typedef struct {
     const char *name;
@@ -165,8 +165,32 @@ static const toy_config config_one_canonical = {
 static const toy_config config_two_canonical = {
     "R=2", 5, 2, {CANON_A, CANON_B, SQUARE, AFFINE, WINDOW}, {1, 0.7, 2, 0.5, 3}};
 
+/* A planted broken weight: the Falcor form (mis_pairwise_defensive_falcor) whose
+ * neighbour side forgets the 1/k of the canonical term, c_i q_i / (c_i q_i + c_R p̂), while
+ * the canonical side keeps it: the weights no longer sum to 1 (R = 1 only). */
+static real falcor_without_k(const mis_input *in, int i, int j)
+{
+    real n = (real)(in->m - 1), p = mis_ptarget(in, 0, j), c_R = in->confidence[0], q, a;
+    if (i == 0) return mis_pairwise_defensive_falcor(in, i, j, NULL);
+    q = mis_ptarget(in, i, j);
+    a = in->confidence[i] * q;
+    return a + c_R * p > 0 ? a / (a + c_R * p) / (n + 1) : 0;
+}
+
+/* The selected y and its W of one GRIS step; 0 if the reservoir is empty. */
+static int toy_gris_select(const toy_config *cfg, mis_family family, toy_variant variant, uint32_t run, real *y_out,
+                           real *W_out);
+
 /* F(Y) W_Y of one run. */
 static real toy_gris_run(const toy_config *cfg, mis_family family, toy_variant variant, uint32_t run)
+{
+    real y, W;
+    if (!toy_gris_select(cfg, family, variant, run, &y, &W)) return 0;
+    return toy_f(y) * W; /* GRIS Eq. 3 */
+}
+
+static int toy_gris_select(const toy_config *cfg, mis_family family, toy_variant variant, uint32_t run, real *y_out,
+                           real *W_out)
 {
     rng_key key = rng_key_make(test_seed() ^ 0x6a09e667u, run, 0);
     real y[TOY_MAX_DOMAINS], W[TOY_MAX_DOMAINS], J[TOY_MAX_DOMAINS];
@@ -194,14 +218,17 @@ static real toy_gris_run(const toy_config *cfg, mis_family family, toy_variant v
         if (ok[j]) {
             real jac = variant == TOY_DROP_JACOBIAN ? 1 : J[j];
             toy_sample(&s, y[j], toy_target(y[j]), &numbers[j]);
-            w = gris_resampling_weight(mis_weight(family, &in, j, j, NULL), s.target, W[j], jac); /* GRIS Eq. 19 */
+            real m = variant == TOY_FALCOR_PAIR_WITHOUT_K ? falcor_without_k(&in, j, j) : mis_weight(family, &in, j, j, NULL);
+            w = gris_resampling_weight(m, s.target, W[j], jac); /* GRIS Eq. 19 */
             reservoir_stream(&r, &s, w, rng_u(key, RNG_RIS, 100, (uint32_t)j));
         }
         reservoir_add_confidence(&r, cfg->c[j]);
     }
     reservoir_finalize(&r); /* GRIS Eq. 22 */
     if (!path_sample_is_valid(&r.y)) return 0;
-    return toy_f(r.y.pss[0]) * r.W; /* GRIS Eq. 3 */
+    *y_out = r.y.pss[0];
+    *W_out = r.W;
+    return 1;
 }
 
 typedef struct {
@@ -315,5 +342,96 @@ TEST(mis_toy_broken_weights_detected)
         toy_stats s = toy_run_many(cfg, families[f], TOY_IGNORE_BACKSHIFT_FAILURE);
         CHECKF(!toy_report("unreported failure (must reject)", cfg, families[f], s, toy_integral(), &z),
                "%s: unreported back-shift failure not detected (z = %.2f)", mis_family_name(families[f]), z);
+    }
+}
+
+/* ---- both confidence forms of defensive pairwise MIS (issue 31; docs/mis-derivations.md §3.5) ----
+ * An RGB integrand, one function per channel, all 0 on [0.95, 1) like f:
+ *     R: 0.5 + 3 y^2,   G: 2 - y,   B: 0.2 + 4 y^3. */
+static double toy_rgb_integral(int ch, double y)
+{
+    if (y > TOY_SUPPORT) y = TOY_SUPPORT;
+    if (ch == 0) return 0.5 * y + y * y * y;
+    if (ch == 1) return 2 * y - 0.5 * y * y;
+    return 0.2 * y + y * y * y * y;
+}
+static double toy_rgb(int ch, double y)
+{
+    if (y >= TOY_SUPPORT) return 0;
+    return ch == 0 ? 0.5 + 3 * y * y : ch == 1 ? 2 - y : 0.2 + 4 * y * y * y;
+}
+
+typedef struct {
+    double sum[2][3], sum2[2][3], dsum[3], dsum2[3]; /* per form and channel; paired differences */
+} toy_paired;
+
+/* Runs the stochastic form (MIS_PAIRWISE_DEFENSIVE) and the Falcor form (or the planted
+ * `variant` of it) on the same inputs, run by run (the RNG addresses depend on the run
+ * only), and accumulates F(Y) W_Y per channel and the paired differences. */
+static void toy_paired_runs(const toy_config *cfg, toy_variant falcor_variant, toy_paired *t)
+{
+    uint32_t run;
+    int ch, form;
+    memset(t, 0, sizeof *t);
+    for (run = 0; run < TOY_RUNS; ++run) {
+        double v[2][3];
+        for (form = 0; form < 2; ++form) {
+            real y, W;
+            int ok = form == 0 ? toy_gris_select(cfg, MIS_PAIRWISE_DEFENSIVE, TOY_CORRECT, run, &y, &W)
+                               : toy_gris_select(cfg, MIS_PAIRWISE_DEFENSIVE_FALCOR, falcor_variant, run, &y, &W);
+            for (ch = 0; ch < 3; ++ch) {
+                v[form][ch] = ok ? toy_rgb(ch, (double)y) * (double)W : 0;
+                t->sum[form][ch] += v[form][ch];
+                t->sum2[form][ch] += v[form][ch] * v[form][ch];
+            }
+        }
+        for (ch = 0; ch < 3; ++ch) {
+            double d = v[0][ch] - v[1][ch];
+            t->dsum[ch] += d;
+            t->dsum2[ch] += d * d;
+        }
+    }
+}
+
+/* z of a mean against `expected` from the sums of n values. */
+static double toy_z(double sum, double sum2, double expected)
+{
+    double n = TOY_RUNS, mean = sum / n, se = sqrt(fmax(sum2 / n - mean * mean, 0) / (n - 1));
+    return se > 0 ? (mean - expected) / se : (mean == expected ? 0 : INFINITY);
+}
+
+/* Both confidence forms are unbiased, per channel R, G, B (z of each form's mean against
+ * the integral, and the paired z of their difference, which shares the inputs and so has
+ * far less variance); the same test rejects a planted broken Falcor weight (the neighbour's
+ * pair without the canonical's 1/k: its weights do not sum to 1) in every channel. */
+TEST(mis_toy_pairwise_confidence_forms_unbiased)
+{
+    const toy_config *configs[2] = {&config_one_canonical, &config_two_canonical};
+    toy_paired t;
+    int c, ch, form;
+    for (c = 0; c < 2; ++c) {
+        toy_paired_runs(configs[c], TOY_CORRECT, &t);
+        for (ch = 0; ch < 3; ++ch) {
+            double I = toy_rgb_integral(ch, 1.0), zd = toy_z(t.dsum[ch], t.dsum2[ch], 0);
+            for (form = 0; form < 2; ++form) {
+                double z = toy_z(t.sum[form][ch], t.sum2[form][ch], I);
+                if (getenv("RESTIR_TEST_VERBOSE"))
+                    printf("    %s %-10s channel %c: z vs I = %+.2f (paired z %+.2f)\n", configs[c]->name,
+                           form ? "falcor" : "stochastic", "RGB"[ch], z, zd);
+                CHECKF(fabs(z) < TOY_Z_LIMIT, "%s, %s form, channel %c: mean %.6f vs I %.6f, z = %.2f", configs[c]->name,
+                       form ? "falcor" : "stochastic", "RGB"[ch], t.sum[form][ch] / TOY_RUNS, I, z);
+            }
+            CHECKF(fabs(zd) < TOY_Z_LIMIT, "%s, channel %c: paired difference stochastic - falcor, z = %.2f",
+                   configs[c]->name, "RGB"[ch], zd);
+        }
+    }
+    toy_paired_runs(&config_one_canonical, TOY_FALCOR_PAIR_WITHOUT_K, &t);
+    for (ch = 0; ch < 3; ++ch) {
+        double I = toy_rgb_integral(ch, 1.0), z = toy_z(t.sum[1][ch], t.sum2[1][ch], I),
+               zd = toy_z(t.dsum[ch], t.dsum2[ch], 0);
+        if (getenv("RESTIR_TEST_VERBOSE"))
+            printf("    planted falcor without 1/k, channel %c: z vs I = %+.2f, paired z = %+.2f\n", "RGB"[ch], z, zd);
+        CHECKF(fabs(z) >= TOY_Z_LIMIT && fabs(zd) >= TOY_Z_LIMIT,
+               "the planted broken weight passed in channel %c (z = %.2f, paired z = %.2f)", "RGB"[ch], z, zd);
     }
 }

@@ -251,17 +251,21 @@ TEST(oracle_dump_diff_unit)
     b[0] = a[0];
     b[1] = a[1];
     CHECK(dump_diff(a, b, 2, 1, &t, &r, &e) == 0 && r.same == 2 && dump_diff_pass(&r, &t));
+    dump_diff_result_free(&r);
     b[1].y.sample = 8; /* another tree: another sample */
     CHECK(dump_diff(a, b, 2, 1, &t, &r, &e) == 0 && r.same == 1 && !dump_diff_pass(&r, &t) && r.n_first == 1 &&
-          r.firsts[0].x == 1 && !r.firsts[0].same_sample);
+          r.firsts[0].x == 1 && r.firsts[0].kind == DUMP_PIXEL_OTHER);
+    dump_diff_result_free(&r);
     b[1] = a[1];
     b[1].y.technique = PATH_TECH_BSDF; /* same tree, other candidate */
     CHECK(!dump_same_sample(&a[1].y, &b[1].y));
     b[1] = a[1];
     b[1].W = (real)(2 * (1 + 1e-6));
     CHECK(dump_diff(a, b, 2, 1, &t, &r, &e) == 0 && !dump_diff_pass(&r, &t));
-    t.max_rel_w = 1e-5;
+    dump_diff_result_free(&r);
+    t.max_rel[DF_W] = 1e-5;
     CHECK(dump_diff(a, b, 2, 1, &t, &r, &e) == 0 && dump_diff_pass(&r, &t));
+    dump_diff_result_free(&r);
     CHECK(dump_rel_error(0, 0) == 0 && dump_rel_error(1, 0) == 1 && dump_rel_error(2, 1) == 0.5);
 }
 

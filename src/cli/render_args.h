@@ -46,7 +46,7 @@ typedef struct {
     int accumulate, no_temporal;
     restir_sequence seq;
     /* the golden-oracle kit (stage_dump.h): --dump-dir, --dump-stages, --from-dump, --from-stage */
-    const char *dump_stages, *from_stage;
+    const char *dump_stages, *from_stage, *dump_region;
     stage_io sio;
     frame_stage_hook hook; /* sio as the frame's stage listener */
 } render_args;

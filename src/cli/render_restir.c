@@ -158,6 +158,11 @@ int render_restir_options(cli_option *rows, restir_options *o, render_restir_fla
                     "resampling MIS: constant (biased, GRIS 5.6), talbot (default, Eq. 36), pairwise (Eq. 37), "
                     "pairwise-defensive (Eq. 38), stochastic-pairwise (Stochastic MIS Eqs. 16-19: Ne picks by Eq. 17)",
                     mis_choices, 0, 0);
+    rows[n++] = row("--pairwise-confidence", OPT_CHOICE, &o->pairwise_confidence,
+                    "confidences in pairwise-defensive MIS: stochastic (default: c_S/(c_S + c_c) in each pair, "
+                    "Stochastic MIS Eq. 11) or falcor (1/(k+1) per pair with c_c/k inside, the authors' Falcor code; "
+                    "docs/mis-derivations.md 3.5)",
+                    restir_pairwise_confidence_names, 0, 0);
     rows[n++] = row("--stochastic-n", OPT_INT, &o->stochastic.n_picks,
                     "stochastic-pairwise: candidates picked per pixel and pass, N~ (default 1)", NULL, 1,
                     STOCHASTIC_MAX_PICKS);

@@ -22,7 +22,7 @@ static int ablation_index(const char *const *names, const char *name)
 static int apply_stage_options(render_args *a)
 {
     rerror e;
-    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage;
+    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage || a->dump_region;
     if (!any) return 0;
     if (!a->sequence) {
         fprintf(stderr, "restir render: --dump-dir, --dump-stages, --from-dump and --from-stage need --sequence A..B\n");
@@ -30,6 +30,10 @@ static int apply_stage_options(render_args *a)
     }
     if (a->dump_stages && !a->sio.dump_dir) {
         fprintf(stderr, "restir render: --dump-stages needs --dump-dir DIR\n");
+        return 2;
+    }
+    if (a->dump_region && (!a->sio.dump_dir || stage_region_parse(a->dump_region, &a->sio.region, &e))) {
+        fprintf(stderr, "restir render: %s\n", a->sio.dump_dir ? e.msg : "--dump-region needs --dump-dir DIR");
         return 2;
     }
     if (!a->sio.from_dir != !a->from_stage) {

@@ -54,6 +54,7 @@ int render_table_build(cli_option *options, render_args *a, method_rows *methods
             {"--no-temporal", OPT_FLAG, &a->no_temporal, "with --sequence: no temporal reuse (independent frames through the same pipeline)", NULL, 0, 0, NULL},
             {"--dump-dir", OPT_STRING, &a->sio.dump_dir, "with --sequence: write DIR/manifest.json and per frame the G-buffer and the reservoirs after each stage (docs/oracle.md)", NULL, 0, 0, NULL},
             {"--dump-stages", OPT_STRING, &a->dump_stages, "with --dump-dir: only these stages, e.g. initial,temporal,spatial1 (default: all)", NULL, 0, 0, NULL},
+            {"--dump-region", OPT_STRING, &a->dump_region, "with --dump-dir: dump only the pixels of the rectangle X,Y,W,H (docs/oracle.md)", NULL, 0, 0, NULL},
             {"--from-dump", OPT_STRING, &a->sio.from_dir, "with --sequence: restart from this stage dump (needs --from-stage)", NULL, 0, 0, NULL},
             {"--from-stage", OPT_STRING, &a->from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a->stats, "write timings and counters as JSON", NULL, 0, 0, NULL},

@@ -84,6 +84,14 @@ void restir_options_preset_gris_realtime(restir_options *o)
 
 int restir_options_biased(const restir_options *o) { return correlation_options_biased(&o->correlation); }
 
+const char *const restir_pairwise_confidence_names[] = {"stochastic", "falcor", NULL};
+
+mis_family restir_step_mis(const restir_options *o, int mis)
+{
+    if (mis == MIS_PAIRWISE_DEFENSIVE && o->pairwise_confidence == 1) return MIS_PAIRWISE_DEFENSIVE_FALCOR;
+    return (mis_family)mis;
+}
+
 /* Each technique checks its own options (its message names it). */
 static int techniques_validate(const restir_options *o, rerror *e)
 {
@@ -149,6 +157,8 @@ int restir_options_validate(const restir_options *o, rerror *e)
     if (o->ablation < 0 || o->ablation >= RESTIR_ABLATION_COUNT)
         return rerror_set(e, "restir: unknown ablation %d", o->ablation);
     if (o->threads < 1) return rerror_set(e, "restir: %d threads", o->threads);
+    if (o->pairwise_confidence < 0 || o->pairwise_confidence > 1)
+        return rerror_set(e, "restir: unknown pairwise confidence form %d", o->pairwise_confidence);
     if (techniques_validate(o, e)) return -1;
     return combinations_validate(o, e);
 }
@@ -217,6 +227,8 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
     else
         fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g", tp->enabled ? "true" : "false",
                 restir_mis_names[tp->mis], tp->mcap);
+    if (o->pairwise_confidence) /* issue 31 (only when used) */
+        fprintf(out, ", \"pairwise_confidence\": \"%s\"", restir_pairwise_confidence_names[o->pairwise_confidence]);
     fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d, \"light_ris\": %d, \"light_tiles\": %s}",
             o->mutation.count, mutate_strategy_names[o->mutation.strategy], o->mutation.stages,
             o->light_ris.candidates, o->light_ris.tiles ? "true" : "false");

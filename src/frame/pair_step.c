@@ -14,6 +14,7 @@
 #include <stdlib.h>
 
 #include "restir/core/threads.h"
+#include "restir/frame/options.h"
 
 static uint32_t pass_sample(const frame_job *j)
 {
@@ -123,6 +124,6 @@ void frame_pair_resample(frame_job *j, worker_state *w, long p, int n, reservoir
     pre.forward = w->fwd;
     pre.reverse = w->rev;
     pre.drop_reverse = j->ctx.ablation == RESTIR_ABLATE_PAIR_MIS;
-    spatial_resample_preshifted(&j->ctx, (mis_family)j->o->spatial.mis, n + 1, w->x1, w->in, &pre, w->u, out, &w->ws,
+    spatial_resample_preshifted(&j->ctx, restir_step_mis(j->o, j->o->spatial.mis), n + 1, w->x1, w->in, &pre, w->u, out, &w->ws,
                                 &w->st.spatial);
 }

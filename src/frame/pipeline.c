@@ -125,7 +125,7 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     tf.frame[0] = (int)j->frame;
     tf.frame[1] = back == &j->ctx ? (int)j->frame : pl->prev_frame;
     temporal_resample(&j->ctx, back, pl->animated && o->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX ? &tf : NULL,
-                      (mis_family)o->temporal.mis, &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
+                      restir_step_mis(o, o->temporal.mis), &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
                       q >= 0 ? &pl->prev[q] : NULL, temporal_cap(pl, q, &w->st.temporal), u, &pl->out[p], &w->ws,
                       &w->st.temporal);
 }

@@ -139,7 +139,7 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
     if (j->pair)
         frame_pair_resample(j, w, p, n, &j->dst[p]); /* Enhanced §3: the pair's shifts from the pre-pass */
     else
-        spatial_resample(&j->ctx, (mis_family)j->o->spatial.mis, n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws,
+        spatial_resample(&j->ctx, restir_step_mis(j->o, j->o->spatial.mis), n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws,
                          &w->st.spatial);
     if (j->vector_shade && j->pass == j->o->spatial_passes - 1)
         j->vector_shade[p] = vector_estimate(&w->ws, w->in, n + 1, &w->st.spatial);

@@ -2,15 +2,97 @@
 #include "restir/oracle/dump_diff.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+static const char *const field_names[DF_COUNT] = {
+    "wsum",     "W",           "confidence",  "n_invalid", "rc_k",          "n_pss",   "lobe",
+    "rc_triangle", "rc_bary",  "rc_position", "rc_normal", "rc_flags",      "rc_wo",   "rc_pdf_prev",
+    "rc_geom",  "rc_pdf",      "rc_radiance", "light_pdf", "F",             "target",  "pss"};
+
+const char *dump_field_name(dump_field f) { return (int)f >= 0 && f < DF_COUNT ? field_names[f] : NULL; }
+
+int dump_field_is_integer(dump_field f)
+{
+    return f == DF_N_INVALID || f == DF_RC_K || f == DF_N_PSS || f == DF_LOBE || f == DF_RC_TRIANGLE ||
+           f == DF_RC_FLAGS;
+}
+
+int dump_field_parse(const char *name)
+{
+    int f;
+    for (f = 0; f < DF_COUNT; ++f)
+        if (!strcmp(name, field_names[f])) return f;
+    return -1;
+}
 
 void dump_diff_tolerance_default(dump_diff_tolerance *t)
 {
     /* the defaults ask for a bit-identical build (same RNG, same precision): docs/oracle.md */
-    t->max_rel_w = t->max_rel_target = t->max_rel_conf = 0;
+    memset(t, 0, sizeof *t);
     t->min_same = 1;
+    t->max_outlier_fraction = 0;
     t->first = 5;
+}
+
+void dump_diff_tolerance_all(dump_diff_tolerance *t, double v)
+{
+    int f;
+    for (f = 0; f < DF_COUNT; ++f)
+        if (!dump_field_is_integer((dump_field)f)) t->max_rel[f] = v;
+}
+
+/* Calls item(t, name, value) for each comma-separated "name[=value]" of list. */
+static int each_item(dump_diff_tolerance *t, const char *list, const char *option, int with_value, rerror *e)
+{
+    const char *p = list;
+    if (!*p) return rerror_set(e, "%s: empty list", option);
+    while (*p) {
+        char item[64], *eq, *end;
+        size_t n = strcspn(p, ",");
+        int f;
+        double v = 0;
+        if (n == 0 || n >= sizeof item) return rerror_set(e, "%s: bad item in '%s'", option, list);
+        memcpy(item, p, n);
+        item[n] = '\0';
+        eq = strchr(item, '=');
+        if (with_value) {
+            if (!eq) return rerror_set(e, "%s: '%s' is not FIELD=VALUE", option, item);
+            *eq = '\0';
+            v = strtod(eq + 1, &end);
+            if (end == eq + 1 || *end || !(v >= 0) || !isfinite(v))
+                return rerror_set(e, "%s: '%s' is not a finite number >= 0", option, eq + 1);
+        } else if (eq)
+            return rerror_set(e, "%s: '%s' takes no value", option, item);
+        f = dump_field_parse(item);
+        if (f < 0 && !(with_value && !strcmp(item, "all")))
+            return rerror_set(e, "%s: unknown field '%s' (docs/formats.md \"Record\": wsum, W, confidence, n_invalid, "
+                                 "rc_k, n_pss, lobe, rc_triangle, rc_bary, rc_position, rc_normal, rc_flags, rc_wo, "
+                                 "rc_pdf_prev, rc_geom, rc_pdf, rc_radiance, light_pdf, F, target, pss)", option, item);
+        if (!with_value)
+            t->ignore[f] = 1;
+        else if (f < 0)
+            dump_diff_tolerance_all(t, v);
+        else if (dump_field_is_integer((dump_field)f))
+            return rerror_set(e, "%s: %s is an integer field, compared exactly (use --ignore to skip it)", option,
+                              item);
+        else
+            t->max_rel[f] = v;
+        p += n;
+        if (*p == ',') ++p;
+    }
+    return 0;
+}
+
+int dump_diff_tolerance_parse(dump_diff_tolerance *t, const char *list, rerror *e)
+{
+    return each_item(t, list, "--max-rel", 1, e);
+}
+
+int dump_diff_ignore_parse(dump_diff_tolerance *t, const char *list, rerror *e)
+{
+    return each_item(t, list, "--ignore", 0, e);
 }
 
 int dump_same_sample(const path_sample *a, const path_sample *b)
@@ -23,10 +105,29 @@ int dump_same_sample(const path_sample *a, const path_sample *b)
 
 double dump_rel_error(double a, double b)
 {
-    double m = fabs(a) > fabs(b) ? fabs(a) : fabs(b);
-    if (isnan(a) || isnan(b)) return isnan(a) && isnan(b) ? 0 : 1;
+    if (isnan(a) || isnan(b)) return NAN;
     if (a == b) return 0;
-    return fabs(a - b) / m;
+    if (!isfinite(a) || !isfinite(b)) return INFINITY;
+    return fabs(a - b) / (fabs(a) > fabs(b) ? fabs(a) : fabs(b));
+}
+
+static int finite3(double x, double y, double z) { return isfinite(x) && isfinite(y) && isfinite(z); }
+
+int dump_record_finite(const reservoir *r)
+{
+    const path_sample *s = &r->y;
+    int i;
+    if (!finite3((double)r->wsum, (double)r->W, (double)r->confidence)) return 0;
+    if (!finite3(s->rc_bary[0], s->rc_bary[1], 0) || !finite3(s->rc_position.x, s->rc_position.y, s->rc_position.z) ||
+        !finite3(s->rc_normal.x, s->rc_normal.y, s->rc_normal.z) ||
+        !finite3((double)s->rc_wo.x, (double)s->rc_wo.y, (double)s->rc_wo.z) ||
+        !finite3((double)s->rc_pdf_prev, (double)s->rc_geom, (double)s->rc_pdf) ||
+        !finite3((double)s->rc_radiance.r, (double)s->rc_radiance.g, (double)s->rc_radiance.b) ||
+        !finite3((double)s->light_pdf, (double)s->target, 0) || !finite3((double)s->F.r, (double)s->F.g, (double)s->F.b))
+        return 0;
+    for (i = 0; s->pss && i < s->n_pss; ++i)
+        if (!isfinite((double)s->pss[i])) return 0;
+    return 1;
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -35,7 +136,8 @@ static int cmp_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* Quantiles 0.5, 0.9, 0.99 (nearest rank) and the maximum of v[0..n-1] (sorted in place). */
+/* Quantiles 0.5, 0.9, 0.99 (nearest rank) and the maximum of v[0..n-1] (sorted in place;
+ * every entry is finite or +inf, never NaN, so the order is total). */
 static void quantiles(double *v, long n, double q[4])
 {
     static const double p[3] = {0.5, 0.9, 0.99};
@@ -52,15 +154,132 @@ static void quantiles(double *v, long n, double q[4])
     q[3] = v[n - 1];
 }
 
+/* The relative error of a field of n components: max_i |a_i - b_i| / max_i max(|a_i|, |b_i|).
+ * One scale for the whole vector, so that a coordinate near 0 of a position, a normal or an
+ * RGB triple does not turn a rounding difference into a relative error of 1 (a per-component
+ * relative error did: binary32 builds showed rc_position "errors" above 1e-2). For n = 1 it
+ * is dump_rel_error. */
+static double rel_max(const double *a, const double *b, int n)
+{
+    double diff = 0, scale = 0;
+    int i;
+    for (i = 0; i < n; ++i) {
+        double d = fabs(a[i] - b[i]);
+        if (d > diff) diff = d;
+        if (fabs(a[i]) > scale) scale = fabs(a[i]);
+        if (fabs(b[i]) > scale) scale = fabs(b[i]);
+    }
+    return diff == 0 ? 0 : diff / scale;
+}
+
+/* Relative error of one real field of two same-sample finite records (0 if equal). */
+static double field_error(dump_field f, const reservoir *ra, const reservoir *rb)
+{
+    const path_sample *a = &ra->y, *b = &rb->y;
+    double x[PATH_MAX_PSS], y[PATH_MAX_PSS];
+    int i, n = 0;
+    switch (f) {
+    case DF_WSUM: x[0] = (double)ra->wsum, y[0] = (double)rb->wsum, n = 1; break;
+    case DF_W: x[0] = (double)ra->W, y[0] = (double)rb->W, n = 1; break;
+    case DF_CONFIDENCE: x[0] = (double)ra->confidence, y[0] = (double)rb->confidence, n = 1; break;
+    case DF_RC_BARY: x[0] = a->rc_bary[0], x[1] = a->rc_bary[1], y[0] = b->rc_bary[0], y[1] = b->rc_bary[1], n = 2; break;
+    case DF_RC_POSITION:
+        x[0] = a->rc_position.x, x[1] = a->rc_position.y, x[2] = a->rc_position.z;
+        y[0] = b->rc_position.x, y[1] = b->rc_position.y, y[2] = b->rc_position.z, n = 3;
+        break;
+    case DF_RC_NORMAL:
+        x[0] = a->rc_normal.x, x[1] = a->rc_normal.y, x[2] = a->rc_normal.z;
+        y[0] = b->rc_normal.x, y[1] = b->rc_normal.y, y[2] = b->rc_normal.z, n = 3;
+        break;
+    case DF_RC_WO:
+        x[0] = (double)a->rc_wo.x, x[1] = (double)a->rc_wo.y, x[2] = (double)a->rc_wo.z;
+        y[0] = (double)b->rc_wo.x, y[1] = (double)b->rc_wo.y, y[2] = (double)b->rc_wo.z, n = 3;
+        break;
+    case DF_RC_PDF_PREV: x[0] = (double)a->rc_pdf_prev, y[0] = (double)b->rc_pdf_prev, n = 1; break;
+    case DF_RC_GEOM: x[0] = (double)a->rc_geom, y[0] = (double)b->rc_geom, n = 1; break;
+    case DF_RC_PDF: x[0] = (double)a->rc_pdf, y[0] = (double)b->rc_pdf, n = 1; break;
+    case DF_RC_RADIANCE:
+        x[0] = (double)a->rc_radiance.r, x[1] = (double)a->rc_radiance.g, x[2] = (double)a->rc_radiance.b;
+        y[0] = (double)b->rc_radiance.r, y[1] = (double)b->rc_radiance.g, y[2] = (double)b->rc_radiance.b, n = 3;
+        break;
+    case DF_LIGHT_PDF: x[0] = (double)a->light_pdf, y[0] = (double)b->light_pdf, n = 1; break;
+    case DF_F:
+        x[0] = (double)a->F.r, x[1] = (double)a->F.g, x[2] = (double)a->F.b;
+        y[0] = (double)b->F.r, y[1] = (double)b->F.g, y[2] = (double)b->F.b, n = 3;
+        break;
+    case DF_TARGET: x[0] = (double)a->target, y[0] = (double)b->target, n = 1; break;
+    case DF_PSS:
+        n = a->n_pss < b->n_pss ? a->n_pss : b->n_pss; /* n_pss itself is compared exactly */
+        for (i = 0; i < n; ++i) {
+            x[i] = a->pss ? (double)a->pss[i] : 0;
+            y[i] = b->pss ? (double)b->pss[i] : 0;
+        }
+        break;
+    default: break;
+    }
+    return rel_max(x, y, n);
+}
+
+/* 1 if an integer field differs. */
+static int field_int_differs(dump_field f, const reservoir *ra, const reservoir *rb)
+{
+    const path_sample *a = &ra->y, *b = &rb->y;
+    switch (f) {
+    case DF_N_INVALID: return ra->n_invalid != rb->n_invalid;
+    case DF_RC_K: return a->rc_k != b->rc_k;
+    case DF_N_PSS: return a->n_pss != b->n_pss;
+    case DF_LOBE: return memcmp(a->lobe, b->lobe, sizeof a->lobe) != 0;
+    case DF_RC_TRIANGLE: return a->rc_triangle != b->rc_triangle;
+    case DF_RC_FLAGS: return a->rc_flags != b->rc_flags;
+    default: return 0;
+    }
+}
+
+/* The x_k fields: meaningful only when rc_k != 0 (docs/formats.md). */
+static int is_rc_field(dump_field f) { return f >= DF_RC_TRIANGLE && f <= DF_RC_RADIANCE; }
+
+/* Compares every field of two finite same-sample records: the first field beyond its
+ * tolerance (-1 if none) and its error; records the per-field statistics in r. */
+static int compare_fields(const reservoir *a, const reservoir *b, const dump_diff_tolerance *t, dump_diff_result *r,
+                          double *worst)
+{
+    int f, first = -1;
+    for (f = 0; f < DF_COUNT; ++f) {
+        double err;
+        int beyond;
+        if (t->ignore[f]) continue;
+        if (is_rc_field((dump_field)f) && (a->y.rc_k == PATH_RC_NONE || a->y.rc_k != b->y.rc_k)) continue;
+        if (dump_field_is_integer((dump_field)f)) {
+            err = field_int_differs((dump_field)f, a, b) ? 1 : 0;
+            beyond = err > 0;
+        } else {
+            err = field_error((dump_field)f, a, b);
+            beyond = !(err <= t->max_rel[f]);
+        }
+        if (err > r->field_max[f]) r->field_max[f] = err;
+        if (beyond) {
+            r->field_beyond[f]++;
+            if (first < 0) {
+                first = f;
+                *worst = err;
+            }
+        }
+    }
+    return first;
+}
+
 static void note_pixel(dump_diff_result *r, const dump_diff_tolerance *t, const reservoir *a, const reservoir *b,
-                       long p, long width, int same)
+                       long p, long width, int kind, int field, double rel)
 {
     dump_diff_pixel *d;
-    if (r->n_first >= t->first || r->n_first >= DUMP_DIFF_MAX_FIRST) return;
+    if (r->n_first >= t->first) return;
     d = &r->firsts[r->n_first++];
     d->x = p % width;
     d->y = p / width;
-    d->same_sample = same;
+    d->kind = kind;
+    d->field = field;
+    d->rel = rel;
+    d->nonfinite_in = kind == DUMP_PIXEL_NONFINITE ? (!dump_record_finite(a)) + 2 * (!dump_record_finite(b)) : 0;
     d->w[0] = (double)a->W;
     d->w[1] = (double)b->W;
     d->target[0] = (double)a->y.target;
@@ -87,7 +306,7 @@ static double quantity(const reservoir *r, enum image_quantity q)
     return (double)r->y.target * (double)r->W; /* p̂ = luminance(F) */
 }
 
-/* Mean and standard error of a quantity over the image. */
+/* Mean and standard error of a quantity over the image (non-finite if a value is). */
 static void image_mean(const reservoir *rs, long n, enum image_quantity q, double *mean, double *se)
 {
     double s = 0, s2 = 0;
@@ -101,37 +320,65 @@ static void image_mean(const reservoir *rs, long n, enum image_quantity q, doubl
     *se = n > 1 ? sqrt(fmax(s2 / (double)n - *mean * *mean, 0) / (double)(n - 1)) : 0;
 }
 
+void dump_diff_result_free(dump_diff_result *r)
+{
+    free(r->firsts);
+    free(r->mask);
+    r->firsts = NULL;
+    r->mask = NULL;
+}
+
+/* Classifies pixel p (DUMP_PIXEL_*) and adds it to the statistics. */
+static int classify(const reservoir *a, const reservoir *b, long p, long width, const dump_diff_tolerance *t,
+                    dump_diff_result *r, double *ew, double *et, double *ec, long *k)
+{
+    int field = -1, kind;
+    double rel = 0;
+    if (!dump_record_finite(a) || !dump_record_finite(b)) {
+        kind = DUMP_PIXEL_NONFINITE; /* never within a tolerance (dump_diff.h) */
+        r->nonfinite++;
+        if (dump_same_sample(&a->y, &b->y)) r->same++;
+    } else if (!dump_same_sample(&a->y, &b->y)) {
+        kind = DUMP_PIXEL_OTHER;
+        r->other++;
+    } else {
+        ew[*k] = dump_rel_error((double)a->W, (double)b->W);
+        et[*k] = dump_rel_error((double)a->y.target, (double)b->y.target);
+        ec[*k] = dump_rel_error((double)a->confidence, (double)b->confidence);
+        ++*k;
+        r->same++;
+        if (et[*k - 1] <= t->max_rel[DF_TARGET]) r->target_agree++;
+        field = compare_fields(a, b, t, r, &rel);
+        kind = field < 0 ? DUMP_PIXEL_SAME : DUMP_PIXEL_BEYOND;
+        if (field >= 0) r->beyond++;
+    }
+    if (kind != DUMP_PIXEL_SAME) {
+        r->differing++;
+        note_pixel(r, t, a, b, p, width, kind, field, rel);
+    }
+    return kind;
+}
+
 int dump_diff(const reservoir *a, const reservoir *b, long width, long height, const dump_diff_tolerance *t,
               dump_diff_result *r, rerror *e)
 {
-    long n = width * height, p, k = 0;
-    double *ew = rmalloc((size_t)n + 1, sizeof *ew, e), *et = rmalloc((size_t)n + 1, sizeof *et, e),
-           *ec = rmalloc((size_t)n + 1, sizeof *ec, e);
+    long n = width * height, p, k = 0, nf = t->first < n ? t->first : n;
+    double *ew, *et, *ec;
     memset(r, 0, sizeof *r);
-    if (!ew || !et || !ec) {
+    ew = rmalloc((size_t)n + 1, sizeof *ew, e);
+    et = rmalloc((size_t)n + 1, sizeof *et, e);
+    ec = rmalloc((size_t)n + 1, sizeof *ec, e);
+    r->mask = rmalloc((size_t)n, 1, e);
+    r->firsts = rmalloc((size_t)nf + 1, sizeof *r->firsts, e);
+    if (!ew || !et || !ec || !r->mask || !r->firsts) {
         free(ew);
         free(et);
         free(ec);
+        dump_diff_result_free(r);
         return -1;
     }
     r->pixels = n;
-    for (p = 0; p < n; ++p) {
-        int same = dump_same_sample(&a[p].y, &b[p].y);
-        int differs = !same;
-        if (same) {
-            ew[k] = dump_rel_error((double)a[p].W, (double)b[p].W);
-            et[k] = dump_rel_error((double)a[p].y.target, (double)b[p].y.target);
-            ec[k] = dump_rel_error((double)a[p].confidence, (double)b[p].confidence);
-            r->same++;
-            if (et[k] <= t->max_rel_target) r->target_agree++;
-            differs = ew[k] > t->max_rel_w || et[k] > t->max_rel_target || ec[k] > t->max_rel_conf;
-            k++;
-        }
-        if (differs) {
-            r->differing++;
-            note_pixel(r, t, &a[p], &b[p], p, width, same);
-        }
-    }
+    for (p = 0; p < n; ++p) r->mask[p] = (unsigned char)classify(&a[p], &b[p], p, width, t, r, ew, et, ec, &k);
     quantiles(ew, k, r->q_w);
     quantiles(et, k, r->q_target);
     quantiles(ec, k, r->q_conf);
@@ -150,13 +397,15 @@ int dump_diff(const reservoir *a, const reservoir *b, long width, long height, c
 int dump_diff_pass(const dump_diff_result *r, const dump_diff_tolerance *t)
 {
     double same = r->pixels ? (double)r->same / (double)r->pixels : 1;
-    return same >= t->min_same && r->q_w[3] <= t->max_rel_w && r->q_target[3] <= t->max_rel_target &&
-           r->q_conf[3] <= t->max_rel_conf;
+    /* the allowance is a count of pixels, floor(fraction x pixels): 0 allows none */
+    double allowed = floor(t->max_outlier_fraction * (double)r->pixels);
+    return r->pixels > 0 && r->nonfinite == 0 && same >= t->min_same && (double)r->beyond <= allowed;
 }
 
 static double two_sample_z(const double *mean, const double *se)
 {
     double s = sqrt(se[0] * se[0] + se[1] * se[1]);
+    if (!isfinite(mean[0]) || !isfinite(mean[1]) || !isfinite(s)) return NAN; /* fails every |z| <= bound */
     if (s == 0) return mean[0] == mean[1] ? 0 : INFINITY;
     return (mean[0] - mean[1]) / s;
 }

@@ -54,7 +54,7 @@ int inspect_spatial_step(const restir_context *c, const restir_options *o, const
     in[0] = &g->in[0];
     in[1] = &g->in[1];
     memset(&st, 0, sizeof st);
-    spatial_resample(c, (mis_family)o->spatial.mis, 2, x1, in, g->u, &g->out, &g->ws, &st);
+    spatial_resample(c, restir_step_mis(o, o->spatial.mis), 2, x1, in, g->u, &g->out, &g->ws, &st);
     step_end(g);
     return 0;
 }
@@ -74,7 +74,7 @@ int inspect_temporal_step(const restir_context *c, const restir_options *o, cons
     if (step_begin(g, 1, 1, ra, rprev, key, RNG_VERTEX_TEMPORAL_RIS, e)) return -1;
     if (!g->shown) return 0;
     memset(&st, 0, sizeof st);
-    temporal_resample(c, c, NULL, (mis_family)o->temporal.mis, xa, xprev, &g->in[0], &g->in[1], (real)o->temporal.mcap, g->u,
+    temporal_resample(c, c, NULL, restir_step_mis(o, o->temporal.mis), xa, xprev, &g->in[0], &g->in[1], (real)o->temporal.mcap, g->u,
                       &g->out, &g->ws, &st);
     step_end(g);
     return 0;

@@ -3,6 +3,7 @@
 #include "restir/oracle/stage_dump.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -58,17 +59,50 @@ int stage_io_set_stages(stage_io *io, const char *list, rerror *e)
     return 0;
 }
 
+int stage_region_parse(const char *text, stage_region *r, rerror *e)
+{
+    long v[4];
+    int n = 0;
+    const char *p = text;
+    while (n < 4) {
+        char *end;
+        v[n] = strtol(p, &end, 10);
+        if (end == p || v[n] < 0 || v[n] > 65536) break;
+        ++n;
+        p = end;
+        if (n < 4 && *p++ != ',') break;
+    }
+    if (n != 4 || *p || v[2] == 0 || v[3] == 0)
+        return rerror_set(e, "--dump-region: '%s' is not X,Y,W,H (pixels; W, H > 0)", text);
+    r->x = v[0];
+    r->y = v[1];
+    r->width = v[2];
+    r->height = v[3];
+    return 0;
+}
+
+/* A region dump cannot restart a run: the pixels outside it have no input (docs/oracle.md). */
+static int refuse_region_restart(const stage_io *io, const stage_manifest *m, rerror *e)
+{
+    if (!m->region.width) return 0;
+    return rerror_set(e, "--from-dump %s: a region dump (--dump-region %ld,%ld,%ld,%ld) cannot restart a run: the "
+                         "stages after --from-stage read every pixel's reservoir and its neighbours'; dump the whole "
+                         "image to restart",
+                      io->from_dir, m->region.x, m->region.y, m->region.width, m->region.height);
+}
+
 int stage_io_begin(stage_io *io, int first, int last, rerror *e)
 {
     io->first_frame = first;
     io->last_frame = last;
     io->n_order = io->frames_done = io->failed = io->restarted = 0;
+    io->rc_missing = io->rc_nonempty = 0;
     if (io->from_dir && !valid_name(io->from_stage))
         return rerror_set(e, "--from-stage: '%s' is not a stage name", io->from_stage);
     if (io->from_dir) {
         stage_manifest m;
         int i;
-        if (stage_manifest_read(io->from_dir, &m, e)) return -1;
+        if (stage_manifest_read(io->from_dir, &m, e) || refuse_region_restart(io, &m, e)) return -1;
         for (i = 0; i < m.n_order; ++i) strcpy(io->from_order[i], m.order[i]);
         io->n_from_order = m.n_order;
     }
@@ -141,6 +175,53 @@ static void note_order(stage_io *io, const char *name)
     if (io->n_order < STAGE_MAX && strlen(name) < STAGE_NAME_SIZE) strcpy(io->order[io->n_order++], name);
 }
 
+/* A read reservoir must be usable as input: W, wsum and c finite (the reader lets +inf
+ * through, a format check only; an infinite W would poison every later stage). Counts the
+ * non-empty records without usable reconnection data: rc_k = 0, or rc_k set with a zero
+ * Jacobian source term (docs/formats.md). A GPU build that leaves these fields 0 makes
+ * every hybrid or reconnection shift of its samples fail (the offset path reconnects where
+ * the sample does not: rc_offset_reconnects), so spatial reuse would stop without a word;
+ * stage_io_frame_end refuses such a dump once it knows the shift. */
+static int restart_records_check(stage_io *io, const char *path, const reservoir *in, size_t n)
+{
+    size_t i;
+    long missing = 0, nonempty = 0;
+    for (i = 0; i < n; ++i) {
+        const path_sample *s = &in[i].y;
+        if (!isfinite((double)in[i].W) || !isfinite((double)in[i].wsum) || !isfinite((double)in[i].confidence))
+            return rerror_at(&io->err, path, 0, "record %lu (pixel %lu,%lu): W, wsum and confidence must be finite to "
+                             "restart from them (W %g, wsum %g, c %g)", (unsigned long)i, (unsigned long)(i % (size_t)io->width),
+                             (unsigned long)(i / (size_t)io->width), (double)in[i].W, (double)in[i].wsum,
+                             (double)in[i].confidence);
+        if (!path_sample_is_valid(s)) continue;
+        nonempty++;
+        if (s->rc_k == PATH_RC_NONE || !(s->rc_pdf_prev > 0) || !(s->rc_geom > 0) || !(s->rc_pdf > 0)) missing++;
+    }
+    if (nonempty > 0 && (double)missing / (double)nonempty > (io->rc_nonempty ? (double)io->rc_missing / (double)io->rc_nonempty : -1)) {
+        io->rc_missing = missing;
+        io->rc_nonempty = nonempty;
+        snprintf(io->rc_missing_path, sizeof io->rc_missing_path, "%s", path);
+    }
+    return 0;
+}
+
+/* Refuses a restart whose input lacks the reconnection data the shift needs: more than
+ * half of its non-empty samples (our own dumps: at most 21% on every shipped scene, most 0%;
+ * hall-glossy-far with its mirror-like floor is the 21%) with rc_k = 0 or a zero Jacobian
+ * source term, under a shift that reconnects. */
+static int restart_rc_verdict(const stage_io *io, const restir_options *o, rerror *e)
+{
+    if (!io->from_dir || o->shift == RESTIR_SHIFT_REPLAY || io->rc_nonempty < 16 ||
+        2 * io->rc_missing <= io->rc_nonempty)
+        return 0;
+    return rerror_at(e, io->rc_missing_path, 0,
+                     "%ld of %ld non-empty records have no usable reconnection data (rc_k = 0, or rc_pdf_prev, rc_geom "
+                     "or rc_pdf = 0); with --shift %s every shift of such a sample fails (the offset path reconnects "
+                     "where the sample does not), which would silently stop spatial reuse. Fill the reconnection "
+                     "fields (docs/formats.md \"Record\") or restart with --shift replay",
+                     io->rc_missing, io->rc_nonempty, restir_shift_names[o->shift]);
+}
+
 /* Replaces rs by the dumped output of stage `name` of the current frame. */
 static int restart_load(stage_io *io, const char *name, reservoir *rs, int width, int height)
 {
@@ -162,9 +243,25 @@ static int restart_load(stage_io *io, const char *name, reservoir *rs, int width
         free(in);
         return rerror_at(&io->err, path, 0, "holds primary-sample vectors, the run has no rows for them");
     }
+    if (restart_records_check(io, path, in, (size_t)width * (size_t)height)) {
+        free(in);
+        return -1;
+    }
     free(in);
     io->restarted++;
     return 0;
+}
+
+/* The region must lie inside the image (known from the first stage). */
+static int region_check(stage_io *io, int width, int height)
+{
+    const stage_region *r = &io->region;
+    if (!r->width) return 0;
+    if (r->x + r->width <= width && r->y + r->height <= height) return 0;
+    rerror_set(&io->err, "--dump-region %ld,%ld,%ld,%ld does not lie inside the %dx%d image", r->x, r->y, r->width,
+               r->height, width, height);
+    io->failed = 1;
+    return -1;
 }
 
 void stage_io_reservoirs(stage_io *io, const char *name, reservoir *rs, int width, int height)
@@ -190,12 +287,29 @@ void stage_io_reservoirs(stage_io *io, const char *name, reservoir *rs, int widt
         return;
     }
     if (!wanted(io, name)) return;
+    if (region_check(io, width, height)) return;
     memset(&info, 0, sizeof info);
-    info.width = (uint32_t)width;
-    info.height = (uint32_t)height;
+    info.width = (uint32_t)(io->region.width ? io->region.width : width);
+    info.height = (uint32_t)(io->region.width ? io->region.height : height);
     info.frame = io->frame;
     strcpy(info.tag, name);
     stage_dump_path(path, sizeof path, io->dump_dir, io->frame, name, "resv");
+    if (io->region.width) {
+        /* only the rectangle's records, row-major within it (shallow copies: the samples'
+           primary-sample rows stay where they are, reservoir_dump_write reads them there) */
+        size_t n = (size_t)info.width * info.height, i;
+        reservoir *sub = rmalloc(n, sizeof *sub, &io->err);
+        if (!sub) {
+            io->failed = 1;
+            return;
+        }
+        for (i = 0; i < n; ++i)
+            sub[i] = rs[(size_t)(io->region.y + (long)(i / info.width)) * (size_t)width + (size_t)io->region.x +
+                        i % info.width];
+        if (reservoir_dump_write(path, sub, &info, &io->err)) io->failed = 1;
+        free(sub);
+        return;
+    }
     if (reservoir_dump_write(path, rs, &info, &io->err)) io->failed = 1;
 }
 
@@ -204,6 +318,23 @@ void stage_io_gbuffer(stage_io *io, const gbuffer *g)
     char path[4200];
     if (!io || io->failed || !io->dump_dir) return;
     stage_dump_path(path, sizeof path, io->dump_dir, io->frame, "gbuffer", "gbuf");
+    if (io->region.width) {
+        gbuffer sub;
+        long i, n = io->region.width * io->region.height;
+        if (region_check(io, g->width, g->height)) return;
+        sub.width = (int)io->region.width;
+        sub.height = (int)io->region.height;
+        sub.texels = rmalloc((size_t)n, sizeof *sub.texels, &io->err);
+        if (!sub.texels) {
+            io->failed = 1;
+            return;
+        }
+        for (i = 0; i < n; ++i)
+            sub.texels[i] = g->texels[(io->region.y + i / io->region.width) * g->width + io->region.x + i % io->region.width];
+        if (gbuffer_dump_write(path, &sub, io->frame, &io->err)) io->failed = 1;
+        free(sub.texels);
+        return;
+    }
     if (gbuffer_dump_write(path, g, io->frame, &io->err)) io->failed = 1;
 }
 
@@ -276,6 +407,9 @@ static int write_manifest(stage_io *io, const restir_options *o, rerror *e)
         fprintf(f.fp, "}");
     } else
         fprintf(f.fp, "null");
+    if (io->region.width) /* absent: the whole image (so whole-image manifests keep their bytes) */
+        fprintf(f.fp, ",\n  \"region\": {\"x\": %ld, \"y\": %ld, \"width\": %ld, \"height\": %ld}", io->region.x,
+                io->region.y, io->region.width, io->region.height);
     fprintf(f.fp, ",\n  \"files\": \"frame_NNNN/STAGE.resv, frame_NNNN/gbuffer.gbuf\",\n  \"options\": ");
     restir_options_write_json(f.fp, o, "  ");
     fprintf(f.fp, "\n}\n");
@@ -319,6 +453,7 @@ int stage_io_frame_end(stage_io *io, const void *restir_opts, rerror *e)
             return rerror_set(e, "--from-stage: this pipeline has no stage '%s' (its stages: %s)", io->from_stage,
                               stages);
     }
+    if (restart_rc_verdict(io, (const restir_options *)restir_opts, e)) return -1;
     io->frames_done++;
     if (io->dump_dir) return write_manifest(io, (const restir_options *)restir_opts, e);
     return 0;
@@ -334,17 +469,29 @@ static int read_long(json_reader *r, long *v)
     return 0;
 }
 
-static int read_order(json_reader *r, stage_manifest *m)
+static int read_names(json_reader *r, char names[][STAGE_NAME_SIZE], int *n)
 {
+    *n = 0;
     if (json_expect(r, '[')) return -1;
     if (json_peek(r) == ']') return json_expect(r, ']');
     for (;;) {
-        if (m->n_order >= STAGE_MAX) return rerror_at(r->e, r->path, r->line, "more than %d stages", STAGE_MAX);
-        if (json_read_string(r, m->order[m->n_order++], STAGE_NAME_SIZE)) return -1;
+        if (*n >= STAGE_MAX) return rerror_at(r->e, r->path, r->line, "more than %d stages", STAGE_MAX);
+        if (json_read_string(r, names[(*n)++], STAGE_NAME_SIZE)) return -1;
         if (json_peek(r) != ',') break;
         r->pos++;
     }
     return json_expect(r, ']');
+}
+
+static int read_order(json_reader *r, stage_manifest *m) { return read_names(r, m->order, &m->n_order); }
+
+int stage_manifest_dumped(const stage_manifest *m, const char *name)
+{
+    int i;
+    if (m->n_dumped < 0) return 1;
+    for (i = 0; i < m->n_dumped; ++i)
+        if (!strcmp(m->dumped[i], name)) return 1;
+    return 0;
 }
 
 /* The options `restir inspect` needs to reproduce a pixel's initial sample: manifest key
@@ -355,7 +502,8 @@ static const char *const inspect_options[][2] = {
     {"roughness_threshold", "--roughness-threshold"}, {"distance_threshold", "--distance-threshold"},
     {"paths", "--paths"},         {"rc_criterion", "--rc-criterion"},
     {"footprint_c", "--footprint-c"}, {"force_nee_reconnection", "--force-nee-reconnection"},
-    {"russian_roulette", "--russian-roulette"}, {"jitter", "--jitter"}};
+    {"russian_roulette", "--russian-roulette"}, {"jitter", "--jitter"},
+    {"pairwise_confidence", "--pairwise-confidence"}};
 
 /* One member of "options": appended to m->inspect_args if inspect needs it. */
 static int read_inspect_option(json_reader *r, stage_manifest *m, const char *key)
@@ -395,6 +543,10 @@ static int read_object(json_reader *r, stage_manifest *m, const char *outer)
         if (!strcmp(outer, "frames") && !strcmp(key, "first")) status = read_long(r, &m->first);
         else if (!strcmp(outer, "frames") && !strcmp(key, "last")) status = read_long(r, &m->last);
         else if (!strcmp(outer, "frames") && !strcmp(key, "written")) status = read_long(r, &m->written);
+        else if (!strcmp(outer, "region") && !strcmp(key, "x")) status = read_long(r, &m->region.x);
+        else if (!strcmp(outer, "region") && !strcmp(key, "y")) status = read_long(r, &m->region.y);
+        else if (!strcmp(outer, "region") && !strcmp(key, "width")) status = read_long(r, &m->region.width);
+        else if (!strcmp(outer, "region") && !strcmp(key, "height")) status = read_long(r, &m->region.height);
         else if (!strcmp(outer, "scene") && !strcmp(key, "path") && json_peek(r) == '"')
             status = json_read_string(r, m->scene, sizeof m->scene);
         else if (!strcmp(outer, "image") && !strcmp(key, "width")) status = read_long(r, &m->width);
@@ -414,6 +566,7 @@ int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e)
     json_reader r;
     memset(m, 0, sizeof *m);
     m->first = m->last = m->written = -1;
+    m->n_dumped = -1;
     snprintf(path, sizeof path, "%s/manifest.json", dir);
     if (json_reader_open(&r, path, e)) return -1;
     if (json_expect(&r, '{')) goto fail;
@@ -424,6 +577,8 @@ int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e)
         if (!strcmp(key, "format")) status = json_read_string(&r, format, sizeof format);
         else if (!strcmp(key, "stage_order")) status = read_order(&r, m);
         else if (!strcmp(key, "seed")) status = read_long(&r, &m->seed);
+        else if (!strcmp(key, "dumped_stages")) status = read_names(&r, m->dumped, &m->n_dumped);
+        else if (!strcmp(key, "region") && json_peek(&r) == '{') status = read_object(&r, m, key);
         else if (!strcmp(key, "frames") || !strcmp(key, "scene") || !strcmp(key, "image") || !strcmp(key, "options"))
             status = read_object(&r, m, key);
         else status = json_skip_value(&r);
@@ -442,6 +597,11 @@ int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e)
     if (m->last >= 100000000L || m->written > m->last - m->first + 1)
         return rerror_at(e, path, 0, "\"frames\" {first %ld, last %ld, written %ld}: out of range (frames < 10^8, "
                                      "written <= last - first + 1)", m->first, m->last, m->written);
+    if (m->region.width < 0 || m->region.height < 0 || m->region.x < 0 || m->region.y < 0 ||
+        (m->region.width == 0) != (m->region.height == 0) ||
+        (m->region.width && m->width > 0 &&
+         (m->region.x + m->region.width > m->width || m->region.y + m->region.height > m->height)))
+        return rerror_at(e, path, 0, "\"region\" is not a rectangle inside \"image\"");
     if (m->width > 0 && m->height > 0) { /* --size first: inspect's pixel is in this image */
         char size[64];
         size_t n = (size_t)snprintf(size, sizeof size, " --size %ldx%ld", m->width, m->height),

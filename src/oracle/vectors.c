@@ -382,8 +382,9 @@ static int e_cap(const double *in, int n_in, double *out)
     return 1;
 }
 
-/* family, M, R, c[M], ptarget[M*M] (row i = domain i), j -> m_0(y_j) .. m_{M-1}(y_j) */
-static int e_mis(const double *in, int n_in, double *out)
+/* family, M, R, c[M], ptarget[M*M] (row i = domain i), j -> m_0(y_j) .. m_{M-1}(y_j);
+ * family_override >= 0 replaces in[0] (the Falcor form has no family number) */
+static int e_mis_family(int family_override, const double *in, int n_in, double *out)
 {
     real c[8], p[64], m[8];
     mis_input mi;
@@ -402,10 +403,22 @@ static int e_mis(const double *in, int n_in, double *out)
     mi.n_canonical = R;
     mi.confidence = c;
     mi.ptarget = p;
-    mis_weights_at((mis_family)f, &mi, j, m, &shifts);
+    mis_weights_at(family_override >= 0 ? (mis_family)family_override : (mis_family)f, &mi, j, m, &shifts);
     for (i = 0; i < M; ++i) out[i] = (double)m[i];
     return M;
 }
+
+static int e_mis(const double *in, int n_in, double *out) { return e_mis_family(-1, in, n_in, out); }
+/* M, R, c[M], ptarget[M*M], j -> m_0(y_j) .. m_{M-1}(y_j) in the Falcor confidence form */
+static int e_mis_falcor(const double *in, int n_in, double *out)
+{
+    double with_family[VECTORS_MAX_IN + 1];
+    if (n_in < 2 || n_in >= VECTORS_MAX_IN) return -1;
+    with_family[0] = 3; /* e_mis's family slot; replaced below */
+    memcpy(with_family + 1, in, (size_t)n_in * sizeof *in);
+    return e_mis_family(MIS_PAIRWISE_DEFENSIVE_FALCOR, with_family, n_in + 1, out);
+}
+
 static int e_pair_canonical(const double *in, int n_in, double *out)
 {
     NEED(4);
@@ -820,6 +833,7 @@ static const vector_fn table[] = {
     {"wrs", "reservoir_cap_confidence", "c,cap -> c", e_cap},
     {"mis", "mis_weights", "family(0 constant,1 talbot,2 pairwise,3 defensive),M,R,c[M],ptarget[M*M],j -> m[M]",
      e_mis},
+    {"mis", "mis_pairwise_defensive_falcor", "M,R,c[M],ptarget[M*M],j -> m[M]", e_mis_falcor},
     {"mis", "mis_pair_canonical", "c_c,p_c,c_n,p_n_from_c -> m_c", e_pair_canonical},
     {"mis", "mis_pair_neighbor", "c_n,p_n_from_n,c_c,p_c_at_n -> m_n", e_pair_neighbor},
     {"shift", "shift_path",
@@ -1127,6 +1141,44 @@ static void emit_mis(gen *g, int family, int M, int R, const double *c, const do
     emit(g, "mis_weights", eqs[family], label, in, n);
 }
 
+/* The Falcor confidence form of GRIS Eq. 38 (mis_pairwise_defensive_falcor): the same
+ * inputs as the stochastic form's rows above, plus two cases that tell the forms apart or
+ * together: equal confidences (both forms agree) and one neighbour with a temporal-like
+ * confidence 20 against 1 (they differ most). */
+static void emit_mis_falcor_rows(gen *g, const double *c3, const double *p3, const double *zero3, const double *c4,
+                                 const double *p4)
+{
+    static const double c_equal[] = {1, 1, 1}, c2[] = {1, 20}, p2[] = {0.8, 0.6, 0.5, 0.9};
+    double in[VECTORS_MAX_IN];
+    struct {
+        int M, R;
+        const double *c, *p;
+        const char *label;
+    } cases[5];
+    int k, i, j, n;
+    cases[0].M = 3, cases[0].R = 1, cases[0].c = c3, cases[0].p = p3, cases[0].label = "3 domains, R = 1";
+    cases[1].M = 3, cases[1].R = 1, cases[1].c = c3, cases[1].p = zero3, cases[1].label = "zero targets everywhere";
+    cases[2].M = 4, cases[2].R = 2, cases[2].c = c4, cases[2].p = p4,
+    cases[2].label = "4 domains, R = 2, temporal-like confidence 20";
+    cases[3].M = 3, cases[3].R = 1, cases[3].c = c_equal, cases[3].p = p3,
+    cases[3].label = "equal confidences: equals the stochastic form";
+    cases[4].M = 2, cases[4].R = 1, cases[4].c = c2, cases[4].p = p2,
+    cases[4].label = "one neighbour, confidence 20 against 1: the forms differ most";
+    for (k = 0; k < 5; ++k)
+        for (j = 0; j < cases[k].M; ++j) {
+            n = 0;
+            in[n++] = cases[k].M;
+            in[n++] = cases[k].R;
+            for (i = 0; i < cases[k].M; ++i) in[n++] = cases[k].c[i];
+            for (i = 0; i < cases[k].M * cases[k].M; ++i) in[n++] = cases[k].p[i];
+            in[n++] = j;
+            emit(g, "mis_pairwise_defensive_falcor", "GRIS 38", cases[k].label, in, n);
+        }
+    /* the stochastic form on the two new cases, for a side-by-side comparison */
+    for (j = 0; j < 3; ++j) emit_mis(g, 3, 3, 1, c_equal, p3, j, "equal confidences: equals the Falcor form");
+    for (j = 0; j < 2; ++j) emit_mis(g, 3, 2, 1, c2, p2, j, "one neighbour, confidence 20 against 1: the forms differ most");
+}
+
 static void gen_mis(gen *g)
 {
     /* 3 domains, canonical 0; p[i*3 + j] = p̂_{<-i}(y_j) */
@@ -1142,6 +1194,7 @@ static void gen_mis(gen *g)
         }
     for (f = 0; f <= 3; ++f)
         for (j = 0; j < 4; ++j) emit_mis(g, f, 4, 2, c4, p4, j, "4 domains, R = 2, temporal-like confidence 20");
+    emit_mis_falcor_rows(g, c3, p3, zero3, c4, p4);
     EMIT("mis_pair_canonical", "Mutations 31", "two frames", 1, 0.8, 20, 0.6);
     EMIT("mis_pair_canonical", "Mutations 31", "failed reverse shift", 1, 0.8, 20, 0);
     EMIT("mis_pair_canonical", "Mutations 31", "zero denominator", 1, 0, 20, 0);

@@ -141,9 +141,29 @@ real mis_pairwise_defensive(const mis_input *in, int i, int j, long *shifts)
     return mis_pairwise(in, i, j, 1, shifts);
 }
 
+/* The confidence form of defensive pairwise MIS in the authors' Falcor ReSTIR PT code
+ * (SpatialReuse.cs.slang as summarised in /work/shared/notes/public-restir-implementations.md
+ * §1.7 and §4; issue 31 reports vork's WebGPU port does the same): the canonical sample
+ * starts at 1, each neighbour adds its pair's canonical share, all divided by n + 1, and
+ * the pair's canonical term is M_c p̂ / k. GRIS Eq. 38 with per-pair confidences; the
+ * partition of unity is docs/mis-derivations.md §3.5. */
+real mis_pairwise_defensive_falcor(const mis_input *in, int i, int j, long *shifts)
+{
+    int R = in->n_canonical, k;
+    real c_R = canonical_confidence(in), n = (real)(in->m - R), share, canonical_total = 1;
+    real p = mis_ptarget(in, 0, j); /* p̂(y_j): canonical row, identity shift, free */
+    if (in->m == R) return canonical_share(in, i); /* no neighbour: the canonical set alone */
+    share = 1 / (n + 1);
+    if (i >= R) return share * pair_balance(in->confidence[i], read_ptarget(in, i, j, shifts), c_R / n, p);
+    for (k = R; k < in->m; ++k)
+        canonical_total += 1 - pair_balance(in->confidence[k], read_ptarget(in, k, j, shifts), c_R / n, p);
+    return canonical_share(in, i) * share * canonical_total;
+}
+
 real mis_weight(mis_family f, const mis_input *in, int i, int j, long *shifts)
 {
     switch (f) {
+    case MIS_PAIRWISE_DEFENSIVE_FALCOR: return mis_pairwise_defensive_falcor(in, i, j, shifts);
     case MIS_CONSTANT: return mis_constant(in, i, j, shifts);
     case MIS_TALBOT: return mis_talbot(in, i, j, shifts);
     case MIS_PAIRWISE_UNIFORM: return mis_pairwise_uniform(in, i, j, shifts);
@@ -165,7 +185,8 @@ long mis_shift_count(mis_family f, int m, int n_canonical)
     case MIS_CONSTANT: return 0;
     case MIS_TALBOT: return (M - R) * (M - 1); /* every non-canonical row at every other column */
     case MIS_PAIRWISE_UNIFORM:
-    case MIS_PAIRWISE_DEFENSIVE: return R * (M - R); /* canonical samples into every other domain */
+    case MIS_PAIRWISE_DEFENSIVE:
+    case MIS_PAIRWISE_DEFENSIVE_FALCOR: return R * (M - R); /* canonical samples into every other domain */
     }
     return 0;
 }
@@ -188,6 +209,7 @@ const char *const restir_mis_names[] = {"constant", "talbot", "pairwise", "pairw
 
 const char *mis_family_name(mis_family f)
 {
+    if (f == MIS_PAIRWISE_DEFENSIVE_FALCOR) return "pairwise-defensive (falcor confidences)";
     return (int)f >= 0 && (int)f < MIS_FAMILY_COUNT ? restir_mis_names[f] : "unknown";
 }
 

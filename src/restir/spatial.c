@@ -91,7 +91,7 @@ static int needs_entry(mis_family f, int i, int j)
 {
     (void)i;
     if (f == MIS_TALBOT) return 1;
-    if (f == MIS_PAIRWISE_UNIFORM || f == MIS_PAIRWISE_DEFENSIVE) return j == 0;
+    if (f == MIS_PAIRWISE_UNIFORM || f == MIS_PAIRWISE_DEFENSIVE || f == MIS_PAIRWISE_DEFENSIVE_FALCOR) return j == 0;
     return 0;
 }
 

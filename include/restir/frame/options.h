@@ -79,7 +79,16 @@ typedef struct {
                                          none (result frames = 0) */
     mutation_options mutation;  /* MCMC mutations (Mutations Algorithm 3), real-time pipeline only */
     light_ris_options light_ris; /* light RIS for NEE (Enhanced §6.1) */
+    /* the confidence form of pairwise-defensive MIS (mis.h; issue 31): 0 = stochastic (the
+       Stochastic MIS Eq. 11 form, default), 1 = falcor (1/(k+1) per pair, c_c/k inside) */
+    int pairwise_confidence;
 } restir_options;
+
+/* "stochastic", "falcor" (--pairwise-confidence) */
+extern const char *const restir_pairwise_confidence_names[];
+/* The mis_family a step with family `mis` (o->mis or o->temporal_mis) runs: pairwise-
+ * defensive in the confidence form o->pairwise_confidence chooses, else mis itself. */
+mis_family restir_step_mis(const restir_options *o, int mis);
 
 void restir_options_default(restir_options *o);
 /* 1 if o turns on a feature that is biased by design (correlation_options_biased): the

@@ -35,6 +35,15 @@
 #define GBUFFER_DUMP_HEADER_SIZE 32u
 #define GBUFFER_DUMP_RECORD_SIZE 108u
 
+/* A rectangle of pixels (--dump-region X,Y,W,H): a region dump holds only these pixels'
+ * records, row-major within the rectangle (docs/formats.md "Stage dumps"). */
+typedef struct {
+    long x, y, width, height; /* width = 0: no region (the whole image) */
+} stage_region;
+
+/* Parses "X,Y,W,H" (W, H > 0). */
+int stage_region_parse(const char *text, stage_region *r, rerror *e);
+
 typedef struct stage_io_s {
     /* configuration (the CLI fills these) */
     const char *dump_dir;                  /* NULL: no dumps */
@@ -57,6 +66,11 @@ typedef struct stage_io_s {
     int created_dir;                       /* stage_io_begin created dump_dir (stage_io_remove_written) */
     int pss_rows;                          /* set by the pipeline: its reservoir buffers have
                                               primary-sample rows (reservoir.h) */
+    stage_region region;                   /* --dump-region (width 0: the whole image) */
+    /* restart: the read stage file whose records most lack reconnection data (rc_k = 0 or a
+       zero Jacobian source term), checked against the shift at the frame's end */
+    long rc_missing, rc_nonempty;
+    char rc_missing_path[4200];
 } stage_io;
 
 /* *hook calls io's functions below at the frame's stage boundaries (frame/stage_hook.h);
@@ -74,7 +88,13 @@ typedef struct {
     char inspect_args[1024];                /* " --size WxH --shift hybrid --mis ...": what
                                                `restir inspect` needs besides --pixel, --seed
                                                and --first-frame to print a pixel's initial sample */
+    char dumped[STAGE_MAX][STAGE_NAME_SIZE]; /* "dumped_stages" */
+    int n_dumped;                           /* -1: the key is absent (then every stage is dumped) */
+    stage_region region;                    /* "region" (width 0: absent or null: the whole image) */
 } stage_manifest;
+
+/* 1 if the manifest lists stage `name` as dumped (every stage when "dumped_stages" is absent). */
+int stage_manifest_dumped(const stage_manifest *m, const char *name);
 
 /* Reads DIR/manifest.json ("format" must be "restir-stage-dump"; other keys are skipped). */
 int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e);

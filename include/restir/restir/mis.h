@@ -38,7 +38,10 @@ typedef enum {
     MIS_CONSTANT = 0,          /* m_i = c_i / sum c: cheap, biased if supports differ (GRIS §5.6) */
     MIS_TALBOT = 1,            /* generalized Talbot / balance heuristic (GRIS Eq. 36), O(M^2) */
     MIS_PAIRWISE_UNIFORM = 2,  /* generalized pairwise, uniform variant (GRIS Eq. 37), O(M) */
-    MIS_PAIRWISE_DEFENSIVE = 3 /* generalized pairwise, defensive (GRIS Eq. 38), O(M) */
+    MIS_PAIRWISE_DEFENSIVE = 3, /* generalized pairwise, defensive (GRIS Eq. 38), O(M) */
+    /* Defensive pairwise in the confidence form of the authors' Falcor code (not a --mis
+     * name: --mis pairwise-defensive --pairwise-confidence falcor; options.h): */
+    MIS_PAIRWISE_DEFENSIVE_FALCOR = 8
 } mis_family;
 #define MIS_FAMILY_COUNT 4
 
@@ -65,6 +68,14 @@ real mis_pairwise_uniform(const mis_input *in, int i, int j, long *shifts);
  *     i >= R:  m_i = (c_S / C) c_i q_i / (c_S q_i + c_R p̂)
  *     i <  R:  m_i = c_i / C + sum_{k>=R} (c_k / C) c_i p̂ / (c_S q_k + c_R p̂) */
 real mis_pairwise_defensive(const mis_input *in, int i, int j, long *shifts);
+/* GRIS Eq. 38 with confidences in the form of the authors' Falcor ReSTIR PT code
+ * (docs/mis-derivations.md §3.5): every pair holds the share 1/(k+1), k = M - R, whatever
+ * its confidence, and inside pair i the canonical side is c_R p̂ / k against c_i q_i:
+ *     i >= R:  m_i = 1/(k+1) c_i q_i / (c_i q_i + (c_R/k) p̂)
+ *     i <  R:  m_i = (c_i / c_R) 1/(k+1) [1 + sum_{k'>=R} (c_R/k) p̂ / (c_k' q_k' + (c_R/k) p̂)]
+ * Equal to mis_pairwise_defensive when all confidences are equal; a partition of unity for
+ * any confidences, so unbiased too (same section). */
+real mis_pairwise_defensive_falcor(const mis_input *in, int i, int j, long *shifts);
 
 /* Dispatch by family. */
 real mis_weight(mis_family f, const mis_input *in, int i, int j, long *shifts);
