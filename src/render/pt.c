@@ -80,10 +80,11 @@ typedef struct {
     pt_state *st;
     uint32_t first_sample, sample_count; /* absolute sample indices of this pass */
     worker_stats *workers;
-    /* Large images with a stop flag: a pass (1 spp) writes each pixel's sample here and is
-     * added to the state only once complete, so SIGINT can cancel it at a tile boundary
-     * (threads_set_cancel) and the state keeps whole passes; the same additions as
-     * without staging, so the same bits. NULL: the pass adds to the state directly. */
+    /* With a stop flag: a pass writes each pixel's samples here (pixel-major, sample_count
+     * per pixel) and is added to the state only once complete, so SIGINT can cancel it at
+     * a tile boundary (threads_set_cancel) and the state keeps whole passes; the same
+     * additions in the same order as without staging, so the same bits. NULL: the pass
+     * adds to the state directly. */
     real *stage;
     unsigned char *stage_ok;
 } pass_job;
@@ -176,14 +177,17 @@ static void pass_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         for (x = x0; x < x1; ++x) {
             uint32_t pixel = (uint32_t)(y * j->cam.width + x), s;
             double *sum = j->st->sum + 3 * (size_t)pixel, *sq = j->st->sum_sq + 3 * (size_t)pixel;
-            if (j->stage) { /* one sample, kept until the pass is complete */
-                rgb L = trace_path(j, x, y, j->first_sample, &w->rays);
-                w->paths++;
-                j->stage_ok[pixel] = (unsigned char)rgb_finite(L);
-                if (!j->stage_ok[pixel]) record_nonfinite(w, pixel, j->first_sample);
-                j->stage[3 * (size_t)pixel + 0] = L.r;
-                j->stage[3 * (size_t)pixel + 1] = L.g;
-                j->stage[3 * (size_t)pixel + 2] = L.b;
+            if (j->stage) { /* the pass's samples of the pixel, kept until the pass is complete */
+                for (s = 0; s < j->sample_count; ++s) {
+                    size_t slot = (size_t)pixel * j->sample_count + s;
+                    rgb L = trace_path(j, x, y, j->first_sample + s, &w->rays);
+                    w->paths++;
+                    j->stage_ok[slot] = (unsigned char)rgb_finite(L);
+                    if (!j->stage_ok[slot]) record_nonfinite(w, pixel, j->first_sample + s);
+                    j->stage[3 * slot + 0] = L.r;
+                    j->stage[3 * slot + 1] = L.g;
+                    j->stage[3 * slot + 2] = L.b;
+                }
                 continue;
             }
             for (s = j->first_sample; s < j->first_sample + j->sample_count; ++s) {
@@ -206,18 +210,23 @@ static void pass_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
     }
 }
 
-/* A staged pass, complete: each pixel's sample added as pass_tile adds it. */
+/* A staged pass, complete: each pixel's samples added in sample order, as pass_tile adds
+ * them without staging (the same sums, bit for bit). */
 static void apply_stage(pass_job *j)
 {
     size_t p, n = (size_t)j->cam.width * (size_t)j->cam.height;
+    uint32_t k;
     for (p = 0; p < n; ++p) {
         double *sum = j->st->sum + 3 * p, *sq = j->st->sum_sq + 3 * p;
-        const real *L = j->stage + 3 * p;
-        int c;
-        if (!j->stage_ok[p]) continue;
-        for (c = 0; c < 3; ++c) {
-            sum[c] += (double)L[c];
-            sq[c] += (double)L[c] * (double)L[c];
+        for (k = 0; k < j->sample_count; ++k) {
+            size_t slot = p * j->sample_count + k;
+            const real *L = j->stage + 3 * slot;
+            int c;
+            if (!j->stage_ok[slot]) continue;
+            for (c = 0; c < 3; ++c) {
+                sum[c] += (double)L[c];
+                sq[c] += (double)L[c] * (double)L[c];
+            }
         }
     }
 }
@@ -285,19 +294,17 @@ static int start_state(const scene *s, const pt_options *o, pt_state *st, rerror
     return 0;
 }
 
-/* Samples per pixel of the next pass: 1 when time, callbacks or stop requests need a
- * fine granularity (a stop flag: every pass is staged and cancellable); otherwise enough
- * that small images keep the threads busy. The per-pixel sums do not depend on this
- * choice (samples are added in index order). */
+/* Samples per pixel of the next pass: 1 when time or callbacks need a fine granularity;
+ * otherwise enough that small images keep the threads busy (at most 65536 paths a pass,
+ * also the size of the stage of a cancellable pass). The per-pixel sums do not depend on
+ * this choice (samples are added in index order). */
 static uint32_t next_pass_size(const pt_options *o, const pt_state *st)
 {
     uint32_t remaining, batch = 1;
     long pixels = (long)st->width * st->height;
     uint64_t end = o->spp ? (uint64_t)o->spp : (uint64_t)UINT32_MAX - st->sample_offset;
     remaining = (uint32_t)(end - st->spp);
-    /* a stop flag: 1-spp passes, staged and cancellable at a tile boundary (pass_job.stage) */
-    if (!(o->time_limit > 0) && o->callback_every == 0 && !o->stop_flag && pixels < 65536)
-        batch = (uint32_t)(65536 / pixels);
+    if (!(o->time_limit > 0) && o->callback_every == 0 && pixels < 65536) batch = (uint32_t)(65536 / pixels);
     return batch < remaining ? batch : remaining;
 }
 
@@ -377,9 +384,10 @@ int pt_render(const scene *s, const pt_options *o, pt_result *out, rerror *e)
     j.ctx.image_width = s->width;
     j.st = &out->state;
     j.workers = rcalloc((size_t)o->threads, sizeof *j.workers, e);
-    if (o->stop_flag) { /* passes of 1 spp (next_pass_size): staged, cancellable */
-        j.stage = rmalloc(3 * (size_t)s->width * (size_t)s->height, sizeof *j.stage, e);
-        j.stage_ok = j.stage ? rmalloc((size_t)s->width * (size_t)s->height, 1, e) : NULL;
+    if (o->stop_flag) { /* staged, cancellable passes: room for the largest (next_pass_size) */
+        size_t pixels = (size_t)s->width * (size_t)s->height, slots = pixels < 65536 ? 65536 / pixels * pixels : pixels;
+        j.stage = rmalloc(3 * slots, sizeof *j.stage, e);
+        j.stage_ok = j.stage ? rmalloc(slots, 1, e) : NULL;
         if (!j.stage_ok) status = -1;
     }
     if (!j.workers || start_state(s, o, &out->state, e)) status = -1;
