@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "image_corpus.h"
 #include "restir/checksum.h"
 #include "restir/exr.h"
@@ -484,4 +485,45 @@ TEST(image_io_by_extension)
     image_free(&img);
     CHECK(image_read(IMAGES "/refused_tiled.exr", &img, &channels, &e) != 0);
     CHECK(image_read(IMAGES "/missing.png", &img, &channels, &e) != 0 && strstr(e.msg, "missing.png"));
+}
+
+/* The CLI: render -o x.exr writes an EXR (and the preview x.png) holding exactly what
+ * -o x.pfm holds; compare reads .exr; an unsupported or broken EXR exits 2 naming the file. */
+TEST(cli_images_by_extension)
+{
+    char out[4096];
+    image a, b;
+    rerror e;
+    int x;
+    const char *scene = "tests/data/quad-light.scene";
+    const char *exr = test_tmp_path("cli-image.exr"), *pfm = test_tmp_path("cli-image.pfm");
+    char exr_path[512], pfm_path[512], png_path[512];
+    FILE *f;
+    snprintf(exr_path, sizeof exr_path, "%s", exr);
+    snprintf(pfm_path, sizeof pfm_path, "%s", pfm);
+    snprintf(png_path, sizeof png_path, "%s", exr_path);
+    strcpy(png_path + strlen(png_path) - 4, ".png");
+    CHECK(test_cli(out, sizeof out, "render %s --size 16x12 --spp 2 --seed 3 --quiet -o %s", scene, exr_path) == 0);
+    CHECKF((f = fopen(png_path, "rb")) != NULL, "no preview %s", png_path);
+    fclose(f);
+    remove(png_path);
+    CHECK(test_cli(out, sizeof out, "render %s --size 16x12 --spp 2 --seed 3 --quiet -o %s", scene, pfm_path) == 0);
+    CHECKF(image_read(exr_path, &a, NULL, &e) == 0, "%s", e.msg);
+    CHECKF(image_read(pfm_path, &b, NULL, &e) == 0, "%s", e.msg);
+    CHECK(a.width == 16 && b.width == 16 && a.height == 12 && b.height == 12);
+    for (x = 0; x < 16 * 12 * 3; ++x) CHECK(float_bits(a.px[x]) == float_bits(b.px[x]));
+    image_free(&a);
+    image_free(&b);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", exr_path, pfm_path) == 0);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", IMAGES "/refused_dwaa.exr", pfm_path) == 2);
+    CHECKF(strstr(out, "refused_dwaa.exr: EXR: compression DWAA") != NULL, "%s", out);
+    f = fopen(exr_path, "r+b"); /* cut the file: a chunk now runs past the end */
+    CHECK(f != NULL);
+    CHECK(ftruncate(fileno(f), 400) == 0);
+    fclose(f);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", exr_path, pfm_path) == 2);
+    CHECKF(strstr(out, "cli-image.exr: EXR: ") != NULL, "%s", out);
+    remove(exr_path);
+    remove(pfm_path);
+    remove(png_path);
 }
