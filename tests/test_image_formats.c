@@ -527,3 +527,46 @@ TEST(cli_images_by_extension)
     remove(pfm_path);
     remove(png_path);
 }
+
+/* compare and check warn when the test image matches the reference far better upside
+ * down (a PFM written top row first), and stay quiet for the right way up. */
+TEST(upside_down_warning)
+{
+    char out[8192], ref_path[512], up_path[512], down_path[512], run2_path[512];
+    image ref, down, up2;
+    rerror e;
+    int x, y, c;
+    snprintf(ref_path, sizeof ref_path, "%s", test_tmp_path("ud-ref.pfm"));
+    snprintf(up_path, sizeof up_path, "%s", test_tmp_path("ud-up.pfm"));
+    snprintf(down_path, sizeof down_path, "%s", test_tmp_path("ud-down.pfm"));
+    snprintf(run2_path, sizeof run2_path, "%s", test_tmp_path("ud-down2.pfm"));
+    CHECK(image_alloc(&ref, 24, 16, &e) == 0 && image_alloc(&down, 24, 16, &e) == 0 &&
+          image_alloc(&up2, 24, 16, &e) == 0);
+    for (y = 0; y < 16; ++y)
+        for (x = 0; x < 24; ++x)
+            for (c = 0; c < 3; ++c) {
+                float noise = (float)(corpus_mix(corpus_key(x, y, c)) % 1000) * 1e-4f; /* 0 .. 0.1 */
+                image_pixel(&ref, x, y)[c] = 0.2f + 0.05f * (float)y + 0.01f * (float)c;
+                image_pixel(&up2, x, y)[c] = image_pixel(&ref, x, y)[c] + noise;
+                image_pixel(&down, x, 15 - y)[c] = image_pixel(&ref, x, y)[c] + noise;
+            }
+    CHECK(pfm_write(ref_path, &ref, &e) == 0 && pfm_write(up_path, &up2, &e) == 0 &&
+          pfm_write(down_path, &down, &e) == 0);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", up_path, ref_path) == 0);
+    CHECKF(strstr(out, "upside down") == NULL, "%s", out);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", down_path, ref_path) == 0);
+    CHECKF(strstr(out, "ud-down.pfm matches") && strstr(out, "upside down"), "%s", out);
+    /* check: two upside-down runs against the reference */
+    for (y = 0; y < 16; ++y)
+        for (x = 0; x < 24; ++x) image_pixel(&down, x, y)[0] += 0.01f;
+    CHECK(pfm_write(run2_path, &down, &e) == 0);
+    test_cli(out, sizeof out, "check --a %s %s --ref %s", down_path, run2_path, ref_path);
+    CHECKF(strstr(out, "upside down") != NULL, "%s", out);
+    image_free(&ref);
+    image_free(&down);
+    image_free(&up2);
+    remove(ref_path);
+    remove(up_path);
+    remove(down_path);
+    remove(run2_path);
+}

@@ -10,6 +10,7 @@
 #include "restir/check.h"
 #include "restir/image.h"
 #include "restir/image_io.h"
+#include "restir/upside_down.h"
 #include "restir/json_text.h"
 #include "restir/moments.h"
 #include "restir/output_set.h"
@@ -496,6 +497,7 @@ int cmd_check(int argc, char **argv)
         check_side_free(&b);
         return 2;
     }
+    image_warn_upside_down(&a.mean, side_file(&args.a), &b.mean, side_file(&args.b));
     status = r.different || (args.require_equivalence && !r.tost.equivalent) ? 1 : 0;
     {
         char msg[1024];

@@ -10,6 +10,7 @@
 #include "restir/flip.h"
 #include "restir/image.h"
 #include "restir/image_io.h"
+#include "restir/upside_down.h"
 #include "restir/json_text.h"
 #include "restir/metrics.h"
 #include "args.h"
@@ -268,6 +269,7 @@ int cmd_compare(int argc, char **argv)
         fail(&e);
     } else {
         print_table(&o, &ref, &res);
+        image_warn_upside_down(&test, o.test_path, &ref, o.ref_path);
         status = 0;
     }
     free(res.flip_ldr_map);
