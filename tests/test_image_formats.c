@@ -6,12 +6,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "image_corpus.h"
 #include "restir/core/checksum.h"
 #include "restir/core/exr.h"
 #include "restir/core/image_io.h"
 #include "restir/core/inflate.h"
 #include "restir/core/png_read.h"
+#include "restir/core/pfm.h"
 #include "test.h"
 
 #define IMAGES "tests/data/images"
@@ -484,4 +486,88 @@ TEST(image_io_by_extension)
     image_free(&img);
     CHECK(image_read(IMAGES "/refused_tiled.exr", &img, &channels, &e) != 0);
     CHECK(image_read(IMAGES "/missing.png", &img, &channels, &e) != 0 && strstr(e.msg, "missing.png"));
+}
+
+/* The CLI: render -o x.exr writes an EXR (and the preview x.png) holding exactly what
+ * -o x.pfm holds; compare reads .exr; an unsupported or broken EXR exits 2 naming the file. */
+TEST(cli_images_by_extension)
+{
+    char out[4096];
+    image a, b;
+    rerror e;
+    int x;
+    const char *scene = "tests/data/quad-light.scene";
+    const char *exr = test_tmp_path("cli-image.exr"), *pfm = test_tmp_path("cli-image.pfm");
+    char exr_path[512], pfm_path[512], png_path[512];
+    FILE *f;
+    snprintf(exr_path, sizeof exr_path, "%s", exr);
+    snprintf(pfm_path, sizeof pfm_path, "%s", pfm);
+    snprintf(png_path, sizeof png_path, "%s", exr_path);
+    strcpy(png_path + strlen(png_path) - 4, ".png");
+    CHECK(test_cli(out, sizeof out, "render %s --size 16x12 --spp 2 --seed 3 --quiet -o %s", scene, exr_path) == 0);
+    CHECKF((f = fopen(png_path, "rb")) != NULL, "no preview %s", png_path);
+    fclose(f);
+    remove(png_path);
+    CHECK(test_cli(out, sizeof out, "render %s --size 16x12 --spp 2 --seed 3 --quiet -o %s", scene, pfm_path) == 0);
+    CHECKF(image_read(exr_path, &a, NULL, &e) == 0, "%s", e.msg);
+    CHECKF(image_read(pfm_path, &b, NULL, &e) == 0, "%s", e.msg);
+    CHECK(a.width == 16 && b.width == 16 && a.height == 12 && b.height == 12);
+    for (x = 0; x < 16 * 12 * 3; ++x) CHECK(float_bits(a.px[x]) == float_bits(b.px[x]));
+    image_free(&a);
+    image_free(&b);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", exr_path, pfm_path) == 0);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", IMAGES "/refused_dwaa.exr", pfm_path) == 2);
+    CHECKF(strstr(out, "refused_dwaa.exr: EXR: compression DWAA") != NULL, "%s", out);
+    f = fopen(exr_path, "r+b"); /* cut the file: a chunk now runs past the end */
+    CHECK(f != NULL);
+    CHECK(ftruncate(fileno(f), 400) == 0);
+    fclose(f);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", exr_path, pfm_path) == 2);
+    CHECKF(strstr(out, "cli-image.exr: EXR: ") != NULL, "%s", out);
+    remove(exr_path);
+    remove(pfm_path);
+    remove(png_path);
+}
+
+/* compare and check warn when the test image matches the reference far better upside
+ * down (a PFM written top row first), and stay quiet for the right way up. */
+TEST(upside_down_warning)
+{
+    char out[8192], ref_path[512], up_path[512], down_path[512], run2_path[512];
+    image ref, down, up2;
+    rerror e;
+    int x, y, c;
+    snprintf(ref_path, sizeof ref_path, "%s", test_tmp_path("ud-ref.pfm"));
+    snprintf(up_path, sizeof up_path, "%s", test_tmp_path("ud-up.pfm"));
+    snprintf(down_path, sizeof down_path, "%s", test_tmp_path("ud-down.pfm"));
+    snprintf(run2_path, sizeof run2_path, "%s", test_tmp_path("ud-down2.pfm"));
+    CHECK(image_alloc(&ref, 24, 16, &e) == 0 && image_alloc(&down, 24, 16, &e) == 0 &&
+          image_alloc(&up2, 24, 16, &e) == 0);
+    for (y = 0; y < 16; ++y)
+        for (x = 0; x < 24; ++x)
+            for (c = 0; c < 3; ++c) {
+                float noise = (float)(corpus_mix(corpus_key(x, y, c)) % 1000) * 1e-4f; /* 0 .. 0.1 */
+                image_pixel(&ref, x, y)[c] = 0.2f + 0.05f * (float)y + 0.01f * (float)c;
+                image_pixel(&up2, x, y)[c] = image_pixel(&ref, x, y)[c] + noise;
+                image_pixel(&down, x, 15 - y)[c] = image_pixel(&ref, x, y)[c] + noise;
+            }
+    CHECK(pfm_write(ref_path, &ref, &e) == 0 && pfm_write(up_path, &up2, &e) == 0 &&
+          pfm_write(down_path, &down, &e) == 0);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", up_path, ref_path) == 0);
+    CHECKF(strstr(out, "upside down") == NULL, "%s", out);
+    CHECK(test_cli(out, sizeof out, "compare %s %s", down_path, ref_path) == 0);
+    CHECKF(strstr(out, "ud-down.pfm matches") && strstr(out, "upside down"), "%s", out);
+    /* check: two upside-down runs against the reference */
+    for (y = 0; y < 16; ++y)
+        for (x = 0; x < 24; ++x) image_pixel(&down, x, y)[0] += 0.01f;
+    CHECK(pfm_write(run2_path, &down, &e) == 0);
+    test_cli(out, sizeof out, "check --a %s %s --ref %s", down_path, run2_path, ref_path);
+    CHECKF(strstr(out, "upside down") != NULL, "%s", out);
+    image_free(&ref);
+    image_free(&down);
+    image_free(&up2);
+    remove(ref_path);
+    remove(up_path);
+    remove(down_path);
+    remove(run2_path);
 }

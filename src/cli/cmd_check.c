@@ -14,6 +14,7 @@
 #include "restir/core/json_text.h"
 #include "restir/core/pfm.h"
 #include "restir/core/png.h"
+#include "restir/core/upside_down.h"
 #include "restir/metrics/check.h"
 #include "restir/metrics/moments.h"
 #include "restir/metrics/output_set.h"
@@ -598,6 +599,7 @@ int cmd_check(int argc, char **argv)
         check_side_free(&b);
         return 2;
     }
+    image_warn_upside_down(&a.mean, side_file(&args.a), &b.mean, side_file(&args.b));
     status = r.different || (args.require_equivalence && !r.tost.equivalent) ? 1 : 0;
     if (r.inconclusive) status = 3;
     {

@@ -15,6 +15,7 @@
 #include "restir/core/json_text.h"
 #include "restir/core/pfm.h"
 #include "restir/core/png.h"
+#include "restir/core/upside_down.h"
 #include "restir/metrics/error_map.h"
 #include "restir/metrics/flip.h"
 #include "restir/metrics/metrics.h"
@@ -272,6 +273,7 @@ int cmd_compare(int argc, char **argv)
         fail(&e);
     } else {
         print_table(&o, &ref, &res);
+        image_warn_upside_down(&test, o.test_path, &ref, o.ref_path);
         status = 0;
     }
     free(res.flip_ldr_map);

@@ -166,7 +166,7 @@ int cmd_merge(int argc, char **argv)
     if (!inputs) return 2;
     {
         const cli_option options[] = {
-            {"-o", OPT_STRING, &a.output, "output PFM (required)", NULL, 0, 0, NULL},
+            {"-o", OPT_STRING, &a.output, "output image, PFM or .exr (required)", NULL, 0, 0, NULL},
             {"--counts", OPT_STRING, &a.counts, "sample counts of image inputs, comma-separated (N,N,...)", NULL, 0, 0, NULL},
             {"--checkpoint-out", OPT_STRING, &a.checkpoint_out, "also write the merged checkpoint (checkpoint inputs)", NULL, 0, 0, NULL},
             {"--png", OPT_STRING, &a.png, "PNG preview path (default: the PFM path with .png)", NULL, 0, 0, NULL},

@@ -35,7 +35,7 @@ int render_table_build(cli_option *options, render_args *a, method_rows *methods
     int n = 0, count;
     {
         const cli_option rows[] = {
-            {"-o", OPT_STRING, &a->output, "output PFM (default out/<scene>.pfm)", NULL, 0, 0, NULL},
+            {"-o", OPT_STRING, &a->output, "output image, PFM or .exr (OpenEXR, float, ZIP) (default out/<scene>.pfm)", NULL, 0, 0, NULL},
             {"--png", OPT_STRING, &a->png, "PNG preview path (default: the PFM path with .png)", NULL, 0, 0, NULL},
             {"--no-png", OPT_FLAG, &a->no_png, "do not write the PNG preview", NULL, 0, 0, NULL},
             {"--exposure", OPT_REAL, &a->exposure, "preview exposure in stops (default 0)", NULL, -64, 64, NULL},

@@ -21,6 +21,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/atomic_file.h"
@@ -47,6 +48,16 @@ float half_to_float(uint16_t h)
     else bits = sign | (exp + 112) << 23 | mant << 13;
     memcpy(&f, &bits, sizeof f);
     return f;
+}
+
+/* half bits -> float for every half: the readers convert megabytes of halves */
+static float half_table[65536];
+static pthread_once_t half_table_once = PTHREAD_ONCE_INIT;
+
+static void half_table_build(void)
+{
+    uint32_t h;
+    for (h = 0; h < 65536; ++h) half_table[h] = half_to_float((uint16_t)h);
 }
 
 /* Rounds `value` right by `shift` bits to nearest, ties to even. */
@@ -289,7 +300,11 @@ static void unpredict_deinterleave(unsigned char *t, size_t n, unsigned char *ou
 {
     size_t i, half = (n + 1) / 2;
     for (i = 1; i < n; ++i) t[i] = (unsigned char)(t[i - 1] + t[i] - 128);
-    for (i = 0; i < n; ++i) out[i] = i % 2 ? t[half + i / 2] : t[i / 2];
+    for (i = 0; i < n / 2; ++i) {
+        out[2 * i] = t[i];
+        out[2 * i + 1] = t[half + i];
+    }
+    if (n % 2) out[n - 1] = t[n / 2];
 }
 
 static void interleave_predict(const unsigned char *in, size_t n, unsigned char *t)
@@ -340,7 +355,8 @@ typedef struct {
     uint64_t first[HUF_MAX_LEN + 1]; /* code of the first symbol of each length */
     uint32_t count[HUF_MAX_LEN + 1], offset[HUF_MAX_LEN + 1];
     uint32_t sorted[HUF_SYMBOLS]; /* symbols by length, then by value */
-    uint16_t lut[65536];
+    uint16_t lut[65536]; /* zero beyond lut_used (calloc, then kept so) */
+    uint32_t lut_used;
     unsigned char bitmap[8192];
 } piz_state;
 
@@ -348,17 +364,28 @@ typedef struct {
     const unsigned char *in;
     size_t nbytes;
     uint64_t pos, nbits; /* bit position (most-significant bit first) and stream length in bits */
+    uint64_t buf;        /* the next nb bits from pos, most-significant first (pos + nb is a whole byte) */
+    int nb;
 } msb_bits;
 
-static unsigned byte_at(const msb_bits *b, uint64_t i) { return i < b->nbytes ? b->in[i] : 0; }
+static void msb_fill(msb_bits *b)
+{
+    while (b->nb <= 56) {
+        uint64_t i = (b->pos + (uint64_t)b->nb) >> 3;
+        b->buf |= (uint64_t)(i < b->nbytes ? b->in[i] : 0) << (56 - b->nb); /* zeros past the end */
+        b->nb += 8;
+    }
+}
 
+/* The next n bits (1 <= n <= 32). */
 static uint64_t read_msb(msb_bits *b, int n)
 {
-    uint64_t v = 0;
-    while (n--) {
-        v = v << 1 | (byte_at(b, b->pos >> 3) >> (7 - (b->pos & 7)) & 1);
-        b->pos++;
-    }
+    uint64_t v;
+    if (b->nb < n) msb_fill(b);
+    v = b->buf >> (64 - n);
+    b->buf <<= n;
+    b->nb -= n;
+    b->pos += (uint64_t)n;
     return v;
 }
 
@@ -367,7 +394,7 @@ static uint64_t read_msb(msb_bits *b, int n)
 static int huf_read_lengths(piz_state *s, msb_bits *b, uint32_t lo, uint32_t hi, rerror *e)
 {
     uint32_t i = lo;
-    memset(s->len, 0, sizeof s->len);
+    memset(s->len + lo, 0, hi - lo + 1); /* only lo..hi is ever looked at */
     while (i <= hi) {
         uint32_t l, run = 0;
         if (b->pos + 6 > b->nbits) return rerror_set(e, "PIZ: Huffman table is truncated");
@@ -390,13 +417,13 @@ static int huf_read_lengths(piz_state *s, msb_bits *b, uint32_t lo, uint32_t hi,
 
 /* OpenEXR's canonical code: longer codes take the numerically smaller values; within a
  * length, codes increase with the symbol. Builds the counts, first codes and fast table. */
-static int huf_build(piz_state *s, rerror *e)
+static int huf_build(piz_state *s, uint32_t lo, uint32_t hi, rerror *e)
 {
     uint64_t c = 0;
     uint32_t sym, l, next[HUF_MAX_LEN + 1];
     memset(s->count, 0, sizeof s->count);
     memset(s->fast, 0, sizeof s->fast);
-    for (sym = 0; sym < HUF_SYMBOLS; ++sym) s->count[s->len[sym]]++;
+    for (sym = lo; sym <= hi; ++sym) s->count[s->len[sym]]++;
     for (l = HUF_MAX_LEN; l > 0; --l) {
         uint64_t nc = (c + s->count[l]) >> 1;
         s->first[l] = c;
@@ -409,7 +436,7 @@ static int huf_build(piz_state *s, rerror *e)
         if (s->count[l] && (s->first[l] + s->count[l] - 1) >> l)
             return rerror_set(e, "PIZ: Huffman code lengths are over-subscribed");
     }
-    for (sym = 0; sym < HUF_SYMBOLS; ++sym) {
+    for (sym = lo; sym <= hi; ++sym) {
         uint32_t len = s->len[sym];
         uint64_t code, k, lo, hi;
         if (!len) continue;
@@ -426,25 +453,27 @@ static int huf_build(piz_state *s, rerror *e)
 /* One symbol; -1 if the bits are no code. */
 static long huf_symbol(const piz_state *s, msb_bits *b)
 {
-    uint64_t i = b->pos >> 3, v;
-    uint32_t w, entry;
+    uint64_t v;
+    uint32_t entry;
     int l;
-    w = i + 3 <= b->nbytes ? (uint32_t)b->in[i] << 16 | (uint32_t)b->in[i + 1] << 8 | b->in[i + 2]
-                           : byte_at(b, i) << 16 | byte_at(b, i + 1) << 8 | byte_at(b, i + 2);
-    v = w >> (12 - (b->pos & 7)) & ((1u << HUF_FAST) - 1);
+    if (b->nb < HUF_FAST) msb_fill(b);
+    v = b->buf >> (64 - HUF_FAST);
     entry = s->fast[v];
     if (entry) {
-        b->pos += entry & 63;
+        int len = (int)(entry & 63);
+        b->buf <<= len;
+        b->nb -= len;
+        b->pos += (uint64_t)len;
         return (long)(entry >> 6);
     }
-    /* longer codes: extend the 12 bits one at a time */
+    /* longer codes: extend the 12 bits one at a time (on a copy, kept if a code matches) */
     {
         msb_bits t = *b;
-        t.pos += HUF_FAST;
+        read_msb(&t, HUF_FAST);
         for (l = HUF_FAST + 1; l <= HUF_MAX_LEN; ++l) {
             v = v << 1 | read_msb(&t, 1);
             if (s->count[l] && v >= s->first[l] && v - s->first[l] < s->count[l]) {
-                b->pos = t.pos;
+                *b = t;
                 return (long)s->sorted[s->offset[l] + (v - s->first[l])];
             }
         }
@@ -466,15 +495,17 @@ static int huf_decode(piz_state *s, const unsigned char *in, size_t n, uint16_t 
     hi = le32(in + 4);
     nbits = le32(in + 12);
     if (lo >= HUF_SYMBOLS || hi >= HUF_SYMBOLS || lo > hi) return rerror_set(e, "PIZ: Huffman table range is invalid");
+    memset(&b, 0, sizeof b);
     b.in = in + 20;
     b.nbytes = n - 20;
-    b.pos = 0;
     b.nbits = (uint64_t)b.nbytes * 8;
-    if (huf_read_lengths(s, &b, lo, hi, e) || huf_build(s, e)) return -1;
+    if (huf_read_lengths(s, &b, lo, hi, e) || huf_build(s, lo, hi, e)) return -1;
     /* the codes start at the next byte */
     b.in += (b.pos + 7) / 8;
     b.nbytes -= (size_t)((b.pos + 7) / 8);
     b.pos = 0;
+    b.buf = 0;
+    b.nb = 0;
     if (nbits > (uint64_t)b.nbytes * 8) return rerror_set(e, "PIZ: Huffman bit count exceeds the data");
     b.nbits = nbits;
     while (o < nout) {
@@ -499,9 +530,9 @@ static int huf_decode(piz_state *s, const unsigned char *in, size_t n, uint16_t 
 /* Inverse of the wavelet's two basis functions (OpenEXR ImfWav): the 14-bit version
  * (plain differences and means; used when all LUT indices are below 2^14) and the 16-bit
  * one (modular arithmetic). (l, h) -> (a, b). */
-static int as_int16(uint16_t v) { return v < 0x8000 ? (int)v : (int)v - 0x10000; }
+static inline int as_int16(uint16_t v) { return v < 0x8000 ? (int)v : (int)v - 0x10000; }
 
-static void wdec14(uint16_t l, uint16_t h, uint16_t *a, uint16_t *b)
+static inline void wdec14(uint16_t l, uint16_t h, uint16_t *a, uint16_t *b)
 {
     int hs = as_int16(h);
     int floor_half = hs >= 0 ? hs / 2 : -((1 - hs) / 2); /* floor(hs / 2) without shifting a negative */
@@ -510,14 +541,14 @@ static void wdec14(uint16_t l, uint16_t h, uint16_t *a, uint16_t *b)
     *b = (uint16_t)(ai - hs);
 }
 
-static void wdec16(uint16_t l, uint16_t h, uint16_t *a, uint16_t *b)
+static inline void wdec16(uint16_t l, uint16_t h, uint16_t *a, uint16_t *b)
 {
     uint16_t bb = (uint16_t)((int)l - (h >> 1));
     *b = bb;
     *a = (uint16_t)((int)h + bb - 0x8000);
 }
 
-static void wdec(int w14, uint16_t l, uint16_t h, uint16_t *a, uint16_t *b)
+static inline void wdec(int w14, uint16_t l, uint16_t h, uint16_t *a, uint16_t *b)
 {
     if (w14) wdec14(l, h, a, b);
     else wdec16(l, h, a, b);
@@ -581,11 +612,14 @@ static int piz_decode(piz_state *s, const exr_header *h, int width, int lines, c
         memcpy(s->bitmap + lo, in + pos, hi - lo + 1);
         pos += hi - lo + 1;
     }
-    /* reverse LUT: index -> value, for 0 and every value whose bit is set */
-    for (i = 0; i < 65536; ++i)
-        if (i == 0 || (s->bitmap[i >> 3] >> (i & 7) & 1)) s->lut[count++] = (uint16_t)i;
+    /* reverse LUT: index -> value, for 0 and every value whose bit is set; indices
+     * past the last value map to 0 (only the entries the last chunk set need clearing) */
+    s->lut[count++] = 0;
+    for (i = lo <= hi ? 8 * lo : 1; lo <= hi && i < 8 * (hi + 1); ++i)
+        if (i != 0 && s->bitmap[i >> 3] >> (i & 7) & 1) s->lut[count++] = (uint16_t)i;
     maxval = (uint16_t)(count - 1);
-    for (i = count; i < 65536; ++i) s->lut[i] = 0;
+    for (i = count; i < s->lut_used; ++i) s->lut[i] = 0;
+    s->lut_used = count;
     if (n - pos < 4) return rerror_set(e, "PIZ: chunk is truncated");
     hlen = le32(in + pos);
     pos += 4;
@@ -637,29 +671,32 @@ static int lines_per_chunk(int compression)
 static void convert_line(const exr_reader *r, const unsigned char *line, int32_t y, fimage *out)
 {
     const exr_header *h = &r->h;
-    int c, x, oy = (int)((int64_t)y - h->display[1]);
+    int c, x, x0, x1, nc = out->channels;
+    int64_t shift = (int64_t)h->data[0] - h->display[0]; /* output x = data x + shift */
     size_t at = 0;
+    float *row;
     if (y < h->display[1] || y > h->display[3]) return;
+    row = out->px + (size_t)((int64_t)y - h->display[1]) * out->width * nc;
+    /* the data x range that lands inside the display window */
+    x0 = shift < 0 ? (int)-shift : 0;
+    x1 = (int64_t)r->width + shift > out->width ? (int)(out->width - shift) : r->width;
+    if (x1 <= x0) return; /* no column inside */
     for (c = 0; c < h->nch; ++c) {
         const exr_channel *ch = &h->ch[c];
-        if (ch->target >= 0) {
-            for (x = 0; x < r->width; ++x) {
-                int64_t ox = (int64_t)h->data[0] + x - h->display[0];
-                const unsigned char *v = line + at + (size_t)x * ch->size;
-                float f;
-                if (ox < 0 || ox >= out->width) continue;
-                if (ch->type == EXR_HALF) {
-                    f = half_to_float((uint16_t)(v[0] | v[1] << 8));
-                } else if (ch->type == EXR_FLOAT) {
-                    uint32_t bits = le32(v);
-                    memcpy(&f, &bits, sizeof f);
-                } else {
-                    f = (float)le32(v);
-                }
-                out->px[((size_t)oy * out->width + (size_t)ox) * out->channels + ch->target] = f;
+        const unsigned char *v = line + at + (size_t)x0 * ch->size;
+        float *o = row + (size_t)(x0 + shift) * nc + ch->target;
+        at += (size_t)r->width * ch->size;
+        if (ch->target < 0) continue;
+        for (x = x0; x < x1; ++x, v += ch->size, o += nc) {
+            if (ch->type == EXR_HALF) {
+                *o = half_table[v[0] | v[1] << 8];
+            } else if (ch->type == EXR_FLOAT) {
+                uint32_t bits = le32(v);
+                memcpy(o, &bits, sizeof bits);
+            } else {
+                *o = (float)le32(v);
             }
         }
-        at += (size_t)r->width * ch->size;
     }
 }
 
@@ -724,10 +761,11 @@ static int read_image(exr_reader *r, const unsigned char *f, size_t size, fimage
         return rerror_at(e, r->path, 0, "EXR: %d x %.0f pixels cannot come from a file of %lu bytes (corrupt header)",
                          r->width, (double)height, (unsigned long)size);
     if ((channels = choose_channels(r->path, h, e)) < 0) return -1;
+    pthread_once(&half_table_once, half_table_build);
     max_chunk = r->line_bytes * (size_t)(height < r->lpc ? height : r->lpc);
     if (!(r->unpacked = rmalloc(max_chunk, 1, e)) || !(r->scratch = rmalloc(max_chunk, 1, e))) return -1;
     if (h->compression == EXR_PIZ &&
-        (!(r->words = rmalloc(max_chunk / 2 + 1, sizeof(uint16_t), e)) || !(r->piz = rmalloc(1, sizeof(piz_state), e))))
+        (!(r->words = rmalloc(max_chunk / 2 + 1, sizeof(uint16_t), e)) || !(r->piz = rcalloc(1, sizeof(piz_state), e))))
         return -1;
     if (fimage_alloc(out, h->display[2] - h->display[0] + 1, h->display[3] - h->display[1] + 1, channels, e)) return -1;
     for (i = 0; i < nchunks; ++i) {

@@ -112,17 +112,11 @@ static int huffman_build(huffman *h, const uint8_t *lengths, int n, const char *
     return 0;
 }
 
-/* One symbol; -1 if the bits are not a code of h. Needs >= 15 bits buffered. */
-static int decode_symbol(bitin *b, const huffman *h)
+/* A code longer than FAST_BITS (or none): walk the lengths, most-significant bit first. */
+static int decode_slow(bitin *b, const huffman *h)
 {
-    unsigned entry = h->fast[b->bits & ((1u << FAST_BITS) - 1)], len;
     int code = 0, first = 0, index = 0;
-    if (entry) {
-        b->bits >>= entry & 15;
-        b->nbits -= entry & 15;
-        return (int)(entry >> 4);
-    }
-    /* Longer code: walk the lengths (codes are read most-significant bit first). */
+    unsigned len;
     for (len = 1; len <= MAX_BITS; ++len) {
         int count = h->count[len];
         code |= (int)(b->bits >> (len - 1) & 1);
@@ -136,6 +130,16 @@ static int decode_symbol(bitin *b, const huffman *h)
         code <<= 1;
     }
     return -1;
+}
+
+/* One symbol; -1 if the bits are not a code of h. Needs >= 15 bits buffered. */
+static inline int decode_symbol(bitin *b, const huffman *h)
+{
+    unsigned entry = h->fast[b->bits & ((1u << FAST_BITS) - 1)];
+    if (!entry) return decode_slow(b, h);
+    b->bits >>= entry & 15;
+    b->nbits -= entry & 15;
+    return (int)(entry >> 4);
 }
 
 typedef struct {

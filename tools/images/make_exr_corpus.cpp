@@ -25,7 +25,9 @@
 #include <ImfPartType.h>
 #include <ImfRgbaFile.h>
 #include <ImfTiledOutputFile.h>
+#include <ImfThreading.h>
 #include <half.h>
+#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -36,7 +38,7 @@
 
 extern "C" {
 #include "image_corpus.h"
-#include "restir/exr.h"
+#include "restir/core/exr.h"
 }
 
 using namespace Imf;
@@ -296,17 +298,37 @@ static int bench(const std::string &dir, int runs)
             out.setFrameBuffer(fb);
             out.writePixels(h);
         }
-        std::vector<double> ms;
+        std::vector<double> ms, cpu, lib;
+        setGlobalThreadCount(0); // libOpenEXR single-threaded, like our reader
         for (int r = 0; r < runs; ++r) {
             fimage img;
             rerror e;
+            struct timespec c0, c1;
+            clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
             auto t0 = std::chrono::steady_clock::now();
             if (exr_read(path.c_str(), &img, &e)) {
                 printf("%s\n", e.msg);
                 return 1;
             }
             auto t1 = std::chrono::steady_clock::now();
+            clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
             ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+            cpu.push_back((c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) / 1e6);
+            {
+                // the reference: libOpenEXR decoding the same file into float slices
+                std::vector<float> f[3];
+                FrameBuffer rb;
+                for (int c = 0; c < 3; ++c) {
+                    f[c].resize((size_t)w * h);
+                    rb.insert(names[c], Slice(FLOAT, (char *)f[c].data(), 4, 4 * w));
+                }
+                clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
+                InputFile in(path.c_str());
+                in.setFrameBuffer(rb);
+                in.readPixels(0, h - 1);
+                clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
+                lib.push_back((c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) / 1e6);
+            }
             size_t bad = 0;
             for (int c = 0; c < 3; ++c)
                 for (size_t i = 0; i < (size_t)w * h; ++i)
@@ -315,12 +337,16 @@ static int bench(const std::string &dir, int runs)
             if (bad) printf("%s: %zu values differ\n", path.c_str(), bad);
         }
         std::sort(ms.begin(), ms.end());
+        std::sort(cpu.begin(), cpu.end());
+        std::sort(lib.begin(), lib.end());
         FILE *f = fopen(path.c_str(), "rb");
         fseek(f, 0, SEEK_END);
         long size = ftell(f);
         fclose(f);
-        printf("%s (%ld bytes): exr_read median %.1f ms of %d runs (min %.1f, max %.1f)\n", path.c_str(), size,
-               ms[ms.size() / 2], runs, ms.front(), ms.back());
+        printf("%s (%ld bytes): exr_read median %.1f ms wall (min %.1f, max %.1f), %.1f ms CPU (min %.1f); "
+               "libOpenEXR 1 thread %.1f ms CPU (min %.1f); %d runs\n",
+               path.c_str(), size, ms[ms.size() / 2], ms.front(), ms.back(), cpu[cpu.size() / 2], cpu.front(),
+               lib[lib.size() / 2], lib.front(), runs);
     }
     return 0;
 }
