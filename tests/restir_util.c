@@ -36,6 +36,32 @@ int rt_load_scene(const char *path, int res, scene *s)
     return 0;
 }
 
+/* A scene with a panning camera: cornell-glossy seen from eye x = 278 - pan/2 at frame
+ * 0 to 278 + pan/2 at frame 16 (target moves with it); pan 0: the still camera. */
+int rt_load_glossy_pan(scene *s, int res, double pan)
+{
+    camera_pose p;
+    if (rt_load_scene("scenes/cornell-glossy.scene", res, s)) return -1;
+    if (pan == 0) return 0;
+    p = s->camera;
+    s->keyframes = calloc(2, sizeof *s->keyframes);
+    if (!s->keyframes) {
+        test_fail(__FILE__, __LINE__, "out of memory");
+        scene_free(s);
+        return -1;
+    }
+    s->keyframe_count = 2;
+    s->keyframes[0].frame = 0;
+    s->keyframes[0].pose = p;
+    s->keyframes[0].pose.eye.x -= (real)(pan / 2);
+    s->keyframes[0].pose.target.x -= (real)(pan / 2);
+    s->keyframes[1].frame = 16;
+    s->keyframes[1].pose = p;
+    s->keyframes[1].pose.eye.x += (real)(pan / 2);
+    s->keyframes[1].pose.target.x += (real)(pan / 2);
+    return 0;
+}
+
 int rt_load_scene_lights(const char *path, int res, scene *s, light_set *ls)
 {
     rerror e;

@@ -24,30 +24,6 @@
 #include "restir/scene/scene_trace.h"
 #include "restir/frame/options.h"
 
-/* cornell-glossy seen from a camera panning along x by `pan` over frames 0..16. */
-static int load_glossy_pan(scene *s, int res, double pan)
-{
-    camera_pose p;
-    if (rt_load_scene("scenes/cornell-glossy.scene", res, s)) return -1;
-    p = s->camera;
-    s->keyframes = calloc(2, sizeof *s->keyframes);
-    if (!s->keyframes) {
-        test_fail(__FILE__, __LINE__, "out of memory");
-        scene_free(s);
-        return -1;
-    }
-    s->keyframe_count = 2;
-    s->keyframes[0].frame = 0;
-    s->keyframes[0].pose = p;
-    s->keyframes[0].pose.eye.x -= (real)(pan / 2);
-    s->keyframes[0].pose.target.x -= (real)(pan / 2);
-    s->keyframes[1].frame = 16;
-    s->keyframes[1].pose = p;
-    s->keyframes[1].pose.eye.x += (real)(pan / 2);
-    s->keyframes[1].pose.target.x += (real)(pan / 2);
-    return 0;
-}
-
 typedef struct {
     const scene *s;
     restir_options o;
@@ -84,7 +60,7 @@ static void temporal_paired(int res, int runs, int frame, double pan, int max_de
     seq_config none, t, pw;
     int k;
     uint32_t seed0 = test_seed() * 2246822519u + 77u;
-    if (load_glossy_pan(&s, res, pan)) return;
+    if (rt_load_glossy_pan(&s, res, pan)) return;
     none.s = t.s = pw.s = &s;
     none.frame = t.frame = pw.frame = frame;
     pan_options(&none.o, 0, MIS_TALBOT, max_depth);
@@ -157,7 +133,7 @@ static void round_trip_case(int shift, int mis, long *checked, long *fired_diag,
     rerror e;
     const int t = 5;
     int x, y;
-    if (load_glossy_pan(&s, 16, 200)) return;
+    if (rt_load_glossy_pan(&s, 16, 200)) return;
     if (lights_build(&lights, &s, &e) || spatial_workspace_alloc(&ws, 2, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         scene_free(&s);

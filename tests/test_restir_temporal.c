@@ -34,32 +34,6 @@ typedef struct {
 } temporal_case;
 
 
-/* A scene with a panning camera: cornell-glossy seen from eye x = 278 - pan/2 at frame
- * 0 to 278 + pan/2 at frame 16 (target moves with it); pan 0: the still camera. */
-static int load_pan(scene *s, int res, double pan)
-{
-    camera_pose p;
-    if (rt_load_scene("scenes/cornell-glossy.scene", res, s)) return -1;
-    if (pan == 0) return 0;
-    p = s->camera;
-    s->keyframes = calloc(2, sizeof *s->keyframes);
-    if (!s->keyframes) {
-        test_fail(__FILE__, __LINE__, "out of memory");
-        scene_free(s);
-        return -1;
-    }
-    s->keyframe_count = 2;
-    s->keyframes[0].frame = 0;
-    s->keyframes[0].pose = p;
-    s->keyframes[0].pose.eye.x -= (real)(pan / 2);
-    s->keyframes[0].pose.target.x -= (real)(pan / 2);
-    s->keyframes[1].frame = 16;
-    s->keyframes[1].pose = p;
-    s->keyframes[1].pose.eye.x += (real)(pan / 2);
-    s->keyframes[1].pose.target.x += (real)(pan / 2);
-    return 0;
-}
-
 /* cornell-glossy with the short block sliding 120 units along +x and turning 30 degrees
  * about y over frames 0..16 (a moving object with a moving shadow); the camera is still. */
 static int load_moving_over(scene *s, int res, int frames)
@@ -117,7 +91,7 @@ static void bench_close(temporal_bench *b);
 /* pan = -1: the moving block (load_moving); pan = -3: the same 4x faster (frames 0..4);
  * pan = -4: scenes/pillars.scene (camera pan behind bars: disocclusion);
  * pan = -2: scenes/shadow.scene (a box crossing
- * under a small light, still camera); else load_pan(pan). */
+ * under a small light, still camera); else rt_load_glossy_pan(pan). */
 static int bench_open(temporal_bench *b, const char *name, double pan, int res, int runs, uint32_t spp,
                       const int *times, int nt)
 {
@@ -134,7 +108,7 @@ static int bench_open(temporal_bench *b, const char *name, double pan, int res, 
     if (pan == -4 ? rt_load_scene("scenes/pillars.scene", res, &b->s)
         : pan == -2 ? rt_load_scene("scenes/shadow.scene", res, &b->s)
                   : pan == -3 ? load_moving_over(&b->s, res, 4)
-                  : pan < 0 ? load_moving(&b->s, res) : load_pan(&b->s, res, pan))
+                  : pan < 0 ? load_moving(&b->s, res) : rt_load_glossy_pan(&b->s, res, pan))
         return -1;
     for (i = 0; i < nt; ++i) {
         b->times[i] = times[i];
