@@ -29,11 +29,12 @@ void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3
         if (v->lobe_p[l] > 0 && !bsdf_lobe_is_delta(&v->b, l)) v->can_nee = 1;
 }
 
-void path_vertex_make_distant(path_vertex *v, vec3 w)
+void path_vertex_make_distant(path_vertex *v, vec3 w) { path_vertex_make_distant_stored(v, v3f_from(w)); }
+
+void path_vertex_make_distant_stored(path_vertex *v, vec3f p)
 {
-    vec3f p = v3f_from(w);
+    vec3 w = light_distant_direction(p);
     memset(v, 0, sizeof *v);
-    w = light_distant_direction(p);
     v->hit.position = p;
     v->hit.ng = v->hit.ns = v3f_from(v3_neg(w));
     v->hit.t = INFINITY;

@@ -78,6 +78,8 @@ void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3
  * hit.triangle = LIGHT_TRIANGLE_DISTANT, hit.position = position = w (as float, then
  * renormalised: light_distant_direction), ng = ns = wo = -w, a black BSDF, no NEE. */
 void path_vertex_make_distant(path_vertex *v, vec3 w);
+/* The same from the stored float direction p (bit for bit the vertex whose hit.position is p). */
+void path_vertex_make_distant_stored(path_vertex *v, vec3f p);
 static inline int path_vertex_is_distant(const path_vertex *v) { return v->hit.triangle == LIGHT_TRIANGLE_DISTANT; }
 /* The direction of a vertex at infinity from its stored float position. */
 static inline vec3 light_distant_direction(vec3f p) { return v3_normalize(v3_from_f(p)); }
