@@ -12,6 +12,7 @@ void sky_init(scene_sky *k)
 {
     memset(k, 0, sizeof *k);
     k->scale = 1;
+    k->rotate_cos = 1; /* no rotation until sky_prepare */
 }
 
 static void sky_free_derived(scene_sky *k)
