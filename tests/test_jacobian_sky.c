@@ -15,6 +15,7 @@
 #include "restir_util.h"
 #include "test.h"
 #include "restir/restir/reconnection.h"
+#include "restir/restir/reservoir_dump.h"
 
 #ifdef RESTIR_REAL_FLOAT
 #define FD_RTOL 1e-2
@@ -80,9 +81,35 @@ static void bench_close(sky_bench *b)
 
 /* Counts of the cases checked, for the test's own sanity. */
 typedef struct {
-    int bsdf, nee, round_trips, kinks, grazing;
+    int bsdf, nee, round_trips, kinks, grazing, dumped;
     double worst_fd, worst_trip;
 } fd_counts;
+
+/* The vertex at infinity survives the reservoir dump record (format version 1, rc_flags bit
+ * 1), and path_sample_check rejects the bit on a vertex that is not the last. */
+static void dump_round_trip(const path_sample *x, fd_counts *n)
+{
+    unsigned char buf[4096];
+    reservoir r, back;
+    real pss[PATH_MAX_PSS];
+    path_sample bad;
+    reservoir_init(&r);
+    r.y = *x;
+    r.W = 1;
+    r.confidence = 1;
+    if (reservoir_record_size(0) > sizeof buf) return;
+    reservoir_record_encode(&r, 0, buf);
+    reservoir_record_decode(buf, 0, &back, pss);
+    CHECK(path_sample_check(&back.y, "decoded", NULL) == 0);
+    CHECK(back.y.rc_flags == x->rc_flags && back.y.rc_triangle == LIGHT_TRIANGLE_DISTANT);
+    CHECK(back.y.rc_position.x == x->rc_position.x && back.y.rc_position.y == x->rc_position.y &&
+          back.y.rc_position.z == x->rc_position.z && back.y.rc_geom == 1 && back.y.rc_pdf == 1);
+    bad = *x;
+    bad.length = 3; /* k = 2 < d: an infinite vertex in the middle */
+    bad.lobe[2] = 0;
+    CHECK(path_sample_check(&bad, "bad", NULL) != 0);
+    n->dumped++;
+}
 
 /* Sample `sample` of pixel (ax, ay), length 2, technique `tech`, shifted to (bx, by). */
 static void one_case(sky_bench *b, int ax, int ay, int bx, int by, uint32_t sample, int tech, fd_counts *n)
@@ -98,6 +125,7 @@ static void one_case(sky_bench *b, int ax, int ay, int bx, int by, uint32_t samp
     if (path_record(&b->c, &xa, &x) != SHIFT_OK) return;
     if (!(x.rc_flags & PATH_RC_FLAG_DISTANT) || x.rc_k != 2 || (x.rc_flags & PATH_RC_FLAG_UNSHIFTABLE)) return;
     CHECK(path_sample_check(&x, "recorded", NULL) == 0);
+    if (n->dumped < 8) dump_round_trip(&x, n);
     if (shift_path(&b->c, &xb, &x, &y, &J, NULL) != SHIFT_OK) return;
     /* the round trip: J(a -> b) J(b -> a) = 1, and the path comes back */
     if (shift_path(&b->c, &xa, &y, &back, &Jb, NULL) == SHIFT_OK) {
@@ -170,8 +198,8 @@ TEST(jacobian_sky_directional_fd_and_round_trip)
             fprintf(stderr, "  shift %s: %d BSDF cases (worst FD relative %.2g; %d at kinks, %d grazing skipped), %d NEE, %d round "
                             "trips (worst %.2g)\n",
                     restir_shift_names[shifts[si]], n.bsdf, n.worst_fd, n.kinks, n.grazing, n.nee, n.round_trips, n.worst_trip);
-        CHECKF(n.bsdf >= 50 && n.nee >= 50 && n.round_trips >= 100, "too few cases: %d BSDF, %d NEE, %d round trips",
-               n.bsdf, n.nee, n.round_trips);
+        CHECKF(n.bsdf >= 50 && n.nee >= 50 && n.round_trips >= 100 && n.dumped == 8,
+               "too few cases: %d BSDF, %d NEE, %d round trips, %d dumped", n.bsdf, n.nee, n.round_trips, n.dumped);
         bench_close(&b);
     }
 }

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "pt_util.h"
 #include "test.h"
+#include "restir/core/pfm.h"
 #include "restir/render/camera.h"
 #include "restir/render/pt.h"
 #include "restir/scene/scene_trace.h"
@@ -385,4 +386,99 @@ TEST(sky_bright_texel_equals_sun)
     if (getenv("RESTIR_TEST_VERBOSE"))
         fprintf(stderr, "  texel %.6g %.6g %.6g, sun %.6g %.6g %.6g, analytic %.6g %.6g %.6g\n", got[0][0], got[0][1],
                 got[0][2], got[1][0], got[1][1], got[1][2], want[0], want[1], want[2]);
+}
+
+/* ---- the scene file ------------------------------------------------------------------------ */
+
+static const char sky_obj[] = "v 0 0 0\nv 1 0 0\nv 0 0 -1\nf 1 2 3\n";
+
+/* Writes a 4 x 2 PFM map "sky.pfm" (texel (col, row) = col + 10 row + 1 in red, 0.5 green, 0 blue). */
+static void write_sky_pfm(void)
+{
+    image img;
+    rerror e;
+    int x, y;
+    if (image_alloc(&img, 4, 2, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return;
+    }
+    for (y = 0; y < 2; ++y)
+        for (x = 0; x < 4; ++x) {
+            float *p = image_pixel(&img, x, y);
+            p[0] = (float)(x + 10 * y + 1);
+            p[1] = 0.5f;
+            p[2] = 0;
+        }
+    if (pfm_write(test_tmp_path("sky.pfm"), &img, &e)) test_fail(__FILE__, __LINE__, "%s", e.msg);
+    image_free(&img);
+}
+
+static int load_sky_scene(scene *s, const char *text, rerror *e)
+{
+    char path[1024];
+    test_write_file("sky.obj", sky_obj);
+    snprintf(path, sizeof path, "%s", test_write_file("sky.scene", text));
+    return scene_load(s, path, e);
+}
+
+TEST(sky_scene_file_directives)
+{
+    scene s;
+    rerror e;
+    vec3 w;
+    write_sky_pfm();
+    CHECKF(!load_sky_scene(&s, "mesh sky.obj\nenvironment map sky.pfm rotate 90 scale 2\nsun 0 2 0 5 10 20 30\n", &e),
+           "%s", e.msg);
+    if (test_has_failed()) return;
+    CHECK(s.sky && s.sky->has_env && s.sky->env_is_map && s.sky->width == 4 && s.sky->height == 2);
+    CHECK(s.sky->has_sun && s.sky->sun_direction.y == 1 && s.sky->sun_angle_degrees == 5);
+    /* row 0 (top) col 0 is texel value 1, scaled by 2; after rotate 90 it looks along +x */
+    w = sky_env_direction(s.sky, v2((real)0.125, (real)0.25));
+    CHECK_NEAR(sky_env_radiance(s.sky, w).r, 2, 0);
+    CHECK_NEAR(sky_env_radiance(s.sky, v3(1, (real)0.3, (real)-0.2)).r, 2 * 1, 0);
+    CHECK_NEAR(sky_env_radiance(s.sky, v3(0, (real)-0.5, 1)).r, 2 * (3 + 10 + 1), 0); /* bottom row, u = 3/4 + */
+    CHECK(sky_sun_radiance(s.sky, v3(0, 1, 0)).g == 20 && rgb_is_black(sky_sun_radiance(s.sky, v3(1, 0, 0))));
+    scene_free(&s);
+    CHECKF(!load_sky_scene(&s, "mesh sky.obj\nenvironment constant 0.5 1 2\n", &e), "%s", e.msg);
+    if (!test_has_failed()) CHECK(s.sky && s.sky->has_env && !s.sky->env_is_map && s.sky->env_constant.b == 2);
+    scene_free(&s);
+    CHECKF(!load_sky_scene(&s, "mesh sky.obj\n", &e), "%s", e.msg);
+    if (!test_has_failed()) CHECK(s.sky == NULL);
+    scene_free(&s);
+}
+
+TEST(sky_scene_file_errors_have_file_and_line)
+{
+    static const struct {
+        const char *text;
+        long line;
+        const char *what;
+    } cases[] = {
+        {"mesh sky.obj\nenvironment\n", 2, "expected 'constant R G B' or 'map FILE"},
+        {"mesh sky.obj\nenvironment constant 1 1\n", 2, "expected 3 numbers"},
+        {"mesh sky.obj\nenvironment constant 1 -1 1\n", 2, "outside [0, 1e30]"},
+        {"mesh sky.obj\nenvironment constant 1 1 1 1\n", 2, "unexpected '1'"},
+        {"mesh sky.obj\nenvironment constant 1 1 1\nenvironment constant 1 1 1\n", 3, "environment given twice (first on line 2)"},
+        {"mesh sky.obj\nenvironment map\n", 2, "missing file name"},
+        {"mesh sky.obj\nenvironment map sky.pfm spin 3\n", 2, "unknown key 'spin'"},
+        {"mesh sky.obj\nenvironment map sky.pfm scale -1\n", 2, "scale -1 is negative"},
+        {"mesh sky.obj\nenvironment map sky.pfm rotate 1 rotate 2\n", 2, "rotate given twice"},
+        {"mesh sky.obj\nenvironment map nowhere.pfm\n", 2, "nowhere.pfm"},
+        {"mesh sky.obj\nenvironment map sky.exr\n", 2, "PFM files"},
+        {"mesh sky.obj\nsun 0 0 0 1 1 1 1\n", 2, "direction is zero"},
+        {"mesh sky.obj\nsun 0 1 0 90 1 1 1\n", 2, "outside (0, 90)"},
+        {"mesh sky.obj\nsun 0 1 0 0 1 1 1\n", 2, "outside (0, 90)"},
+        {"mesh sky.obj\nsun 0 1 0 1 1 1\n", 2, "expected 3 numbers"},
+        {"mesh sky.obj\nsun 0 1 0 1 1 1 1\nsun 0 1 0 1 1 1 1\n", 3, "sun given twice (first on line 2)"},
+    };
+    size_t i;
+    write_sky_pfm();
+    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        scene s;
+        rerror e;
+        char prefix[1200];
+        CHECKF(load_sky_scene(&s, cases[i].text, &e) != 0, "case %zu loaded", i);
+        snprintf(prefix, sizeof prefix, "%s:%ld: ", test_tmp_path("sky.scene"), cases[i].line);
+        CHECKF(!strncmp(e.msg, prefix, strlen(prefix)) && strstr(e.msg, cases[i].what), "case %zu: %s", i, e.msg);
+    }
 }
