@@ -9,6 +9,7 @@
 #include <string.h>
 #include "restir_util.h"
 #include "test.h"
+#include "restir/restir/mutate.h"
 
 #define ALPHA 1e-3
 #define RES 16
@@ -77,7 +78,8 @@ static void unpaired(const scene *s, const check_side *pt, const restir_options 
     check_result_free(&c);
 }
 
-/* Every shift x {Talbot, pairwise-defensive}, 2 spatial passes, against the path tracer. */
+/* Every shift x {Talbot, pairwise-defensive}, 2 spatial passes, against the path tracer; and
+ * stochastic pairwise MIS (Stochastic MIS, one pick) with the hybrid shift. */
 TEST(restir_sky_unpaired_every_shift)
 {
     static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
@@ -99,6 +101,11 @@ TEST(restir_sky_unpaired_every_shift)
                      restir_mis_names[families[j]]);
             unpaired(&s, &pt, &o, what, 0);
         }
+    if (!test_has_failed()) {
+        restir_options o;
+        sky_options(&o, RESTIR_SHIFT_HYBRID, RESTIR_MIS_STOCHASTIC_PAIRWISE, 2, 17);
+        unpaired(&s, &pt, &o, "courtyard shift hybrid mis stochastic-pairwise", 0);
+    }
     check_side_free(&pt);
     scene_free(&s);
 }
@@ -192,7 +199,7 @@ TEST(restir_sky_temporal)
         scene_free(&s);
         return;
     }
-    for (i = 0; i < 3 && !test_has_failed(); ++i) {
+    for (i = 0; i < 5 && !test_has_failed(); ++i) {
         restir_options o;
         restir_sequence seq;
         one_frame q;
@@ -201,8 +208,13 @@ TEST(restir_sky_temporal)
         rerror e;
         char what[128];
         int k, status = 0;
-        sky_options(&o, shifts[i], MIS_PAIRWISE_DEFENSIVE, 1, 80u + (uint32_t)i);
+        sky_options(&o, i < 3 ? shifts[i] : i == 3 ? RESTIR_SHIFT_RECONNECTION : RESTIR_SHIFT_HYBRID,
+                    MIS_PAIRWISE_DEFENSIVE, 1, 80u + (uint32_t)i);
         o.temporal_mis = i == 1 ? MIS_PAIRWISE_DEFENSIVE : MIS_TALBOT;
+        if (i >= 3) { /* MCMC mutations after temporal reuse (Mutations Algorithm 3): rv, pp */
+            o.mutations = 2;
+            o.mutation = i == 3 ? MUTATE_RV : MUTATE_PP;
+        }
         memset(&seq, 0, sizeof seq);
         seq.first = 0;
         seq.last = 3;
@@ -229,8 +241,9 @@ TEST(restir_sky_temporal)
         check_side_free(&q.side);
         CHECKF(status == 0, "check_compare: %s", e.msg);
         if (status) break;
-        snprintf(what, sizeof what, "courtyard temporal frame 3 shift %s temporal %s", restir_shift_names[shifts[i]],
-                 restir_mis_names[o.temporal_mis]);
+        snprintf(what, sizeof what, "courtyard temporal frame 3 shift %s temporal %s mutations %d %s",
+                 restir_shift_names[o.shift], restir_mis_names[o.temporal_mis], o.mutations,
+                 mutate_strategy_names[o.mutation]);
         report(what, &c, 0);
         check_result_free(&c);
     }

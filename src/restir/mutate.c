@@ -132,8 +132,11 @@ int mutate_explicit(const restir_context *c, const path_vertex *y1, const path_s
     if (k == PATH_RC_NONE || k - 1 > nb) return 0; /* no implicit numbers */
     /* y_{k-1} samples x_k, x_k samples w_k: implicit, recovered by inverse sampling. */
     if (trunk_replay(&t, c, y1, y, k - 1) != SHIFT_OK) return MUTATE_SKIP_IRREPRODUCIBLE + 1;
-    if (!mutate_invert_bounce(&t.v[k - 1], y->lobe[k - 1], mutate_direction_to(&t.v[k - 1], v3_from_f(y->rc_position)), xi_lobe[0],
-                       n))
+    /* x_k at infinity: the direction itself (docs/environment.md) */
+    if (!mutate_invert_bounce(&t.v[k - 1], y->lobe[k - 1],
+                              (y->rc_flags & PATH_RC_FLAG_DISTANT) ? light_distant_direction(y->rc_position)
+                                                                   : mutate_direction_to(&t.v[k - 1], v3_from_f(y->rc_position)),
+                              xi_lobe[0], n))
         return MUTATE_SKIP_INVERSE + 1;
     set_numbers(u, k - 1, n);
     if (k > nb) return 0;
@@ -144,10 +147,12 @@ int mutate_explicit(const restir_context *c, const path_vertex *y1, const path_s
     return 0;
 }
 
-/* G(a -> b) = |n_g(b) . w| / ||b - a||^2 (GRIS Eq. 52). */
+/* G(a -> b) = |n_g(b) . w| / ||b - a||^2 (GRIS Eq. 52); 1 for b at infinity, whose measure
+ * is solid angle (docs/environment.md §5.2). */
 static real geometry_term(const path_vertex *a, const path_vertex *b)
 {
     vec3 d = v3_sub(b->position, a->position);
+    if (path_vertex_is_distant(b)) return 1;
     real r2 = v3_dot(d, d);
     return r2 > 0 ? (real)fabs(v3_dot(b->ng, d)) / (r2 * v3_length(d)) : 0;
 }
@@ -225,11 +230,15 @@ int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sa
         if (path_replay(&ty, c, y1, u, &end) != SHIFT_OK) return MUTATE_REJECT_REPLAY;
         mutate_rv_terms(&ty, k, nb, a_y);
         if (trunk_replay(&tz, c, y1, z, k) != SHIFT_OK) return MUTATE_REJECT_REPLAY; /* z_2..z_k */
-        if (!mutate_invert_bounce(&tz.v[k], u->lobe[k], mutate_direction_to(&tz.v[k], ty.v[k + 1].position), xi_lobe[0], n))
+        int distant = path_vertex_is_distant(&ty.v[k + 1]); /* x_{k+1} = x_d at infinity: keep its direction */
+        if (!mutate_invert_bounce(&tz.v[k], u->lobe[k],
+                                  distant ? ty.v[k + 1].position : mutate_direction_to(&tz.v[k], ty.v[k + 1].position),
+                                  xi_lobe[0], n))
             return MUTATE_REJECT_INVERSE;
         set_numbers(z, k, n);
         if (trunk_sample(&tz, n) != SHIFT_OK) return MUTATE_REJECT_INVERSE;
-        if (trunk_trace(&tz, c->path.scene) != SHIFT_OK || tz.v[k + 1].hit.triangle != ty.v[k + 1].hit.triangle ||
+        if ((distant ? trunk_trace_escape(&tz, c) : trunk_trace(&tz, c->path.scene)) != SHIFT_OK ||
+            tz.v[k + 1].hit.triangle != ty.v[k + 1].hit.triangle ||
             !same_point(tz.v[k + 1].position, ty.v[k + 1].position))
             return MUTATE_REJECT_OCCLUDED;
         if (k + 1 <= nb) { /* x_{k+1} keeps w_{k+1} under the new incoming direction */
