@@ -115,7 +115,7 @@ TEST(sky_env_pdf_integrates_to_one)
     k.env_constant = rgb_gray(1);
     CHECK(sky_prepare(&k, NULL) == 0);
     integral = pdf_integral(&k, sky_env_pdf);
-    CHECKF(fabs(integral - 1) < 1e-9, "constant pdf integrates to %.9f", integral);
+    CHECKF(fabs(integral - 1) < 1e-6, "constant pdf integrates to %.9f", integral); /* float builds: 1/(4 pi) rounded */
     k.has_sun = 1;
     k.sun_direction = v3(1, 2, 3);
     k.sun_angle_degrees = 20;
