@@ -9,6 +9,7 @@
 #include "restir/render/camera.h"
 #include "restir/render/pt.h"
 #include "restir/scene/scene_trace.h"
+#include "restir/scene/animation.h"
 #include "restir/scene/lights.h"
 #include "restir/scene/sky.h"
 
@@ -481,4 +482,30 @@ TEST(sky_scene_file_errors_have_file_and_line)
         snprintf(prefix, sizeof prefix, "%s:%ld: ", test_tmp_path("sky.scene"), cases[i].line);
         CHECKF(!strncmp(e.msg, prefix, strlen(prefix)) && strstr(e.msg, cases[i].what), "case %zu: %s", i, e.msg);
     }
+}
+
+/* scene_clone (animated scenes keep posed copies) copies the sky deeply: the copy answers
+ * the same, and both free on their own (ASan/valgrind builds check the latter). */
+TEST(sky_scene_clone_is_deep)
+{
+    scene s, c;
+    rerror e;
+    vec3 w = v3((real)0.3, (real)0.8, (real)-0.52);
+    write_sky_pfm();
+    if (load_sky_scene(&s, "mesh sky.obj\nenvironment map sky.pfm rotate 10\nsun 1 1 0 3 5 5 5\n", &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return;
+    }
+    CHECKF(!scene_prepare(&s, &e), "%s", e.msg);
+    CHECKF(!scene_clone(&c, &s, &e), "%s", e.msg);
+    if (test_has_failed()) {
+        scene_free(&s);
+        return;
+    }
+    CHECK(c.sky && c.sky != s.sky && c.sky->texels != s.sky->texels && c.sky->marginal_cdf != s.sky->marginal_cdf);
+    CHECK(sky_env_pdf(c.sky, w) == sky_env_pdf(s.sky, w) && sky_env_radiance(c.sky, w).r == sky_env_radiance(s.sky, w).r);
+    CHECK(sky_sun_pdf(c.sky, v3_normalize(v3(1, 1, 0))) == sky_sun_pdf(s.sky, v3_normalize(v3(1, 1, 0))));
+    scene_free(&s);
+    CHECK(sky_env_pdf(c.sky, w) > 0);
+    scene_free(&c);
 }
