@@ -124,9 +124,15 @@ int vertex_sample_light(const path_context *c, const path_vertex *v, const rng_k
     return vertex_sample_light_numbers(c, v, u, out);
 }
 
+#ifdef __GNUC__
+#define SKY_COLD __attribute__((noinline, cold)) /* out of the hot NEE path of skyless scenes */
+#else
+#define SKY_COLD
+#endif
+
 /* NEE towards a point at infinity (docs/environment.md): the direction is the sample, its
  * pdf is already in solid angle, and the shadow ray has no end. */
-static int nee_distant(const path_context *c, const path_vertex *v, nee_sample *out)
+static SKY_COLD int nee_distant(const path_context *c, const path_vertex *v, nee_sample *out)
 {
     out->wi = light_distant_direction(out->y.position);
     out->emitted = out->y.emission;

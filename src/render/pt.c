@@ -90,7 +90,11 @@ static rgb emitter_hit(const pass_job *j, const path_vertex *from, const path_ve
     return rgb_scale(le, path_mis_weight_bsdf_hit(&j->ctx, b, p_light));
 }
 
-/* A primary ray that leaves the scene sees the sky directly (a path of length 1, no MIS). */
+/* A primary ray that leaves the scene sees the sky directly (a path of length 1, no MIS).
+ * Out of line: the hot loop of skyless scenes stays as it was. */
+#ifdef __GNUC__
+__attribute__((noinline, cold))
+#endif
 static rgb sky_background(const pass_job *j, ray r)
 {
     return light_set_has_sky(j->ctx.lights) ? light_distant_radiance(j->ctx.lights, v3_normalize(v3_from_f(r.dir)))
@@ -142,16 +146,13 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
         if (rgb_is_black(beta) || !roulette_survives(j, key, i, &beta)) break;
         r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
         ++*rays;
-        if (!scene_intersect(j->s, &r, &h)) {
-            /* The ray escapes: x_{i+1} is the vertex at infinity along wi (docs/environment.md). */
-            if (counted && light_set_has_sky(j->ctx.lights)) {
-                path_vertex_make_distant(next, b.wi);
-                L = rgb_add(L, rgb_mul(beta, emitter_hit(j, v, next, &b, &s, key, i)));
-            }
-            break;
-        }
-        path_vertex_make(next, j->s, &h, v3_from_f(r.dir));
+        if (scene_intersect(j->s, &r, &h)) path_vertex_make(next, j->s, &h, v3_from_f(r.dir));
+        else if (counted && light_set_has_sky(j->ctx.lights)) path_vertex_make_distant(next, b.wi);
+        else break;
+        /* One call site of emitter_hit (it stays inlined): a surface, or the vertex at
+         * infinity along wi when the ray escapes (docs/environment.md), which ends the path. */
         if (counted) L = rgb_add(L, rgb_mul(beta, emitter_hit(j, v, next, &b, &s, key, i)));
+        if (path_vertex_is_distant(next)) break;
         swap = v; /* x_{i+1} becomes the current vertex without copying it */
         v = next;
         next = swap;
