@@ -147,12 +147,10 @@ int mutate_explicit(const restir_context *c, const path_vertex *y1, const path_s
     return 0;
 }
 
-/* G(a -> b) = |n_g(b) . w| / ||b - a||^2 (GRIS Eq. 52); 1 for b at infinity, whose measure
- * is solid angle (docs/environment.md §5.2). */
+/* G(a -> b) = |n_g(b) . w| / ||b - a||^2 (GRIS Eq. 52). */
 static real geometry_term(const path_vertex *a, const path_vertex *b)
 {
     vec3 d = v3_sub(b->position, a->position);
-    if (path_vertex_is_distant(b)) return 1;
     real r2 = v3_dot(d, d);
     return r2 > 0 ? (real)fabs(v3_dot(b->ng, d)) / (r2 * v3_length(d)) : 0;
 }
@@ -165,7 +163,8 @@ void mutate_rv_terms(const path_trunk *t, int k, int nb, real terms[3])
     terms[0] = terms[1] = terms[2] = 1;
     if (k > nb) return; /* x_{k+1} does not exist, or is NEE-sampled: its numbers do not move */
     terms[0] = t->b[k].pdf_lobe;
-    terms[1] = geometry_term(&t->v[k], &t->v[k + 1]);
+    /* 1 for x_{k+1} at infinity, whose measure is solid angle (docs/environment.md §5.2) */
+    terms[1] = path_vertex_is_distant(&t->v[k + 1]) ? 1 : geometry_term(&t->v[k], &t->v[k + 1]);
     if (k + 1 <= nb) terms[2] = t->b[k + 1].pdf_lobe;
 }
 
