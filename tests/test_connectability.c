@@ -39,6 +39,7 @@ static rc_vertex vtx(real x, int rough)
 {
     rc_vertex v;
     v.position = v3(x, 0, 0);
+    v.at_infinity = 0;
     v.rough = rough;
     return v;
 }

@@ -39,6 +39,7 @@ static rc_vertex rcv(const path_vertex *v, unsigned lobe, vec3 wi)
 {
     rc_vertex r;
     r.position = v->position;
+    r.at_infinity = 0;
     r.ng = v->ng;
     r.surface = v;
     r.lobe = lobe;

@@ -137,6 +137,7 @@ static int own_reconnection_index(const restir_context *c, const path_vertex *xa
     trunk_rc_vertices(&tx, c, x->lobe, d, &ex, x->technique, v);
     for (j = 1; j < k; ++j) { /* the offset prefix, its lobes as T assigned them */
         vy[j].position = ty.v[j].position;
+        vy[j].at_infinity = 0;
         vy[j].rough = rc_vertex_is_rough(&ty.v[j].b, y->lobe[j], c->rc.roughness_threshold);
         vy[j].ng = ty.v[j].ng;
         vy[j].surface = &ty.v[j];

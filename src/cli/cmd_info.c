@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "restir/scene/animation.h"
+#include "restir/scene/sky.h"
 #include "args.h"
 #include "scene_args.h"
 
@@ -34,6 +35,21 @@ static void print_animation(const scene *s)
     printf("\n");
 }
 
+/* The distant lights (docs/environment.md). */
+static void print_sky(const scene_sky *k)
+{
+    if (k->has_env && k->env_is_map)
+        printf("environment  map %s, %dx%d, rotate %g, scale %g\n", k->env_path, k->width, k->height,
+               (double)k->rotate_degrees, (double)k->scale);
+    else if (k->has_env)
+        printf("environment  constant (%g %g %g)\n", (double)k->env_constant.r, (double)k->env_constant.g,
+               (double)k->env_constant.b);
+    if (k->has_sun)
+        printf("sun          direction (%g %g %g), radius %g degrees, radiance (%g %g %g)\n", (double)k->sun_direction.x,
+               (double)k->sun_direction.y, (double)k->sun_direction.z, (double)k->sun_angle_degrees,
+               (double)k->sun_radiance.r, (double)k->sun_radiance.g, (double)k->sun_radiance.b);
+}
+
 static void print_info(const scene *s, double load_seconds, double bvh_seconds)
 {
     const camera_pose *c = &s->camera;
@@ -43,6 +59,7 @@ static void print_info(const scene *s, double load_seconds, double bvh_seconds)
     printf("objects      %zu\n", s->object_count);
     printf("materials    %zu\n", s->material_count);
     printf("emitters     %zu triangles\n", scene_emitter_count(s));
+    if (s->sky) print_sky(s->sky); /* scenes without a sky print as before */
     printf("bounds       (%g %g %g) - (%g %g %g)\n", s->bounds_min.x, s->bounds_min.y, s->bounds_min.z,
            s->bounds_max.x, s->bounds_max.y, s->bounds_max.z);
     printf("bvh          %zu nodes, depth %d, SAH cost %.3f\n", s->accel.node_count, s->accel.depth, s->accel.sah_cost);

@@ -326,7 +326,7 @@ int cmd_render(int argc, char **argv)
         scene_free(&s);
         return 2;
     }
-    if (a.method != METHOD_AOV && scene_emitter_count(&s) == 0) {
+    if (a.method != METHOD_AOV && scene_emitter_count(&s) == 0 && !s.sky) {
         /* Every lighting method would return a black image: say so instead. */
         fprintf(stderr, "%s: scene has no emitters (no material with Ke > 0); --method aov renders it unlit\n",
                 s.path);

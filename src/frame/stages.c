@@ -153,6 +153,14 @@ static void spatial_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         for (x = x0; x < x1; ++x) spatial_pixel(j, &j->workers[worker], x, y);
 }
 
+static void sky_background_add(frame_job *j, long p)
+{
+    rgb L = light_distant_radiance(j->ctx.path.lights, v3_normalize(v3_from_f(j->g.texels[p].view_dir)));
+    j->sum[3 * p + 0] += (double)L.r;
+    j->sum[3 * p + 1] += (double)L.g;
+    j->sum[3 * p + 2] += (double)L.b;
+}
+
 static void shade_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
 {
     frame_job *j = ctx;
@@ -163,7 +171,12 @@ static void shade_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             long p = (long)y * j->s->width + x;
             path_vertex v;
             rgb L;
-            if (!primary_vertex(j, p, &v)) continue;
+            if (!primary_vertex(j, p, &v)) {
+                /* The primary ray left the scene: the sky seen directly (docs/environment.md). */
+                if (j->o->paths == RESTIR_PATHS_ALL && light_set_has_sky(j->ctx.path.lights))
+                    sky_background_add(j, p);
+                continue;
+            }
             /* Emission at x1 is added, never resampled (docs/design.md, Conventions); F(Y) W_Y is GRIS Eq. 3. */
             L = j->vector_shade && j->o->spatial_passes > 0 ? j->vector_shade[p] : reservoir_estimate(&j->final[p]);
             if (j->o->paths == RESTIR_PATHS_ALL) L = rgb_add(path_vertex_emitted(&j->ctx.path, &v), L);

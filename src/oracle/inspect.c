@@ -55,7 +55,15 @@ static void print_path(FILE *out, const restir_context *c, const path_vertex *x1
         print_lobe(out, c, v, x->lobe[j]);
         fprintf(out, "%s\n", j == x->rc_k ? "   <- x_k" : "");
     }
-    if (x->technique == PATH_TECH_NEE)
+    if (x->technique == PATH_TECH_NEE ? end.nee.y.triangle == LIGHT_TRIANGLE_DISTANT : path_vertex_is_distant(&t.v[d]))
+        fprintf(out, "  x%d at infinity, direction (%.6g, %.6g, %.6g): environment/sun (%s from x%d), light pdf %.6g "
+                     "(solid angle)%s\n", d,
+                (double)light_distant_direction(x->technique == PATH_TECH_NEE ? end.nee.y.position : t.v[d].hit.position).x,
+                (double)light_distant_direction(x->technique == PATH_TECH_NEE ? end.nee.y.position : t.v[d].hit.position).y,
+                (double)light_distant_direction(x->technique == PATH_TECH_NEE ? end.nee.y.position : t.v[d].hit.position).z,
+                x->technique == PATH_TECH_NEE ? "NEE" : "BSDF", d - 1, (double)end.light_pdf,
+                d == x->rc_k ? "   <- x_k" : "");
+    else if (x->technique == PATH_TECH_NEE)
         fprintf(out, "  x%d (%.6g, %.6g, %.6g) light point (NEE from x%d), light pdf %.6g%s\n", d,
                 (double)end.nee.y.position.x, (double)end.nee.y.position.y, (double)end.nee.y.position.z, d - 1,
                 (double)end.light_pdf, d == x->rc_k ? "   <- x_k" : "");
@@ -74,7 +82,14 @@ static void print_sample(FILE *out, const path_sample *x)
     fprintf(out, "\n  ");
     print_rgb(out, "F", x->F);
     fprintf(out, ", target p^ = %.6g\n", (double)x->target);
-    if (x->rc_k != PATH_RC_NONE) {
+    if (x->rc_k != PATH_RC_NONE && (x->rc_flags & PATH_RC_FLAG_DISTANT)) {
+        fprintf(out, "  x_k at infinity (docs/environment.md), direction (%.6g, %.6g, %.6g)\n", (double)x->rc_position.x,
+                (double)x->rc_position.y, (double)x->rc_position.z);
+        fprintf(out, "  source terms of Enhanced Eq. 2 at infinity: p_{k-1} %.6g, G %.6g (solid angle), p_k %.6g; ",
+                (double)x->rc_pdf_prev, (double)x->rc_geom, (double)x->rc_pdf);
+        print_rgb(out, "suffix radiance", x->rc_radiance);
+        fprintf(out, "\n");
+    } else if (x->rc_k != PATH_RC_NONE) {
         fprintf(out, "  x_k on triangle %u at (%.6g, %.6g, %.6g), w_k (%.6g, %.6g, %.6g)\n", x->rc_triangle,
                 (double)x->rc_position.x, (double)x->rc_position.y, (double)x->rc_position.z, (double)x->rc_wo.x,
                 (double)x->rc_wo.y, (double)x->rc_wo.z);

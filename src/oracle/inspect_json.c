@@ -55,16 +55,22 @@ static void json_vertices(FILE *out, const restir_context *c, const path_vertex 
 {
     path_trunk t;
     path_end end;
-    int j, d = x->length;
+    int j, d = x->length, distant = 0;
     fprintf(out, "\"vertices\": [");
     if (path_replay(&t, c, x1, x, &end) == SHIFT_OK)
         for (j = 1; j <= d; ++j) {
             vec3 q = t.v[j].position;
             if (j == d && x->technique == PATH_TECH_NEE) q = v3_from_f(end.nee.y.position);
+            if (j == d) /* the vertex at infinity: its direction (docs/environment.md) */
+                distant = x->technique == PATH_TECH_NEE ? end.nee.y.triangle == LIGHT_TRIANGLE_DISTANT
+                                                        : path_vertex_is_distant(&t.v[d]);
+            if (j == d && distant) q = light_distant_direction(v3f_from(q));
             if (j > 1) fprintf(out, ", ");
             json_triple(out, (double)q.x, (double)q.y, (double)q.z);
         }
     fprintf(out, "]");
+    /* only for paths that end at the sky, so outputs of other scenes keep their bytes */
+    if (distant) fprintf(out, ", \"last_vertex_at_infinity\": 1");
 }
 
 static void json_shift(FILE *out, const restir_context *c, const path_vertex *xb, const path_sample *x)

@@ -641,6 +641,7 @@ static int e_footprint(const double *in, int n_in, double *out)
     crit.roughness_threshold = (real)in[42];
     crit.footprint_c = (real)in[43];
     pa.position = a.position;
+    pa.at_infinity = pb.at_infinity = 0;
     pa.ng = a.ng;
     pa.surface = &a;
     pa.lobe = in_lobe(in[18]);

@@ -1,6 +1,7 @@
 /* Light RIS for NEE and light tiles (include/restir/render/light_ris.h; docs/enhanced.md §6). */
 #include "restir/render/light_ris.h"
 #include "restir/scene/scene_trace.h"
+#include "restir/scene/sky.h"
 
 int light_ris_count(const path_context *c, uint32_t vertex_index)
 {
@@ -53,9 +54,14 @@ static real target_ratio(const path_context *c, const path_vertex *v, uint32_t t
     real dist = v3_length(d), p0;
     e->f_cos = e->emitted = rgb_gray(0);
     e->phat = 0;
-    if (!(dist > 0)) return 0;
-    e->wi = v3_scale(d, 1 / dist);
-    e->emitted = light_emitted(ke, nz, v3_neg(e->wi));
+    if (tri == LIGHT_TRIANGLE_DISTANT) { /* z is a direction (docs/environment.md) */
+        e->wi = v3_normalize(z);
+        e->emitted = ke;
+    } else {
+        if (!(dist > 0)) return 0;
+        e->wi = v3_scale(d, 1 / dist);
+        e->emitted = light_emitted(ke, nz, v3_neg(e->wi));
+    }
     if (rgb_is_black(e->emitted)) return 0;
     e->f_cos = path_vertex_eval(v, e->wi);
     e->phat = luminance(rgb_mul(e->f_cos, e->emitted));
@@ -66,6 +72,20 @@ static real target_ratio(const path_context *c, const path_vertex *v, uint32_t t
 static real sample_ratio(const path_context *c, const path_vertex *v, const light_sample *z, light_eval *e)
 {
     return target_ratio(c, v, z->triangle, v3_from_f(z->position), v3_from_f(z->normal), z->emission, e);
+}
+
+/* The emission of the light point y on triangle tri (a light of the set), or of the
+ * direction y at infinity (tri = LIGHT_TRIANGLE_DISTANT). 0 if it is no light. */
+static int ris_emission(const path_context *c, uint32_t tri, vec3 y, rgb *ke)
+{
+    uint32_t l;
+    if (tri == LIGHT_TRIANGLE_DISTANT) {
+        *ke = light_distant_radiance(c->lights, v3_normalize(y));
+        return light_set_has_sky(c->lights);
+    }
+    if (tri >= c->lights->triangle_count || (l = c->lights->light_of_triangle[tri]) == LIGHT_NONE) return 0;
+    *ke = c->lights->lights[l].emission;
+    return 1;
 }
 
 /* Candidate j of the NEE side (numbers at first_slot = 4j): a sample of p_0, directly or
@@ -115,7 +135,10 @@ int light_ris_sample(const path_context *c, const path_vertex *v, rng_key path, 
     out->pdf_light = e.phat * (real)m / sum;
     if (!(out->pdf_light > 0)) return 0;
     out->shadow_ray = 1;
-    if (!scene_visible(c->scene, v->hit.position, v->hit.ng, out->y.position, &out->y.normal)) return 0;
+    if (out->y.triangle == LIGHT_TRIANGLE_DISTANT ? !sky_visible(c->scene, v->hit.position, v->hit.ng, e.wi)
+                                                  : !scene_visible(c->scene, v->hit.position, v->hit.ng, out->y.position,
+                                                                   &out->y.normal))
+        return 0;
     out->contribution = rgb_scale(rgb_mul(out->f_cos, out->emitted), 1 / out->pdf_light);
     return 1;
 }
@@ -128,12 +151,12 @@ real light_ris_pdf_hit(const path_context *c, const path_vertex *v, rng_key path
                        uint32_t tri, vec3 y, vec3 ny)
 {
     int m = light_ris_count(c, vertex_index), j;
-    uint32_t l;
+    rgb ke;
     real r_y, sum, phat;
     light_eval e;
-    if (tri >= c->lights->triangle_count || (l = c->lights->light_of_triangle[tri]) == LIGHT_NONE) return 0;
+    if (!(ris_emission(c, tri, y, &ke))) return 0;
     if (m > LIGHT_RIS_MAX) m = LIGHT_RIS_MAX;
-    r_y = target_ratio(c, v, tri, y, ny, c->lights->lights[l].emission, &e);
+    r_y = target_ratio(c, v, tri, y, ny, ke, &e);
     phat = e.phat;
     if (!(r_y > 0)) return 0; /* NEE's RIS never selects a point of p̂ = 0 */
     sum = r_y;
@@ -175,12 +198,12 @@ real light_ris_pdf_nee(const path_context *c, const path_vertex *v, rng_key path
                        uint32_t tri, vec3 y, vec3 ny)
 {
     int m = light_ris_count(c, vertex_index);
-    uint32_t l;
+    rgb ke;
     real sum;
     light_eval e;
-    if (tri >= c->lights->triangle_count || (l = c->lights->light_of_triangle[tri]) == LIGHT_NONE) return 0;
+    if (!ris_emission(c, tri, y, &ke)) return 0;
     if (m > LIGHT_RIS_MAX) m = LIGHT_RIS_MAX;
-    if (!(target_ratio(c, v, tri, y, ny, c->lights->lights[l].emission, &e) > 0)) return 0;
+    if (!(target_ratio(c, v, tri, y, ny, ke, &e) > 0)) return 0;
     sum = nee_candidate_sum(c, v, path, vertex_index, m);
     return sum > 0 ? e.phat * (real)m / sum : 0;
 }

@@ -4,6 +4,10 @@
 
 #include "restir/render/light_ris.h"
 #include "restir/scene/scene_trace.h"
+#include "restir/scene/sky.h"
+
+#include <math.h>
+#include <string.h>
 
 void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir)
 {
@@ -25,12 +29,28 @@ void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3
         if (v->lobe_p[l] > 0 && !bsdf_lobe_is_delta(&v->b, l)) v->can_nee = 1;
 }
 
+void path_vertex_make_distant(path_vertex *v, vec3 w) { path_vertex_make_distant_stored(v, v3f_from(w)); }
+
+void path_vertex_make_distant_stored(path_vertex *v, vec3f p)
+{
+    vec3 w = light_distant_direction(p);
+    memset(v, 0, sizeof *v);
+    v->hit.position = p;
+    v->hit.ng = v->hit.ns = v3f_from(v3_neg(w));
+    v->hit.t = INFINITY;
+    v->hit.triangle = LIGHT_TRIANGLE_DISTANT;
+    v->position = w;
+    v->ng = v->ns = v->wo = v3_neg(w);
+    v->can_nee = 0;
+}
+
 rgb path_vertex_emitted(const path_context *c, const path_vertex *v)
 {
     uint32_t tri = v->hit.triangle;
     /* Only triangles in the light set emit, so that what BSDF sampling can hit is exactly
      * what NEE can sample (lights_build drops zero-area emitters). */
-    if (tri >= c->lights->triangle_count || c->lights->light_of_triangle[tri] == LIGHT_NONE) return rgb_gray(0);
+    if (tri >= c->lights->triangle_count || c->lights->light_of_triangle[tri] == LIGHT_NONE)
+        return tri == LIGHT_TRIANGLE_DISTANT ? light_distant_radiance(c->lights, v->position) : rgb_gray(0);
     return light_emitted(c->lights->lights[c->lights->light_of_triangle[tri]].emission, v->ng, v->wo);
 }
 
@@ -104,6 +124,27 @@ int vertex_sample_light(const path_context *c, const path_vertex *v, const rng_k
     return vertex_sample_light_numbers(c, v, u, out);
 }
 
+#ifdef __GNUC__
+#define SKY_COLD __attribute__((noinline, cold)) /* out of the hot NEE path of skyless scenes */
+#else
+#define SKY_COLD
+#endif
+
+/* NEE towards a point at infinity (docs/environment.md): the direction is the sample, its
+ * pdf is already in solid angle, and the shadow ray has no end. */
+static SKY_COLD int nee_distant(const path_context *c, const path_vertex *v, nee_sample *out)
+{
+    out->wi = light_distant_direction(out->y.position);
+    out->emitted = out->y.emission;
+    out->pdf_light = ablated_light_pdf(c, out->y.pdf_area);
+    path_vertex_eval_pdf(v, out->wi, &out->f_cos, &out->pdf_bsdf);
+    if (rgb_is_black(out->emitted) || rgb_is_black(out->f_cos) || !(out->pdf_light > 0)) return 0;
+    out->shadow_ray = 1;
+    if (!sky_visible(c->scene, v->hit.position, v->hit.ng, out->wi)) return 0;
+    out->contribution = rgb_scale(rgb_mul(out->f_cos, out->emitted), 1 / out->pdf_light);
+    return 1;
+}
+
 int vertex_sample_light_numbers(const path_context *c, const path_vertex *v, const real u[4], nee_sample *out)
 {
     vec3 d;
@@ -111,6 +152,7 @@ int vertex_sample_light_numbers(const path_context *c, const path_vertex *v, con
     out->contribution = rgb_gray(0);
     out->shadow_ray = 0;
     if (!light_sample_point(c->lights, u, &out->y)) return 0;
+    if (out->y.triangle == LIGHT_TRIANGLE_DISTANT) return nee_distant(c, v, out);
     d = v3_sub(v3_from_f(out->y.position), v->position);
     dist2 = v3_dot(d, d);
     dist = (real)sqrt(dist2); /* v3_length(d) */

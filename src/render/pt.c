@@ -102,6 +102,17 @@ static rgb emitter_hit(const pass_job *j, const path_vertex *from, const path_ve
     return rgb_scale(le, path_mis_weight_bsdf_hit(&j->ctx, b, p_light));
 }
 
+/* A primary ray that leaves the scene sees the sky directly (a path of length 1, no MIS).
+ * Out of line: the hot loop of skyless scenes stays as it was. */
+#ifdef __GNUC__
+__attribute__((noinline, cold))
+#endif
+static rgb sky_background(const pass_job *j, ray r)
+{
+    return light_set_has_sky(j->ctx.lights) ? light_distant_radiance(j->ctx.lights, v3_normalize(v3_from_f(r.dir)))
+                                            : rgb_gray(0);
+}
+
 /* Russian roulette at x_i (RNG_RR, vertex i, slot 0): continue with probability
  * q = min(1, max channel of beta), and divide by q (unbiased). Returns 0 to stop. */
 static int roulette_survives(const pass_job *j, rng_key key, int i, rgb *beta)
@@ -126,7 +137,7 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
     rgb L, beta = rgb_gray(1);
     int i;
     ++*rays;
-    if (!scene_intersect(j->s, &r, &h)) return rgb_gray(0);
+    if (!scene_intersect(j->s, &r, &h)) return o->min_depth <= 1 ? sky_background(j, r) : rgb_gray(0);
     path_vertex_make(v, j->s, &h, v3_from_f(r.dir));
     /* emission at x1 is added directly (docs/design.md, Conventions); it is the path of length 1 */
     L = o->min_depth <= 1 ? path_vertex_emitted(&j->ctx, v) : rgb_gray(0);
@@ -147,9 +158,13 @@ static rgb trace_path(const pass_job *j, int px, int py, uint32_t sample, uint64
         if (rgb_is_black(beta) || !roulette_survives(j, key, i, &beta)) break;
         r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
         ++*rays;
-        if (!scene_intersect(j->s, &r, &h)) break;
-        path_vertex_make(next, j->s, &h, v3_from_f(r.dir));
+        if (scene_intersect(j->s, &r, &h)) path_vertex_make(next, j->s, &h, v3_from_f(r.dir));
+        else if (counted && light_set_has_sky(j->ctx.lights)) path_vertex_make_distant(next, b.wi);
+        else break;
+        /* One call site of emitter_hit (it stays inlined): a surface, or the vertex at
+         * infinity along wi when the ray escapes (docs/environment.md), which ends the path. */
         if (counted) L = rgb_add(L, rgb_mul(beta, emitter_hit(j, v, next, &b, &s, key, i)));
+        if (path_vertex_is_distant(next)) break;
         swap = v; /* x_{i+1} becomes the current vertex without copying it */
         v = next;
         next = swap;

@@ -6,6 +6,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include "restir/scene/sky.h"
 
 int pt_state_alloc(pt_state *st, int width, int height, rerror *e)
 {
@@ -150,6 +151,22 @@ static void fnv_rgb(fnv *f, rgb c)
     fnv_f64(f, (double)c.b);
 }
 
+/* The distant lights (docs/environment.md): description and every texel. */
+static void fingerprint_sky(fnv *f, const scene_sky *k)
+{
+    size_t i, n = 3 * (size_t)k->width * (size_t)k->height;
+    fnv_u64(f, 0x736b79u); /* "sky" */
+    fnv_u64(f, (uint64_t)(k->has_env + 2 * k->env_is_map + 4 * k->has_sun));
+    fnv_rgb(f, k->env_constant);
+    fnv_f64(f, (double)k->rotate_degrees);
+    fnv_u64(f, (uint64_t)k->width);
+    fnv_u64(f, (uint64_t)k->height);
+    for (i = 0; k->texels && i < n; ++i) fnv_f64(f, (double)k->texels[i]);
+    fnv_vec3(f, k->sun_direction);
+    fnv_f64(f, (double)k->sun_angle_degrees);
+    fnv_rgb(f, k->sun_radiance);
+}
+
 static void fingerprint_scene(fnv *f, const scene *s, int frame)
 {
     size_t i;
@@ -180,6 +197,7 @@ static void fingerprint_scene(fnv *f, const scene *s, int frame)
     fnv_f64(f, (double)pose.fov_y_degrees);
     fnv_u64(f, (uint64_t)s->width);
     fnv_u64(f, (uint64_t)s->height);
+    if (s->sky) fingerprint_sky(f, s->sky); /* scenes without a sky keep their fingerprint */
 }
 
 uint64_t pt_fingerprint(const scene *s, const pt_options *o)

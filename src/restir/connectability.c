@@ -27,7 +27,9 @@ enum shift_failure rc_pair_test(const rc_criterion *c, const rc_vertex *prev, co
 {
     if (c->mode == RC_MODE_FOOTPRINT) return rc_footprint_test(c, prev, cur, primary_footprint);
     if (!prev->rough || !cur->rough) return SHIFT_FAIL_RC_ROUGHNESS;
-    if (!(v3_length(v3_sub(cur->position, prev->position)) >= c->min_distance)) return SHIFT_FAIL_RC_DISTANCE;
+    /* GRIS §7.5 at infinity: ||x_k - x_{k-1}|| = infinity >= d_min (docs/environment.md). */
+    if (!cur->at_infinity && !(v3_length(v3_sub(cur->position, prev->position)) >= c->min_distance))
+        return SHIFT_FAIL_RC_DISTANCE;
     return SHIFT_OK;
 }
 

@@ -39,6 +39,9 @@ void rc_footprints(const rc_vertex *prev, const rc_vertex *cur, real *forward, r
     real dist2 = v3_dot(to, to), density;
     vec3 w;
     *forward = *inverse = (real)INFINITY;
+    /* x_k at infinity: the area per sample of x_k traced from x_{k-1} is 1/(p G) with G -> 0,
+     * and the inverse footprint of a light vertex is skipped (docs/environment.md). */
+    if (cur->at_infinity) return;
     if (!(dist2 > 0)) {
         *forward = *inverse = 0;
         return;
@@ -78,6 +81,8 @@ int rc_vertex_of_xk(const scene *s, const path_sample *x, real roughness_thresho
     v->position = v3_from_f(x->rc_position);
     v->ng = v3_from_f(x->rc_normal);
     v->wi = x->rc_wo;
+    v->at_infinity = (x->rc_flags & PATH_RC_FLAG_DISTANT) != 0;
+    if (v->at_infinity) v->position = light_distant_direction(x->rc_position);
     if (k == x->length) { /* the light vertex x_d: emissive, no lobe */
         v->surface = NULL;
         v->lobe = PATH_LOBE_NONE;

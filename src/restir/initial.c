@@ -86,13 +86,15 @@ static void stream_tree(const restir_context *c, const initial_options *o, const
         if (rgb_is_black(beta_rr)) break;
         if ((q = roulette(o, key, i, &beta_rr)) == 0) break;
         survival *= q;
-        if (trunk_trace(&t, c->path.scene) != SHIFT_OK) break;
+        /* A ray that leaves the scene ends the path at the sky (docs/environment.md). */
+        if (trunk_trace_escape(&t, c) != SHIFT_OK) break;
         {
             real light_pdf;
             rgb F = emitter_path_contribution(&c->path, t.beta[i + 1], &t.v[i], &t.v[i + 1], &t.b[i], key, i,
                                                &light_pdf);
             if (!rgb_is_black(F)) offer(cs, o, key, sample, i + 1, PATH_TECH_BSDF, F, survival, st);
         }
+        if (path_vertex_is_distant(&t.v[i + 1])) break;
     }
 }
 

@@ -132,8 +132,11 @@ int mutate_explicit(const restir_context *c, const path_vertex *y1, const path_s
     if (k == PATH_RC_NONE || k - 1 > nb) return 0; /* no implicit numbers */
     /* y_{k-1} samples x_k, x_k samples w_k: implicit, recovered by inverse sampling. */
     if (trunk_replay(&t, c, y1, y, k - 1) != SHIFT_OK) return MUTATE_SKIP_IRREPRODUCIBLE + 1;
-    if (!mutate_invert_bounce(&t.v[k - 1], y->lobe[k - 1], mutate_direction_to(&t.v[k - 1], v3_from_f(y->rc_position)), xi_lobe[0],
-                       n))
+    /* x_k at infinity: the direction itself (docs/environment.md) */
+    if (!mutate_invert_bounce(&t.v[k - 1], y->lobe[k - 1],
+                              (y->rc_flags & PATH_RC_FLAG_DISTANT) ? light_distant_direction(y->rc_position)
+                                                                   : mutate_direction_to(&t.v[k - 1], v3_from_f(y->rc_position)),
+                              xi_lobe[0], n))
         return MUTATE_SKIP_INVERSE + 1;
     set_numbers(u, k - 1, n);
     if (k > nb) return 0;
@@ -160,7 +163,8 @@ void mutate_rv_terms(const path_trunk *t, int k, int nb, real terms[3])
     terms[0] = terms[1] = terms[2] = 1;
     if (k > nb) return; /* x_{k+1} does not exist, or is NEE-sampled: its numbers do not move */
     terms[0] = t->b[k].pdf_lobe;
-    terms[1] = geometry_term(&t->v[k], &t->v[k + 1]);
+    /* 1 for x_{k+1} at infinity, whose measure is solid angle (docs/environment.md §5.2) */
+    terms[1] = path_vertex_is_distant(&t->v[k + 1]) ? 1 : geometry_term(&t->v[k], &t->v[k + 1]);
     if (k + 1 <= nb) terms[2] = t->b[k + 1].pdf_lobe;
 }
 
@@ -225,11 +229,15 @@ int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sa
         if (path_replay(&ty, c, y1, u, &end) != SHIFT_OK) return MUTATE_REJECT_REPLAY;
         mutate_rv_terms(&ty, k, nb, a_y);
         if (trunk_replay(&tz, c, y1, z, k) != SHIFT_OK) return MUTATE_REJECT_REPLAY; /* z_2..z_k */
-        if (!mutate_invert_bounce(&tz.v[k], u->lobe[k], mutate_direction_to(&tz.v[k], ty.v[k + 1].position), xi_lobe[0], n))
+        int distant = path_vertex_is_distant(&ty.v[k + 1]); /* x_{k+1} = x_d at infinity: keep its direction */
+        if (!mutate_invert_bounce(&tz.v[k], u->lobe[k],
+                                  distant ? ty.v[k + 1].position : mutate_direction_to(&tz.v[k], ty.v[k + 1].position),
+                                  xi_lobe[0], n))
             return MUTATE_REJECT_INVERSE;
         set_numbers(z, k, n);
         if (trunk_sample(&tz, n) != SHIFT_OK) return MUTATE_REJECT_INVERSE;
-        if (trunk_trace(&tz, c->path.scene) != SHIFT_OK || tz.v[k + 1].hit.triangle != ty.v[k + 1].hit.triangle ||
+        if ((distant ? trunk_trace_escape(&tz, c) : trunk_trace(&tz, c->path.scene)) != SHIFT_OK ||
+            tz.v[k + 1].hit.triangle != ty.v[k + 1].hit.triangle ||
             !same_point(tz.v[k + 1].position, ty.v[k + 1].position))
             return MUTATE_REJECT_OCCLUDED;
         if (k + 1 <= nb) { /* x_{k+1} keeps w_{k+1} under the new incoming direction */

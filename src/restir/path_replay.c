@@ -57,6 +57,19 @@ enum shift_failure trunk_trace(path_trunk *t, const scene *s)
     return SHIFT_OK;
 }
 
+enum shift_failure trunk_trace_escape(path_trunk *t, const restir_context *c)
+{
+    const path_vertex *v = &t->v[t->n];
+    ray r;
+    surface_hit h;
+    if (!light_set_has_sky(c->path.lights)) return trunk_trace(t, c->path.scene);
+    r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(t->b[t->n].wi), v3f_from(v->wo));
+    if (scene_intersect(c->path.scene, &r, &h)) path_vertex_make(&t->v[t->n + 1], c->path.scene, &h, v3_from_f(r.dir));
+    else path_vertex_make_distant(&t->v[t->n + 1], t->b[t->n].wi);
+    t->n++;
+    return SHIFT_OK;
+}
+
 enum shift_failure trunk_replay(path_trunk *t, const restir_context *c, const path_vertex *x1, const path_sample *s,
                                 int n)
 {
@@ -114,7 +127,7 @@ enum shift_failure trunk_finish(path_trunk *t, const restir_context *c, const pa
         real u[3];
         path_bsdf_numbers(s, d - 1, u);
         if ((why = trunk_sample(t, u)) != SHIFT_OK) return why;
-        if ((why = trunk_trace(t, c->path.scene)) != SHIFT_OK) return why;
+        if ((why = trunk_trace_escape(t, c)) != SHIFT_OK) return why;
         end->F = emitter_path_contribution(&c->path, t->beta[d], &t->v[d - 1], &t->v[d], &t->b[d - 1],
                                            path_sample_key(s), d - 1, &end->light_pdf);
         return rgb_is_black(end->F) ? SHIFT_FAIL_REPLAY_NO_LIGHT : SHIFT_OK;
@@ -144,6 +157,7 @@ void trunk_rc_vertices(const path_trunk *t, const restir_context *c, const uint8
     int j;
     for (j = 1; j < d; ++j) {
         v[j].position = t->v[j].position;
+        v[j].at_infinity = 0;
         v[j].rough = rc_vertex_is_rough(&t->v[j].b, lobe[j], c->rc.roughness_threshold);
         v[j].ng = t->v[j].ng;
         v[j].surface = &t->v[j];
@@ -151,6 +165,9 @@ void trunk_rc_vertices(const path_trunk *t, const restir_context *c, const uint8
         v[j].wi = lobe[j] == PATH_LOBE_NEE ? end->nee.wi : t->b[j].wi;
     }
     v[d].position = technique == PATH_TECH_NEE ? v3_from_f(end->nee.y.position) : t->v[d].position;
+    v[d].at_infinity = technique == PATH_TECH_NEE ? end->nee.y.triangle == LIGHT_TRIANGLE_DISTANT
+                                                  : path_vertex_is_distant(&t->v[d]);
+    if (v[d].at_infinity) v[d].position = light_distant_direction(v3f_from(v[d].position));
     v[d].rough = rc_vertex_is_rough(NULL, PATH_LOBE_NONE, c->rc.roughness_threshold);
     v[d].ng = technique == PATH_TECH_NEE ? v3_from_f(end->nee.y.normal) : t->v[d].ng;
     v[d].surface = NULL; /* emissive: Enhanced footnote 6 */

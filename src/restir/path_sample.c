@@ -86,9 +86,14 @@ static int check_reconnection(const path_sample *s, const char *what, rerror *e)
         if (s->rc_flags) return rerror_set(e, "%s: rc_flags = %u without a reconnection vertex", what, s->rc_flags);
         return 0;
     }
-    if (s->rc_flags & ~PATH_RC_FLAG_UNSHIFTABLE)
-        return rerror_set(e, "%s: unknown rc_flags bits 0x%X", what, s->rc_flags & ~PATH_RC_FLAG_UNSHIFTABLE);
+    if (s->rc_flags & ~(PATH_RC_FLAG_UNSHIFTABLE | PATH_RC_FLAG_DISTANT))
+        return rerror_set(e, "%s: unknown rc_flags bits 0x%X", what,
+                          s->rc_flags & ~(PATH_RC_FLAG_UNSHIFTABLE | PATH_RC_FLAG_DISTANT));
     if (k < 2 || k > d) return rerror_set(e, "%s: reconnection index k = %d outside [2, d = %d]", what, k, d);
+    if ((s->rc_flags & PATH_RC_FLAG_DISTANT) && k != d)
+        return rerror_set(e, "%s: x_k at infinity must be the last vertex (k = %d, d = %d)", what, k, d);
+    if ((s->rc_flags & PATH_RC_FLAG_DISTANT) && !is_unit(s->rc_position.x, s->rc_position.y, s->rc_position.z))
+        return rerror_set(e, "%s: the direction of x_k at infinity is not a unit vector", what);
     if (!isfinite(s->rc_bary[0]) || !isfinite(s->rc_bary[1]) || !isfinite(s->rc_position.x) ||
         !isfinite(s->rc_position.y) || !isfinite(s->rc_position.z))
         return rerror_set(e, "%s: reconnection vertex position is not finite", what);

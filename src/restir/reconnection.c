@@ -3,6 +3,7 @@
 
 #include "restir/render/light_ris.h"
 #include "restir/scene/scene_trace.h"
+#include "restir/scene/sky.h"
 
 #include <math.h>
 #include <string.h>
@@ -108,8 +109,9 @@ static enum shift_failure ris_at_last_vertex(const restir_context *c, const path
         ray r = scene_spawn_ray(xk->hit.position, xk->hit.ng, v3f_from(x->rc_wo), v3f_from(xk->wo));
         surface_hit h;
         path_vertex hit;
-        if (!scene_intersect(pc->scene, &r, &h)) return SHIFT_FAIL_REPLAY_MISS;
-        path_vertex_make(&hit, pc->scene, &h, v3_from_f(r.dir));
+        if (scene_intersect(pc->scene, &r, &h)) path_vertex_make(&hit, pc->scene, &h, v3_from_f(r.dir));
+        else if (light_set_has_sky(pc->lights)) path_vertex_make_distant(&hit, x->rc_wo); /* x_d at infinity */
+        else return SHIFT_FAIL_REPLAY_MISS;
         *light_pdf = path_light_pdf_hit(pc, xk, &hit, key, k);
     }
     return *light_pdf > 0 || x->lobe[k] != PATH_LOBE_NEE ? SHIFT_OK : SHIFT_FAIL_ZERO;
@@ -186,6 +188,34 @@ static int make_xk(const restir_context *c, const path_sample *x, vec3 direction
     return 1;
 }
 
+/* The reconnection to x_k = x_d at infinity (docs/environment.md): the offset keeps the
+ * direction w, so y_{d-1} -> x_d leaves along w; the area measure at x_k is replaced by
+ * solid angle, in which the reconnected vertex is w itself: G = 1 on both sides, and
+ * Enhanced Eq. 2 becomes p^y_{d-1}(w) / p^x_{d-1}(w) (J = 1 for an NEE light vertex: the
+ * light pdf of a direction does not depend on the receiver). */
+static enum shift_failure rc_evaluate_distant(const restir_context *c, const path_vertex *prev, const path_sample *x,
+                                              rc_terms *t)
+{
+    unsigned lobe_prev = x->lobe[x->rc_k - 1];
+    path_vertex xk;
+    rgb w_prev;
+    enum shift_failure why;
+    path_vertex_make_distant_stored(&xk, x->rc_position);
+    t->direction = xk.position;
+    t->geom = 1; /* dw'/dw = 1: the reconnected "point" is the direction itself */
+    if (lobe_prev == PATH_LOBE_NEE) {
+        why = reconnect_nee_light(c, prev, &xk, x, t);
+    } else {
+        why = lobe_bounce(prev, lobe_prev, t->direction, &w_prev, &t->pdf_prev);
+        if (why == SHIFT_OK) t->factor = rgb_mul(w_prev, emitter_from_prev(c, prev, &xk, x, t->pdf_prev, t));
+    }
+    if (why != SHIFT_OK) return why;
+    if (rgb_is_black(t->factor)) return SHIFT_FAIL_ZERO;
+    if (!rgb_finite(t->factor) || !isfinite(t->pdf_prev * t->geom * t->pdf_k)) return SHIFT_FAIL_NONFINITE;
+    if (!sky_visible(c->path.scene, prev->hit.position, prev->hit.ng, t->direction)) return SHIFT_FAIL_OCCLUDED;
+    return SHIFT_OK;
+}
+
 enum shift_failure rc_evaluate(const restir_context *c, const path_vertex *prev, const path_sample *x, rc_terms *t)
 {
     int k = x->rc_k, d = x->length;
@@ -198,6 +228,7 @@ enum shift_failure rc_evaluate(const restir_context *c, const path_vertex *prev,
     memset(t, 0, sizeof *t);
     t->pdf_k = 1;
     if (k < 2 || k > d) return SHIFT_FAIL_EMPTY;
+    if (x->rc_flags & PATH_RC_FLAG_DISTANT) return rc_evaluate_distant(c, prev, x, t);
     lobe_prev = x->lobe[k - 1];
     to = v3_sub(v3_from_f(x->rc_position), segment_origin(prev, x->rc_position, lobe_prev));
     dist2 = v3_dot(to, to);
@@ -280,6 +311,10 @@ static void store_xk(const path_trunk *t, const path_end *end, int k, path_sampl
         s->rc_position = y->position;
         s->rc_normal = y->normal;
         s->rc_wo = v3(0, 0, 0);
+        if (y->triangle == LIGHT_TRIANGLE_DISTANT) { /* the vertex at infinity: its direction */
+            s->rc_bary[0] = s->rc_bary[1] = 0;
+            s->rc_flags |= PATH_RC_FLAG_DISTANT;
+        }
         return;
     }
     s->rc_triangle = t->v[k].hit.triangle;
@@ -287,6 +322,7 @@ static void store_xk(const path_trunk *t, const path_end *end, int k, path_sampl
     s->rc_bary[1] = t->v[k].hit.b2;
     s->rc_position = t->v[k].hit.position;
     s->rc_normal = t->v[k].hit.ng;
+    if (k == d && path_vertex_is_distant(&t->v[k])) s->rc_flags |= PATH_RC_FLAG_DISTANT;
     if (k == d) s->rc_wo = v3(0, 0, 0);
     else if (k == d - 1 && s->technique == PATH_TECH_NEE) s->rc_wo = end->nee.wi;
     else s->rc_wo = t->b[k].wi;
@@ -335,6 +371,8 @@ int rc_segment_visible(const restir_context *c, const path_vertex *y1, const pat
     int k = y->rc_k;
     if (k == PATH_RC_NONE) return 1;
     if (trunk_replay(&t, c, y1, y, k - 1) != SHIFT_OK) return 0;
+    if (y->rc_flags & PATH_RC_FLAG_DISTANT)
+        return sky_visible(c->path.scene, t.v[k - 1].hit.position, t.v[k - 1].hit.ng, light_distant_direction(y->rc_position));
     return scene_visible(c->path.scene, t.v[k - 1].hit.position, t.v[k - 1].hit.ng, y->rc_position, &y->rc_normal);
 }
 
@@ -377,6 +415,13 @@ enum shift_failure rc_retrace_suffix(const restir_context *c, const path_sample 
          * (path_sample.h), not in its replay identity (issue 26) */
         path_nee_numbers(x, u);
         if (!light_sample_point(pc->lights, u, &ls)) return SHIFT_FAIL_NEE;
+        if (ls.triangle == LIGHT_TRIANGLE_DISTANT) { /* x_d at infinity: only visibility can change */
+            out->rc_wo = light_distant_direction(ls.position);
+            out->rc_radiance = ls.emission;
+            out->light_pdf = path_light_pdf(pc, ls.triangle, pos, v3_from_f(ls.position), v3_from_f(ls.normal));
+            if (rgb_is_black(out->rc_radiance) || !(out->light_pdf > 0)) return SHIFT_FAIL_NEE;
+            return sky_visible(s, out->rc_position, out->rc_normal, out->rc_wo) ? SHIFT_OK : SHIFT_FAIL_NEE;
+        }
         y = v3_from_f(ls.position);
         dv = v3_sub(y, pos);
         dist = v3_length(dv);
@@ -395,14 +440,15 @@ enum shift_failure rc_retrace_suffix(const restir_context *c, const path_sample 
         path_end end;
         enum shift_failure why;
         int j;
-        if (!scene_intersect(s, &r, &hit)) return SHIFT_FAIL_REPLAY_MISS;
         memset(&t, 0, sizeof t);
         t.n = k + 1;
-        path_vertex_make(&t.v[k + 1], s, &hit, v3_from_f(r.dir));
+        if (scene_intersect(s, &r, &hit)) path_vertex_make(&t.v[k + 1], s, &hit, v3_from_f(r.dir));
+        else if (k == d - 1 && light_set_has_sky(pc->lights)) path_vertex_make_distant(&t.v[d], out->rc_wo);
+        else return SHIFT_FAIL_REPLAY_MISS;
         if (k == d - 1) { /* x_{k+1} = x_d: the emitter hit along w_k */
             out->rc_radiance = path_vertex_emitted(pc, &t.v[d]);
             if (rgb_is_black(out->rc_radiance)) return SHIFT_FAIL_REPLAY_NO_LIGHT;
-            out->light_pdf = path_light_pdf(pc, hit.triangle, pos, t.v[d].position, t.v[d].ng);
+            out->light_pdf = path_light_pdf(pc, t.v[d].hit.triangle, pos, t.v[d].position, t.v[d].ng);
             return SHIFT_OK;
         }
         t.beta[k + 1] = rgb_gray(1);

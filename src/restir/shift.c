@@ -82,11 +82,14 @@ enum shift_failure hybrid_same_reconnection(const restir_context *c, const path_
          * vertices use the lobes their replayed numbers picked. */
         unsigned lobe = j < k - 1 ? (unsigned)t->b[j].lobe : x->lobe[k - 1];
         v[j].position = t->v[j].position;
+        v[j].at_infinity = 0;
         v[j].rough = rc_vertex_is_rough(&t->v[j].b, lobe, threshold);
         v[j].ng = t->v[j].ng;
         v[j].surface = &t->v[j];
         v[j].lobe = lobe;
-        v[j].wi = j < k - 1 ? t->b[j].wi : v3_normalize(v3_sub(v3_from_f(x->rc_position), t->v[j].position));
+        v[j].wi = j < k - 1 ? t->b[j].wi
+                  : (x->rc_flags & PATH_RC_FLAG_DISTANT) ? light_distant_direction(x->rc_position)
+                                                         : v3_normalize(v3_sub(v3_from_f(x->rc_position), t->v[j].position));
     }
     /* x_k with its own lobe ell_k and w_k; the footprint test sees it from y_{k-1}. */
     if (!rc_vertex_of_xk(s, x, threshold, &xk, &v[k])) return SHIFT_FAIL_ZERO;
@@ -129,7 +132,7 @@ static enum shift_failure replay_then_reconnect(const restir_context *c, const p
     r.rc_pdf = terms.pdf_k;
     r.rc_radiance = terms.radiance;
     r.light_pdf = terms.light_pdf;
-    r.rc_flags = 0;
+    r.rc_flags = x->rc_flags & PATH_RC_FLAG_DISTANT; /* the same x_k, at infinity or not */
     path_sample_set_contribution(&r, rgb_mul(t.beta[k - 1], terms.factor));
     *jacobian = rc_jacobian(&terms, x);
     if (!rgb_finite(r.F) || !isfinite(*jacobian) || !(*jacobian > 0)) return fail(y, jacobian, SHIFT_FAIL_NONFINITE);

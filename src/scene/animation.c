@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/scene/sky.h"
 
 typedef struct {
     uint32_t object;
@@ -486,6 +487,7 @@ int scene_clone(scene *dst, const scene *src, rerror *e)
     dst->object_count = 0;
     dst->keyframes = NULL;
     dst->animation = NULL;
+    dst->sky = NULL;
     dst->warnings = NULL;
     dst->warning_count = 0;
     memset(&dst->accel, 0, sizeof dst->accel);
@@ -502,6 +504,7 @@ int scene_clone(scene *dst, const scene *src, rerror *e)
     dst->warning_count = src->warning_count;
     if (copy_strings(&dst->warnings, src->warnings, src->warning_count, e)) goto fail;
     if (copy_animation(dst, src->animation, e)) goto fail;
+    if (sky_clone(&dst->sky, src->sky, e)) goto fail;
     dst->accel = *b;
     dst->accel.nodes = NULL;
     dst->accel.prim_order = NULL;

@@ -4,6 +4,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include "restir/scene/sky.h"
 
 /* ---- Vose's alias method ------------------------------------------------------- */
 
@@ -120,20 +121,35 @@ void lights_free(light_set *ls)
     memset(ls, 0, sizeof *ls);
 }
 
-static int lights_fill_table(light_set *ls, rerror *e)
+/* R^2: the squared radius of the scene's bounding sphere (1 if the bounds are unknown). */
+static real scene_radius2(const scene *s)
+{
+    vec3 d = v3_sub(v3_from_f(s->bounds_max), v3_from_f(s->bounds_min));
+    real r2 = v3_dot(d, d) / 4;
+    return isfinite(r2) && r2 > 0 ? r2 : 1;
+}
+
+static int lights_fill_table(light_set *ls, const scene *s, rerror *e)
 {
     real *power;
-    size_t i;
+    size_t i, n = ls->count;
     int status;
-    if (ls->count == 0) return 0;
-    power = rmalloc(ls->count, sizeof *power, e);
+    const scene_sky *k = ls->sky;
+    real env = k ? k->env_power * scene_radius2(s) : 0, sun = k ? k->sun_power * scene_radius2(s) : 0;
+    ls->env_entry = ls->sun_entry = LIGHT_NONE;
+    if (env > 0) ls->env_entry = (uint32_t)n++;
+    if (sun > 0) ls->sun_entry = (uint32_t)n++;
+    if (n == 0) return 0;
+    power = rmalloc(n, sizeof *power, e);
     if (!power) return -1;
     ls->total_power = 0;
     for (i = 0; i < ls->count; ++i) {
         power[i] = luminance(ls->lights[i].emission) * ls->lights[i].area;
         ls->total_power += power[i];
     }
-    status = alias_table_build(&ls->select, power, ls->count, e);
+    if (ls->env_entry != LIGHT_NONE) ls->total_power += power[ls->env_entry] = env;
+    if (ls->sun_entry != LIGHT_NONE) ls->total_power += power[ls->sun_entry] = sun;
+    status = alias_table_build(&ls->select, power, n, e);
     free(power);
     return status;
 }
@@ -142,6 +158,7 @@ int lights_build(light_set *ls, const scene *s, rerror *e)
 {
     size_t i;
     memset(ls, 0, sizeof *ls);
+    ls->sky = s->sky;
     ls->triangle_count = s->triangle_count;
     ls->light_of_triangle = rmalloc(s->triangle_count ? s->triangle_count : 1, sizeof *ls->light_of_triangle, e);
     ls->lights = rmalloc(s->triangle_count ? s->triangle_count : 1, sizeof *ls->lights, e);
@@ -166,12 +183,47 @@ int lights_build(light_set *ls, const scene *s, rerror *e)
         ls->light_of_triangle[i] = (uint32_t)ls->count;
         ls->lights[ls->count++] = l;
     }
-    if (lights_fill_table(ls, e)) {
+    if (lights_fill_table(ls, s, e)) {
         lights_free(ls);
         return -1;
     }
     return 0;
 }
+
+/* Kept out of line: scenes without a sky must not pay for it in light_sample_point (gcc
+ * inlined it and the path tracer's cornell A/B dropped to 0.96-0.98). */
+#ifdef __GNUC__
+#define SKY_COLD __attribute__((noinline, cold))
+#else
+#define SKY_COLD
+#endif
+
+/* The point at infinity of a distant light's two numbers (lights.h, light_sample). */
+static SKY_COLD int distant_sample(const light_set *ls, const real u[4], light_sample *out)
+{
+    vec3 w = out->light == ls->env_entry ? sky_env_sample(ls->sky, v2(u[2], u[3])) : sky_sun_sample(ls->sky, v2(u[2], u[3]));
+    /* The vertex is stored in float like every vertex; its pdf and radiance are those of
+     * the stored direction, so that every later evaluation sees the same vertex. */
+    out->position = v3f_from(w);
+    w = v3_normalize(v3_from_f(out->position));
+    out->triangle = LIGHT_TRIANGLE_DISTANT;
+    out->normal = v3f_from(v3_neg(w));
+    out->barycentric = v2(u[2], u[3]);
+    out->emission = light_distant_radiance(ls, w);
+    out->pdf_area = light_pdf_distant(ls, w);
+    return out->pdf_area > 0;
+}
+
+real light_pdf_distant(const light_set *ls, vec3 w)
+{
+    real p = 0;
+    if (!ls->sky) return 0;
+    if (ls->env_entry != LIGHT_NONE) p += ls->select.pmf[ls->env_entry] * sky_env_pdf(ls->sky, w);
+    if (ls->sun_entry != LIGHT_NONE) p += ls->select.pmf[ls->sun_entry] * sky_sun_pdf(ls->sky, w);
+    return p;
+}
+
+rgb light_distant_radiance(const light_set *ls, vec3 w) { return ls->sky ? sky_radiance(ls->sky, w) : rgb_gray(0); }
 
 int light_sample_point(const light_set *ls, const real u[4], light_sample *out)
 {
@@ -179,8 +231,9 @@ int light_sample_point(const light_set *ls, const real u[4], light_sample *out)
     vec2 b;
     real b2;
     vec3 p;
-    if (ls->count == 0) return 0;
+    if (ls->select.count == 0) return 0;
     out->light = alias_table_sample(&ls->select, u[0], u[1]);
+    if (out->light >= ls->count) return distant_sample(ls, u, out);
     l = &ls->lights[out->light];
     b = warp_uniform_triangle(v2(u[2], u[3]));
     b2 = 1 - b.x - b.y;
@@ -234,5 +287,7 @@ real pdf_area_to_solid_angle_d(real pdf_area, vec3 d, real dist2, vec3 ny)
 real light_pdf_solid_angle(const light_set *ls, uint32_t tri, vec3 x, vec3 y, vec3 ny)
 {
     real pa = light_pdf_area(ls, tri);
-    return pa > 0 ? pdf_area_to_solid_angle(pa, x, y, ny) : 0;
+    if (pa > 0) return pdf_area_to_solid_angle(pa, x, y, ny);
+    /* a vertex at infinity: y is its direction; no conversion (docs/environment.md) */
+    return tri == LIGHT_TRIANGLE_DISTANT ? light_pdf_distant(ls, v3_normalize(y)) : 0;
 }

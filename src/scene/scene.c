@@ -10,6 +10,7 @@
 #include "restir/scene/obj.h"
 #include "restir/scene/scene_builder.h"
 #include "restir/scene/scene_file.h"
+#include "restir/scene/sky.h"
 
 #define DEFAULT_IMAGE_SIZE 512
 #define FRAMING_FOV_DEGREES 40.0
@@ -96,6 +97,8 @@ void scene_free(scene *s)
     free(s->object_names);
     free(s->keyframes);
     scene_animation_free(s);
+    sky_free(s->sky);
+    free(s->sky);
     for (i = 0; i < s->warning_count; ++i) free(s->warnings[i]);
     free(s->warnings);
     bvh_free(&s->accel);

@@ -6,6 +6,8 @@
  *   size WIDTH HEIGHT
  *   material NAME [type T] [kd R G B] [ks R G B] [ke R G B] [roughness R] [ior N]
  *   animate OBJECT FRAME [translate X Y Z] [rotate AX AY AZ DEGREES] [pivot X Y Z]
+ *   environment constant R G B | environment map FILE [rotate DEGREES] [scale S]
+ *   sun DX DY DZ ANGLE_DEGREES R G B
  *
  * Names and paths containing spaces are written in double quotes. The file is read
  * completely first; then the meshes are loaded in order, then the material lines are
@@ -22,6 +24,7 @@
 #include "restir/scene/camera_path.h"
 #include "restir/scene/obj.h"
 #include "restir/scene/scene_builder.h"
+#include "restir/scene/sky.h"
 #include "restir/scene/text.h"
 
 typedef struct {
@@ -55,7 +58,7 @@ typedef struct {
     size_t keyframe_capacity;
     animate_line *animates;
     size_t animate_count, animate_capacity;
-    long camera_line, size_line, keyframe_line, last_keyframe_line;
+    long camera_line, size_line, keyframe_line, last_keyframe_line, environment_line, sun_line;
 } scene_parser;
 
 const char *const material_type_names[] = {"lambert", "conductor", "plastic", "dielectric", "rough-dielectric", NULL};
@@ -407,6 +410,90 @@ static int apply_animations(scene_parser *p, rerror *e)
     return 0;
 }
 
+/* The scene's sky description, created by its first environment or sun line. */
+static scene_sky *sky_of(scene_parser *p, rerror *e)
+{
+    scene *s = p->b->s;
+    if (!s->sky) {
+        s->sky = rmalloc(1, sizeof *s->sky, e);
+        if (s->sky) sky_init(s->sky);
+    }
+    return s->sky;
+}
+
+static int read_radiance(scene_parser *p, char **rest, const char *what, rgb *out, rerror *e)
+{
+    double v[3];
+    if (read_reals(p, rest, what, 3, v, e)) return -1;
+    if (v[0] < 0 || v[1] < 0 || v[2] < 0 || v[0] > 1e30 || v[1] > 1e30 || v[2] > 1e30)
+        return rerror_at(e, p->path, p->text.line, "%s: radiance %g %g %g outside [0, 1e30]", what, v[0], v[1], v[2]);
+    *out = rgb_make((real)v[0], (real)v[1], (real)v[2]);
+    return 0;
+}
+
+/* environment constant R G B | environment map FILE [rotate DEG] [scale S] (docs/environment.md) */
+static int directive_environment(scene_parser *p, char *rest, rerror *e)
+{
+    char *kind, *name, full[4096], *key;
+    double rotate = 0, scale = 1;
+    int have_rotate = 0, have_scale = 0;
+    scene_sky *k;
+    if (p->environment_line)
+        return rerror_at(e, p->path, p->text.line, "environment given twice (first on line %ld)", p->environment_line);
+    p->environment_line = p->text.line;
+    kind = text_next_token(&rest);
+    if (!kind || (strcmp(kind, "constant") && strcmp(kind, "map")))
+        return rerror_at(e, p->path, p->text.line, "environment: expected 'constant R G B' or 'map FILE [rotate DEG] [scale S]'");
+    if (!(k = sky_of(p, e))) return -1;
+    if (!strcmp(kind, "constant")) {
+        if (read_radiance(p, &rest, "environment constant", &k->env_constant, e) || no_more(p, rest, "environment", e))
+            return -1;
+        k->has_env = 1;
+        k->env_is_map = 0;
+        return 0;
+    }
+    if (next_word(p, &rest, &name, e)) return -1;
+    if (!name || !*name) return rerror_at(e, p->path, p->text.line, "environment map: missing file name");
+    while ((key = text_next_token(&rest)) != NULL) {
+        int *have = !strcmp(key, "rotate") ? &have_rotate : !strcmp(key, "scale") ? &have_scale : NULL;
+        if (!have) return rerror_at(e, p->path, p->text.line, "environment map: unknown key '%.60s' (rotate, scale)", key);
+        if (*have) return rerror_at(e, p->path, p->text.line, "environment map: %s given twice", key);
+        *have = 1;
+        if (read_reals(p, &rest, key, 1, have == &have_rotate ? &rotate : &scale, e)) return -1;
+    }
+    if (scale < 0) return rerror_at(e, p->path, p->text.line, "environment map: scale %g is negative", scale);
+    if (text_join_path(full, sizeof full, p->dir, name))
+        return rerror_at(e, p->path, p->text.line, "environment map: path too long");
+    k->rotate_degrees = (real)rotate;
+    if (sky_load_map(k, full, (real)scale, e)) {
+        char what[sizeof e->msg];
+        memcpy(what, e->msg, sizeof what);
+        return rerror_at(e, p->path, p->text.line, "environment map: %s", what);
+    }
+    return 0;
+}
+
+/* sun DX DY DZ ANGLE_DEG R G B: direction towards the sun, angular radius, radiance. */
+static int directive_sun(scene_parser *p, char *rest, rerror *e)
+{
+    double d[3], angle;
+    scene_sky *k;
+    if (p->sun_line) return rerror_at(e, p->path, p->text.line, "sun given twice (first on line %ld)", p->sun_line);
+    p->sun_line = p->text.line;
+    if (!(k = sky_of(p, e))) return -1;
+    if (read_reals(p, &rest, "sun direction", 3, d, e) || read_reals(p, &rest, "sun angle", 1, &angle, e) ||
+        read_radiance(p, &rest, "sun radiance", &k->sun_radiance, e) || no_more(p, rest, "sun", e))
+        return -1;
+    if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1e-24))
+        return rerror_at(e, p->path, p->text.line, "sun: the direction is zero");
+    if (!(angle > 0 && angle < 90))
+        return rerror_at(e, p->path, p->text.line, "sun: angular radius %g degrees outside (0, 90)", angle);
+    k->has_sun = 1;
+    k->sun_direction = vec3_of(d);
+    k->sun_angle_degrees = (real)angle;
+    return 0;
+}
+
 static int read_directive(scene_parser *p, char *line, rerror *e)
 {
     char *rest = line, *word = text_next_token(&rest);
@@ -417,7 +504,10 @@ static int read_directive(scene_parser *p, char *line, rerror *e)
     if (!strcmp(word, "size")) return directive_size(p, rest, e);
     if (!strcmp(word, "material")) return directive_material(p, rest, e);
     if (!strcmp(word, "animate")) return directive_animate(p, rest, e);
-    return rerror_at(e, p->path, p->text.line, "unknown directive '%.60s' (mesh, camera, keyframe, size, material, animate)",
+    if (!strcmp(word, "environment")) return directive_environment(p, rest, e);
+    if (!strcmp(word, "sun")) return directive_sun(p, rest, e);
+    return rerror_at(e, p->path, p->text.line,
+                     "unknown directive '%.60s' (mesh, camera, keyframe, size, material, animate, environment, sun)",
                      word);
 }
 
@@ -476,6 +566,7 @@ int scene_file_load(scene_builder *b, const char *path, rerror *e)
     for (i = 0; !status && i < p.mesh_count; ++i) status = load_mesh(&p, i, e);
     for (i = 0; !status && i < p.material_count; ++i) status = apply_material_line(&p, &p.materials[i], e);
     if (!status) status = apply_animations(&p, e);
+    if (!status && b->s->sky) status = sky_prepare(b->s->sky, e);
     parser_free(&p);
     return status;
 }

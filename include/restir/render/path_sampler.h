@@ -74,6 +74,16 @@ typedef struct {
  * built by hand must fill lobe_p too (the functions below read it instead of recomputing). */
 void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3 ray_dir);
 
+/* The vertex at infinity reached along the unit direction w (docs/environment.md):
+ * hit.triangle = LIGHT_TRIANGLE_DISTANT, hit.position = position = w (as float, then
+ * renormalised: light_distant_direction), ng = ns = wo = -w, a black BSDF, no NEE. */
+void path_vertex_make_distant(path_vertex *v, vec3 w);
+/* The same from the stored float direction p (bit for bit the vertex whose hit.position is p). */
+void path_vertex_make_distant_stored(path_vertex *v, vec3f p);
+static inline int path_vertex_is_distant(const path_vertex *v) { return v->hit.triangle == LIGHT_TRIANGLE_DISTANT; }
+/* The direction of a vertex at infinity from its stored float position. */
+static inline vec3 light_distant_direction(vec3f p) { return v3_normalize(v3_from_f(p)); }
+
 /* Radiance leaving x_i towards x_{i-1}: Ke if x_i lies on the front face of a light,
  * 0 otherwise (one-sided emitters, docs/design.md, Conventions). */
 rgb path_vertex_emitted(const path_context *c, const path_vertex *v);

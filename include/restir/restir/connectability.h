@@ -32,6 +32,9 @@
 typedef struct {
     vec3 position; /* x_j */
     int rough;     /* x_j is rough for the lobe it used (rc_vertex_is_rough) */
+    int at_infinity; /* 1: x_j is a vertex at infinity (the last, x_d); position = its unit
+                      * direction; the distance condition holds and its footprint is
+                      * infinite (docs/environment.md, "Connectability") */
     /* for the footprint criterion (Enhanced Eq. 5): */
     vec3 ng;                     /* geometric normal at x_j (G uses it, as GRIS Eq. 52) */
     const path_vertex *surface;  /* x_j as the path sampler built it (BSDF, shading frame; for

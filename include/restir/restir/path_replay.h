@@ -42,6 +42,11 @@ enum shift_failure trunk_sample(path_trunk *t, const real u[3]);
 /* Traces the ray sampled at x_n and appends the hit x_{n+1}: SHIFT_OK or SHIFT_FAIL_REPLAY_MISS. */
 enum shift_failure trunk_trace(path_trunk *t, const scene *s);
 
+/* trunk_trace, except that a ray leaving the scene of a context with distant lights
+ * appends the vertex at infinity along it (path_vertex_make_distant; docs/environment.md):
+ * for the LAST bounce of a path, which may end at the sky. */
+enum shift_failure trunk_trace_escape(path_trunk *t, const restir_context *c);
+
 /* Replays the prefix x_1..x_n (n - 1 bounces) of sample s from the primary hit x1. */
 enum shift_failure trunk_replay(path_trunk *t, const restir_context *c, const path_vertex *x1, const path_sample *s,
                                 int n);

@@ -44,6 +44,10 @@
  * zero), so no shift T_{j->i}(y) can produce this sample; for symmetry every shift of it
  * fails too (docs/restir-pt.md, "Symmetric shift domains"). */
 #define PATH_RC_FLAG_UNSHIFTABLE 0x1u
+/* rc_flags bit: x_k is the vertex at infinity (k = d, a path that ends at the environment
+ * or the sun; docs/environment.md): rc_triangle = LIGHT_TRIANGLE_DISTANT, rc_position its
+ * unit direction w (towards the sky, as float), rc_normal = -w, rc_bary = 0. */
+#define PATH_RC_FLAG_DISTANT 0x2u
 
 /* Technique of the last vertex x_d; the values are GRIS §7.6's n(ell) in {1, 2}. */
 enum path_technique {

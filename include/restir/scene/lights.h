@@ -22,6 +22,10 @@
 #include "restir/core/warp.h"
 
 #define LIGHT_NONE UINT32_MAX
+/* The triangle index of a vertex at infinity (a light_sample or surface_hit of the sky:
+ * docs/environment.md). Such a vertex keeps its unit direction w (from the scene towards
+ * the sky) in its position field and -w as its normal. */
+#define LIGHT_TRIANGLE_DISTANT (UINT32_MAX - 1u)
 
 /* A discrete distribution sampled in O(1) by Vose's alias method
  * (M. D. Vose, "A linear algorithm for generating random numbers with a given
@@ -54,6 +58,12 @@ typedef struct {
     uint32_t *light_of_triangle; /* scene triangle -> light index, or LIGHT_NONE */
     size_t triangle_count;
     real total_power;            /* sum of luminance(Ke) · area (no factor pi) */
+    /* Distant lights (docs/environment.md): the environment and the sun are entries
+     * env_entry, sun_entry >= count of the selection table (LIGHT_NONE if absent or
+     * without power), with power R^2 ∫ luminance(L) dω (R: the scene's bounding-sphere
+     * radius; the power per π a disc of radius R intercepts). */
+    const struct scene_sky *sky; /* NULL: no distant light */
+    uint32_t env_entry, sun_entry;
 } light_set;
 
 /* Collects the emissive triangles of s. Zero-area emissive triangles are skipped (they
@@ -61,7 +71,10 @@ typedef struct {
 int lights_build(light_set *ls, const scene *s, rerror *e);
 void lights_free(light_set *ls);
 
-/* A sampled point on a light. */
+/* A sampled point on a light; for a distant light (triangle = LIGHT_TRIANGLE_DISTANT) the
+ * point at infinity: position = the unit direction w, normal = -w, emission = the sky's
+ * whole radiance L_env(w) + L_sun(w), pdf_area = the SOLID-ANGLE pdf light_pdf_distant(w)
+ * (every distant light that can produce w, each with its selection probability). */
 typedef struct {
     uint32_t light;     /* index into light_set.lights */
     uint32_t triangle;  /* scene triangle index */
@@ -94,6 +107,13 @@ real pdf_area_to_solid_angle_d(real pdf_area, vec3 d, real dist2, vec3 ny);
 /* Solid-angle pdf with which NEE from x samples the point y on scene triangle `tri`
  * (normal ny). The MIS weight of a BSDF-sampled emitter hit uses it. */
 real light_pdf_solid_angle(const light_set *ls, uint32_t tri, vec3 x, vec3 y, vec3 ny);
+
+/* Solid-angle pdf with which the light sampler produces the direction w at infinity:
+ * Σ over the distant lights P(l) p_l(w) (0 without distant lights). */
+real light_pdf_distant(const light_set *ls, vec3 w);
+/* The radiance arriving from direction w (0 without distant lights). */
+rgb light_distant_radiance(const light_set *ls, vec3 w);
+static inline int light_set_has_sky(const light_set *ls) { return ls->sky != NULL; }
 
 /* Radiance emitted from point y of a light with front normal n towards direction
  * `to_receiver` (unit, pointing away from the light): Ke on the front side, 0 behind. */

@@ -75,6 +75,9 @@ typedef struct {
     /* Rigid per-object animation and the rest pose (restir/scene/animation.h); NULL: static. */
     struct scene_animation *animation;
 
+    /* Distant lights: environment and sun (restir/scene/sky.h); NULL: none. */
+    struct scene_sky *sky;
+
     /* Load-time warnings, each one line "file:line: what" (undefined materials, ignored
      * transparency, dropped degenerate triangles, ...). The library never prints them. */
     char **warnings;

@@ -1,0 +1,258 @@
+/* ReSTIR PT under the sky (docs/environment.md): scenes/courtyard.scene has no emissive
+ * triangle, so every path ends at infinity (environment map or sun), by NEE or by an
+ * escaped BSDF ray. Every shift x {Talbot, pairwise-defensive} with spatial reuse against
+ * the path tracer (unpaired, Welch per block and channel R, G, B), K spatial passes against
+ * 0 passes on the same numbers (paired), temporal reuse against the path tracer, and light
+ * RIS with tiles (the sky as one more light). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir_util.h"
+#include "test.h"
+#include "restir/restir/mutate.h"
+#include "restir/frame/pipeline.h"
+#include "restir/frame/options.h"
+
+#define ALPHA 1e-3
+#define RES 16
+#define RUNS 16
+#define BLOCK 4
+
+static int verbose(void) { return getenv("RESTIR_TEST_VERBOSE") != NULL; }
+
+/* The stochastic pairwise step (an algorithm, not a MIS family: spatial_options.h). */
+#define STOCHASTIC_STEP (-1)
+
+static void sky_options(restir_options *o, int shift, int mis, int passes, uint32_t salt)
+{
+    restir_options_default(o);
+    o->seed = test_seed() * 4099u + 977u * salt + 13u;
+    o->shift = shift;
+    if (mis == STOCHASTIC_STEP) o->spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE;
+    else o->spatial.mis = (mis_family)mis;
+    o->spatial_passes = passes;
+    o->spatial.neighbors = 3;
+    o->spatial.radius = 4.0;
+    o->frames = 2;
+    o->candidates = 2;
+    o->max_depth = 4;
+    o->threads = 2;
+}
+
+static void report(const char *what, const check_result *c, int biased)
+{
+    if (verbose())
+        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
+                rt_mean_z(c), c->lum_a.mean, c->lum_b.mean, c->rejected, c->tests, c->worst.z);
+    test_margin(fabs(rt_mean_z(c)) > fabs(c->worst.z) ? rt_mean_z(c) : c->worst.z);
+    if (biased)
+        CHECKF(c->different, "%s: the biased estimator was not detected (mean z %.2f, worst block z %.2f)", what,
+               rt_mean_z(c), c->worst.z);
+    else
+        CHECKF(!c->different, "%s: differs: mean z %.2f (p %.3g), %ld of %ld blocks rejected, worst z %.2f", what,
+               rt_mean_z(c), c->global.p, c->rejected, c->tests, c->worst.z);
+}
+
+static int pt_reference(const scene *s, check_side *pt, int light_ris)
+{
+    pt_options ref;
+    pt_options_default(&ref);
+    ref.seed = test_seed() * 7919u + 3;
+    ref.spp = 64;
+    ref.max_depth = 4;
+    ref.light_ris.candidates = light_ris;
+    ref.threads = 2;
+    return rt_pt_side_options(s, &ref, RUNS, BLOCK, pt);
+}
+
+static void unpaired(const scene *s, const check_side *pt, const restir_options *o, const char *what, int biased)
+{
+    check_side a;
+    check_options opt;
+    check_result c;
+    rerror e;
+    int status;
+    if (rt_restir_side(s, o, RUNS, BLOCK, &a)) return;
+    check_options_default(&opt);
+    opt.alpha = ALPHA;
+    opt.block_size = BLOCK;
+    status = check_compare(&a, pt, &opt, &c, &e);
+    check_side_free(&a);
+    CHECKF(status == 0, "check_compare: %s", e.msg);
+    if (status) return;
+    report(what, &c, biased);
+    check_result_free(&c);
+}
+
+/* Every shift x {Talbot, pairwise-defensive}, 2 spatial passes, against the path tracer; and
+ * stochastic pairwise MIS (Stochastic MIS, one pick) with the hybrid shift. */
+TEST(restir_sky_unpaired_every_shift)
+{
+    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
+    static const int families[] = {MIS_TALBOT, MIS_PAIRWISE_DEFENSIVE};
+    scene s;
+    check_side pt;
+    int i, j;
+    if (rt_load_scene("scenes/courtyard.scene", RES, &s)) return;
+    if (pt_reference(&s, &pt, 0)) {
+        scene_free(&s);
+        return;
+    }
+    for (i = 0; i < 3 && !test_has_failed(); ++i)
+        for (j = 0; j < 2 && !test_has_failed(); ++j) {
+            restir_options o;
+            char what[128];
+            sky_options(&o, shifts[i], families[j], 2, (uint32_t)(3 * i + j));
+            snprintf(what, sizeof what, "courtyard shift %s mis %s", restir_shift_names[shifts[i]],
+                     restir_mis_names[families[j]]);
+            unpaired(&s, &pt, &o, what, 0);
+        }
+    if (!test_has_failed()) {
+        restir_options o;
+        sky_options(&o, RESTIR_SHIFT_HYBRID, STOCHASTIC_STEP, 2, 17);
+        unpaired(&s, &pt, &o, "courtyard shift hybrid mis stochastic-pairwise", 0);
+    }
+    check_side_free(&pt);
+    scene_free(&s);
+}
+
+/* Light RIS with tiles (the environment and the sun are entries of the light table, so
+ * candidates and tile entries) through the hybrid shift, against the plain path tracer. */
+TEST(restir_sky_light_ris_tiles)
+{
+    scene s;
+    check_side pt;
+    restir_options o;
+    if (rt_load_scene("scenes/courtyard.scene", RES, &s)) return;
+    if (pt_reference(&s, &pt, 0)) {
+        scene_free(&s);
+        return;
+    }
+    sky_options(&o, RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, 41);
+    o.light_ris.candidates = 8;
+    o.light_ris.tiles = 1;
+    unpaired(&s, &pt, &o, "courtyard hybrid light-ris 8 tiles", 0);
+    sky_options(&o, RESTIR_SHIFT_RECONNECTION, MIS_TALBOT, 1, 43);
+    o.light_ris.candidates = 8;
+    unpaired(&s, &pt, &o, "courtyard reconnection light-ris 8", 0);
+    check_side_free(&pt);
+    scene_free(&s);
+}
+
+/* K = 2 spatial passes against 0 passes with the same numbers (check_compare_paired): the
+ * initial samples cancel, so the spatial reuse alone is tested, per block and channel. */
+TEST(restir_sky_paired_every_shift)
+{
+    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
+    static const int families[] = {MIS_PAIRWISE_UNIFORM, MIS_TALBOT};
+    scene s;
+    int i;
+    if (rt_load_scene("scenes/courtyard.scene", RES, &s)) return;
+    for (i = 0; i < 3 && !test_has_failed(); ++i) {
+        restir_options oa, ob;
+        check_side a, base;
+        check_options opt;
+        check_result c;
+        rerror e;
+        char what[128];
+        int status;
+        sky_options(&oa, shifts[i], families[i % 2], 2, 60u + (uint32_t)i);
+        ob = oa;
+        ob.spatial_passes = 0;
+        if (rt_restir_side(&s, &oa, RUNS, BLOCK, &a)) break;
+        if (rt_restir_side(&s, &ob, RUNS, BLOCK, &base)) {
+            check_side_free(&a);
+            break;
+        }
+        check_options_default(&opt);
+        opt.alpha = ALPHA;
+        opt.block_size = BLOCK;
+        status = check_compare_paired(&a, &base, &opt, &c, &e);
+        check_side_free(&a);
+        check_side_free(&base);
+        CHECKF(status == 0, "check_compare_paired: %s", e.msg);
+        if (status) break;
+        snprintf(what, sizeof what, "courtyard paired 2 vs 0 passes shift %s mis %s", restir_shift_names[shifts[i]],
+                 restir_mis_names[families[i % 2]]);
+        report(what, &c, 0);
+        check_result_free(&c);
+    }
+    scene_free(&s);
+}
+
+/* ---- temporal reuse (still camera): frame 3 of K sequences against the path tracer ---- */
+
+typedef struct {
+    int frame;
+    check_side side;
+} one_frame;
+
+static int collect(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
+{
+    one_frame *q = user;
+    (void)st;
+    return frame == q->frame ? check_side_add_run(&q->side, img, "run", e) : 0;
+}
+
+TEST(restir_sky_temporal)
+{
+    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
+    scene s;
+    check_side pt;
+    int i;
+    if (rt_load_scene("scenes/courtyard.scene", RES, &s)) return;
+    if (pt_reference(&s, &pt, 0)) {
+        scene_free(&s);
+        return;
+    }
+    for (i = 0; i < 5 && !test_has_failed(); ++i) {
+        restir_options o;
+        restir_sequence seq;
+        one_frame q;
+        check_options opt;
+        check_result c;
+        rerror e;
+        char what[128];
+        int k, status = 0;
+        sky_options(&o, i < 3 ? shifts[i] : i == 3 ? RESTIR_SHIFT_RECONNECTION : RESTIR_SHIFT_HYBRID,
+                    MIS_PAIRWISE_DEFENSIVE, 1, 80u + (uint32_t)i);
+        o.temporal.mis = i == 1 ? MIS_PAIRWISE_DEFENSIVE : MIS_TALBOT;
+        if (i >= 3) { /* MCMC mutations after temporal reuse (Mutations Algorithm 3): rv, pp */
+            o.mutation.count = 2;
+            o.mutation.strategy = i == 3 ? MUTATE_RV : MUTATE_PP;
+        }
+        memset(&seq, 0, sizeof seq);
+        seq.first = 0;
+        seq.last = 3;
+        q.frame = 3;
+        if (check_side_begin_runs(&q.side, s.width, s.height, BLOCK, &e)) {
+            test_fail(__FILE__, __LINE__, "%s", e.msg);
+            break;
+        }
+        for (k = 0; k < RUNS && !status; ++k) {
+            restir_options ok = o;
+            restir_stats total;
+            ok.seed = o.seed + 7919u * (uint32_t)k;
+            status = restir_render_sequence(&s, &ok, &seq, collect, &q, &total, &e);
+        }
+        if (status || check_side_end_runs(&q.side, &e)) {
+            test_fail(__FILE__, __LINE__, "sequence: %s", e.msg);
+            check_side_free(&q.side);
+            break;
+        }
+        check_options_default(&opt);
+        opt.alpha = ALPHA;
+        opt.block_size = BLOCK;
+        status = check_compare(&q.side, &pt, &opt, &c, &e);
+        check_side_free(&q.side);
+        CHECKF(status == 0, "check_compare: %s", e.msg);
+        if (status) break;
+        snprintf(what, sizeof what, "courtyard temporal frame 3 shift %s temporal %s mutations %d %s",
+                 restir_shift_names[o.shift], restir_mis_names[o.temporal.mis], o.mutation.count,
+                 mutate_strategy_names[o.mutation.strategy]);
+        report(what, &c, 0);
+        check_result_free(&c);
+    }
+    check_side_free(&pt);
+    scene_free(&s);
+}
