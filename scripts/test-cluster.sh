@@ -78,7 +78,10 @@ for want in "cluster-parallel:seq 0 63" "cluster-parallel:-j 8 " "cluster-slurm:
 done
 
 mkdir -p "$TMP/bin" "$TMP/par" "$TMP/slurm" "$TMP/munge" "$TMP/ctl/state" "$TMP/ctl/spool" "$TMP/parallel-home"
-ln -s "$ABS_BIN" "$TMP/bin/restir"
+# `restir` on the PATH: a wrapper that logs its arguments (to see that a resubmitted task
+# resumes) and then is replaced by the real program (exec: signals reach restir itself).
+printf '#!/bin/sh\necho "$*" >> "%s/invocations.log"\nexec "%s" "$@"\n' "$TMP" "$ABS_BIN" > "$TMP/bin/restir"
+chmod +x "$TMP/bin/restir"
 ln -s "$(pwd)/scenes" "$TMP/par/scenes"
 ln -s "$(pwd)/scenes" "$TMP/slurm/scenes"
 touch "$TMP/parallel-home/will-cite"
@@ -200,12 +203,18 @@ say "  task 0's checkpoint: samples $1.., $2 of 1024 spp"
 [ "$1" = 0 ] && [ "$2" -lt 1024 ] || fail "task 0 was not interrupted while rendering (checkpoint: $2 spp); try again on a less loaded machine"
 
 cp parts/part1.ckpt part1.before
+: > "$TMP/invocations.log"
 RESUB=$(sbatch --parsable --array=0,1 reference.sbatch) || fail "resubmitting tasks 0 and 1"
 wait_done "$RESUB"
 say "  resubmitted 0 and 1 ($RESUB): task 0 $(job_field "${RESUB}_0" JobState) ExitCode=$(job_field "${RESUB}_0" ExitCode), task 1 $(job_field "${RESUB}_1" JobState) ExitCode=$(job_field "${RESUB}_1" ExitCode)"
 for t in 0 1; do
     [ "$(job_field "${RESUB}_$t" ExitCode)" = 0:0 ] || { cat "slurm-${RESUB}_$t.out"; fail "resubmitted task $t failed"; }
 done
+for t in 0 1; do
+    grep -q -e "--resume parts/part$t.ckpt" "$TMP/invocations.log" ||
+        { cat "$TMP/invocations.log"; fail "resubmitted task $t did not run with --resume parts/part$t.ckpt"; }
+done
+say "  both resubmitted tasks ran with --resume (their checkpoints existed)"
 [ "$(ckpt_range parts/part0.ckpt)" = "0 1024" ] || fail "resumed task 0: checkpoint holds $(ckpt_range parts/part0.ckpt)"
 cmp -s part1.before parts/part1.ckpt || fail "resubmitting the complete task 1 changed its checkpoint"
 sh -e merge.sh > merge.log 2>&1 || { cat merge.log; fail "the Slurm merge recipe"; }
