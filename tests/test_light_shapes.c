@@ -129,14 +129,24 @@ TEST(light_errors_have_file_and_line)
         {"mesh lit-floor.obj\nlight quad 0 0 0 1 0 0 2 0 0 1 1 1\n", "lights.scene:2: light quad: u and v are zero or parallel"},
         {"mesh lit-floor.obj\nlight disk 0 0 0 0 0 0 1 1 1 1\n", "lights.scene:2: light disk: the normal is zero"},
         {"mesh lit-floor.obj\nlight disk 0 0 0 0 1 0 0 1 1 1\n", "lights.scene:2: light disk: radius 0 is not > 0"},
+        {NULL, "lights.scene:526: light: the lights would have more than 4194304 triangles"},
     };
     size_t i;
+    char *many = malloc(600 * 40 + 32);
+    CHECK(many != NULL);
+    strcpy(many, "mesh lit-floor.obj\n"); /* then 600 sphere lines: the 525th is one too many */
+    for (i = 0; i < 600; ++i) strcat(many, "light sphere 0 0 0 1 1 1 1\n");
     for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         scene s;
         rerror e;
-        CHECKF(load_lights(&s, cases[i].text, &e) != 0, "case %zu loaded", i);
+        int failed = load_lights(&s, cases[i].text ? cases[i].text : many, &e) != 0;
+        if (!failed) scene_free(&s);
+        if (!failed) free(many);
+        CHECKF(failed, "case %zu loaded", i);
+        if (!strstr(e.msg, cases[i].message)) free(many);
         CHECKF(strstr(e.msg, cases[i].message) != NULL, "case %zu: '%s' lacks '%s'", i, e.msg, cases[i].message);
     }
+    free(many);
 }
 
 /* A bare mesh without any emitter (a bunny-like closed blob over a floor) lit by a `light

@@ -58,7 +58,7 @@ typedef struct {
     size_t animate_count, animate_capacity;
     light_shape *lights; /* `light` lines, built after the meshes */
     long *light_lines;
-    size_t light_count, light_capacity, light_line_capacity;
+    size_t light_count, light_capacity, light_line_capacity, light_triangles;
     long camera_line, size_line, keyframe_line;
 } scene_parser;
 
@@ -424,6 +424,12 @@ static int directive_light(scene_parser *p, char *rest, rerror *e)
         snprintf(msg, sizeof msg, "%s", e->msg);
         return rerror_at(e, p->path, p->text.line, "%s: %s", what, msg);
     }
+    /* A bound on what a short file can ask for (a sphere line is 8000 triangles). */
+    p->light_triangles += l.kind == LIGHT_SPHERE ? 20 * LIGHT_SPHERE_DIVISIONS * LIGHT_SPHERE_DIVISIONS
+                          : l.kind == LIGHT_DISK ? LIGHT_DISK_SEGMENTS : 2;
+    if (p->light_triangles > LIGHT_MAX_TRIANGLES)
+        return rerror_at(e, p->path, p->text.line, "light: the lights would have more than %d triangles in all",
+                         LIGHT_MAX_TRIANGLES);
     if (builder_reserve((void **)&p->lights, &p->light_capacity, p->light_count + 1, sizeof l, e) ||
         builder_reserve((void **)&p->light_lines, &p->light_line_capacity, p->light_count + 1, sizeof(long), e))
         return -1;

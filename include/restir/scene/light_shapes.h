@@ -24,6 +24,8 @@ typedef struct {
  * (area 4.0e-4 below pi r^2). A quad is two triangles of exactly its area. */
 #define LIGHT_SPHERE_DIVISIONS 20
 #define LIGHT_DISK_SEGMENTS 128
+/* At most this many light triangles per scene file (524 spheres, or 2^21 quads). */
+#define LIGHT_MAX_TRIANGLES (1 << 22)
 
 /* The area of the exact shape (4 pi r^2, 4 |u x v|, pi r^2). */
 double light_shape_area(const light_shape *l);
