@@ -89,7 +89,7 @@ check() {
 # docs/results.md measured; otherwise the result is reported as unexpected)
 why() {
     case "$1 $2" in
-    "cornell path tracer") echo "the light is large and most paths reach it, so a path-traced sample is already good; a ReSTIR frame costs about 30 of them and its reuse spreads each pixel's error over its neighbours (lower MAPE can still come with higher relMSE)" ;;
+    "cornell path tracer") echo "the light is large and most paths reach it, so a path-traced sample is already good; a ReSTIR frame costs the time of 30 to 45 of them and its reuse spreads each pixel's error over its neighbours (lower MAPE can still come with higher relMSE)" ;;
     "ajar ReSTIR") echo "all light enters through a door gap, so few path-traced samples carry any; ReSTIR resamples 32 paths per pixel and reuses the light-carrying ones its neighbours found" ;;
     *) echo "not what docs/results.md measured at 128x128 (cornell: path tracer, ajar: ReSTIR); small sizes, short times and machine load change the balance" ;;
     esac
