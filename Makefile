@@ -6,6 +6,7 @@
 #   make test            build and run the test suite (ends with "N passed, N failed")
 #   make test-long       the longer statistical suites too
 #   make test-data       load every file of ../shared/data (real-world OBJ/MTL/PFM)
+#   make test-cluster    the GNU parallel and Slurm recipes of docs/reference-renders.md (root)
 #   make bench           benchmarks, machine-readable JSON on stdout
 #   make mutation-score  planted bugs of tests/mutants vs make test (slow; MUTANT_FLAGS=--long)
 #   make test-extremes   the extremes suite, double and float builds (docs/precision.md)
@@ -132,6 +133,13 @@ test-long: $(BUILD)/restir $(BUILD)/tests/run
 
 test-data: $(BUILD)/restir
 	sh tests/test-data.sh $(BUILD)/restir ../shared/data
+
+# The GNU parallel and Slurm job-array recipes of docs/reference-renders.md, run as written
+# (scaled down) on a one-node Slurm of its own (scripts/test-cluster.sh; needs root and
+# Debian's parallel, slurm-wlm, munge, else exit 2; about a minute; not part of make test/CI).
+.PHONY: test-cluster
+test-cluster: $(BUILD)/restir
+	sh scripts/test-cluster.sh $(BUILD)/restir
 
 bench: $(BUILD)/restir
 	$(BUILD)/restir bench all

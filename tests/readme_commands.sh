@@ -45,7 +45,7 @@ status=0
 while IFS= read -r cmd; do
     case "$cmd" in
     "make test"*) echo "skip: $cmd (the suite itself)"; continue ;;
-    "make run"*) run="DEMO_SIZE=32x24 DEMO_SECONDS=0.5 DEMO_RUNS=4 DEMO_CHECK_SPP=4 DEMO_REF_SPP=64 sh scripts/demo.sh $tmp/out $bin" ;;
+    "make run"*) run="DEMO_SIZE=32x24 DEMO_SECONDS=0.5 DEMO_RUNS=4 DEMO_CHECK_SPP=4 DEMO_REF_SPP=64 DEMO_REF_FRAMES=4 sh scripts/demo.sh $tmp/out $bin" ;;
     make*) echo "readme: no rule to run '$cmd' in the test"; status=1; continue ;;
     *) run=$(printf '%s\n' "$cmd" | shrink) ;;
     esac

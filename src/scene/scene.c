@@ -3,6 +3,7 @@
 #include "restir/scene/scene.h"
 
 #include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -136,6 +137,43 @@ camera_pose scene_camera_at(const scene *s, int frame)
     return pose;
 }
 
+/* Where the framing camera looks from: +z (the historical view) unless the mesh shows
+ * much less of itself that way than from another direction. What a direction d shows is the
+ * mesh's projected area sum_i A_i |n_i . d| (both sides, occlusion ignored): 0 for flat
+ * geometry seen edge-on (a floor in y = 0 from +z). The candidates are +z, then views
+ * raised 45 degrees over the y and x axes and the four diagonals (+-1, +-1, 1); they do not
+ * all lie in one plane, so every plane is seen by one of them at more than 45 degrees from
+ * edge-on. None is parallel to +y, so up = +y always works. */
+static vec3 framing_direction(const scene *s)
+{
+    static const double dirs[7][3] = {{0, 0, 1}, {0, 1, 1}, {1, 0, 1}, {1, 1, 1}, {-1, 1, 1}, {1, -1, 1}, {-1, -1, 1}};
+    double shown[7] = {0};
+    size_t i;
+    int k, best = 0;
+    for (i = 0; i < s->triangle_count; ++i) {
+        const triangle *t = &s->triangles[i];
+        vec3f p0 = s->positions[t->v[0]], p1 = s->positions[t->v[1]], p2 = s->positions[t->v[2]];
+        double a[3], b[3], n[3];
+        a[0] = (double)p1.x - p0.x, a[1] = (double)p1.y - p0.y, a[2] = (double)p1.z - p0.z;
+        b[0] = (double)p2.x - p0.x, b[1] = (double)p2.y - p0.y, b[2] = (double)p2.z - p0.z;
+        n[0] = a[1] * b[2] - a[2] * b[1]; /* twice the area times the unit normal */
+        n[1] = a[2] * b[0] - a[0] * b[2];
+        n[2] = a[0] * b[1] - a[1] * b[0];
+        for (k = 0; k < 7; ++k) {
+            double len = sqrt(dirs[k][0] * dirs[k][0] + dirs[k][1] * dirs[k][1] + dirs[k][2] * dirs[k][2]);
+            shown[k] += fabs(n[0] * dirs[k][0] + n[1] * dirs[k][1] + n[2] * dirs[k][2]) / len;
+        }
+    }
+    /* +z stays unless another view shows more than twice as much (ordinary meshes keep
+     * their framing; only nearly edge-on ones change). */
+    for (k = 1; k < 7; ++k)
+        if (shown[k] > shown[best] && shown[k] > 2 * shown[0]) best = k;
+    {
+        double len = sqrt(dirs[best][0] * dirs[best][0] + dirs[best][1] * dirs[best][1] + dirs[best][2] * dirs[best][2]);
+        return v3((real)(dirs[best][0] / len), (real)(dirs[best][1] / len), (real)(dirs[best][2] / len));
+    }
+}
+
 camera_pose scene_frame_bounds(const scene *s)
 {
     camera_pose pose;
@@ -143,6 +181,7 @@ camera_pose scene_frame_bounds(const scene *s)
     double half_y = FRAMING_FOV_DEGREES * 0.5 * 3.14159265358979323846 / 180, half, aspect, distance;
     size_t i;
     int k, axis;
+    vec3 dir;
     for (i = 0; i < s->triangle_count; ++i)
         for (k = 0; k < 3; ++k) {
             vec3f p = s->positions[s->triangles[i].v[k]];
@@ -165,8 +204,10 @@ camera_pose scene_frame_bounds(const scene *s)
     aspect = s->width > 0 && s->height > 0 ? (double)s->width / s->height : 1;
     half = aspect >= 1 ? half_y : atan(tan(half_y) * aspect);
     distance = radius2 > 0 ? sqrt(radius2) / sin(half) : 1;
+    dir = framing_direction(s);
     pose.target = v3((real)c[0], (real)c[1], (real)c[2]);
-    pose.eye = v3((real)c[0], (real)c[1], (real)(c[2] + distance));
+    if (dir.x == 0 && dir.y == 0) pose.eye = v3((real)c[0], (real)c[1], (real)(c[2] + distance)); /* as always */
+    else pose.eye = v3((real)(c[0] + distance * dir.x), (real)(c[1] + distance * dir.y), (real)(c[2] + distance * dir.z));
     pose.up = v3(0, 1, 0);
     pose.fov_y_degrees = (real)FRAMING_FOV_DEGREES;
     return pose;

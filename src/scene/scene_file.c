@@ -8,6 +8,7 @@
  *   animate OBJECT FRAME [translate X Y Z] [rotate AX AY AZ DEGREES] [pivot X Y Z]
  *   environment constant R G B | environment map FILE [rotate DEGREES] [scale S]
  *   sun DX DY DZ ANGLE_DEGREES R G B
+ *   light sphere X Y Z RADIUS R G B | quad CX CY CZ UX UY UZ VX VY VZ R G B | disk CX CY CZ NX NY NZ RADIUS R G B
  *
  * Names and paths containing spaces are written in double quotes. The file is read
  * completely first; then the meshes are loaded in order, then the material lines are
@@ -22,6 +23,7 @@
 #include "restir/core/image.h"
 #include "restir/scene/animation.h"
 #include "restir/scene/camera_path.h"
+#include "restir/scene/light_shapes.h"
 #include "restir/scene/obj.h"
 #include "restir/scene/scene_builder.h"
 #include "restir/scene/sky.h"
@@ -58,6 +60,9 @@ typedef struct {
     size_t keyframe_capacity;
     animate_line *animates;
     size_t animate_count, animate_capacity;
+    light_shape *lights; /* `light` lines, built after the meshes */
+    long *light_lines;
+    size_t light_count, light_capacity, light_line_capacity, light_triangles;
     long camera_line, size_line, keyframe_line, last_keyframe_line, environment_line, sun_line;
 } scene_parser;
 
@@ -494,6 +499,66 @@ static int directive_sun(scene_parser *p, char *rest, rerror *e)
     return 0;
 }
 
+/* light sphere X Y Z RADIUS R G B | light quad CX CY CZ UX UY UZ VX VY VZ R G B |
+ * light disk CX CY CZ NX NY NZ RADIUS R G B (docs/scene-format.md, "Lights"). */
+static int directive_light(scene_parser *p, char *rest, rerror *e)
+{
+    light_shape l;
+    char *kind = text_next_token(&rest), what[16];
+    double v[13];
+    int n, k;
+    memset(&l, 0, sizeof l);
+    if (!kind) return rerror_at(e, p->path, p->text.line, "light: missing shape (sphere, quad, disk)");
+    if (!strcmp(kind, "sphere")) l.kind = LIGHT_SPHERE, n = 7;
+    else if (!strcmp(kind, "quad")) l.kind = LIGHT_QUAD, n = 12;
+    else if (!strcmp(kind, "disk")) l.kind = LIGHT_DISK, n = 10;
+    else return rerror_at(e, p->path, p->text.line, "light: unknown shape '%.60s' (sphere, quad, disk)", kind);
+    snprintf(what, sizeof what, "light %s", kind);
+    if (read_reals(p, &rest, what, n, v, e) || no_more(p, rest, what, e)) return -1;
+    for (k = 0; k < 3; ++k) {
+        l.centre[k] = v[k];
+        l.u[k] = l.kind == LIGHT_QUAD ? v[3 + k] : 0;
+        l.v[k] = l.kind == LIGHT_QUAD ? v[6 + k] : 0;
+        l.normal[k] = l.kind == LIGHT_DISK ? v[3 + k] : 0;
+    }
+    l.radius = l.kind == LIGHT_SPHERE ? v[3] : l.kind == LIGHT_DISK ? v[6] : 0;
+    l.radiance = rgb_make((real)v[n - 3], (real)v[n - 2], (real)v[n - 1]);
+    if (light_shape_check(&l, e)) {
+        char msg[sizeof e->msg];
+        snprintf(msg, sizeof msg, "%s", e->msg);
+        return rerror_at(e, p->path, p->text.line, "%s: %s", what, msg);
+    }
+    /* A bound on what a short file can ask for (a sphere line is 8000 triangles). */
+    p->light_triangles += l.kind == LIGHT_SPHERE ? 20 * LIGHT_SPHERE_DIVISIONS * LIGHT_SPHERE_DIVISIONS
+                          : l.kind == LIGHT_DISK ? LIGHT_DISK_SEGMENTS : 2;
+    if (p->light_triangles > LIGHT_MAX_TRIANGLES)
+        return rerror_at(e, p->path, p->text.line, "light: the lights would have more than %d triangles in all",
+                         LIGHT_MAX_TRIANGLES);
+    if (builder_reserve((void **)&p->lights, &p->light_capacity, p->light_count + 1, sizeof l, e) ||
+        builder_reserve((void **)&p->light_lines, &p->light_line_capacity, p->light_count + 1, sizeof(long), e))
+        return -1;
+    p->lights[p->light_count] = l;
+    p->light_lines[p->light_count++] = p->text.line;
+    return 0;
+}
+
+/* After the meshes (their triangles keep their indices): each light is a new pure emitter
+ * material and object named "light (line N)". */
+static int apply_lights(scene_parser *p, rerror *e)
+{
+    size_t i;
+    for (i = 0; i < p->light_count; ++i) {
+        char name[64];
+        snprintf(name, sizeof name, "light (line %ld)", p->light_lines[i]);
+        if (light_shape_add(p->b, &p->lights[i], name, e)) {
+            char msg[sizeof e->msg];
+            snprintf(msg, sizeof msg, "%s", e->msg);
+            return rerror_at(e, p->path, p->light_lines[i], "light: %s", msg);
+        }
+    }
+    return 0;
+}
+
 static int read_directive(scene_parser *p, char *line, rerror *e)
 {
     char *rest = line, *word = text_next_token(&rest);
@@ -506,8 +571,9 @@ static int read_directive(scene_parser *p, char *line, rerror *e)
     if (!strcmp(word, "animate")) return directive_animate(p, rest, e);
     if (!strcmp(word, "environment")) return directive_environment(p, rest, e);
     if (!strcmp(word, "sun")) return directive_sun(p, rest, e);
+    if (!strcmp(word, "light")) return directive_light(p, rest, e);
     return rerror_at(e, p->path, p->text.line,
-                     "unknown directive '%.60s' (mesh, camera, keyframe, size, material, animate, environment, sun)",
+                     "unknown directive '%.60s' (mesh, camera, keyframe, size, material, animate, environment, sun, light)",
                      word);
 }
 
@@ -547,6 +613,8 @@ static void parser_free(scene_parser *p)
     free(p->mesh_lines);
     free(p->materials);
     free(p->animates);
+    free(p->lights);
+    free(p->light_lines);
     text_close(&p->text);
 }
 
@@ -565,6 +633,7 @@ int scene_file_load(scene_builder *b, const char *path, rerror *e)
     if (!status && !p.mesh_count) status = rerror_at(e, path, 0, "no mesh directive (the scene has no geometry)");
     for (i = 0; !status && i < p.mesh_count; ++i) status = load_mesh(&p, i, e);
     for (i = 0; !status && i < p.material_count; ++i) status = apply_material_line(&p, &p.materials[i], e);
+    if (!status) status = apply_lights(&p, e);
     if (!status) status = apply_animations(&p, e);
     if (!status && b->s->sky) status = sky_prepare(b->s->sky, e);
     parser_free(&p);
