@@ -42,7 +42,9 @@ int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_te
 {
     no->textures = NULL;
     if (no->pattern != NEIGHBOR_PAIRED) return 0;
-    if (reuse_textures_build(textures, no->count, pairing_sigma_for_radius(o->spatial.radius), o->seed, e)) return -1;
+    if (reuse_textures_build_as(textures, no->count, pairing_sigma_for_radius(o->spatial.radius), o->spatial.eq3_reading,
+                                o->seed, e))
+        return -1;
     no->textures = textures;
     return 0;
 }
