@@ -45,7 +45,8 @@ real mutate_perturb(real u, real xi)
 }
 
 /* Mutations §4.1 as the paper states it ("perturbing each element of u with Gaussian noise",
- * amount s = s2 exp(-log(s2/s1) U)); docs/mutations.md "Kernels" derives the symmetry:
+ * amount s = s2 exp(-log(s2/s1) U)): the symmetric proposal of Mutations Eq. 19, whose kernel
+ * ratio is then 1; docs/mutations.md "Kernels" derives the symmetry:
  * the step d = s n has an even law (the sign is a separate fair number), and wrapping
  * makes the kernel a translation on the circle, so T(x->y) = sum_k f(y - x + k) =
  * T(y->x). The sum is in double; a result that rounds to 1 is 0 (as mutate_perturb). */
