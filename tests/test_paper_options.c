@@ -291,3 +291,40 @@ TEST(paper_mcap_modes_sequence_exact)
     mcap_sequence(TEMPORAL_MCAP_RELATIVE, 7);
     mcap_sequence(TEMPORAL_MCAP_ABSOLUTE, 4.5);
 }
+
+/* The flags on the command line: each reaches --stats (only when it differs from the default;
+ * --eq3-reading whenever the pairing is paired), and an inconsistent or unknown value is one
+ * line naming the flag, exit 2. */
+TEST(paper_options_cli)
+{
+    static const struct {
+        const char *args, *expect;
+    } bad[] = {
+        {"--mutation-sigma 0.05", "--mutation-sigma"}, /* needs the gaussian kernel */
+        {"--mutation-kernel normal", "--mutation-kernel"},
+        {"--mcap-mode half", "--mcap-mode"},
+        {"--eq3-reading exact", "--eq3-reading"},
+    };
+    char out[4096], stats[1024];
+    char *text;
+    size_t i;
+    snprintf(stats, sizeof stats, "%s", test_tmp_path("paper-cli.json"));
+    CHECKF(test_cli(out, sizeof out,
+                    "render scenes/cornell-glossy.scene --method restir --preset gris-realtime --size 8x8 --sequence 0..1 "
+                    "--mutations 1 --mutation-kernel gaussian --mutation-sigma 0.01 --mcap-mode absolute --pairing paired "
+                    "--eq3-reading signed-ceil --quiet --no-png -o %s --stats %s",
+                    test_tmp_path("paper-cli.pfm"), stats) == 0,
+           "%s", out);
+    text = test_read_text(stats);
+    CHECKF(text && strstr(text, "\"mcap_mode\": \"absolute\"") && strstr(text, "\"eq3_reading\": \"signed-ceil\"") &&
+               strstr(text, "\"mutation_kernel\": \"gaussian\", \"mutation_sigma\": 0.01"),
+           "the options are not in --stats: %.300s", text ? text : "(no file)");
+    free(text);
+    for (i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        int status = test_cli(out, sizeof out,
+                              "render scenes/cornell-glossy.scene --method restir --size 8x8 --sequence 0..1 %s --quiet "
+                              "--no-png -o %s",
+                              bad[i].args, test_tmp_path("paper-cli-bad.pfm"));
+        CHECKF(status == 2 && strstr(out, bad[i].expect), "%s: exit %d, %s", bad[i].args, status, out);
+    }
+}
