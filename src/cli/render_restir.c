@@ -63,11 +63,11 @@ int render_restir_validate(const char *command, const restir_options *o)
         int (*check)(const restir_options *o, rerror *e);
         const char *flags;
     } techniques[] = {
-        {spatial_check, "--mis, --neighbors, --radius, --pattern, --pairing, --no-reject, --normal-cos, "
+        {spatial_check, "--mis, --neighbors, --radius, --pattern, --pairing, --eq3-reading, --no-reject, --normal-cos, "
                         "--depth-ratio, --reuse-cells"},
-        {temporal_check, "--temporal-mis, --mcap, --motion-vectors"},
+        {temporal_check, "--temporal-mis, --mcap, --mcap-mode, --motion-vectors"},
         {stochastic_check, "--stochastic-n, --stochastic-nc"},
-        {mutation_check, "--mutations, --mutation, --mutate-after"},
+        {mutation_check, "--mutations, --mutation, --mutation-kernel, --mutation-sigma, --mutate-after"},
         {correlation_check, "--dedup, --dedup-min, --dedup-alpha, --boiling-filter"},
         {light_ris_check, "--light-ris, --light-tiles"},
     };
@@ -91,6 +91,7 @@ int render_restir_validate(const char *command, const restir_options *o)
 CHOICE_IS_INT(enum restir_shift, shift_is_int);
 CHOICE_IS_INT(enum neighbor_pattern, pattern_is_int);
 CHOICE_IS_INT(enum restir_pairing, pairing_is_int);
+CHOICE_IS_INT(enum pairing_eq3, eq3_is_int);
 CHOICE_IS_INT(mis_family, mis_is_int);
 CHOICE_IS_INT(enum restir_shading, shading_is_int);
 CHOICE_IS_INT(enum rc_mode, rc_mode_is_int);
@@ -98,6 +99,8 @@ CHOICE_IS_INT(enum restir_paths, paths_is_int);
 CHOICE_IS_INT(enum restir_ablation, ablation_is_int);
 CHOICE_IS_INT(enum restir_motion_vectors, motion_vectors_is_int);
 CHOICE_IS_INT(enum mutate_strategy, strategy_is_int);
+CHOICE_IS_INT(enum mutate_kernel, kernel_is_int);
+CHOICE_IS_INT(enum temporal_mcap_mode, mcap_mode_is_int);
 
 /* --mis: the MIS families of the GRIS step, then the stochastic pairwise algorithm. */
 static const char *mis_choices[MIS_FAMILY_COUNT + 2];
@@ -148,6 +151,11 @@ int render_restir_options(cli_option *rows, restir_options *o, render_restir_fla
                     "spatial neighbours: disk (the --pattern, default) or paired (reciprocal pairs from reuse textures, "
                     "Enhanced 3; sigma = 0.532 radius)",
                     restir_pairing_names, 0, 0);
+    rows[n++] = row("--eq3-reading", OPT_CHOICE, &o->spatial.eq3_reading,
+                    "--pairing paired: reading of the garbled Enhanced Eq. 3 (shuffle passes for sigma): port-round "
+                    "(default, measured closest to sigma), signed-ceil (the reading before issue 28), signed-round, "
+                    "literal-ceil, leading-ceil (docs/results/eq3.md)",
+                    pairing_eq3_names, 0, 0);
     rows[n++] = row("--no-reject", OPT_FLAG, &o->spatial.no_reject, "keep neighbours whatever their normal and depth", NULL,
                     0, 0);
     rows[n++] = row("--normal-cos", OPT_REAL, &o->spatial.normal_cos,
@@ -224,6 +232,18 @@ int render_restir_options(cli_option *rows, restir_options *o, render_restir_fla
     rows[n++] = row("--mutation", OPT_CHOICE, &o->mutation.strategy,
                     "path mutation (Mutations §4.3): rv (reconnection vertex, default), pp (partial path), fp (full path)",
                     mutate_strategy_names, 0, 0);
+    rows[n++] = row("--mutation-kernel", OPT_CHOICE, &o->mutation.kernel,
+                    "PSS perturbation (Mutations 4.1): kelemen (u +- s, default; the oracle's deviation) or gaussian "
+                    "(u + s n, n normal: the paper's; docs/deviations.md)",
+                    mutate_kernel_names, 0, 0);
+    rows[n++] = row("--mutation-sigma", OPT_REAL, &o->mutation.sigma,
+                    "--mutation-kernel gaussian: the standard deviation in primary sample space (default 0: the "
+                    "paper's amount s = s2 exp(-log(s2/s1) U), s1 = 1/1024, s2 = 1/64)",
+                    NULL, 0, 0.5);
+    rows[n++] = row("--mcap-mode", OPT_CHOICE, &o->temporal.mcap_mode,
+                    "--sequence: relative (default: c_prev <= C c_cur, GRIS 6.4) or absolute (c_prev <= C, Mutations "
+                    "Algorithm 2)",
+                    temporal_mcap_mode_names, 0, 0);
     rows[n++] = row("--mutate-after", OPT_CHOICE, &o->mutation.stages,
                     "stages followed by mutations: temporal (default), initial, spatial, or a comma list of them",
                     mutate_after_names, 0, 0);

@@ -42,7 +42,9 @@ int restir_pairing_build(neighbor_options *no, const restir_options *o, reuse_te
 {
     no->textures = NULL;
     if (no->pattern != NEIGHBOR_PAIRED) return 0;
-    if (reuse_textures_build(textures, no->count, pairing_sigma_for_radius(o->spatial.radius), o->seed, e)) return -1;
+    if (reuse_textures_build_as(textures, no->count, pairing_sigma_for_radius(o->spatial.radius), o->spatial.eq3_reading,
+                                o->seed, e))
+        return -1;
     no->textures = textures;
     return 0;
 }
@@ -227,6 +229,13 @@ void restir_options_write_json(FILE *out, const restir_options *o, const char *i
     else
         fprintf(out, "\"temporal\": %s, \"temporal_mis\": \"%s\", \"mcap\": %g", tp->enabled ? "true" : "false",
                 restir_mis_names[tp->mis], tp->mcap);
+    if (tp->mcap_mode != TEMPORAL_MCAP_RELATIVE) /* issue 28 (only when used) */
+        fprintf(out, ", \"mcap_mode\": \"%s\"", temporal_mcap_mode_names[tp->mcap_mode]);
+    if (sp->pairing == RESTIR_PAIRING_PAIRED) /* issue 28: which Eq. 3 reading made the textures */
+        fprintf(out, ", \"eq3_reading\": \"%s\"", pairing_eq3_names[sp->eq3_reading]);
+    if (o->mutation.kernel != MUTATE_KERNEL_KELEMEN) /* issue 28 (only when used) */
+        fprintf(out, ", \"mutation_kernel\": \"%s\", \"mutation_sigma\": %g", mutate_kernel_names[o->mutation.kernel],
+                o->mutation.sigma);
     if (o->pairwise_confidence) /* issue 31 (only when used) */
         fprintf(out, ", \"pairwise_confidence\": \"%s\"", restir_pairwise_confidence_names[o->pairwise_confidence]);
     fprintf(out, ", \"mutations\": %d, \"mutation\": \"%s\", \"mutate_after\": %d, \"light_ris\": %d, \"light_tiles\": %s}",

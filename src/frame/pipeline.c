@@ -124,10 +124,10 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
     tf.ctx[1] = back;
     tf.frame[0] = (int)j->frame;
     tf.frame[1] = back == &j->ctx ? (int)j->frame : pl->prev_frame;
-    temporal_resample(&j->ctx, back, pl->animated && o->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX ? &tf : NULL,
-                      restir_step_mis(o, o->temporal.mis), &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
-                      q >= 0 ? &pl->prev[q] : NULL, temporal_cap(pl, q, &w->st.temporal), u, &pl->out[p], &w->ws,
-                      &w->st.temporal);
+    temporal_resample_mode(&j->ctx, back, pl->animated && o->ablation != RESTIR_ABLATE_TEMPORAL_SUFFIX ? &tf : NULL,
+                           restir_step_mis(o, o->temporal.mis), &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
+                           q >= 0 ? &pl->prev[q] : NULL, temporal_cap(pl, q, &w->st.temporal), o->temporal.mcap_mode,
+                           u, &pl->out[p], &w->ws, &w->st.temporal);
 }
 
 static void temporal_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
@@ -185,9 +185,9 @@ static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             rng_key key = initial_pixel_key(&j->io, j->o->seed, j->frame, (uint32_t)p);
             path_vertex v;
             if (!gbuffer_primary_vertex(j->s, &j->g, p, &v)) continue;
-            mutate_reservoir(&j->ctx, &v, key, pl->mutate_stage, j->o->mutation.strategy, j->o->mutation.count, &pl->out[p],
-                             reservoir_buffer_pss_row(pl->out, (size_t)j->s->width * (size_t)j->s->height, (size_t)p),
-                             &w->st.mutate);
+            mutate_reservoir_opts(&j->ctx, &v, key, pl->mutate_stage, &j->o->mutation, &pl->out[p],
+                                  reservoir_buffer_pss_row(pl->out, (size_t)j->s->width * (size_t)j->s->height, (size_t)p),
+                                  &w->st.mutate);
         }
 }
 

@@ -154,10 +154,10 @@ static void print_step_text(FILE *out, const restir_options *o, int nx, int ny, 
     const real *P = g->ws.ptarget;
     int j;
     if (g->temporal)
-        fprintf(out, "temporal GRIS step (M = 2, MIS %s, M-cap %g): domain 0 = this pixel's reservoir of frame %d "
+        fprintf(out, "temporal GRIS step (M = 2, MIS %s, M-cap %g%s): domain 0 = this pixel's reservoir of frame %d "
                      "(canonical), domain 1 = its initial reservoir of frame %d\n",
                 mis_family_name(o->temporal.mis), o->temporal.mcap,
-                o->first_frame, o->first_frame - 1);
+                o->temporal.mcap_mode == TEMPORAL_MCAP_ABSOLUTE ? " absolute" : "", o->first_frame, o->first_frame - 1);
     else
         fprintf(out, "one GRIS step (spatial, M = 2, MIS %s): domain 0 = this pixel's reservoir (canonical), domain 1 = "
                      "pixel (%d, %d)'s\n",

@@ -74,8 +74,8 @@ int inspect_temporal_step(const restir_context *c, const restir_options *o, cons
     if (step_begin(g, 1, 1, ra, rprev, key, RNG_VERTEX_TEMPORAL_RIS, e)) return -1;
     if (!g->shown) return 0;
     memset(&st, 0, sizeof st);
-    temporal_resample(c, c, NULL, restir_step_mis(o, o->temporal.mis), xa, xprev, &g->in[0], &g->in[1], (real)o->temporal.mcap, g->u,
-                      &g->out, &g->ws, &st);
+    temporal_resample_mode(c, c, NULL, restir_step_mis(o, o->temporal.mis), xa, xprev, &g->in[0], &g->in[1],
+                           (real)o->temporal.mcap, o->temporal.mcap_mode, g->u, &g->out, &g->ws, &st);
     step_end(g);
     return 0;
 }

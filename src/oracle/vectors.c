@@ -763,6 +763,16 @@ static int e_mutate_perturb(const double *in, int n_in, double *out)
     out[0] = (double)mutate_perturb((real)in[0], (real)in[1]);
     return 1;
 }
+static int e_mutate_perturb_gaussian(const double *in, int n_in, double *out)
+{
+    real xi[3];
+    NEED(5);
+    xi[0] = (real)in[1];
+    xi[1] = (real)in[2];
+    xi[2] = (real)in[3];
+    out[0] = (double)mutate_perturb_gaussian((real)in[0], xi, in[4]);
+    return 1;
+}
 static int e_mutate_acceptance(const double *in, int n_in, double *out)
 {
     NEED(3);
@@ -863,6 +873,8 @@ static const vector_fn table[] = {
      e_footprint},
     {"footprint", "rc_primary_footprint", "t,ng.x,ng.y,ng.z,wo.x,wo.y,wo.z -> footprint", e_primary_footprint},
     {"mutation", "mutate_perturb", "u,xi -> v", e_mutate_perturb},
+    {"mutation", "mutate_perturb_gaussian", "u,a,b,U,sigma -> v (sigma 0: the paper's amount from U)",
+     e_mutate_perturb_gaussian},
     {"mutation", "mutate_acceptance", "target_x,target_z,kernel_ratio -> a (before min(1, .))", e_mutate_acceptance},
     {"mutation", "mutate_weight", "W,target_x,target_z -> W", e_mutate_weight},
     {"mutation", "mutate_eq20_ratio", "p_k_z,G_z,p_k1_z,p_k_y,G_y,p_k1_y -> T(z->y)/T(y->z)", e_mutate_eq20},
@@ -1363,6 +1375,14 @@ static void gen_mutation(gen *g)
     size_t i;
     for (i = 0; i < sizeof pert / sizeof pert[0]; ++i)
         EMIT("mutate_perturb", "Mutations 19", plabel[i], pert[i][0], pert[i][1]);
+    /* the paper's Gaussian kernel (--mutation-kernel gaussian; b and b + 1/2 mirror a step) */
+    EMIT("mutate_perturb_gaussian", "Mutations 19", "paper's amount, U = 0 (s2)", 0.5, 0.6, 0.1, 0.0, 0.0);
+    EMIT("mutate_perturb_gaussian", "Mutations 19", "the mirrored step (b + 1/2)", 0.5, 0.6, 0.6, 0.0, 0.0);
+    EMIT("mutate_perturb_gaussian", "Mutations 19", "paper's amount, U = 1/2", 0.5, 0.9, 0.3, 0.5, 0.0);
+    EMIT("mutate_perturb_gaussian", "Mutations 19", "fixed sigma 0.02", 0.25, 0.5, 0.05, 0.7, 0.02);
+    EMIT("mutate_perturb_gaussian", "Mutations 19", "wrap above 1", 0.995, 0.95, 0.0, 0.0, 0.05);
+    EMIT("mutate_perturb_gaussian", "Mutations 19", "wrap below 0", 0.005, 0.95, 0.5, 0.0, 0.05);
+    EMIT("mutate_perturb_gaussian", "Mutations 19", "a = 0 (no step)", 0.3, 0.0, 0.2, 0.4, 0.0);
     EMIT("mutate_acceptance", "Mutations 14;Mutations 19", "symmetric, uphill", 0.2, 0.5, 1.0);
     EMIT("mutate_acceptance", "Mutations 14;Mutations 19", "symmetric, downhill", 0.5, 0.2, 1.0);
     EMIT("mutate_acceptance", "Mutations 14;Mutations 19", "asymmetric kernel", 0.5, 0.2, 3.0);

@@ -11,6 +11,7 @@
 const char *const mutate_strategy_names[] = {"rv", "pp", "fp", NULL};
 const char *const mutate_after_names[] = {"none", "initial", "temporal", "initial,temporal", "spatial",
                                           "initial,spatial", "temporal,spatial", "initial,temporal,spatial", NULL};
+const char *const mutate_kernel_names[] = {"kelemen", "gaussian", NULL};
 const char *const mutate_skip_names[] = {"empty", "no_reconnection", "inverse", "irreproducible", NULL};
 const char *const mutate_reject_names[] = {"replay", "inverse", "occluded", "structure", "zero", NULL};
 
@@ -41,6 +42,26 @@ real mutate_perturb(real u, real xi)
     if (v < 0) v += 1;
     if (!(v >= 0 && v < 1)) v = 0; /* u - s + 1 rounded up to 1 */
     return v;
+}
+
+/* Mutations §4.1 as the paper states it ("perturbing each element of u with Gaussian noise",
+ * amount s = s2 exp(-log(s2/s1) U)): the symmetric proposal of Mutations Eq. 19, whose kernel
+ * ratio is then 1; docs/mutations.md "Kernels" derives the symmetry:
+ * the step d = s n has an even law (the sign is a separate fair number), and wrapping
+ * makes the kernel a translation on the circle, so T(x->y) = sum_k f(y - x + k) =
+ * T(y->x). The sum is in double; a result that rounds to 1 is 0 (as mutate_perturb). */
+real mutate_perturb_gaussian(real u, const real xi[3], double sigma)
+{
+    const double two_pi = 6.283185307179586;
+    double b = (double)xi[1], sign = b < 0.5 ? 1.0 : -1.0;
+    double angle = b < 0.5 ? 2 * b : 2 * b - 1;
+    double radius = sqrt(-2.0 * log(1.0 - (double)xi[0]));
+    double s = sigma > 0 ? sigma : MUTATE_S2 * exp(-log(MUTATE_S2 / MUTATE_S1) * (double)xi[2]);
+    double v = (double)u + sign * s * radius * cos(two_pi * angle);
+    real r;
+    v -= floor(v); /* wrap: the circle */
+    r = (real)v;
+    return r >= 0 && r < 1 ? r : 0;
 }
 
 /* Mutations Eq. 14 in PSS (Mutations Eq. 19): the acceptance probability before min(1, .). */
@@ -193,12 +214,26 @@ static int same_point(vec3 a, vec3 b)
     return v3_length(d) <= (real)1e-4 * scale;
 }
 
-/* Perturbs pss numbers of vertices first..last of z (Kelemen, §4.1). */
-static void perturb_vertices(path_sample *z, int first, int last, const real *xi)
+/* The kernel of a proposal (mutation_options.kernel, .sigma). */
+typedef struct {
+    enum mutate_kernel kind;
+    double sigma;
+} kernel_choice;
+
+/* Perturbs pss numbers of vertices first..last of z (§4.1: Kelemen, or Gaussian). */
+static void perturb_vertices(path_sample *z, int first, int last, const real *xi, const kernel_choice *k)
 {
     int i;
-    for (i = (first - 1) * PATH_PSS_PER_VERTEX; i < last * PATH_PSS_PER_VERTEX; ++i)
-        z->pss[i] = mutate_perturb(z->pss[i], xi[i]);
+    for (i = (first - 1) * PATH_PSS_PER_VERTEX; i < last * PATH_PSS_PER_VERTEX; ++i) {
+        if (k->kind == MUTATE_KERNEL_GAUSSIAN) {
+            real g[3];
+            g[0] = xi[i];
+            g[1] = xi[MUTATE_XI_STRIDE + i];
+            g[2] = xi[2 * MUTATE_XI_STRIDE + i];
+            z->pss[i] = mutate_perturb_gaussian(z->pss[i], g, k->sigma);
+        } else
+            z->pss[i] = mutate_perturb(z->pss[i], xi[i]);
+    }
 }
 
 /* One proposal z of the chain (Mutations §4.1-4.3): the perturbed numbers replayed into a
@@ -207,23 +242,33 @@ static void perturb_vertices(path_sample *z, int first, int last, const real *xi
 int mutate_propose(const restir_context *c, const path_vertex *y1, const path_sample *u, int strategy, const real *xi,
                    const real xi_lobe[2], path_sample *z, real *ratio)
 {
+    return mutate_propose_kernel(c, y1, u, strategy, MUTATE_KERNEL_KELEMEN, 0, xi, xi_lobe, z, ratio);
+}
+
+int mutate_propose_kernel(const restir_context *c, const path_vertex *y1, const path_sample *u, int strategy,
+                          enum mutate_kernel kernel, double sigma, const real *xi, const real xi_lobe[2],
+                          path_sample *z, real *ratio)
+{
+    kernel_choice kc;
     path_trunk ty, tz;
     path_end end;
     real n[3], a_y[3], a_z[3], *store = z->pss; /* the caller's storage, not u's (mutate.h) */
     int nb = mutate_bsdf_vertices(u), k = u->rc_k, j;
+    kc.kind = kernel;
+    kc.sigma = sigma;
     *z = *u;
     path_sample_copy_pss(u, store);
     z->pss = store;
     *ratio = 1;
     if (strategy == MUTATE_FP || k == PATH_RC_NONE) {
         /* fp (pp without reconnection vertex: "the full path is mutated"): symmetric. */
-        perturb_vertices(z, 1, numbered_vertices(u), xi);
+        perturb_vertices(z, 1, numbered_vertices(u), xi, &kc);
         if (path_record(c, y1, z) != SHIFT_OK) return MUTATE_REJECT_REPLAY;
         return path_sample_is_valid(z) && z->target > 0 ? -1 : MUTATE_REJECT_ZERO;
     }
     /* rv / pp: perturb the numbers that sample the reconnection vertex (rv) or all up to it
      * (pp; for k = d with NEE these are the light point numbers: the DI mutation of §4.2). */
-    perturb_vertices(z, strategy == MUTATE_RV ? k - 1 : 1, k - 1, xi);
+    perturb_vertices(z, strategy == MUTATE_RV ? k - 1 : 1, k - 1, xi, &kc);
     if (k <= nb) { /* z_k connects to the kept x_{k+1}: numbers by inverse sampling (App. C) */
         /* the current path's x_{k+1} and w_{k+1} (and the denominator of Eq. 20) */
         if (path_replay(&ty, c, y1, u, &end) != SHIFT_OK) return MUTATE_REJECT_REPLAY;
@@ -273,7 +318,18 @@ static int skip_reason(int strategy, const path_sample *y)
 void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key key, int stage, int strategy,
                       int iterations, reservoir *r, real *pss_home, mutate_stats *st)
 {
-    real xi[PATH_MAX_PSS], u_numbers[PATH_MAX_PSS], z_numbers[PATH_MAX_PSS];
+    mutation_options mo;
+    mutation_options_default(&mo);
+    mo.strategy = (enum mutate_strategy)strategy;
+    mo.count = iterations;
+    mutate_reservoir_opts(c, y1, key, stage, &mo, r, pss_home, st);
+}
+
+void mutate_reservoir_opts(const restir_context *c, const path_vertex *y1, rng_key key, int stage,
+                           const mutation_options *mo, reservoir *r, real *pss_home, mutate_stats *st)
+{
+    real xi[3 * MUTATE_XI_STRIDE], u_numbers[PATH_MAX_PSS], z_numbers[PATH_MAX_PSS];
+    int strategy = (int)mo->strategy, iterations = mo->count, gaussian = mo->kernel == MUTATE_KERNEL_GAUSSIAN;
     int it, j, why;
     st->pixels++;
     why = !(r->W > 0) || !(r->y.target > 0) ? MUTATE_SKIP_EMPTY : skip_reason(strategy, &r->y);
@@ -313,9 +369,16 @@ void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key ke
             st->rejected[why]++;
             continue;
         }
-        for (j = 0; j < PATH_PSS_PER_VERTEX * nv; ++j) xi[j] = rng_u(key, RNG_MUTATE, (uint32_t)stage, slot + (uint32_t)j);
+        for (j = 0; j < PATH_PSS_PER_VERTEX * nv; ++j) {
+            xi[j] = rng_u(key, RNG_MUTATE, (uint32_t)stage, slot + (uint32_t)j);
+            if (gaussian) { /* the sign/angle and amount numbers (mutate.h; docs/rng.md) */
+                xi[MUTATE_XI_STRIDE + j] = rng_u(key, RNG_MUTATE, (uint32_t)stage + MUTATE_GAUSSIAN_VERTEX, slot + (uint32_t)j);
+                xi[2 * MUTATE_XI_STRIDE + j] =
+                    rng_u(key, RNG_MUTATE, (uint32_t)stage + 2 * MUTATE_GAUSSIAN_VERTEX, slot + (uint32_t)j);
+            }
+        }
         st->proposals++;
-        why = mutate_propose(c, y1, &u, strategy, xi, xl, &z, &ratio);
+        why = mutate_propose_kernel(c, y1, &u, strategy, mo->kernel, mo->sigma, xi, xl, &z, &ratio);
         if (why >= 0) {
             st->rejected[why]++;
             continue;
@@ -398,6 +461,8 @@ void mutation_options_default(mutation_options *o)
     o->count = 0;
     o->strategy = MUTATE_RV;
     o->stages = MUTATE_AFTER_TEMPORAL;
+    o->kernel = MUTATE_KERNEL_KELEMEN;
+    o->sigma = 0;
 }
 
 int mutation_options_validate(const mutation_options *o, rerror *e)
@@ -408,5 +473,12 @@ int mutation_options_validate(const mutation_options *o, rerror *e)
         return rerror_set(e, "mutation: unknown strategy %d", (int)o->strategy);
     if (o->stages & ~(MUTATE_AFTER_INITIAL | MUTATE_AFTER_TEMPORAL | MUTATE_AFTER_SPATIAL))
         return rerror_set(e, "mutation: unknown stage bits %#x", (unsigned)o->stages);
+    if (o->kernel != MUTATE_KERNEL_KELEMEN && o->kernel != MUTATE_KERNEL_GAUSSIAN)
+        return rerror_set(e, "mutation: unknown kernel %d", (int)o->kernel);
+    if (!(o->sigma >= 0 && o->sigma <= 0.5))
+        return rerror_set(e, "mutation: sigma %g (must be in [0, 0.5]; 0: the paper's amount in (1/1024, 1/64])",
+                          o->sigma);
+    if (o->sigma > 0 && o->kernel != MUTATE_KERNEL_GAUSSIAN)
+        return rerror_set(e, "mutation: sigma %g needs the gaussian kernel", o->sigma);
     return 0;
 }

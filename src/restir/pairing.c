@@ -5,12 +5,12 @@
 #include <stdlib.h>
 #include "restir/core/rng.h"
 
-/* Enhanced Eq. 3. The extracted paper text shows all correction terms with a plus sign;
- * that gives n = 7 passes at sigma = 0.8, contradicting footnote 1 (sigma = 0.8 is ONE
- * pass). With alternating signs, sigma^2/2 - 1.46/sigma + 1.76/sigma^2 - 0.656/sigma^3
- * + 0.5, sigma = 0.8 gives 0.46 -> 1 pass, and the measured standard deviations match
- * sigma within 5% (docs/enhanced.md §2, test pairing_delta_std_matches_sigma). */
-int pairing_shuffle_count(double sigma) { return pairing_shuffle_count_as(sigma, PAIRING_EQ3_SIGNED_CEIL); }
+/* Enhanced Eq. 3. The extracted paper text shows all correction terms with a plus sign and
+ * a ceiling; that gives n = 7 passes at sigma = 0.8, contradicting footnote 1 (sigma = 0.8
+ * is ONE pass). Of the readings that keep footnote 1, the port's floor(s^2/2 + 1.46/s -
+ * 1.76/s^2 + 0.656/s^3 + 0.5) reaches sigma best where the paper says the deltas have
+ * standard deviation sigma (measured, docs/results/eq3.md; docs/enhanced.md §2). */
+int pairing_shuffle_count(double sigma) { return pairing_shuffle_count_as(sigma, PAIRING_EQ3_DEFAULT); }
 
 const char *const pairing_eq3_names[] = {"signed-ceil", "port-round", "signed-round", "literal-ceil", "leading-ceil",
                                           NULL};
@@ -58,10 +58,17 @@ static int tile_delta(int d, int w)
  * (Enhanced Eq. 3), so its offsets have standard deviation sigma. */
 int reuse_texture_build(reuse_texture *t, int w, double sigma, uint32_t seed, uint32_t id, rerror *e)
 {
+    return reuse_texture_build_as(t, w, sigma, PAIRING_EQ3_DEFAULT, seed, id, e);
+}
+
+int reuse_texture_build_as(reuse_texture *t, int w, double sigma, enum pairing_eq3 r, uint32_t seed, uint32_t id,
+                           rerror *e)
+{
     t->dx = t->dy = NULL;
     if (!(sigma >= PAIRING_MIN_SIGMA && sigma <= PAIRING_MAX_SIGMA))
         return rerror_set(e, "reuse texture: sigma %g outside [%g, %g]", sigma, PAIRING_MIN_SIGMA, PAIRING_MAX_SIGMA);
-    return reuse_texture_build_passes(t, w, sigma, pairing_shuffle_count(sigma), seed, id, e);
+    if ((int)r < 0 || (int)r >= PAIRING_EQ3_COUNT) return rerror_set(e, "reuse texture: unknown Eq. 3 reading %d", (int)r);
+    return reuse_texture_build_passes(t, w, sigma, pairing_shuffle_count_as(sigma, r), seed, id, e);
 }
 
 int reuse_texture_build_passes(reuse_texture *t, int w, double sigma, int passes, uint32_t seed, uint32_t id,
@@ -129,11 +136,17 @@ double pairing_sigma_for_radius(double radius)
 
 int reuse_textures_build(reuse_texture *tex, int count, double sigma, uint32_t seed, rerror *e)
 {
+    return reuse_textures_build_as(tex, count, sigma, PAIRING_EQ3_DEFAULT, seed, e);
+}
+
+int reuse_textures_build_as(reuse_texture *tex, int count, double sigma, enum pairing_eq3 r, uint32_t seed,
+                            rerror *e)
+{
     int k;
     if (count < 1 || count > PAIRING_MAX_TEXTURES)
         return rerror_set(e, "paired reuse: %d neighbours (1..%d: one reuse texture each)", count, PAIRING_MAX_TEXTURES);
     for (k = 0; k < count; ++k)
-        if (reuse_texture_build(&tex[k], 254 - 22 * k, sigma, seed, (uint32_t)k, e)) {
+        if (reuse_texture_build_as(&tex[k], 254 - 22 * k, sigma, r, seed, (uint32_t)k, e)) {
             reuse_textures_free(tex, k);
             return -1;
         }

@@ -15,6 +15,7 @@ void spatial_options_default(spatial_options *o)
     o->radius = 10;
     o->pattern = NEIGHBOR_R2;
     o->pairing = RESTIR_PAIRING_DISK;
+    o->eq3_reading = PAIRING_EQ3_DEFAULT;
     o->normal_cos = NEIGHBOR_DEFAULT_MIN_NORMAL_COS;
     o->depth_ratio = NEIGHBOR_DEFAULT_MAX_RELATIVE_DEPTH;
 }
@@ -40,6 +41,8 @@ int spatial_options_validate(const spatial_options *o, rerror *e)
         return rerror_set(e, "spatial: unknown MIS family %d", (int)o->mis);
     if (o->pairing != RESTIR_PAIRING_DISK && o->pairing != RESTIR_PAIRING_PAIRED)
         return rerror_set(e, "spatial: unknown pairing %d", (int)o->pairing);
+    if ((int)o->eq3_reading < 0 || (int)o->eq3_reading >= PAIRING_EQ3_COUNT)
+        return rerror_set(e, "spatial: unknown Eq. 3 reading %d", (int)o->eq3_reading);
     if (!(o->radius >= 1) || !(o->radius <= 4096)) return rerror_set(e, "spatial: radius %g outside [1, 4096]", o->radius);
     spatial_neighbor_options(&no, o);
     return neighbor_options_validate(&no, e);

@@ -30,11 +30,33 @@ static enum shift_failure refresh_between_frames(const void *user, int from, int
     return rc_retrace_suffix(dest, x, moved ? (const double(*)[3])rot : NULL, out);
 }
 
+const char *const temporal_mcap_mode_names[] = {"relative", "absolute", NULL};
+
+/* GRIS §6.2 M_c, §6.4 (relative: the history counts at most C times the new samples) or
+ * Mutations Algorithm 2 line 3 (absolute: at most C). */
+real temporal_capped_confidence(real c_prev, real c_cur, real mcap, enum temporal_mcap_mode mode)
+{
+    real cap;
+    if (!isfinite((double)mcap)) return c_prev;
+    cap = mode == TEMPORAL_MCAP_ABSOLUTE ? mcap : mcap * c_cur;
+    return c_prev > cap ? cap : c_prev;
+}
+
 void temporal_resample(const restir_context *cur, const restir_context *prev, const temporal_frames *frames,
                        mis_family mis,
                        const path_vertex *x1_cur, const path_vertex *x1_prev, const reservoir *cur_r,
                        const reservoir *prev_r, real mcap, const real *u, reservoir *out, spatial_workspace *w,
                        temporal_stats *st)
+{
+    temporal_resample_mode(cur, prev, frames, mis, x1_cur, x1_prev, cur_r, prev_r, mcap, TEMPORAL_MCAP_RELATIVE, u, out,
+                           w, st);
+}
+
+void temporal_resample_mode(const restir_context *cur, const restir_context *prev, const temporal_frames *frames,
+                            mis_family mis, const path_vertex *x1_cur, const path_vertex *x1_prev,
+                            const reservoir *cur_r, const reservoir *prev_r, real mcap,
+                            enum temporal_mcap_mode mode, const real *u, reservoir *out, spatial_workspace *w,
+                            temporal_stats *st)
 {
     const path_vertex *x1[2];
     const reservoir *in[2];
@@ -46,10 +68,10 @@ void temporal_resample(const restir_context *cur, const restir_context *prev, co
         *out = *cur_r;
         return;
     }
-    /* GRIS §6.2 M_c, §6.4: the history counts at most C times the new samples */
+    /* GRIS §6.2 M_c, §6.4 (relative) or Mutations Algorithm 2 line 3 (absolute) */
     capped = *prev_r;
     if (isfinite((double)mcap)) {
-        real cap = mcap * cur_r->confidence;
+        real cap = temporal_capped_confidence(capped.confidence, cur_r->confidence, mcap, mode);
         if (capped.confidence > cap) st->capped++;
         reservoir_cap_confidence(&capped, cap);
     }
@@ -88,6 +110,7 @@ void temporal_options_default(temporal_options *o)
     o->enabled = 1;
     o->mis = MIS_TALBOT;
     o->mcap = 20;
+    o->mcap_mode = TEMPORAL_MCAP_RELATIVE;
     o->motion_vectors = RESTIR_MV_SINGLE;
 }
 
@@ -96,6 +119,8 @@ int temporal_options_validate(const temporal_options *o, rerror *e)
     if ((int)o->mis < 0 || (int)o->mis >= MIS_FAMILY_COUNT)
         return rerror_set(e, "temporal: unknown MIS family %d", (int)o->mis);
     if (!(o->mcap > 0)) return rerror_set(e, "temporal: M-cap %g (must be > 0, or inf)", o->mcap);
+    if (o->mcap_mode != TEMPORAL_MCAP_RELATIVE && o->mcap_mode != TEMPORAL_MCAP_ABSOLUTE)
+        return rerror_set(e, "temporal: unknown M-cap mode %d", (int)o->mcap_mode);
     if (o->motion_vectors != RESTIR_MV_SINGLE && o->motion_vectors != RESTIR_MV_DUAL)
         return rerror_set(e, "temporal: unknown motion vectors %d", (int)o->motion_vectors);
     return 0;

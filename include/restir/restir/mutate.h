@@ -42,7 +42,24 @@
 #define MUTATE_MAX_ITERATIONS 1000 /* 64 slots per iteration in the 16-bit slot field */
 #define MUTATE_SLOT_ACCEPT 63
 #define MUTATE_S1 (1.0 / 1024.0) /* Kelemen et al. 2002 perturbation, s in (s1, s2] */
-#define MUTATE_S2 (1.0 / 64.0)
+#define MUTATE_S2 (1.0 / 64.0)       /* (the paper gives no values: Kelemen's; docs/deviations.md) */
+
+/* The perturbation of one PSS number (Mutations §4.1; docs/mutations.md "Kernels"):
+ *   kelemen  (default) u +- s, s = s2 exp(-log(s2/s1) U): Kelemen et al. 2002's kernel. The
+ *            paper says "Gaussian noise" with this s as the amount: a deviation (the
+ *            oracle's default since before issue 28; docs/deviations.md).
+ *   gaussian u + s n, n ~ N(0, 1), with s = --mutation-sigma, or (sigma 0, default) the
+ *            paper's s = s2 exp(-log(s2/s1) U) as the standard deviation.
+ * Both wrap to [0,1) (the unit circle): the kernel is a translation on the circle by a
+ * step whose law is even, so T(x->y) = T(y->x) exactly (the ratio in Eq. 19 is 1). */
+enum mutate_kernel { MUTATE_KERNEL_KELEMEN = 0, MUTATE_KERNEL_GAUSSIAN = 1 };
+extern const char *const mutate_kernel_names[]; /* "kelemen", "gaussian" */
+/* Gaussian kernel numbers: number j of the proposal reads xi[j] (as Kelemen: the radius),
+ * xi[MUTATE_XI_STRIDE + j] (sign and angle) and xi[2 MUTATE_XI_STRIDE + j] (the amount U);
+ * RNG_MUTATE vertex stage, stage + MUTATE_GAUSSIAN_VERTEX, stage + 2 MUTATE_GAUSSIAN_VERTEX,
+ * the same slot (docs/rng.md). */
+#define MUTATE_XI_STRIDE 64
+#define MUTATE_GAUSSIAN_VERTEX 8u
 
 enum mutate_strategy { MUTATE_RV = 0, MUTATE_PP = 1, MUTATE_FP = 2 };
 #define MUTATE_STRATEGY_COUNT 3
@@ -79,6 +96,9 @@ typedef struct {
     int count;                     /* N Metropolis-Hastings iterations per pixel and stage (default 0: off) */
     enum mutate_strategy strategy; /* default rv (Mutations §4.3) */
     int stages;                    /* enum mutate_stage bits (default MUTATE_AFTER_TEMPORAL, Mutations §3) */
+    enum mutate_kernel kernel;     /* default kelemen (the deviation, kept: outputs unchanged) */
+    double sigma;                  /* gaussian: the standard deviation in PSS units; 0 (default):
+                                      the paper's log-uniform amount s in (s1, s2] */
 } mutation_options;
 
 void mutation_options_default(mutation_options *o);
@@ -103,6 +123,10 @@ void mutate_stats_add(mutate_stats *acc, const mutate_stats *add);
 /* Kelemen's symmetric perturbation of u in [0,1) on the unit circle: one number xi decides
  * the sign (xi < 1/2) and the size s = s2 exp(-log(s2/s1) U), U = 2 xi mod 1. */
 real mutate_perturb(real u, real xi);
+/* Mutations §4.1 with Gaussian noise: v = u + s n wrapped to [0,1), n = +-sqrt(-2 log(1 - a))
+ * cos(2 pi b') (Box-Muller; the sign is xi[1] < 1/2, b' = 2 xi[1] mod 1), a = xi[0], s = sigma
+ * if sigma > 0 else s2 exp(-log(s2/s1) xi[2]). Mirroring xi[1] by 1/2 negates the step exactly. */
+real mutate_perturb_gaussian(real u, const real xi[3], double sigma);
 
 /* The MH acceptance ratio p̂(z) T(z->x) / (p̂(x) T(x->z)) (Mutations Eqs. 14, 19; accept iff
  * u < it), and the UCW after an accepted step (Mutations Eq. 23). The 1-D toy test uses them. */
@@ -153,6 +177,14 @@ real mutate_eq20_ratio(const real z[3], const real y[3]);
  * numbers: the row of r in its buffer, reservoir_buffer_pss_row; path_sample.h). */
 void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key key, int stage, int strategy,
                       int iterations, reservoir *r, real *pss_home, mutate_stats *st);
+/* The same with the options' strategy, count and kernel (the pipeline's call). */
+void mutate_reservoir_opts(const restir_context *c, const path_vertex *y1, rng_key key, int stage,
+                           const mutation_options *mo, reservoir *r, real *pss_home, mutate_stats *st);
+/* mutate_propose with kernel `kernel` (sigma as mutation_options.sigma); for the Gaussian
+ * kernel xi holds 3 MUTATE_XI_STRIDE numbers (layout above). */
+int mutate_propose_kernel(const restir_context *c, const path_vertex *y1, const path_sample *u, int strategy,
+                          enum mutate_kernel kernel, double sigma, const real *xi, const real xi_lobe[2],
+                          path_sample *z, real *ratio);
 
 /* Mutations Fig. 8: of the n reservoirs, how many hold a sample (identity, x_k and explicit
  * numbers) that another reservoir holds too; *valid receives the number of non-empty ones. */

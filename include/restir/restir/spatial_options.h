@@ -30,6 +30,8 @@ typedef struct {
     int no_reject;                    /* 1: no normal/depth rejection of neighbours */
     double normal_cos;                /* reject if dot(n_i, n_j) < this (default 0.5) */
     double depth_ratio;               /* reject if |d_i - d_j| > this * min(d_i, d_j) (default 0.1) */
+    enum pairing_eq3 eq3_reading;     /* paired: the reading of Enhanced Eq. 3 (default port-round,
+                                         pairing.h; signed-ceil was the default before issue 28) */
     int cells;                        /* domains = a reuse cell found by the Stochastic MIS §5.1 search
                                          (reuse_cells.h) instead of neighbor_select; either algorithm */
 } spatial_options;

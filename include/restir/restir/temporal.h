@@ -21,7 +21,13 @@
  * M-capping (GRIS §6.2 M_c, §6.4): the previous reservoir's confidence is capped at
  * mcap times the current one's before the step, c_1 <- min(c_1, C c_0); C = infinity
  * keeps the whole history (the still-camera chain then converges to a wrong value,
- * GRIS Fig. 2/10). The output confidence is c_0 + min(c_1, C c_0). */
+ * GRIS Fig. 2/10). The output confidence is c_0 + min(c_1, C c_0).
+ * That is the relative cap (--mcap-mode relative, the default). Mutations Algorithm 2 line 3
+ * caps absolutely, r_j.M <- min(r_j.M, M_cap) (--mcap-mode absolute): c_1 <- min(c_1, C).
+ * The two agree when the current confidence is 1 (one candidate per frame); with N
+ * candidates the relative cap lets the history count N times more (N = 32, C = 50: 1600
+ * against 50). Either is unbiased: a cap only changes the confidences, which enter the MIS
+ * weights of the step, and those sum to one whatever the confidences are (GRIS §6.4). */
 #ifndef RESTIR_TEMPORAL_H
 #define RESTIR_TEMPORAL_H
 
@@ -57,6 +63,24 @@ void temporal_resample(const restir_context *cur, const restir_context *prev, co
                        const reservoir *prev_r, real mcap, const real *u, reservoir *out, spatial_workspace *w,
                        temporal_stats *st);
 
+/* How the temporal cap C applies (temporal_options.mcap_mode). */
+enum temporal_mcap_mode {
+    TEMPORAL_MCAP_RELATIVE = 0, /* c_prev <= C c_cur (GRIS §6.2, §6.4, §8.3; default) */
+    TEMPORAL_MCAP_ABSOLUTE = 1  /* c_prev <= C (Mutations Algorithm 2, line 3) */
+};
+extern const char *const temporal_mcap_mode_names[]; /* "relative", "absolute" */
+
+/* The previous confidence after the cap: min(c_prev, C c_cur) or min(c_prev, C); C may be
+ * infinite (no cap). */
+real temporal_capped_confidence(real c_prev, real c_cur, real mcap, enum temporal_mcap_mode mode);
+
+/* temporal_resample with the cap applied in `mode` (temporal_resample: relative). */
+void temporal_resample_mode(const restir_context *cur, const restir_context *prev, const temporal_frames *frames,
+                            mis_family mis, const path_vertex *x1_cur, const path_vertex *x1_prev,
+                            const reservoir *cur_r, const reservoir *prev_r, real mcap,
+                            enum temporal_mcap_mode mode, const real *u, reservoir *out, spatial_workspace *w,
+                            temporal_stats *st);
+
 void temporal_stats_add(temporal_stats *acc, const temporal_stats *add);
 
 /* The temporal technique's options (the real-time pipeline's step 2, GRIS §6.3). Where the
@@ -68,6 +92,7 @@ typedef struct {
     int enabled;     /* temporal reuse (default 1; sequences only) */
     mis_family mis;  /* of the temporal step (default MIS_TALBOT, GRIS §8.3) */
     double mcap;     /* C > 0: c_prev <= C c_cur (GRIS §6.2, §6.4; default 20; may be inf) */
+    enum temporal_mcap_mode mcap_mode; /* relative (default, C c_cur) or absolute (C; Mutations Alg. 2) */
     enum restir_motion_vectors motion_vectors; /* default single */
 } temporal_options;
 
