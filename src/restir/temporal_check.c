@@ -14,11 +14,15 @@ int temporal_check_round_trip(const restir_context *prev, const domain_refresh *
                               const path_sample *x, const spatial_workspace *w, char *why, size_t why_size,
                               long *checked)
 {
-    /* float geometry: a round trip moves p̂ by up to ~1e-5 relative in static scenes; in
+    /* float geometry: a round trip moves p̂ by up to ~1e-5 relative in static scenes of
+     * rough surfaces, but x_k is stored in float, so the reconnection direction carries
+     * ~1e-7 relative rounding, which a near-specular lobe at y_{k-1} turns into up to 1.6e-3
+     * (measured: the courtyard's glossy metal box, d 3, k 2, scenes/courtyard.scene); in
      * animated ones the suffix is traced again twice (into frame t and back), from a posed
      * x_k that is rounded anew, and a suffix vertex's NEE moves p̂ by up to ~1e-2 (measured
-     * over the temporal suite: median 2e-5, max 1.03e-2) */
-    double tol = sizeof(real) == 4 ? (rf ? 1e-1 : 2e-2) : (rf ? 5e-2 : 1e-3);
+     * over the temporal suite: median 2e-5, max 1.03e-2). The planted 2% errors of
+     * evidence_temporal_round_trip_exact stay well outside both. */
+    double tol = sizeof(real) == 4 ? (rf ? 1e-1 : 2e-2) : (rf ? 5e-2 : 5e-3);
     path_sample tmp, back;
     const path_sample *y = w->cand[1];
     real jacobian;
