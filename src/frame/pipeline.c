@@ -89,6 +89,27 @@ static real temporal_cap(const pipeline *pl, long q, temporal_stats *st)
 
 /* ---- temporal stage -------------------------------------------------------------------- */
 
+/* `restir inspect --from-dump`: the traced pixel's temporal step (frame/pixel_trace.h); q
+ * is the source pixel in the previous frame (-1: none, the step had one domain). */
+static void trace_temporal(const pipeline *pl, const worker_state *w, long p, long q, rng_key key, const real *u)
+{
+    const frame_job *j = &pl->j;
+    pixel_trace t;
+    long pixels[2];
+    const reservoir *in[2];
+    temporal_stats unused;
+    memset(&unused, 0, sizeof unused);
+    pixels[0] = p;
+    pixels[1] = q;
+    in[0] = &pl->cur[p];
+    in[1] = q >= 0 ? &pl->prev[q] : NULL;
+    pixel_trace_gris(&t, PIXEL_TRACE_TEMPORAL, "temporal", j->frame, p, -1, key, RNG_VERTEX_TEMPORAL_RIS,
+                     (int)restir_step_mis(j->o, j->o->temporal.mis), q >= 0 ? 2 : 1, pixels, in, u, q >= 0 ? &w->ws : NULL,
+                     &pl->out[p]);
+    t.mcap = temporal_cap(pl, q, &unused);
+    j->hook->pixel(j->hook->user, &t);
+}
+
 static void temporal_pixel(pipeline *pl, worker_state *w, long p)
 {
     frame_job *j = &pl->j;
@@ -128,6 +149,7 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
                       restir_step_mis(o, o->temporal.mis), &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
                       q >= 0 ? &pl->prev[q] : NULL, temporal_cap(pl, q, &w->st.temporal), u, &pl->out[p], &w->ws,
                       &w->st.temporal);
+    if (j->hook && j->hook->pixel && j->hook->trace_pixel == p) trace_temporal(pl, w, p, q, key, u);
 }
 
 static void temporal_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
@@ -376,12 +398,27 @@ static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
     int k;
     if (reservoir_dump_read(q->resume, &rs, &info, e)) return -1;
     k = (int)info.frame;
-    if (strcmp(info.tag, "sequence") || info.width != (uint32_t)j->s->width || info.height != (uint32_t)j->s->height ||
-        k < q->first - 1 || k >= q->last) {
+    if ((q->resume_foreign ? k != q->first - 1 : strcmp(info.tag, "sequence") != 0) ||
+        info.width != (uint32_t)j->s->width || info.height != (uint32_t)j->s->height || k < q->first - 1 ||
+        k >= q->last) {
+        if (q->resume_foreign) {
+            free(rs);
+            return rerror_set(e, "%s: not frame %d's final state of this %dx%d sequence (tag '%s', %ux%u, frame %d)",
+                              q->resume, q->first - 1, j->s->width, j->s->height, info.tag, info.width, info.height, k);
+        }
         free(rs);
         return rerror_set(e, "%s: not a checkpoint of this sequence (tag '%s', %ux%u, frame %d; want %dx%d, frame in %d..%d)",
                           q->resume, info.tag, info.width, info.height, k, j->s->width, j->s->height,
                           q->first - 1, q->last - 1);
+    }
+    if (q->resume_foreign) { /* an infinite W would poison every later frame (as a restart refuses it) */
+        size_t i;
+        for (i = 0; i < pixels; ++i)
+            if (!isfinite((double)rs[i].W) || !isfinite((double)rs[i].wsum) || !isfinite((double)rs[i].confidence)) {
+                long x = (long)(i % (size_t)j->s->width), y = (long)(i / (size_t)j->s->width);
+                free(rs);
+                return rerror_set(e, "%s: pixel (%ld, %ld): W, wsum or confidence is not finite", q->resume, x, y);
+            }
     }
     memcpy(pl->prev, rs, pixels * sizeof *rs);
     reservoir_buffer_keep_pss(pl->prev, pixels, j->o->threads); /* the numbers, before rs's rows are freed */

@@ -1,0 +1,18 @@
+/* Private to src/cli. One stage of one frame of a stage dump, recomputed by the oracle on the
+ * dump's own inputs (cmd_replay.c; docs/oracle.md §5):
+ *   restir replay DIR --frame F --stage S --dump-dir OUT   the stage for every pixel, dumped
+ *                                                           and diffed against DIR
+ *   restir inspect --from-dump DIR --frame F --stage S --pixel X,Y [--json]
+ *                                                           the stage for one pixel, every number
+ * Both re-run `restir render` with DIR's recorded command line (manifest "command_line"),
+ * restarted from the stage before S (--from-dump DIR --from-stage PREV) and, for the
+ * temporal stage, with DIR's frame F-1 final reservoirs as the history
+ * (--history-from-dump). Exit status as cli.h: 0, 1 (replay: the stage differs), 2. */
+#ifndef RESTIR_SRC_CLI_CMD_REPLAY_H
+#define RESTIR_SRC_CLI_CMD_REPLAY_H
+
+int cmd_replay(int argc, char **argv);
+/* `restir inspect` with --from-dump among its arguments. */
+int cmd_inspect_from_dump(int argc, char **argv);
+
+#endif
