@@ -1,0 +1,257 @@
+/* One stage of a dump recomputed on the dump's own inputs (issue 31, round 2; docs/oracle.md
+ * §5): `restir inspect --from-dump` (one pixel, every number, the dump's record compared),
+ * `restir replay` (every pixel, dumped and diffed) and `--history-from-dump` (the previous
+ * frame's final reservoirs from the dump, not from the oracle's own run). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir/oracle/stage_dump.h"
+#include "test.h"
+
+static char out[262144];
+
+#define REPLAY_COMMON "scenes/pillars.scene --method restir --preset gris-realtime --spatial-passes 2 --size 40x28 " \
+                      "--radius 6 --sequence 0..2 --quiet --no-png --threads 2"
+#define REPLAY_W 40
+#define PIXEL_X 21
+#define PIXEL_Y 15
+
+#ifdef RESTIR_REAL_FLOAT
+#define HAND_TOL 1e-5
+#else
+#define HAND_TOL 1e-12
+#endif
+static int near(double a, double b) { return fabs(a - b) <= HAND_TOL * fmax(fabs(a), fabs(b)) + 1e-300; }
+
+static const char *replay_dir(const char *name)
+{
+    static char buf[4][1100];
+    static int slot;
+    char *b = buf[slot++ % 4];
+    snprintf(b, 1100, "%s/replay_%s", test_tmpdir(), name);
+    return b;
+}
+
+/* A dump made once per test run with `args` (key: its directory name). */
+static const char *dump_of(const char *name, const char *args)
+{
+    const char *dir = replay_dir(name);
+    char marker[1200];
+    snprintf(marker, sizeof marker, "%s/manifest.json", dir);
+    if (!test_file_exists(marker) &&
+        test_cli(out, sizeof out, "render %s -o %s/%s.pfm --dump-dir %s", args, test_tmpdir(), name, dir) != 0)
+        test_fail(__FILE__, __LINE__, "the reference run failed: %s", out);
+    return dir;
+}
+
+static const char *reference(void) { return dump_of("A", REPLAY_COMMON); }
+
+static const char *copy_of(const char *from, const char *name)
+{
+    char cmd[4000];
+    const char *d = replay_dir(name);
+    snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", d, from, d);
+    if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
+    return d;
+}
+
+/* Multiplies W (and wsum) of record p of dir/frame/stage by `scale` (p < 0: every record). */
+static int scale_w(const char *dir, int frame, const char *stage, long p, double scale)
+{
+    char path[1200];
+    reservoir *rs;
+    reservoir_dump_info info;
+    rerror e;
+    long i, n;
+    stage_dump_path(path, sizeof path, dir, (uint32_t)frame, stage, "resv");
+    if (reservoir_dump_read(path, &rs, &info, &e)) return test_fail(__FILE__, __LINE__, "%s", e.msg), -1;
+    n = (long)info.width * (long)info.height;
+    for (i = 0; i < n; ++i)
+        if (p < 0 || i == p) {
+            rs[i].W *= (real)scale;
+            rs[i].wsum *= (real)scale;
+        }
+    if (reservoir_dump_write(path, rs, &info, &e)) test_fail(__FILE__, __LINE__, "%s", e.msg);
+    free(rs);
+    return 0;
+}
+
+/* The number after "key": at or after *from (advanced past it); NAN if absent. */
+static double json_after(const char **from, const char *key)
+{
+    char pattern[64];
+    const char *p;
+    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
+    p = strstr(*from, pattern);
+    if (!p) return NAN;
+    p += strlen(pattern);
+    *from = p;
+    return strtod(p, NULL);
+}
+
+typedef struct {
+    double valid, c, J, target, target_own, target_back, m, w, W_in;
+} domain_numbers;
+
+/* The domains of an inspect --json object (at most 16), returns their count. */
+static int read_domains(const char *json, domain_numbers *d, int max)
+{
+    const char *p = strstr(json, "\"domains\": [");
+    int n = 0;
+    while (p && n < max && (p = strstr(p, "\"u\": ")) != NULL) {
+        const char *end = strstr(p, "\"selected\": ");
+        if (end && p > end) break;
+        d[n].valid = json_after(&p, "valid");
+        d[n].W_in = json_after(&p, "W_in");
+        d[n].c = json_after(&p, "c");
+        d[n].J = json_after(&p, "J");
+        d[n].target = json_after(&p, "target");
+        d[n].target_own = json_after(&p, "target_own");
+        d[n].target_back = json_after(&p, "target_back");
+        d[n].m = json_after(&p, "m");
+        d[n].w = json_after(&p, "w");
+        ++n;
+    }
+    return n;
+}
+
+/* Hand arithmetic on a printed step: w_i = m_i p̂(y_i) W_i J_i (GRIS Eq. 19), wsum = sum w_i,
+ * W = wsum / p̂(Y) (Eq. 22), c = sum c_i (GRIS §6.2). */
+static void check_sums(const char *json, const char *what)
+{
+    domain_numbers d[16];
+    const char *p = strstr(json, "\"out\": ");
+    int n = read_domains(json, d, 16), i;
+    double wsum = 0, c = 0, out_wsum, out_target, out_W, out_c;
+    CHECKF(n >= 1 && p, "%s: %s", what, json);
+    if (n < 1 || !p) return;
+    for (i = 0; i < n; ++i) {
+        c += d[i].c;
+        if (!d[i].valid) continue;
+        CHECKF(near(d[i].w, d[i].m * d[i].target * d[i].W_in * d[i].J), "%s: w_%d != m p^ W J", what, i);
+        wsum += d[i].w;
+    }
+    out_wsum = json_after(&p, "wsum");
+    out_target = json_after(&p, "target");
+    out_W = json_after(&p, "W");
+    out_c = json_after(&p, "confidence");
+    CHECKF(near(out_wsum, wsum), "%s: wsum %.17g, sum of w_i %.17g", what, out_wsum, wsum);
+    CHECKF(out_target == 0 ? out_W == 0 : near(out_W, out_wsum / out_target), "%s: W != wsum / p^(Y)", what);
+    CHECKF(near(out_c, c), "%s: confidence %.17g, sum of c_i %.17g", what, out_c, c);
+}
+
+/* Every reuse stage of frame 2, recomputed for one pixel: identical to the dump's record,
+ * and the printed numbers redo by hand (the temporal Talbot weights, GRIS Eq. 36 with
+ * confidences: m_1 = c_1 p̂_{<-1}(y_1) / (c_0 p̂(y_1) + c_1 p̂_{<-1}(y_1))). */
+TEST(oracle_inspect_from_dump_every_stage)
+{
+    const char *a = reference(), *stages[] = {"temporal", "spatial1", "spatial2"};
+    int s, status;
+    for (s = 0; s < 3; ++s) {
+        status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage %s --pixel %d,%d", a, stages[s],
+                          PIXEL_X, PIXEL_Y);
+        CHECKF(status == 0 && strstr(out, "identical to the recomputation"), "%s: exit %d\n%s", stages[s], status, out);
+        status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage %s --pixel %d,%d --json", a,
+                          stages[s], PIXEL_X, PIXEL_Y);
+        CHECKF(status == 0 && strstr(out, "\"differs\": []"), "%s: exit %d\n%s", stages[s], status, out);
+        check_sums(out, stages[s]);
+        if (s == 0) {
+            domain_numbers d[2];
+            CHECKF(read_domains(out, d, 2) == 2 && d[1].valid, "the temporal step has a history: %s", out);
+            if (test_has_failed()) return;
+            CHECKF(near(d[1].m, d[1].c * d[1].target_own / (d[0].c * d[1].target + d[1].c * d[1].target_own)),
+                   "m_1 is not GRIS Eq. 36: %s", out);
+            CHECKF(near(d[0].m, d[0].c * d[0].target / (d[0].c * d[0].target + d[1].c * d[1].target_back)),
+                   "m_0 is not GRIS Eq. 36: %s", out);
+        }
+    }
+}
+
+/* A GPU-style record that differs is named, field by field; an input changed in the dump
+ * changes the recomputation (the stage really reads the dump's previous stage). */
+TEST(oracle_inspect_from_dump_names_differences)
+{
+    const char *b = copy_of(reference(), "edited");
+    long p = PIXEL_Y * REPLAY_W + PIXEL_X;
+    int status;
+    scale_w(b, 2, "spatial1", p, 1.5);
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage spatial1 --pixel %d,%d", b, PIXEL_X,
+                      PIXEL_Y);
+    CHECKF(status == 0 && strstr(out, "DIFFERS from the recomputation in 2 field(s)") && strstr(out, "  W: dump ") &&
+               strstr(out, "  wsum: dump "),
+           "exit %d\n%s", status, out);
+    /* the input of spatial2 is spatial1: the edited record enters spatial2's recomputation */
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage spatial2 --pixel %d,%d", b, PIXEL_X,
+                      PIXEL_Y);
+    CHECKF(status == 0 && strstr(out, "DIFFERS from the recomputation"), "spatial2 did not read the edited input:\n%s",
+           out);
+}
+
+/* What the dump lacks is refused (exit 2) with the missing file named. */
+TEST(oracle_inspect_from_dump_refuses_missing_inputs)
+{
+    const char *b = copy_of(reference(), "holes");
+    char path[1200];
+    int status;
+    stage_dump_path(path, sizeof path, b, 2, "temporal", "resv");
+    remove(path);
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage spatial1 --pixel 3,3", b);
+    CHECKF(status == 2 && strstr(out, "frame_0002/temporal.resv: missing"), "exit %d\n%s", status, out);
+    stage_dump_path(path, sizeof path, b, 1, "spatial2", "resv");
+    remove(path);
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage temporal --pixel 3,3", b);
+    CHECKF(status == 2 && strstr(out, "frame_0001/spatial2.resv: missing") && strstr(out, "final reservoirs"),
+           "exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage initial --pixel 3,3", b);
+    CHECKF(status == 2 && strstr(out, "not a reuse step"), "exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 7 --stage temporal --pixel 3,3", b);
+    CHECKF(status == 2 && strstr(out, "frame 7 is not in the dump's frames 0..2"), "exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage spatial1 --pixel 40,3", b);
+    CHECKF(status == 2 && strstr(out, "outside"), "exit %d\n%s", status, out);
+}
+
+/* Stochastic pairwise MIS (Stochastic MIS Eq. 14: w_i = m̃_i p̂ W J over the picked domains)
+ * and the Enhanced pair step, recomputed and identical to their dumps. */
+TEST(oracle_inspect_from_dump_stochastic_and_pair_step)
+{
+    const char *st = dump_of("stoch", "scenes/cornell.scene --method restir --preset gris-realtime --size 32x24 "
+                                      "--radius 5 --neighbors 4 --mis stochastic-pairwise --spatial-passes 2 "
+                                      "--sequence 0..1 --quiet --no-png --threads 2");
+    const char *pr = dump_of("pair", "scenes/cornell.scene --method restir --preset gris-realtime --size 32x24 "
+                                     "--radius 5 --pairing paired --mis pairwise-defensive --sequence 0..1 --quiet "
+                                     "--no-png --threads 2");
+    int status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage spatial2 --pixel 16,12 --json", st);
+    CHECKF(status == 0 && strstr(out, "\"step\": \"stochastic pairwise MIS step\"") && strstr(out, "\"differs\": []") &&
+               strstr(out, "\"u_pick\": ["),
+           "exit %d\n%s", status, out);
+    check_sums(out, "stochastic step");
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage spatial1 --pixel 16,12 --json", pr);
+    CHECKF(status == 0 && strstr(out, "\"step\": \"pair step (Enhanced 3)\"") && strstr(out, "\"differs\": []"),
+           "exit %d\n%s", status, out);
+    check_sums(out, "pair step");
+}
+
+/* --history-from-dump: frame 2's temporal stage reads frame 1's final reservoirs from the
+ * dump. Replayed on the oracle's own dump it is bit-identical; on a dump whose frame-1
+ * final state was changed (a GPU's history) the temporal stage follows the dump, which the
+ * oracle's own history would not. */
+TEST(oracle_replay_reads_foreign_history)
+{
+    const char *a = reference(), *b = copy_of(a, "gpu"), *o1 = replay_dir("out1"), *o2 = replay_dir("out2");
+    int status;
+    char cmd[3000];
+    snprintf(cmd, sizeof cmd, "rm -rf %s %s", o1, o2);
+    CHECK(system(cmd) == 0);
+    status = test_cli(out, sizeof out, "replay %s --frame 2 --stage temporal --dump-dir %s", a, o1);
+    CHECKF(status == 0 && strstr(out, "frame    2 temporal") && strstr(out, " ok"), "exit %d\n%s", status, out);
+    scale_w(b, 1, "spatial2", -1, 1.5); /* the GPU's frame-1 output: every W 1.5 times ours */
+    status = test_cli(out, sizeof out, "replay %s --frame 2 --stage temporal --dump-dir %s", b, o2);
+    CHECKF(status == 1 && strstr(out, "frame    2 temporal"), "the replay did not read the dump's history: exit %d\n%s",
+           status, out);
+    /* the same stage from the oracle's own frame-1 state agrees with the unedited dump */
+    status = test_cli(out, sizeof out, "diff-dump %s %s", o1, a);
+    CHECKF(status == 0, "exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "render " REPLAY_COMMON " -o %s/h.pfm --history-from-dump", test_tmpdir());
+    CHECKF(status == 2 && strstr(out, "--history-from-dump needs --from-dump"), "exit %d\n%s", status, out);
+}
