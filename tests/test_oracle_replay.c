@@ -255,3 +255,57 @@ TEST(oracle_replay_reads_foreign_history)
     status = test_cli(out, sizeof out, "render " REPLAY_COMMON " -o %s/h.pfm --history-from-dump", test_tmpdir());
     CHECKF(status == 2 && strstr(out, "--history-from-dump needs --from-dump"), "exit %d\n%s", status, out);
 }
+
+/* ---- restir diagnose: the three planted GPU-style bugs of issue 31 ----------------------- */
+
+#define DIAG_COMMON "scenes/pillars.scene --method restir --preset gris-realtime --spatial-passes 2 --size 24x16 " \
+                    "--radius 6 --mcap 2 --sequence 0..2 --quiet --no-png --threads 2"
+
+/* The oracle patched by `ablation` stands in for a GPU build; diagnose must name it and the
+ * stage where it first shows. */
+static void diagnose_names(const char *ablation, const char *meaning, const char *where)
+{
+    const char *a = dump_of("diagA", DIAG_COMMON);
+    char name[64];
+    const char *b;
+    int status;
+    snprintf(name, sizeof name, "diag_%s", ablation);
+    {
+        char args[1024];
+        snprintf(args, sizeof args, DIAG_COMMON " --ablate %s", ablation);
+        b = dump_of(name, args);
+    }
+    status = test_cli(out, sizeof out, "diagnose %s %s", a, b);
+    CHECKF(status == 0, "exit %d\n%s", status, out);
+    {
+        char verdict[256];
+        snprintf(verdict, sizeof verdict, "verdict: most likely --ablate %s (%s), first visible at %s", ablation, meaning,
+                 where);
+        CHECKF(strstr(out, verdict) != NULL, "expected '%s':\n%s", verdict, out);
+    }
+}
+
+TEST(oracle_diagnose_temporal_current_camera)
+{
+    diagnose_names("temporal-target", "the temporal reverse shift evaluated with the current frame's camera and scene",
+                   "frame 1, stage temporal");
+}
+
+TEST(oracle_diagnose_mcap_wrong_reservoir)
+{
+    diagnose_names("mcap-current", "the temporal M-cap applied to the current reservoir instead of the history",
+                   "frame 1, stage temporal");
+}
+
+TEST(oracle_diagnose_neighbor_rng_off_by_one)
+{
+    diagnose_names("neighbor-rng", "the neighbour choice's RNG sample index off by one", "frame 0, stage spatial1");
+}
+
+/* B = A: nothing to name. */
+TEST(oracle_diagnose_agreement)
+{
+    const char *a = dump_of("diagA", DIAG_COMMON);
+    int status = test_cli(out, sizeof out, "diagnose %s %s", a, a);
+    CHECKF(status == 0 && strstr(out, "verdict: B agrees with the unmodified oracle"), "exit %d\n%s", status, out);
+}

@@ -17,16 +17,7 @@
 #include "cmd_render.h"
 #include "render_replay.h"
 
-#define REPLAY_MAX_ARGS 256
-
-/* The render command line a replay runs: the dump's, minus what names outputs, frames or
- * another restart, plus the replay's own (argv[i] owned when owned[i]). */
-typedef struct {
-    char *argv[REPLAY_MAX_ARGS];
-    int argc;
-} arg_list;
-
-static int arg_push(arg_list *l, const char *s)
+int replay_args_push(replay_args *l, const char *s)
 {
     size_t n = strlen(s) + 1;
     if (l->argc >= REPLAY_MAX_ARGS - 1 || !(l->argv[l->argc] = malloc(n))) return -1;
@@ -35,7 +26,7 @@ static int arg_push(arg_list *l, const char *s)
     return 0;
 }
 
-static void arg_free(arg_list *l)
+void replay_args_free(replay_args *l)
 {
     int i;
     for (i = 0; i < l->argc; ++i) free(l->argv[i]);
@@ -47,6 +38,7 @@ static const char *const dropped_valued[] = {"-o", "--png", "--sequence", "--dum
                                              "--dump-region", "--from-dump", "--from-stage", "--stats", "--runs",
                                              "--checkpoint", "--checkpoint-every", "--resume", "--progress",
                                              "--progress-every", NULL};
+static const char *const dropped_ablate[] = {"--ablate", NULL};
 static const char *const dropped_flags[] = {"--quiet", "--no-png", "--accumulate", "--history-from-dump", NULL};
 
 static int listed(const char *const *names, const char *arg, int *with_value)
@@ -62,8 +54,7 @@ static int listed(const char *const *names, const char *arg, int *with_value)
     return 0;
 }
 
-/* DIR/manifest.json's "command_line" (the render command that wrote the dump), filtered. */
-static int read_command_line(const char *dir, arg_list *l, rerror *e)
+int replay_command_line(const char *dir, int drop_ablate, replay_args *l, rerror *e)
 {
     char path[4200], key[64], arg[4096];
     json_reader r;
@@ -82,8 +73,10 @@ static int read_command_line(const char *dir, arg_list *l, rerror *e)
                 int inline_value = 0;
                 if (json_read_string(&r, arg, sizeof arg)) goto fail;
                 if (skip) skip = 0;
-                else if (listed(dropped_valued, arg, &inline_value)) skip = !inline_value;
-                else if (!listed(dropped_flags, arg, &inline_value) && arg_push(l, arg)) {
+                else if (listed(dropped_valued, arg, &inline_value) ||
+                         (drop_ablate && listed(dropped_ablate, arg, &inline_value)))
+                    skip = !inline_value;
+                else if (!listed(dropped_flags, arg, &inline_value) && replay_args_push(l, arg)) {
                     rerror_set(e, "out of memory");
                     goto fail;
                 }
@@ -158,17 +151,17 @@ static int plan_replay(replay_plan *p, rerror *e)
 }
 
 /* The render command of the plan (out_prefix: -o; dump_dir: NULL or --dump-dir with S only). */
-static int plan_command(const replay_plan *p, const char *out_prefix, const char *dump_dir, arg_list *l, rerror *e)
+static int plan_command(const replay_plan *p, const char *out_prefix, const char *dump_dir, replay_args *l, rerror *e)
 {
     char frames[64];
     int status = 0;
-    if (read_command_line(p->dir, l, e)) return -1;
+    if (replay_command_line(p->dir, 0, l, e)) return -1;
     snprintf(frames, sizeof frames, "%ld..%ld", p->frame, p->frame);
-    status |= arg_push(l, "--sequence") | arg_push(l, frames) | arg_push(l, "-o") | arg_push(l, out_prefix);
-    status |= arg_push(l, "--no-png") | arg_push(l, "--quiet");
-    if (p->prev[0]) status |= arg_push(l, "--from-dump") | arg_push(l, p->dir) | arg_push(l, "--from-stage") | arg_push(l, p->prev);
-    if (p->history) status |= arg_push(l, "--history-from-dump");
-    if (dump_dir) status |= arg_push(l, "--dump-dir") | arg_push(l, dump_dir) | arg_push(l, "--dump-stages") | arg_push(l, p->stage);
+    status |= replay_args_push(l, "--sequence") | replay_args_push(l, frames) | replay_args_push(l, "-o") | replay_args_push(l, out_prefix);
+    status |= replay_args_push(l, "--no-png") | replay_args_push(l, "--quiet");
+    if (p->prev[0]) status |= replay_args_push(l, "--from-dump") | replay_args_push(l, p->dir) | replay_args_push(l, "--from-stage") | replay_args_push(l, p->prev);
+    if (p->history) status |= replay_args_push(l, "--history-from-dump");
+    if (dump_dir) status |= replay_args_push(l, "--dump-dir") | replay_args_push(l, dump_dir) | replay_args_push(l, "--dump-stages") | replay_args_push(l, p->stage);
     if (status) return rerror_set(e, "replay: the command line is too long");
     return 0;
 }
@@ -185,7 +178,7 @@ static void remove_frame_image(const char *prefix, long frame)
 int cmd_replay(int argc, char **argv)
 {
     replay_plan p;
-    arg_list l;
+    replay_args l;
     const char *positional[1], *stage = NULL, *out = NULL;
     long frame = -1;
     int count, status, frame_i = -1;
@@ -216,11 +209,11 @@ int cmd_replay(int argc, char **argv)
     snprintf(prefix, sizeof prefix, "%s/replay.pfm", out);
     if (plan_replay(&p, &e) || plan_command(&p, prefix, out, &l, &e)) {
         fprintf(stderr, "restir replay: %s\n", e.msg);
-        arg_free(&l);
+        replay_args_free(&l);
         return 2;
     }
     status = cmd_render(l.argc, l.argv);
-    arg_free(&l);
+    replay_args_free(&l);
     snprintf(prefix, sizeof prefix, "%s/replay", out);
     remove_frame_image(prefix, frame); /* the shaded frame is not what a replay is for */
     if (status) return status;
@@ -469,7 +462,7 @@ static int parse_xy(const char *text, long xy[2])
 int cmd_inspect_from_dump(int argc, char **argv)
 {
     replay_plan p;
-    arg_list l;
+    replay_args l;
     const char *dir = NULL, *stage = NULL, *pixel = NULL;
     int frame = -1, json = 0, count, status, have, nd = 0;
     long xy[2];
@@ -523,7 +516,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
     snprintf(prefix, sizeof prefix, "%s/frame.pfm", tmpdir);
     if (plan_command(&p, prefix, NULL, &l, &e)) {
         fprintf(stderr, "restir inspect: %s\n", e.msg);
-        arg_free(&l);
+        replay_args_free(&l);
         rmdir(tmpdir);
         return 2;
     }
@@ -535,7 +528,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
     render_trace = &req;
     status = cmd_render(l.argc, l.argv);
     render_trace = NULL;
-    arg_free(&l);
+    replay_args_free(&l);
     snprintf(prefix, sizeof prefix, "%s/frame", tmpdir);
     remove_frame_image(prefix, p.frame);
     rmdir(tmpdir);

@@ -11,7 +11,22 @@
 #ifndef RESTIR_SRC_CLI_CMD_REPLAY_H
 #define RESTIR_SRC_CLI_CMD_REPLAY_H
 
+#include "restir/core/error.h"
+
 int cmd_replay(int argc, char **argv);
+
+/* A render command line (argv[0] = "render"), each argument owned. */
+#define REPLAY_MAX_ARGS 256
+typedef struct {
+    char *argv[REPLAY_MAX_ARGS];
+    int argc;
+} replay_args;
+int replay_args_push(replay_args *l, const char *s); /* -1: full or out of memory */
+void replay_args_free(replay_args *l);
+/* DIR/manifest.json's "command_line" (the render command that wrote the dump) without what
+ * names outputs, frames, dumps or another restart (-o, --sequence, --dump-*, --from-*,
+ * --stats, --runs, --resume, --quiet, ...) and, with drop_ablate, --ablate. */
+int replay_command_line(const char *dir, int drop_ablate, replay_args *l, rerror *e);
 /* `restir inspect` with --from-dump among its arguments. */
 int cmd_inspect_from_dump(int argc, char **argv);
 

@@ -75,7 +75,8 @@ static void trace_done(const frame_job *j, const worker_state *w, pixel_trace *t
     int d;
     if (!j->o->spatial.cells)
         for (d = 1; d < t->kept; ++d) t->d[d].candidate = w->slot[d - 1];
-    t->neighbor_sample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass);
+    t->neighbor_sample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass) +
+                         (j->ctx.ablation == RESTIR_ABLATE_NEIGHBOR_RNG);
     j->hook->pixel(j->hook->user, t);
 }
 
@@ -131,7 +132,8 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
 {
     long p = (long)y * j->s->width + x;
     rng_key key = initial_pixel_key(&j->io, j->o->seed, j->frame, (uint32_t)p);
-    uint32_t nsample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass);
+    uint32_t nsample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass) +
+                       (j->ctx.ablation == RESTIR_ABLATE_NEIGHBOR_RNG); /* the planted off-by-one */
     int n, d;
     if (j->pair ? j->pair_n[p] < 0 : !primary_vertex(j, p, &w->verts[0])) {
         reservoir_init(&j->dst[p]);
