@@ -309,3 +309,60 @@ TEST(oracle_diagnose_agreement)
     int status = test_cli(out, sizeof out, "diagnose %s %s", a, a);
     CHECKF(status == 0 && strstr(out, "verdict: B agrees with the unmodified oracle"), "exit %d\n%s", status, out);
 }
+
+/* ---- per-frame statistical verdicts for sequences --------------------------------------- */
+
+#define RUNS_COMMON "scenes/cornell.scene --method restir --preset gris-realtime --size 32x24 --sequence 0..3 " \
+                    "--runs 16 --quiet --no-png --threads 2"
+
+/* --runs K with --sequence: one moments file set per frame that `restir check` reads, and
+ * per-run dumps DIR/run_KK. The paired per-channel diff-dump --stat of two independent run
+ * sets (seeds 1000 SEED.. and 1000 SEED + 100..) passes every frame and stage; with a 16% bias planted in
+ * frame 2's temporal stage of B (every run's W and wsum times 1.16: a GPU build whose
+ * temporal pass is biased from frame 2) the first row it flags is frame 2, temporal, in
+ * each of R, G and B. */
+TEST(oracle_sequence_runs_paired_stat)
+{
+    const char *ra = replay_dir("runsA"), *rb = replay_dir("runsB");
+    char cmd[3000], dir[1200];
+    int status, k;
+    uint32_t seed;
+    snprintf(cmd, sizeof cmd, "rm -rf %s %s && mkdir -p %s %s", ra, rb, ra, rb);
+    CHECK(system(cmd) == 0);
+    seed = 1000u * test_seed(); /* A: seeds seed..seed+15, B: seed+100.. */
+    status = test_cli(out, sizeof out, "render " RUNS_COMMON " --seed %u -o %s/x.pfm --dump-dir %s/d", seed, ra, ra);
+    CHECKF(status == 0, "exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "render " RUNS_COMMON " --seed %u -o %s/x.pfm --dump-dir %s/d", seed + 100, rb,
+                      rb);
+    CHECKF(status == 0, "exit %d\n%s", status, out);
+    if (test_has_failed()) return;
+    status = test_cli(out, sizeof out, "check --a-moments %s/x.0002.moments.json --b-moments %s/x.0002.moments.json", ra,
+                      rb);
+    CHECKF(status == 0 && strstr(out, "verdict: consistent"), "frame 2's moments: exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "diff-dump %s/d %s/d --stat", ra, rb);
+    CHECKF(status == 0 && strstr(out, "paired runs: 16 per side"), "unbiased run sets: exit %d\n%s", status, out);
+    for (k = 0; k < 16; ++k) {
+        snprintf(dir, sizeof dir, "%s/d/run_%02d", rb, k);
+        scale_w(dir, 2, "temporal", -1, 1.16);
+    }
+    status = test_cli(out, sizeof out, "diff-dump %s/d %s/d --stat --json", ra, rb);
+    CHECKF(status == 1, "the 16%% temporal bias passed: exit %d\n%s", status, out);
+    {
+        /* every row before frame 2 temporal passes; that row fails in each channel */
+        const char *row = strstr(out, "{\"frame\": 2, \"stage\": \"temporal\"");
+        const char *firstfail = strstr(out, "\"pass\": false");
+        double crit, t;
+        const char *p = out;
+        int c;
+        crit = (p = strstr(out, "\"critical_t\": ")) ? strtod(p + 14, NULL) : NAN;
+        CHECKF(row && firstfail && firstfail > row && firstfail < row + 200, "first flagged row is not frame 2 "
+               "temporal:\n%s", out);
+        if (!row) return;
+        p = strstr(row, "\"t\": [") + 6;
+        for (c = 0; c < 3; ++c) {
+            t = strtod(p, (char **)&p);
+            CHECKF(fabs(t) > crit, "channel %d: |t| %.3g <= %.3g", c, t, crit);
+            p += strspn(p, ", ");
+        }
+    }
+}

@@ -83,8 +83,12 @@ static int apply_sequence_options(render_args *a)
         return 2;
     }
     if (!a->sequence) return 0;
-    if (a->runs > 0 || a->pt.o.time_limit > 0) {
-        fprintf(stderr, "restir render: --sequence cannot be combined with --runs or --time-limit\n");
+    if (a->pt.o.time_limit > 0) {
+        fprintf(stderr, "restir render: --sequence cannot be combined with --time-limit\n");
+        return 2;
+    }
+    if (a->runs > 0 && (a->accumulate || a->pt.o.checkpoint_path || a->pt.o.resume_path)) {
+        fprintf(stderr, "restir render: --sequence with --runs K: not with --accumulate, --checkpoint or --resume\n");
         return 2;
     }
     {
