@@ -366,3 +366,94 @@ TEST(oracle_sequence_runs_paired_stat)
         }
     }
 }
+
+/* ---- docs/tour.md §6: the worked examples of one stage of a real sequence -------------- */
+
+/* The dumps of docs/tour.md §6 ("A step of a real sequence"): the commands there. */
+#define TOUR_SEQ "scenes/cornell.scene --method restir --preset gris-realtime --size 32x24 --radius 5 --sequence 0..1 " \
+                 "--quiet --no-png"
+
+static const struct {
+    const char *name, *args, *stage, *pixel, *marker;
+} tour_examples[] = {
+    {"tour-temporal", "scenes/pillars.scene --method restir --preset gris-realtime --size 40x28 --radius 6 "
+                      "--sequence 0..1 --quiet --no-png", "temporal", "21,15", "inspect-temporal"},
+    {"tour-stochastic", TOUR_SEQ " --neighbors 4 --mis stochastic-pairwise", "spatial1", "16,12", "inspect-stochastic"},
+    {"tour-paired", TOUR_SEQ " --pairing paired --mis pairwise-defensive", "spatial1", "16,12", "inspect-paired"},
+};
+
+/* out with every "DIR/" replaced by "dumps/NAME/" (the doc's directory). */
+static void as_doc_paths(char *text, const char *dir, const char *name)
+{
+    static char buf[262144];
+    char doc_dir[256];
+    size_t n = strlen(dir), o = 0;
+    const char *p = text;
+    snprintf(doc_dir, sizeof doc_dir, "dumps/%s", name);
+    while (*p && o + 300 < sizeof buf) {
+        if (!strncmp(p, dir, n)) {
+            o += (size_t)sprintf(buf + o, "%s", doc_dir);
+            p += n;
+        } else
+            buf[o++] = *p++;
+    }
+    buf[o] = '\0';
+    strcpy(text, buf);
+}
+
+/* Each example of docs/tour.md §6 is what `restir inspect --from-dump` prints today (double
+ * build), and its JSON redoes by hand: w_i = m_i p̂ W J, wsum, W = wsum / p̂(Y), c = sum c_i. */
+TEST(tour_sequence_steps_match_inspect)
+{
+    static char doc[262144];
+    size_t i, n;
+    FILE *f = fopen("docs/tour.md", "rb");
+    CHECK(f != NULL);
+    if (!f) return;
+    n = fread(doc, 1, sizeof doc - 1, f);
+    fclose(f);
+    doc[n] = '\0';
+    for (i = 0; i < sizeof tour_examples / sizeof tour_examples[0]; ++i) {
+        char begin_mark[128], end_mark[128], name[64];
+        const char *dir, *b, *e;
+        int status;
+        snprintf(name, sizeof name, "doc_%s", tour_examples[i].name);
+        dir = dump_of(name, tour_examples[i].args);
+        status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage %s --pixel %s --json", dir,
+                          tour_examples[i].stage, tour_examples[i].pixel);
+        CHECKF(status == 0 && strstr(out, "\"differs\": []"), "%s: exit %d\n%s", tour_examples[i].name, status, out);
+        check_sums(out, tour_examples[i].name);
+        status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage %s --pixel %s", dir,
+                          tour_examples[i].stage, tour_examples[i].pixel);
+        CHECKF(status == 0, "%s: exit %d\n%s", tour_examples[i].name, status, out);
+#ifdef RESTIR_REAL_FLOAT
+        continue; /* the doc's numbers are the double build's */
+#endif
+        as_doc_paths(out, dir, tour_examples[i].name);
+        snprintf(begin_mark, sizeof begin_mark, "<!-- %s begin -->\n```\n", tour_examples[i].marker);
+        snprintf(end_mark, sizeof end_mark, "```\n<!-- %s end -->", tour_examples[i].marker);
+        b = strstr(doc, begin_mark);
+        e = b ? strstr(b, end_mark) : NULL;
+        CHECKF(b && e, "docs/tour.md has no %s block; now:\n%s", tour_examples[i].marker, out);
+        if (!b || !e) continue;
+        b += strlen(begin_mark);
+        CHECKF((size_t)(e - b) == strlen(out) && !strncmp(b, out, (size_t)(e - b)),
+               "docs/tour.md's %s block differs from the inspect output:\n--- now\n%s", tour_examples[i].marker, out);
+    }
+}
+
+/* The tutorial of docs/oracle.md §7: a "GPU" dump (the oracle patched with mcap-current)
+ * inspected with the oracle's options (--options-from A) shows the uncapped history in the
+ * confidence field of the record it names; with its own command line it agrees with itself. */
+TEST(oracle_inspect_options_from_names_the_planted_bug)
+{
+    const char *a = dump_of("diagA", DIAG_COMMON);
+    const char *b = dump_of("diag_mcap-current", DIAG_COMMON " --ablate mcap-current");
+    int status = test_cli(out, sizeof out, "diff-dump %s %s", a, b);
+    CHECKF(status == 1 && strstr(out, "first difference: frame 1, stage temporal"), "exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "replay %s --options-from %s --frame 1 --stage temporal --dump-dir %s", b, a,
+                      replay_dir("opt_out"));
+    CHECKF(status == 1 && strstr(out, "frame    1 temporal") && strstr(out, "confidence"), "exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "replay %s --frame 1 --stage temporal --dump-dir %s", b, replay_dir("opt_self"));
+    CHECKF(status == 0, "the patched build replayed with its own options: exit %d\n%s", status, out);
+}

@@ -1,4 +1,4 @@
-/* restir diagnose A B (docs/oracle.md §6): which known bug makes dump B?
+/* restir diagnose A B (docs/oracle.md §7): which known bug makes dump B?
  *
  * A is an oracle dump (its manifest's command line gives the scene, options and frames); B
  * the dump of the build under test, of the same scene and options. The oracle is re-run on

@@ -90,7 +90,8 @@ int replay_command_line(const char *dir, int drop_ablate, replay_args *l, rerror
     json_reader_close(&r);
     if (!found || l->argc < 2 || strcmp(l->argv[0], "render"))
         return rerror_at(e, path, 0, "no \"command_line\" of a restir render: the dump does not say which options "
-                                     "made it, so no stage of it can be recomputed");
+                                     "made it (--options-from ORACLE_DUMP takes them from the oracle's dump of the "
+                                     "same run)");
     return 0;
 fail:
     json_reader_close(&r);
@@ -100,6 +101,7 @@ fail:
 /* What a replay of stage S of frame F needs from DIR, checked before anything runs. */
 typedef struct {
     const char *dir, *stage;
+    const char *options_dir;    /* --options-from: whose command line (NULL: dir's) */
     long frame;
     stage_manifest m;
     char prev[STAGE_NAME_SIZE]; /* the stage before S in DIR's stage order ("" if S is first) */
@@ -155,7 +157,7 @@ static int plan_command(const replay_plan *p, const char *out_prefix, const char
 {
     char frames[64];
     int status = 0;
-    if (replay_command_line(p->dir, 0, l, e)) return -1;
+    if (replay_command_line(p->options_dir ? p->options_dir : p->dir, 0, l, e)) return -1;
     snprintf(frames, sizeof frames, "%ld..%ld", p->frame, p->frame);
     status |= replay_args_push(l, "--sequence") | replay_args_push(l, frames) | replay_args_push(l, "-o") | replay_args_push(l, out_prefix);
     status |= replay_args_push(l, "--no-png") | replay_args_push(l, "--quiet");
@@ -179,7 +181,7 @@ int cmd_replay(int argc, char **argv)
 {
     replay_plan p;
     replay_args l;
-    const char *positional[1], *stage = NULL, *out = NULL;
+    const char *positional[1], *stage = NULL, *out = NULL, *options_from = NULL;
     long frame = -1;
     int count, status, frame_i = -1;
     char prefix[4200];
@@ -188,6 +190,7 @@ int cmd_replay(int argc, char **argv)
         {"--frame", OPT_INT, &frame_i, "the frame F to recompute", NULL, 0, 1e8, NULL},
         {"--stage", OPT_STRING, &stage, "the stage S to recompute (a name of DIR's stage order)", NULL, 0, 0, NULL},
         {"--dump-dir", OPT_STRING, &out, "write S's output of frame F here (a stage dump: manifest, S.resv, G-buffer)", NULL, 0, 0, NULL},
+        {"--options-from", OPT_STRING, &options_from, "take the render command line (scene, options) from this dump's manifest instead of DIR's (a GPU build's dump: the oracle's dump of the same run)", NULL, 0, 0, NULL},
         {NULL, 0, NULL, NULL, NULL, 0, 0, NULL},
     };
     status = cli_parse("replay", argc, argv, options, positional, 1, &count);
@@ -206,6 +209,7 @@ int cmd_replay(int argc, char **argv)
     p.dir = positional[0];
     p.stage = stage;
     p.frame = frame;
+    p.options_dir = options_from;
     snprintf(prefix, sizeof prefix, "%s/replay.pfm", out);
     if (plan_replay(&p, &e) || plan_command(&p, prefix, out, &l, &e)) {
         fprintf(stderr, "restir replay: %s\n", e.msg);
@@ -463,7 +467,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
 {
     replay_plan p;
     replay_args l;
-    const char *dir = NULL, *stage = NULL, *pixel = NULL;
+    const char *dir = NULL, *stage = NULL, *pixel = NULL, *options_from = NULL;
     int frame = -1, json = 0, count, status, have, nd = 0;
     long xy[2];
     char tmpdir[] = "/tmp/restir-inspect-XXXXXX", prefix[4200], file[4200];
@@ -478,6 +482,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
         {"--stage", OPT_STRING, &stage, "the stage S: temporal or spatialK (a name of the dump's stage order)", NULL, 0, 0, NULL},
         {"--pixel", OPT_STRING, &pixel, "the pixel x,y (row 0 at the top)", NULL, 0, 0, NULL},
         {"--json", OPT_FLAG, &json, "one JSON object with every number at 17 digits", NULL, 0, 0, NULL},
+        {"--options-from", OPT_STRING, &options_from, "take the render command line from this dump's manifest (the oracle's dump of the same run) instead of DIR's", NULL, 0, 0, NULL},
         {NULL, 0, NULL, NULL, NULL, 0, 0, NULL},
     };
     status = cli_parse("inspect", argc, argv, options, NULL, 0, &count);
@@ -495,6 +500,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
     p.dir = dir;
     p.stage = stage;
     p.frame = frame;
+    p.options_dir = options_from;
     if (plan_replay(&p, &e)) {
         fprintf(stderr, "restir inspect: %s\n", e.msg);
         return 2;

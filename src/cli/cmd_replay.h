@@ -1,5 +1,5 @@
 /* Private to src/cli. One stage of one frame of a stage dump, recomputed by the oracle on the
- * dump's own inputs (cmd_replay.c; docs/oracle.md §5):
+ * dump's own inputs (cmd_replay.c; docs/oracle.md §6):
  *   restir replay DIR --frame F --stage S --dump-dir OUT   the stage for every pixel, dumped
  *                                                           and diffed against DIR
  *   restir inspect --from-dump DIR --frame F --stage S --pixel X,Y [--json]

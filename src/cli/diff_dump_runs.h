@@ -1,6 +1,6 @@
 /* Private to src/cli. `restir diff-dump A B --stat` when A and B hold K runs each
  * (A/run_00 ... from `restir render --sequence A..B --runs K --dump-dir A`): a paired,
- * per-channel test per frame and stage (diff_dump_runs.c; docs/oracle.md §7). */
+ * per-channel test per frame and stage (diff_dump_runs.c; docs/oracle.md §8). */
 #ifndef RESTIR_CLI_DIFF_DUMP_RUNS_H
 #define RESTIR_CLI_DIFF_DUMP_RUNS_H
 

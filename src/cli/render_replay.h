@@ -1,4 +1,4 @@
-/* Private to src/cli. Replaying one stage of a dump on its own inputs (docs/oracle.md §5):
+/* Private to src/cli. Replaying one stage of a dump on its own inputs (docs/oracle.md §6):
  * `restir render ... --history-from-dump` and the one-pixel trace `restir inspect
  * --from-dump` installs around a render (cmd_replay.c). */
 #ifndef RESTIR_CLI_RENDER_REPLAY_H

@@ -1,5 +1,5 @@
 /* One pixel's reuse steps as the real-time pipeline computed them (`restir inspect
- * --from-dump`, docs/oracle.md §5): the frame's stage listener (stage_hook.h) may name one
+ * --from-dump`, docs/oracle.md §6): the frame's stage listener (stage_hook.h) may name one
  * pixel; the temporal step (temporal.h), each spatial pass's GRIS step (spatial.h, also the
  * Enhanced pair step) and the stochastic pairwise step (stochastic_spatial.h) of that pixel
  * then hand it a pixel_trace filled from the step's own workspace right after the step, so

@@ -88,7 +88,7 @@ enum restir_ablation {
     RESTIR_ABLATE_LIGHT_RIS_PDF = 11 /* "light-ris-pdf": with --light-ris, the BSDF side's MIS
                                    weight uses p_0 while NEE uses p̃ = 1/W (pt's ablation of the
                                    same name, in every path contribution ReSTIR evaluates) */,
-    /* Per-stage bugs a GPU build makes (issue 31's planted bugs, docs/oracle.md §6): the
+    /* Per-stage bugs a GPU build makes (issue 31's planted bugs, docs/oracle.md §7): the
      * estimate stays (nearly) unbiased, so only a stage diff sees them; `restir diagnose`
      * tries them. */
     RESTIR_ABLATE_MCAP_CURRENT = 12, /* "mcap-current": the temporal M-cap is applied to the
