@@ -235,9 +235,18 @@ int cmd_replay(int argc, char **argv)
 
 typedef struct {
     const char *stage;
-    int found;
+    int found, have_final;
     pixel_trace t;
+    reservoir final; /* the stage's complete output at the pixel (after a mutation in it) */
 } trace_catch;
+
+static void catch_output(void *user, const char *stage, const reservoir *r)
+{
+    trace_catch *c = user;
+    if (strcmp(stage, c->stage)) return;
+    c->final = *r;
+    c->have_final = 1;
+}
 
 static void catch_trace(void *user, const pixel_trace *t)
 {
@@ -468,7 +477,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
     replay_plan p;
     replay_args l;
     const char *dir = NULL, *stage = NULL, *pixel = NULL, *options_from = NULL;
-    int frame = -1, json = 0, count, status, have, nd = 0;
+    int frame = -1, json = 0, count, status, have, nd = 0, mutated;
     long xy[2];
     char tmpdir[] = "/tmp/restir-inspect-XXXXXX", prefix[4200], file[4200];
     trace_catch c;
@@ -530,6 +539,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
     c.stage = stage;
     req.pixel = xy[1] * p.m.width + xy[0];
     req.fn = catch_trace;
+    req.stage_output = catch_output;
     req.user = &c;
     render_trace = &req;
     status = cmd_render(l.argc, l.argv);
@@ -549,8 +559,17 @@ int cmd_inspect_from_dump(int argc, char **argv)
         fprintf(stderr, "restir inspect: %s\n", e.msg);
         return 2;
     }
-    if (have) nd = record_diffs(&rec, &c.t.out, diffs);
+    /* a stage that mutates after its step (--mutations): the record is the mutated output */
+    mutated = c.have_final && record_diffs(&c.final, &c.t.out, diffs) > 0;
+    if (have) nd = record_diffs(&rec, mutated ? &c.final : &c.t.out, diffs);
     if (json) print_json(stdout, &p, p.m.width, &c.t, diffs, nd, file, have);
     else print_text(stdout, &p, p.m.width, &c.t, diffs, nd, file, have);
+    if (mutated && !json)
+        printf("(an MCMC mutation inside stage %s changed the step's output: W %.17g, sample ", stage,
+               (double)c.final.W);
+    if (mutated && !json) {
+        print_id(stdout, &c.final.y, 0);
+        printf("; the record comparison is against the mutated output)\n");
+    }
     return 0;
 }

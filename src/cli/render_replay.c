@@ -63,6 +63,17 @@ static void trace_adapter(void *user, const pixel_trace *t)
     if (render_trace) render_trace->fn(render_trace->user, t);
 }
 
+/* The stage listener's own `reservoirs` (the stage_io's), wrapped to see the traced pixel's
+ * record of each complete stage output. */
+static void (*listener_reservoirs)(void *user, const char *stage, reservoir *rs, int width, int height);
+
+static void reservoirs_adapter(void *user, const char *stage, reservoir *rs, int width, int height)
+{
+    if (listener_reservoirs) listener_reservoirs(user, stage, rs, width, height);
+    if (render_trace && render_trace->stage_output && render_trace->pixel < (long)width * height)
+        render_trace->stage_output(render_trace->user, stage, &rs[render_trace->pixel]);
+}
+
 int apply_replay_options(render_args *a)
 {
     int status;
@@ -70,6 +81,8 @@ int apply_replay_options(render_args *a)
     if (render_trace) {
         a->hook.pixel = trace_adapter;
         a->hook.trace_pixel = render_trace->pixel;
+        listener_reservoirs = a->hook.reservoirs;
+        a->hook.reservoirs = reservoirs_adapter;
     }
     return 0;
 }

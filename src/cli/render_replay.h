@@ -12,6 +12,8 @@
 typedef struct {
     long pixel;
     void (*fn)(void *user, const pixel_trace *t);
+    /* the pixel's record of each complete stage output (after a mutation inside the stage) */
+    void (*stage_output)(void *user, const char *stage, const reservoir *r);
     void *user;
 } render_trace_request;
 

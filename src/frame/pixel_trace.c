@@ -98,7 +98,7 @@ void pixel_trace_stochastic(pixel_trace *t, const char *stage, uint32_t frame, l
         pixel_trace_domain *d = &t->d[i];
         d->confidence = scale * d->in.confidence;
         d->picks = sw->K[i - 1];
-        d->P = sw->P_used[i - 1];
+        d->P = so->naive_p ? (real)1 / (real)n : sw->P[i - 1]; /* Eq. 17 (as the picks used it) */
         d->valid = d->picks > 0 && sw->jacobian[i - 1] > 0;
         if (!d->valid) continue;
         d->jacobian = sw->jacobian[i - 1];
