@@ -388,7 +388,31 @@ static const struct {
                       "--sequence 0..1 --quiet --no-png", "temporal", "21,15", "inspect-temporal"},
     {"tour-stochastic", TOUR_SEQ " --neighbors 4 --mis stochastic-pairwise", "spatial1", "16,12", "inspect-stochastic"},
     {"tour-paired", TOUR_SEQ " --pairing paired --mis pairwise-defensive", "spatial1", "16,12", "inspect-paired"},
+    {"tour-mutation", TOUR_SEQ " --neighbors 4 --mutations 2", "temporal", "16,12", "inspect-mutation"},
 };
+
+/* Mutations Eq. 23 by hand along the printed chain: W after an accepted iteration is the W
+ * before it times p̂(x)/p̂(z); a rejected one keeps W; the step's output W starts the chain. */
+static void check_chain(const char *json)
+{
+    const char *p = strstr(json, "\"iterations\": [");
+    const char *step = strstr(json, "\"out\": ");
+    double W, prev;
+    int n = 0;
+    CHECKF(p && step, "no mutation chain: %s", json);
+    if (!p || !step) return;
+    prev = json_after(&step, "W");
+    while ((p = strstr(p, "\"outcome\": \"")) != NULL) {
+        int accepted = !strncmp(p + 12, "accepted", 8);
+        double tx = json_after(&p, "target_x"), tz = json_after(&p, "target_z");
+        W = json_after(&p, "W");
+        CHECKF(accepted ? near(W, prev * tx / tz) : W == prev, "iteration %d: W %.17g from %.17g (p^ %.17g -> %.17g)",
+               n, W, prev, tx, tz);
+        prev = W;
+        ++n;
+    }
+    CHECKF(n >= 1, "no iteration: %s", json);
+}
 
 /* out with every "DIR/" replaced by "dumps/NAME/" (the doc's directory). */
 static void as_doc_paths(char *text, const char *dir, const char *name)
@@ -431,6 +455,7 @@ TEST(tour_sequence_steps_match_inspect)
                           tour_examples[i].stage, tour_examples[i].pixel);
         CHECKF(status == 0 && strstr(out, "\"differs\": []"), "%s: exit %d\n%s", tour_examples[i].name, status, out);
         check_sums(out, tour_examples[i].name);
+        if (strstr(tour_examples[i].args, "--mutations")) check_chain(out);
         status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage %s --pixel %s", dir,
                           tour_examples[i].stage, tour_examples[i].pixel);
         CHECKF(status == 0, "%s: exit %d\n%s", tour_examples[i].name, status, out);

@@ -12,6 +12,7 @@
 #include "restir/oracle/dump_diff.h"
 #include "restir/oracle/stage_dump.h"
 #include "restir/restir/mis.h"
+#include "restir/restir/mutate.h"
 #include "args.h"
 #include "cmd_diff_dump.h"
 #include "cmd_render.h"
@@ -235,8 +236,9 @@ int cmd_replay(int argc, char **argv)
 
 typedef struct {
     const char *stage;
-    int found, have_final;
+    int found, have_final, have_mutation;
     pixel_trace t;
+    pixel_trace mutation; /* the chain after the step (--mutations), if it ran in stage S */
     reservoir final; /* the stage's complete output at the pixel (after a mutation in it) */
 } trace_catch;
 
@@ -252,6 +254,11 @@ static void catch_trace(void *user, const pixel_trace *t)
 {
     trace_catch *c = user;
     if (strcmp(t->stage, c->stage)) return; /* a later stage of the same frame */
+    if (t->step == PIXEL_TRACE_MUTATION) {
+        c->mutation = *t;
+        c->have_mutation = 1;
+        return;
+    }
     c->t = *t;
     c->found = 1;
 }
@@ -449,6 +456,54 @@ static void print_json(FILE *f, const replay_plan *p, long width, const pixel_tr
     fprintf(f, "]}}\n");
 }
 
+static const char *mutation_outcome(int outcome)
+{
+    if (outcome == MUTATE_TRACE_ACCEPTED) return "accepted";
+    if (outcome == MUTATE_TRACE_REJECTED_MH) return "rejected (u >= a)";
+    return outcome >= 0 && outcome < MUTATE_REJECT_COUNT ? mutate_reject_names[outcome] : "?";
+}
+
+/* The MCMC chain that ran after the step inside the stage (Mutations Alg. 3). */
+static void print_mutation(FILE *f, const pixel_trace *m, int json)
+{
+    const mutate_trace *tr = &m->mutation;
+    int i;
+    if (json) {
+        fprintf(f, "\"mutation\": {\"skip\": ");
+        if (tr->skip >= 0) json_put_string(f, mutate_skip_names[tr->skip]);
+        else fprintf(f, "null");
+        fprintf(f, ", \"rng_vertex\": %d, \"iterations\": [", m->mutate_stage);
+        for (i = 0; i < tr->n; ++i) {
+            fprintf(f, "%s{\"outcome\": \"%s\", ", i ? ", " : "", mutation_outcome(tr->it[i].outcome));
+            json_num(f, "target_x", (double)tr->it[i].target_x, 1);
+            json_num(f, "target_z", (double)tr->it[i].target_z, 1);
+            json_num(f, "ratio", (double)tr->it[i].ratio, 1);
+            json_num(f, "a", (double)tr->it[i].a, 1);
+            json_num(f, "u", (double)tr->it[i].u, 1);
+            json_num(f, "W", (double)tr->it[i].W, 0);
+            fprintf(f, "}");
+        }
+        fprintf(f, "]}, ");
+        return;
+    }
+    fprintf(f, "mutation after the step (Mutations Alg. 3; numbers: RNG_MUTATE %d, vertex %d, slot 64 it + j):\n",
+            (int)RNG_MUTATE, m->mutate_stage);
+    if (tr->skip >= 0) {
+        fprintf(f, "  the chain did not start: %s\n", mutate_skip_names[tr->skip]);
+        return;
+    }
+    for (i = 0; i < tr->n; ++i) {
+        fprintf(f, "  it %d: p^(x) %.17g", i, (double)tr->it[i].target_x);
+        if (tr->it[i].outcome < 0)
+            fprintf(f, ", p^(z) %.17g, T(z->x)/T(x->z) %.17g, a %.17g, u %.17g", (double)tr->it[i].target_z,
+                    (double)tr->it[i].ratio, (double)tr->it[i].a, (double)tr->it[i].u);
+        fprintf(f, " -> %s, W %.17g\n", mutation_outcome(tr->it[i].outcome), (double)tr->it[i].W);
+    }
+    fprintf(f, "  after the chain: W %.17g, sample ", (double)m->out.W);
+    print_id(f, &m->out.y, 0);
+    fprintf(f, "\n");
+}
+
 /* The dump's own stage-S record of pixel p (0: the file is absent). */
 static int dump_record(const replay_plan *p, long pixel, char *path, size_t size, reservoir *rec, rerror *e)
 {
@@ -562,12 +617,19 @@ int cmd_inspect_from_dump(int argc, char **argv)
     /* a stage that mutates after its step (--mutations): the record is the mutated output */
     mutated = c.have_final && record_diffs(&c.final, &c.t.out, diffs) > 0;
     if (have) nd = record_diffs(&rec, mutated ? &c.final : &c.t.out, diffs);
-    if (json) print_json(stdout, &p, p.m.width, &c.t, diffs, nd, file, have);
-    else print_text(stdout, &p, p.m.width, &c.t, diffs, nd, file, have);
-    if (mutated && !json)
+    if (json) {
+        printf("{");
+        if (c.have_mutation) print_mutation(stdout, &c.mutation, 1);
+        printf("\"mutated\": %d, \"step\": ", mutated);
+        print_json(stdout, &p, p.m.width, &c.t, diffs, nd, file, have);
+        printf("}\n");
+        return 0;
+    }
+    print_text(stdout, &p, p.m.width, &c.t, diffs, nd, file, have);
+    if (c.have_mutation) print_mutation(stdout, &c.mutation, 0);
+    if (mutated) {
         printf("(an MCMC mutation inside stage %s changed the step's output: W %.17g, sample ", stage,
                (double)c.final.W);
-    if (mutated && !json) {
         print_id(stdout, &c.final.y, 0);
         printf("; the record comparison is against the mutated output)\n");
     }

@@ -195,6 +195,31 @@ static void stage_duplication(pipeline *pl, const reservoir *final, restir_stats
 
 /* ---- MCMC mutations (Mutations §3 Algorithm 3; mutate.h) ------------------------------- */
 
+/* `restir inspect --from-dump`: the traced pixel's chain, the same numbers as
+ * mutate_reservoir's (mutate_reservoir_traced), handed to the listener. */
+static void trace_mutation(pipeline *pl, worker_state *w, long p, rng_key key, const path_vertex *v)
+{
+    frame_job *j = &pl->j;
+    pixel_trace t;
+    memset(&t, 0, sizeof t);
+    mutate_reservoir_traced(&j->ctx, v, key, pl->mutate_stage, j->o->mutation.strategy, j->o->mutation.count,
+                            &pl->out[p], reservoir_buffer_pss_row(pl->out, (size_t)j->s->width * (size_t)j->s->height,
+                                                                  (size_t)p),
+                            &w->st.mutate, &t.mutation);
+    t.step = PIXEL_TRACE_MUTATION;
+    snprintf(t.stage, sizeof t.stage, "%s", pl->mutate_stage == MUTATE_AFTER_INITIAL    ? "initial"
+                                            : pl->mutate_stage == MUTATE_AFTER_TEMPORAL ? "temporal"
+                                                                                         : "after-spatial");
+    t.frame = j->frame;
+    t.pixel = p;
+    t.pass = -1;
+    t.key = key;
+    t.mutate_stage = pl->mutate_stage;
+    t.selected = -1;
+    t.out = pl->out[p];
+    j->hook->pixel(j->hook->user, &t);
+}
+
 static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
 {
     pipeline *pl = ctx;
@@ -207,6 +232,10 @@ static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             rng_key key = initial_pixel_key(&j->io, j->o->seed, j->frame, (uint32_t)p);
             path_vertex v;
             if (!gbuffer_primary_vertex(j->s, &j->g, p, &v)) continue;
+            if (j->hook && j->hook->pixel && j->hook->trace_pixel == p) {
+                trace_mutation(pl, w, p, key, &v);
+                continue;
+            }
             mutate_reservoir(&j->ctx, &v, key, pl->mutate_stage, j->o->mutation.strategy, j->o->mutation.count, &pl->out[p],
                              reservoir_buffer_pss_row(pl->out, (size_t)j->s->width * (size_t)j->s->height, (size_t)p),
                              &w->st.mutate);

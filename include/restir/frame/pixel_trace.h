@@ -9,6 +9,7 @@
 
 #include <stdint.h>
 #include "restir/core/rng.h"
+#include "restir/restir/mutate.h"
 #include "restir/restir/reservoir.h"
 #include "restir/restir/spatial.h"
 #include "restir/restir/stochastic_spatial.h"
@@ -19,7 +20,9 @@ enum pixel_trace_step {
     PIXEL_TRACE_TEMPORAL,   /* GRIS §6.3 step 2: domain 0 = this frame, 1 = the previous frame's pixel */
     PIXEL_TRACE_SPATIAL,    /* GRIS §6.3 step 3 with a MIS family (spatial_resample) */
     PIXEL_TRACE_PAIR,       /* Enhanced §3: the same step with the pre-pass's pair shifts */
-    PIXEL_TRACE_STOCHASTIC  /* Stochastic MIS §4: stochastic pairwise MIS */
+    PIXEL_TRACE_STOCHASTIC, /* Stochastic MIS §4: stochastic pairwise MIS */
+    PIXEL_TRACE_MUTATION    /* Mutations Alg. 3: the MCMC chain after the stage's step (same
+                               stage name; only `mutation`, `key`, `out` are set) */
 };
 
 /* One domain i of a step. */
@@ -61,6 +64,8 @@ typedef struct {
     real m_c;             /* stochastic: m̃_c of the canonical sample (Eq. 18) */
     int selected;         /* the domain whose candidate became the output (-1: none) */
     reservoir out;        /* the step's output (scalars) */
+    mutate_trace mutation; /* PIXEL_TRACE_MUTATION: the chain (RNG_MUTATE, vertex = mutate_stage) */
+    int mutate_stage;      /* enum mutate_stage */
 } pixel_trace;
 
 /* The trace of a GRIS step (temporal, spatial or pair): domains 0..m-1 with pixels[i],
