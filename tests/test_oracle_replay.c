@@ -503,13 +503,14 @@ TEST(oracle_inspect_from_dump_after_mutation)
            "exit %d\n%s", status, out);
 }
 
-/* B may be a region dump (what a 1080p GPU run writes): diagnose compares its rectangle. */
+/* B may be a region dump (what a 1080p GPU run writes): diagnose compares its rectangle
+ * (and says so in --json). */
 TEST(oracle_diagnose_region_dump)
 {
     const char *a = dump_of("diagA", DIAG_COMMON);
     const char *b = dump_of("diag_region", DIAG_COMMON " --ablate neighbor-rng --dump-region 4,4,12,8");
-    int status = test_cli(out, sizeof out, "diagnose %s %s", a, b);
-    CHECKF(status == 0 && strstr(out, "verdict: most likely --ablate neighbor-rng") &&
-               strstr(out, "first visible at frame 0, stage spatial1"),
+    int status = test_cli(out, sizeof out, "diagnose %s %s --json", a, b);
+    CHECKF(status == 0 && strstr(out, "\"most_likely\": [\"--ablate neighbor-rng\"]") &&
+               strstr(out, "\"departs\": {\"frame\": 0, \"stage\": \"spatial1\""),
            "exit %d\n%s", status, out);
 }

@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "restir/core/json_text.h"
 #include "restir/oracle/stage_dump.h"
 #include "restir/restir/reservoir_dump.h"
 #include "restir/restir/restir_context.h"
@@ -44,6 +45,14 @@ typedef struct {
 /* Option variants: what a GPU build gets wrong as a whole choice rather than a line. */
 static const char *const option_variants[][3] = {
     {"--mcap", "inf", "no temporal M-cap"},
+    {"--mis", "talbot", "spatial MIS: Talbot"},
+    {"--mis", "pairwise", "spatial MIS: pairwise"},
+    {"--mis", "pairwise-defensive", "spatial MIS: defensive pairwise"},
+    {"--mis", "constant", "spatial MIS: constant"},
+    {"--temporal-mis", "talbot", "temporal MIS: Talbot"},
+    {"--temporal-mis", "pairwise", "temporal MIS: pairwise"},
+    {"--temporal-mis", "pairwise-defensive", "temporal MIS: defensive pairwise"},
+    {"--temporal-mis", "constant", "temporal MIS: constant"},
     {"--pairwise-confidence", "falcor", "the Falcor confidence form of defensive pairwise MIS"},
     {"--pairwise-confidence", "stochastic", "the Stochastic MIS Eq. 11 confidence form"},
     {"--no-confidence-scaling", NULL, "stochastic pairwise MIS without the c_i N~/M scaling"},
@@ -241,6 +250,39 @@ static void print_verdict(const variant *vs, int n, const variant *oracle, const
         printf("  equally likely: %s\n", vs[i].name);
 }
 
+/* --json: the table and the verdict as one object. */
+static void print_json(const variant *vs, int n, const variant *oracle, const row_key *rows, int n_rows)
+{
+    int i, r, first = -1;
+    for (r = 0; r < n_rows && first < 0; ++r)
+        if (oracle->row[r] < 1) first = r;
+    printf("{\"rows\": [");
+    for (r = 0; r < n_rows; ++r) printf("%s{\"frame\": %ld, \"stage\": \"%s\"}", r ? ", " : "", rows[r].frame, rows[r].stage);
+    printf("],\n \"variants\": [");
+    for (i = 0; i < n; ++i) {
+        printf("%s\n  {\"name\": ", i ? "," : "");
+        json_put_string(stdout, vs[i].name);
+        printf(", \"applicable\": %s", vs[i].applicable ? "true" : "false");
+        if (vs[i].applicable) {
+            printf(", \"mean\": %.6f, \"agreement\": [", vs[i].mean);
+            for (r = 0; r < n_rows; ++r) printf("%s%.6f", r ? ", " : "", vs[i].row[r]);
+            printf("]");
+        }
+        printf("}");
+    }
+    printf("],\n \"departs\": ");
+    if (first < 0) printf("null");
+    else printf("{\"frame\": %ld, \"stage\": \"%s\", \"oracle_agreement\": %.6f}", rows[first].frame,
+                rows[first].stage, oracle->row[first]);
+    printf(",\n \"most_likely\": [");
+    if (first >= 0 && vs[0].mean > oracle->mean && vs[0].row[first] > oracle->row[first])
+        for (i = 0; i < n && vs[i].applicable && vs[i].mean == vs[0].mean; ++i) {
+            printf("%s", i ? ", " : "");
+            json_put_string(stdout, vs[i].name);
+        }
+    printf("]}\n");
+}
+
 int cmd_diagnose(int argc, char **argv)
 {
     static variant vs[DIAG_MAX_VARIANTS];
@@ -251,7 +293,11 @@ int cmd_diagnose(int argc, char **argv)
     int count, status, n = 0, n_rows, i, r;
     variant oracle;
     rerror e;
-    cli_option options[] = {{NULL, 0, NULL, NULL, NULL, 0, 0, NULL}};
+    int json = 0;
+    cli_option options[] = {
+        {"--json", OPT_FLAG, &json, "one JSON object: compared rows, every variant's agreement per row, where B departs, the most likely variants", NULL, 0, 0, NULL},
+        {NULL, 0, NULL, NULL, NULL, 0, 0, NULL},
+    };
     status = cli_parse("diagnose", argc, argv, options, positional, 2, &count);
     if (status == 1) {
         cli_print_help(stdout, "diagnose", "A B  (A: an oracle stage dump, B: the build's dump of the same run)", options);
@@ -305,6 +351,10 @@ int cmd_diagnose(int argc, char **argv)
     for (i = 0; i < n; ++i) vs[i].index = i;
     oracle = vs[0];
     qsort(vs, (size_t)n, sizeof vs[0], by_mean);
+    if (json) {
+        print_json(vs, n, &oracle, rows, n_rows);
+        return 0;
+    }
     printf("%d frame(s) x stage(s) compared; agreement = fraction of B's records identical to the variant's\n", n_rows);
     printf("%-8s  %-84s  %s\n", "mean", "variant", "first stage below 1");
     for (i = 0; i < n; ++i) {
