@@ -1,5 +1,5 @@
 /* `restir render --sequence A..B --runs K` (render_sequence_runs.h): per-frame statistical
- * verdicts for sequences (issue 31; docs/statistics.md "Sequences"). */
+ * verdicts for sequences (issue 31; docs/oracle.md §8). */
 #include "render_sequence_runs.h"
 
 #include <errno.h>
