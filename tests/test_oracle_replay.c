@@ -320,7 +320,7 @@ TEST(oracle_diagnose_agreement)
 
 /* ---- per-frame statistical verdicts for sequences --------------------------------------- */
 
-#define RUNS_COMMON "scenes/cornell.scene --method restir --preset gris-realtime --size 32x24 --sequence 0..3 " \
+#define RUNS_COMMON "scenes/cornell.scene --method restir --preset gris-realtime --size 24x16 --sequence 0..2 " \
                     "--runs 16 --quiet --no-png --threads 2"
 
 /* --runs K with --sequence: one moments file set per frame that `restir check` reads, and
