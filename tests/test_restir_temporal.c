@@ -340,7 +340,7 @@ TEST(restir_temporal_cli_bad_input_exit_2)
         {"--sequence 1..2 --mcap much", "--mcap"},
         {"--accumulate", "--accumulate"},
         {"--sequence 1..2 --temporal-mis balance", "--temporal-mis"},
-        {"--sequence 1..2 --runs 2", "--runs"},
+        {"--sequence 1..2 --runs 2 --accumulate", "--runs"}, /* --runs with --sequence: issue 31 */
     };
     char scene_path[1024], prefix[1024], f0[1100];
     size_t i;

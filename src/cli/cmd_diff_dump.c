@@ -19,6 +19,7 @@
 #include "restir/oracle/dump_diff.h"
 #include "restir/oracle/stage_dump.h"
 #include "args.h"
+#include "diff_dump_runs.h"
 
 typedef struct {
     const char *a, *b, *images, *max_rel, *ignore;
@@ -437,7 +438,7 @@ int cmd_diff_dump(int argc, char **argv)
     memset(&a, 0, sizeof a);
     a.first = 5;
     a.min_same = 1;
-    a.z = 4.0;
+    a.z = -1; /* not given: 4, or the t quantile for paired runs */
     {
         const cli_option rows[] = {
             {"--json", OPT_FLAG, &a.json, "one JSON object with a row per frame and stage", NULL, 0, 0, NULL},
@@ -451,7 +452,7 @@ int cmd_diff_dump(int argc, char **argv)
             {"--first", OPT_INT, &a.first, "differing pixels listed per stage (default 5, no upper limit)", NULL, 0, 0, NULL},
             {"--images", OPT_STRING, &a.images, "write per frame and stage the difference mask (PNG, PFM) and F W of A and B (PFM, PNG) into this directory", NULL, 0, 0, NULL},
             {"--stat", OPT_FLAG, &a.stat, "statistical mode for builds with another RNG: compare the image means of luminance(F) W, of c and of the non-empty fraction per stage", NULL, 0, 0, NULL},
-            {"--z", OPT_REAL, &a.z, "with --stat: largest |z| that passes (default 4)", NULL, 0, 1e300, NULL},
+            {"--z", OPT_REAL, &a.z, "with --stat: largest |z| that passes (default 4; paired runs: |t|, default the t quantile of a 1e-3 two-sided false alarm over all rows and channels)", NULL, 0, 1e300, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
     }
@@ -468,6 +469,9 @@ int cmd_diff_dump(int argc, char **argv)
     }
     a.a = positional[0];
     a.b = positional[1];
+    if (a.stat && diff_dump_has_runs(a.a)) /* K runs per side: the paired per-channel test */
+        return diff_dump_runs(a.a, a.b, a.z < 0 ? 0 : a.z, a.json);
+    if (a.z < 0) a.z = 4.0;
     status = run(&a, &e);
     if (status == 2) fprintf(stderr, "restir diff-dump: %s\n", e.msg);
     return status;

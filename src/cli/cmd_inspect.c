@@ -9,6 +9,7 @@
 #include "restir/oracle/inspect.h"
 #include "restir/scene/animation.h"
 #include "args.h"
+#include "cmd_replay.h"
 #include "render_restir.h"
 #include "scene_args.h"
 
@@ -30,6 +31,8 @@ int cmd_inspect(int argc, char **argv)
     double load, prepare;
     scene s;
     rerror e;
+    for (n = 1; n < argc; ++n) /* a stage of a dump (cmd_replay.h) */
+        if (!strcmp(argv[n], "--from-dump")) return cmd_inspect_from_dump(argc, argv);
     restir_options_default(&o);
     memset(&overrides, 0, sizeof overrides);
     {

@@ -30,6 +30,7 @@
 #include "render_args.h"
 #include "render_rules.h"
 #include "render_runs.h"
+#include "render_sequence_runs.h"
 #include "render_stats.h"
 #include "render_table.h"
 #include "stop.h"
@@ -206,6 +207,7 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
     image img;
     int status;
     double t0;
+    if (a->sequence && a->runs > 0) return render_sequence_runs(a, s, out, t); /* per-frame moments */
     if (a->sequence) return render_sequence(a, s, out, t);
     t0 = now_seconds();
     if (a->runs > 0) {

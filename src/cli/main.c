@@ -5,6 +5,7 @@
 #include "cmd_bench.h"
 #include "cmd_check.h"
 #include "cmd_compare.h"
+#include "cmd_diagnose.h"
 #include "cmd_diff_dump.h"
 #include "cmd_generate.h"
 #include "cmd_info.h"
@@ -12,6 +13,7 @@
 #include "cmd_merge.h"
 #include "cmd_plot.h"
 #include "cmd_render.h"
+#include "cmd_replay.h"
 #include "cmd_stats.h"
 #include "cmd_vectors.h"
 
@@ -27,6 +29,8 @@ const cli_command cli_commands[] = {
     {"merge", cmd_merge, "combine path-tracer runs: checkpoints, or images with --counts"},
     {"inspect", cmd_inspect, "one pixel's ReSTIR path sample and its shift to a neighbour"},
     {"generate", cmd_generate, "write a generated scene (10 kinds: ajar, atrium, sphere, ...) as OBJ + MTL + scene file"},
+    {"replay", cmd_replay, "recompute one stage of one frame of a stage dump on its own inputs and diff it (docs/oracle.md)"},
+    {"diagnose", cmd_diagnose, "which known bug (ablation, option variant) makes dump B from dump A's inputs"},
     {"diff-dump", cmd_diff_dump, "stage-by-stage comparison of two --dump-dir directories (docs/oracle.md)"},
     {"vectors", cmd_vectors, "golden test vectors (JSON lines, one file per formula family), or --check them"},
     {"stats", cmd_stats, "mean-ci: mean and t interval of numbers on stdin; t-table (for scripts/results*)"},

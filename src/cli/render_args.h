@@ -49,6 +49,8 @@ typedef struct {
     const char *dump_stages, *from_stage, *dump_region;
     stage_io sio;
     frame_stage_hook hook; /* sio as the frame's stage listener */
+    int history_from_dump; /* --history-from-dump: frame A-1's final state from --from-dump (render_replay.h) */
+    char history_path[4200];
 } render_args;
 
 typedef struct {

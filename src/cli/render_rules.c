@@ -7,6 +7,7 @@
 #include <string.h>
 #include "collide.h"
 #include "output.h"
+#include "render_replay.h"
 #include "stop.h"
 
 static int ablation_index(const char *const *names, const char *name)
@@ -22,7 +23,7 @@ static int ablation_index(const char *const *names, const char *name)
 static int apply_stage_options(render_args *a)
 {
     rerror e;
-    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage || a->dump_region;
+    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage || a->dump_region || a->history_from_dump;
     if (!any) return 0;
     if (!a->sequence) {
         fprintf(stderr, "restir render: --dump-dir, --dump-stages, --from-dump and --from-stage need --sequence A..B\n");
@@ -53,7 +54,7 @@ static int apply_stage_options(render_args *a)
     }
     stage_io_hook(&a->sio, &a->hook);
     a->seq.stages = &a->hook;
-    return 0;
+    return apply_replay_options(a); /* --history-from-dump, inspect --from-dump's pixel trace */
 }
 
 /* --sequence A..B, --mcap C|inf, --accumulate, --no-temporal (restir only). */
@@ -82,8 +83,12 @@ static int apply_sequence_options(render_args *a)
         return 2;
     }
     if (!a->sequence) return 0;
-    if (a->runs > 0 || a->pt.o.time_limit > 0) {
-        fprintf(stderr, "restir render: --sequence cannot be combined with --runs or --time-limit\n");
+    if (a->pt.o.time_limit > 0) {
+        fprintf(stderr, "restir render: --sequence cannot be combined with --time-limit\n");
+        return 2;
+    }
+    if (a->runs > 0 && (a->accumulate || a->pt.o.checkpoint_path || a->pt.o.resume_path)) {
+        fprintf(stderr, "restir render: --sequence with --runs K: not with --accumulate, --checkpoint or --resume\n");
         return 2;
     }
     {

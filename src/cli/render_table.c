@@ -57,6 +57,7 @@ int render_table_build(cli_option *options, render_args *a, method_rows *methods
             {"--dump-region", OPT_STRING, &a->dump_region, "with --dump-dir: dump only the pixels of the rectangle X,Y,W,H (docs/oracle.md)", NULL, 0, 0, NULL},
             {"--from-dump", OPT_STRING, &a->sio.from_dir, "with --sequence: restart from this stage dump (needs --from-stage)", NULL, 0, 0, NULL},
             {"--from-stage", OPT_STRING, &a->from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
+            {"--history-from-dump", OPT_FLAG, &a->history_from_dump, "with --from-dump: the previous frame's final reservoirs come from the dump (frame A-1's last stage), not from this run (docs/oracle.md)", NULL, 0, 0, NULL},
             {"--stats", OPT_STRING, &a->stats, "write timings and counters as JSON", NULL, 0, 0, NULL},
             {"--quiet", OPT_FLAG, &a->quiet, "no progress or messages on stderr", NULL, 0, 0, NULL},
             {"--progress", OPT_CHOICE, &a->progress, "auto (default: a bar on a terminal, plain lines with the ETA otherwise), none, bar or lines", progress_mode_names, 0, 0, NULL},

@@ -6,7 +6,7 @@
 
 #include "render_args.h"
 
-#define RENDER_TABLE_ROWS 112 /* room for every row and the terminating one */
+#define RENDER_TABLE_ROWS 114 /* room for every row and the terminating one */
 
 /* Writes the rows (destinations in *a) and the terminating zero row into options[] and
  * which rows belong to which method into methods[0..2] (pt, restir, aov); returns the

@@ -89,6 +89,27 @@ static real temporal_cap(const pipeline *pl, long q, temporal_stats *st)
 
 /* ---- temporal stage -------------------------------------------------------------------- */
 
+/* `restir inspect --from-dump`: the traced pixel's temporal step (frame/pixel_trace.h); q
+ * is the source pixel in the previous frame (-1: none, the step had one domain). */
+static void trace_temporal(const pipeline *pl, const worker_state *w, long p, long q, rng_key key, const real *u)
+{
+    const frame_job *j = &pl->j;
+    pixel_trace t;
+    long pixels[2];
+    const reservoir *in[2];
+    temporal_stats unused;
+    memset(&unused, 0, sizeof unused);
+    pixels[0] = p;
+    pixels[1] = q;
+    in[0] = &pl->cur[p];
+    in[1] = q >= 0 ? &pl->prev[q] : NULL;
+    pixel_trace_gris(&t, PIXEL_TRACE_TEMPORAL, "temporal", j->frame, p, -1, key, RNG_VERTEX_TEMPORAL_RIS,
+                     (int)restir_step_mis(j->o, j->o->temporal.mis), q >= 0 ? 2 : 1, pixels, in, u, q >= 0 ? &w->ws : NULL,
+                     &pl->out[p]);
+    t.mcap = temporal_cap(pl, q, &unused);
+    j->hook->pixel(j->hook->user, &t);
+}
+
 static void temporal_pixel(pipeline *pl, worker_state *w, long p)
 {
     frame_job *j = &pl->j;
@@ -128,6 +149,7 @@ static void temporal_pixel(pipeline *pl, worker_state *w, long p)
                            restir_step_mis(o, o->temporal.mis), &v[0], q >= 0 ? &v[1] : NULL, &pl->cur[p],
                            q >= 0 ? &pl->prev[q] : NULL, temporal_cap(pl, q, &w->st.temporal), o->temporal.mcap_mode,
                            u, &pl->out[p], &w->ws, &w->st.temporal);
+    if (j->hook && j->hook->pixel && j->hook->trace_pixel == p) trace_temporal(pl, w, p, q, key, u);
 }
 
 static void temporal_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
@@ -173,6 +195,31 @@ static void stage_duplication(pipeline *pl, const reservoir *final, restir_stats
 
 /* ---- MCMC mutations (Mutations §3 Algorithm 3; mutate.h) ------------------------------- */
 
+/* `restir inspect --from-dump`: the traced pixel's chain, the same numbers as
+ * mutate_reservoir's (mutate_reservoir_traced), handed to the listener. */
+static void trace_mutation(pipeline *pl, worker_state *w, long p, rng_key key, const path_vertex *v)
+{
+    frame_job *j = &pl->j;
+    pixel_trace t;
+    memset(&t, 0, sizeof t);
+    mutate_reservoir_traced(&j->ctx, v, key, pl->mutate_stage, &j->o->mutation,
+                            &pl->out[p], reservoir_buffer_pss_row(pl->out, (size_t)j->s->width * (size_t)j->s->height,
+                                                                  (size_t)p),
+                            &w->st.mutate, &t.mutation);
+    t.step = PIXEL_TRACE_MUTATION;
+    snprintf(t.stage, sizeof t.stage, "%s", pl->mutate_stage == MUTATE_AFTER_INITIAL    ? "initial"
+                                            : pl->mutate_stage == MUTATE_AFTER_TEMPORAL ? "temporal"
+                                                                                         : "after-spatial");
+    t.frame = j->frame;
+    t.pixel = p;
+    t.pass = -1;
+    t.key = key;
+    t.mutate_stage = pl->mutate_stage;
+    t.selected = -1;
+    t.out = pl->out[p];
+    j->hook->pixel(j->hook->user, &t);
+}
+
 static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
 {
     pipeline *pl = ctx;
@@ -185,6 +232,10 @@ static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
             rng_key key = initial_pixel_key(&j->io, j->o->seed, j->frame, (uint32_t)p);
             path_vertex v;
             if (!gbuffer_primary_vertex(j->s, &j->g, p, &v)) continue;
+            if (j->hook && j->hook->pixel && j->hook->trace_pixel == p) {
+                trace_mutation(pl, w, p, key, &v);
+                continue;
+            }
             mutate_reservoir_opts(&j->ctx, &v, key, pl->mutate_stage, &j->o->mutation, &pl->out[p],
                                   reservoir_buffer_pss_row(pl->out, (size_t)j->s->width * (size_t)j->s->height, (size_t)p),
                                   &w->st.mutate);
@@ -376,12 +427,27 @@ static int checkpoint_resume(pipeline *pl, const restir_sequence *q, rerror *e)
     int k;
     if (reservoir_dump_read(q->resume, &rs, &info, e)) return -1;
     k = (int)info.frame;
-    if (strcmp(info.tag, "sequence") || info.width != (uint32_t)j->s->width || info.height != (uint32_t)j->s->height ||
-        k < q->first - 1 || k >= q->last) {
+    if ((q->resume_foreign ? k != q->first - 1 : strcmp(info.tag, "sequence") != 0) ||
+        info.width != (uint32_t)j->s->width || info.height != (uint32_t)j->s->height || k < q->first - 1 ||
+        k >= q->last) {
+        if (q->resume_foreign) {
+            free(rs);
+            return rerror_set(e, "%s: not frame %d's final state of this %dx%d sequence (tag '%s', %ux%u, frame %d)",
+                              q->resume, q->first - 1, j->s->width, j->s->height, info.tag, info.width, info.height, k);
+        }
         free(rs);
         return rerror_set(e, "%s: not a checkpoint of this sequence (tag '%s', %ux%u, frame %d; want %dx%d, frame in %d..%d)",
                           q->resume, info.tag, info.width, info.height, k, j->s->width, j->s->height,
                           q->first - 1, q->last - 1);
+    }
+    if (q->resume_foreign) { /* an infinite W would poison every later frame (as a restart refuses it) */
+        size_t i;
+        for (i = 0; i < pixels; ++i)
+            if (!isfinite((double)rs[i].W) || !isfinite((double)rs[i].wsum) || !isfinite((double)rs[i].confidence)) {
+                long x = (long)(i % (size_t)j->s->width), y = (long)(i / (size_t)j->s->width);
+                free(rs);
+                return rerror_set(e, "%s: pixel (%ld, %ld): W, wsum or confidence is not finite", q->resume, x, y);
+            }
     }
     memcpy(pl->prev, rs, pixels * sizeof *rs);
     reservoir_buffer_keep_pss(pl->prev, pixels, j->o->threads); /* the numbers, before rs's rows are freed */

@@ -59,6 +59,27 @@ static const path_vertex *lazy_vertex(void *user, int i)
     return w->x1[i];
 }
 
+/* `restir inspect --from-dump`: 1 if the listener traces pixel p (frame/pixel_trace.h). */
+static int traced(const frame_job *j, long p) { return j->hook && j->hook->pixel && j->hook->trace_pixel == p; }
+
+/* The domains' pixels of the step at p (domain 0 = p, then the accepted neighbours). */
+static void domain_pixels(const worker_state *w, long p, int m, long *pixels)
+{
+    int d;
+    for (d = 0; d < m && d < PIXEL_TRACE_MAX_DOMAINS; ++d) pixels[d] = d == 0 ? p : (long)w->nbr[d - 1];
+}
+
+/* The neighbour candidate that proposed each traced domain, then hands t to the listener. */
+static void trace_done(const frame_job *j, const worker_state *w, pixel_trace *t)
+{
+    int d;
+    if (!j->o->spatial.cells)
+        for (d = 1; d < t->kept; ++d) t->d[d].candidate = w->slot[d - 1];
+    t->neighbor_sample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass) +
+                         (j->ctx.ablation == RESTIR_ABLATE_NEIGHBOR_RNG);
+    j->hook->pixel(j->hook->user, t);
+}
+
 /* The stochastic pairwise step (stochastic_spatial.h) over the domains spatial_pixel set
  * up. Pick k of pass p draws RNG_RIS vertex RNG_VERTEX_STOCHASTIC_PICK(p), slot k;
  * canonical pick k RNG_VERTEX_STOCHASTIC_CANONICAL(p), slot k (rng.h). */
@@ -72,6 +93,16 @@ static void stochastic_spatial_pixel(frame_job *j, worker_state *w, rng_key key,
     w->sw.vertex = lazy_vertex;
     w->sw.vertex_user = w;
     stochastic_pairwise_resample(&j->ctx, &so, m, w->x1, w->in, w->u, w->up, w->uc, out, &w->sw, &w->st.spatial);
+    if (traced(j, (long)key.pixel)) {
+        pixel_trace t;
+        long pixels[PIXEL_TRACE_MAX_DOMAINS];
+        char name[32];
+        snprintf(name, sizeof name, "spatial%d", j->pass + 1);
+        domain_pixels(w, (long)key.pixel, m, pixels);
+        pixel_trace_stochastic(&t, name, j->frame, (long)key.pixel, j->pass, key, &so, m, pixels, w->in, w->u, w->up,
+                               w->uc, &w->sw, out);
+        trace_done(j, w, &t);
+    }
 }
 
 /* Enhanced §6.3: sum_i m_i(Y_i) F(Y_i) W_{X_i} |dT_i/dX_i| over the inputs of the GRIS step
@@ -101,7 +132,8 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
 {
     long p = (long)y * j->s->width + x;
     rng_key key = initial_pixel_key(&j->io, j->o->seed, j->frame, (uint32_t)p);
-    uint32_t nsample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass);
+    uint32_t nsample = neighbor_sample_index(j->frame, (uint32_t)j->o->spatial_passes, (uint32_t)j->pass) +
+                       (j->ctx.ablation == RESTIR_ABLATE_NEIGHBOR_RNG); /* the planted off-by-one */
     int n, d;
     if (j->pair ? j->pair_n[p] < 0 : !primary_vertex(j, p, &w->verts[0])) {
         reservoir_init(&j->dst[p]);
@@ -141,6 +173,17 @@ static void spatial_pixel(frame_job *j, worker_state *w, int x, int y)
     else
         spatial_resample(&j->ctx, restir_step_mis(j->o, j->o->spatial.mis), n + 1, w->x1, w->in, w->u, &j->dst[p], &w->ws,
                          &w->st.spatial);
+    if (traced(j, p)) {
+        pixel_trace t;
+        long pixels[PIXEL_TRACE_MAX_DOMAINS];
+        char name[32];
+        snprintf(name, sizeof name, "spatial%d", j->pass + 1);
+        domain_pixels(w, p, n + 1, pixels);
+        pixel_trace_gris(&t, j->pair ? PIXEL_TRACE_PAIR : PIXEL_TRACE_SPATIAL, name, j->frame, p, j->pass, key,
+                         RNG_VERTEX_SPATIAL_RIS(j->pass), (int)restir_step_mis(j->o, j->o->spatial.mis), n + 1, pixels,
+                         w->in, w->u, &w->ws, &j->dst[p]);
+        trace_done(j, w, &t);
+    }
     if (j->vector_shade && j->pass == j->o->spatial_passes - 1)
         j->vector_shade[p] = vector_estimate(&w->ws, w->in, n + 1, &w->st.spatial);
 }

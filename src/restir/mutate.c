@@ -328,11 +328,37 @@ void mutate_reservoir(const restir_context *c, const path_vertex *y1, rng_key ke
 void mutate_reservoir_opts(const restir_context *c, const path_vertex *y1, rng_key key, int stage,
                            const mutation_options *mo, reservoir *r, real *pss_home, mutate_stats *st)
 {
+    mutate_reservoir_traced(c, y1, key, stage, mo, r, pss_home, st, NULL);
+}
+
+/* Iteration it's record in tr (NULL: none kept). */
+static void trace_it(mutate_trace *tr, int it, int outcome, real tx, real tz, real ratio, real a, real u, real W)
+{
+    if (!tr || it >= MUTATE_TRACE_MAX) return;
+    tr->it[it].outcome = outcome;
+    tr->it[it].target_x = tx;
+    tr->it[it].target_z = tz;
+    tr->it[it].ratio = ratio;
+    tr->it[it].a = a;
+    tr->it[it].u = u;
+    tr->it[it].W = W;
+    tr->n = it + 1;
+}
+
+void mutate_reservoir_traced(const restir_context *c, const path_vertex *y1, rng_key key, int stage,
+                             const mutation_options *mo, reservoir *r, real *pss_home, mutate_stats *st,
+                             mutate_trace *tr)
+{
     real xi[3 * MUTATE_XI_STRIDE], u_numbers[PATH_MAX_PSS], z_numbers[PATH_MAX_PSS];
     int strategy = (int)mo->strategy, iterations = mo->count, gaussian = mo->kernel == MUTATE_KERNEL_GAUSSIAN;
     int it, j, why;
+    if (tr) {
+        tr->skip = -1;
+        tr->n = 0;
+    }
     st->pixels++;
     why = !(r->W > 0) || !(r->y.target > 0) ? MUTATE_SKIP_EMPTY : skip_reason(strategy, &r->y);
+    if (why >= 0 && tr) tr->skip = why;
     if (why >= 0) {
         st->skipped++;
         st->skip[why]++;
@@ -341,7 +367,7 @@ void mutate_reservoir_opts(const restir_context *c, const path_vertex *y1, rng_k
     }
     for (it = 0; it < iterations; ++it) {
         path_sample u, z;
-        real ratio, a, xl[2], xc[2];
+        real ratio, a, ua, tx, xl[2], xc[2];
         uint32_t slot = 64u * (uint32_t)it;
         int nv = numbered_vertices(&r->y);
         u.pss = u_numbers;
@@ -359,6 +385,7 @@ void mutate_reservoir_opts(const restir_context *c, const path_vertex *y1, rng_k
         }
         if (why) {
             if (it == 0) { /* the chain cannot start from this sample */
+                if (tr) tr->skip = why - 1;
                 st->skipped++;
                 st->skip[why - 1]++;
                 st->pss_numbers += r->y.n_pss;
@@ -367,6 +394,7 @@ void mutate_reservoir_opts(const restir_context *c, const path_vertex *y1, rng_k
             why = MUTATE_REJECT_INVERSE; /* cannot happen after an accepted proposal; counted */
             st->proposals++;
             st->rejected[why]++;
+            trace_it(tr, it, why, r->y.target, 0, 0, 0, 0, r->W);
             continue;
         }
         for (j = 0; j < PATH_PSS_PER_VERTEX * nv; ++j) {
@@ -381,16 +409,21 @@ void mutate_reservoir_opts(const restir_context *c, const path_vertex *y1, rng_k
         why = mutate_propose_kernel(c, y1, &u, strategy, mo->kernel, mo->sigma, xi, xl, &z, &ratio);
         if (why >= 0) {
             st->rejected[why]++;
+            trace_it(tr, it, why, r->y.target, 0, 0, 0, 0, r->W);
             continue;
         }
         if (c->ablation == RESTIR_ABLATE_RV_KERNEL) ratio = 1; /* ablation: symmetric kernel */
         a = mutate_acceptance(r->y.target, z.target, ratio);
-        if (!(rng_u(key, RNG_MUTATE, (uint32_t)stage, slot + MUTATE_SLOT_ACCEPT) < a)) {
+        ua = rng_u(key, RNG_MUTATE, (uint32_t)stage, slot + MUTATE_SLOT_ACCEPT);
+        if (!(ua < a)) {
             st->rejected_mh++;
+            trace_it(tr, it, MUTATE_TRACE_REJECTED_MH, r->y.target, z.target, ratio, a, ua, r->W);
             continue;
         }
         st->accepted++;
+        tx = r->y.target;
         if (c->ablation != RESTIR_ABLATE_MUTATION_W) r->W = mutate_weight(r->W, r->y.target, z.target);
+        trace_it(tr, it, MUTATE_TRACE_ACCEPTED, tx, z.target, ratio, a, ua, r->W);
         r->y = z;
         path_sample_keep_pss(&r->y, pss_home); /* z_numbers is the next proposal's storage */
     }

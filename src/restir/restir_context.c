@@ -6,7 +6,8 @@
 const char *const restir_shift_names[] = {"reconnection", "replay", "hybrid", NULL};
 const char *const restir_ablation_names[] = {"none", "jacobian", "light-pdf", "temporal-target", "temporal-suffix",
                                                 "stochastic-p", "footprint-base-only", "dual-mv-vertex",
-                                                "pair-mis", "mutation-w", "rv-kernel", "light-ris-pdf", NULL};
+                                                "pair-mis", "mutation-w", "rv-kernel", "light-ris-pdf", "mcap-current",
+                                                "neighbor-rng", NULL};
 const char *const rc_mode_names[] = {"gris", "footprint", NULL};
 
 /* Index = enum shift_failure. */

@@ -60,7 +60,7 @@ void temporal_resample_mode(const restir_context *cur, const restir_context *pre
 {
     const path_vertex *x1[2];
     const reservoir *in[2];
-    reservoir capped;
+    reservoir capped, cur_capped;
     domain_refresh rf;
     st->pixels++;
     if (!x1_prev || !prev_r) {
@@ -70,14 +70,19 @@ void temporal_resample_mode(const restir_context *cur, const restir_context *pre
     }
     /* GRIS §6.2 M_c, §6.4 (relative) or Mutations Algorithm 2 line 3 (absolute) */
     capped = *prev_r;
-    if (isfinite((double)mcap)) {
+    in[0] = cur_r;
+    if (isfinite((double)mcap) && cur->ablation == RESTIR_ABLATE_MCAP_CURRENT) {
+        /* the planted GPU bug: the cap lands on the current reservoir */
+        cur_capped = *cur_r;
+        reservoir_cap_confidence(&cur_capped, mcap * prev_r->confidence);
+        in[0] = &cur_capped;
+    } else if (isfinite((double)mcap)) {
         real cap = temporal_capped_confidence(capped.confidence, cur_r->confidence, mcap, mode);
         if (capped.confidence > cap) st->capped++;
         reservoir_cap_confidence(&capped, cap);
     }
     x1[0] = x1_cur;
     x1[1] = x1_prev;
-    in[0] = cur_r;
     in[1] = &capped;
     /* domain 1's MIS shifts run in the previous frame (GRIS App. B) */
     rf.fn = refresh_between_frames;

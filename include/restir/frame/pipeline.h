@@ -21,6 +21,9 @@ typedef struct {
     const char *resume;     /* non-NULL: continue after the frame k stored in this checkpoint
                                (first-1 <= k < last): frames k+1..last come out
                                byte-identical to an uninterrupted run (not with accumulate) */
+    int resume_foreign;     /* 1: `resume` is another build's final reservoirs of frame first-1
+                               (a stage dump file of any tag: `--history-from-dump`,
+                               docs/oracle.md §6), not this program's checkpoint */
     const struct frame_stage_hook_s *stages; /* non-NULL: the stage listener (stage_hook.h),
                                   e.g. per-stage dumps and/or restart (docs/oracle.md) */
 } restir_sequence;

@@ -12,6 +12,7 @@
 
 #include <stdint.h>
 #include "restir/core/error.h"
+#include "restir/frame/pixel_trace.h"
 #include "restir/render/gbuffer.h"
 #include "restir/restir/reservoir.h"
 
@@ -27,6 +28,10 @@ typedef struct frame_stage_hook_s {
     void (*reservoirs)(void *user, const char *stage, reservoir *rs, int width, int height);
     /* o: the frame's const restir_options (frame/options.h), for a manifest */
     int (*frame_end)(void *user, const void *o, rerror *e);
+    /* non-NULL: pixel trace_pixel's temporal and spatial steps, each right after the step
+       (pixel_trace.h; `restir inspect --from-dump`); called from a worker thread */
+    void (*pixel)(void *user, const pixel_trace *t);
+    long trace_pixel;
 } frame_stage_hook;
 
 #endif

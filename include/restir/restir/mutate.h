@@ -186,6 +186,28 @@ int mutate_propose_kernel(const restir_context *c, const path_vertex *y1, const 
                           enum mutate_kernel kernel, double sigma, const real *xi, const real xi_lobe[2],
                           path_sample *z, real *ratio);
 
+/* One pixel's chain as mutate_reservoir_traced ran it (`restir inspect --from-dump`). */
+#define MUTATE_TRACE_MAX 16 /* iterations recorded (more run, uncounted here) */
+enum { MUTATE_TRACE_ACCEPTED = -2, MUTATE_TRACE_REJECTED_MH = -1 }; /* else enum mutate_reject */
+typedef struct {
+    int skip; /* -1: the chain ran; else the enum mutate_skip that stopped it before iteration 0 */
+    int n;    /* iterations recorded */
+    struct {
+        int outcome;      /* MUTATE_TRACE_ACCEPTED, MUTATE_TRACE_REJECTED_MH, or enum mutate_reject */
+        real target_x;    /* p̂(x) of the current sample */
+        real target_z;    /* p̂(z) of the proposal (0 if it failed) */
+        real ratio;       /* T(z->x)/T(x->z) (Mutations Eq. 20) */
+        real a;           /* the acceptance probability (Eqs. 14, 19) */
+        real u;           /* the acceptance number: RNG_MUTATE, vertex = stage, slot 64 it + MUTATE_SLOT_ACCEPT */
+        real W;           /* W after the iteration (Eq. 23 on acceptance) */
+    } it[MUTATE_TRACE_MAX];
+} mutate_trace;
+
+/* mutate_reservoir, recording the chain into *tr (tr may be NULL: mutate_reservoir). */
+void mutate_reservoir_traced(const restir_context *c, const path_vertex *y1, rng_key key, int stage,
+                             const mutation_options *mo, reservoir *r, real *pss_home, mutate_stats *st,
+                             mutate_trace *tr);
+
 /* Mutations Fig. 8: of the n reservoirs, how many hold a sample (identity, x_k and explicit
  * numbers) that another reservoir holds too; *valid receives the number of non-empty ones. */
 uint64_t mutate_count_duplicates(const reservoir *r, size_t n, uint64_t *valid);

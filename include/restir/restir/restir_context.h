@@ -87,9 +87,18 @@ enum restir_ablation {
                                    kernel) */
     RESTIR_ABLATE_LIGHT_RIS_PDF = 11 /* "light-ris-pdf": with --light-ris, the BSDF side's MIS
                                    weight uses p_0 while NEE uses p̃ = 1/W (pt's ablation of the
-                                   same name, in every path contribution ReSTIR evaluates) */
+                                   same name, in every path contribution ReSTIR evaluates) */,
+    /* Per-stage bugs a GPU build makes (issue 31's planted bugs, docs/oracle.md §7): the
+     * estimate stays (nearly) unbiased, so only a stage diff sees them; `restir diagnose`
+     * tries them. */
+    RESTIR_ABLATE_MCAP_CURRENT = 12, /* "mcap-current": the temporal M-cap is applied to the
+                                   current reservoir (c_0 <= C c_1) instead of the history
+                                   (c_1 <= C c_0, GRIS §6.2): the history grows uncapped */
+    RESTIR_ABLATE_NEIGHBOR_RNG = 13 /* "neighbor-rng": the neighbour choice of spatial pass p
+                                   draws its numbers at RNG sample index
+                                   neighbor_sample_index(...) + 1 (off by one, neighbors.h) */
 };
-#define RESTIR_ABLATION_COUNT 12
+#define RESTIR_ABLATION_COUNT 14
 
 /* Reconnection criterion (connectability.h). gris (GRIS §7.4-7.5, §8.3; Enhanced §2.3):
  * x_{k-1} and x_k must be rough for their lobes and ||x_k - x_{k-1}|| >= min_distance.
