@@ -122,7 +122,7 @@ void rt_context(restir_context *c, const scene *s, const light_set *lights, int 
 int rt_make_spot(scene *s, int res);
 
 /* A fresh evaluation of sample x as a path of the pixel whose primary hit is y1, by the
- * path-sampling code alone (path_sampler.h, path_replay.h), never by the shift code:
+ * path-sampling code alone (vertex_sampling.h, path_replay.h), never by the shift code:
  * the prefix y_1..y_{k-1} is replayed from y1 with x's numbers, the suffix x_k..x_d is
  * replayed from x's own pixel (primary hit x1_origin; the shifts keep x_k..x_d), x_k is
  * rebuilt as seen from y_{k-1} and every factor of F = f/p is evaluated again (lobe

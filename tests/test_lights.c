@@ -233,7 +233,7 @@ TEST(light_solid_angle_pdf_integrates_to_one)
     CHECKF(fabs(mean - 1) < 4 * se && se < 0.02, "integral %g +- %g", mean, se);
 }
 
-/* NEE's shortcut (path_sampler.c): a sample's own pdf_area and d = y - x give exactly
+/* NEE's shortcut (vertex_sampling.c): a sample's own pdf_area and d = y - x give exactly
  * light_pdf_solid_angle(triangle, x, y, ny) (pdf_area_to_solid_angle_d; docs/performance.md). */
 TEST(light_sample_pdf_shortcut_exact)
 {

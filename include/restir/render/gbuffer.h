@@ -6,7 +6,7 @@
 #define RESTIR_GBUFFER_H
 
 #include "restir/render/camera.h"
-#include "restir/render/path_sampler.h"
+#include "restir/render/vertex_sampling.h"
 #include "restir/scene/scene.h"
 
 typedef struct {

@@ -33,7 +33,7 @@
 #ifndef RESTIR_LIGHT_RIS_H
 #define RESTIR_LIGHT_RIS_H
 
-#include "restir/render/path_sampler.h"
+#include "restir/render/vertex_sampling.h"
 
 #define LIGHT_RIS_MAX 1024       /* largest N (slots 4j .. 4j+3 stay below 4096) */
 #define LIGHT_TILE_COUNT 128     /* tiles per frame (Enhanced §7) */

@@ -21,7 +21,7 @@
 #include "restir/core/error.h"
 #include "restir/core/image.h"
 #include "restir/render/light_ris.h"
-#include "restir/render/path_sampler.h"
+#include "restir/render/vertex_sampling.h"
 #include "restir/scene/scene.h"
 
 #define PT_MAX_DEPTH_LIMIT 255 /* the RNG address has 8 bits for the vertex index */

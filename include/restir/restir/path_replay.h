@@ -1,7 +1,7 @@
 /* Building a path vertex by vertex from its random numbers: the one code path that
  * ReSTIR's initial path trees, the recording of a selected path, and random replay share
  * (GRIS §7.2 "random replay"; docs/design.md, Conventions). It calls the reference path tracer's per-vertex
- * steps (path_sampler.h) with the same arguments in the same order, so the same numbers
+ * steps (vertex_sampling.h) with the same arguments in the same order, so the same numbers
  * from the same primary hit give bit-identical vertices, lobes and throughputs.
  *
  * Numbers: the BSDF step at x_j uses the sample's RNG_BSDF numbers at vertex j (slot 0

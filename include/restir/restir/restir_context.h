@@ -7,7 +7,7 @@
 #ifndef RESTIR_RESTIR_CONTEXT_H
 #define RESTIR_RESTIR_CONTEXT_H
 
-#include "restir/render/path_sampler.h"
+#include "restir/render/vertex_sampling.h"
 
 /* The shift mappings of GRIS §7.4 (Enhanced §2.3). The shift also decides which
  * reconnection index a sample stores (connectability.h, rc_select). */

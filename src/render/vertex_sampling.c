@@ -1,6 +1,6 @@
 /* One vertex of unidirectional path sampling: NEE, one-lobe BSDF sampling, and the
- * balance-heuristic MIS weights of GRIS Eq. 49 (include/restir/render/path_sampler.h). */
-#include "restir/render/path_sampler.h"
+ * balance-heuristic MIS weights of GRIS Eq. 49 (include/restir/render/vertex_sampling.h). */
+#include "restir/render/vertex_sampling.h"
 
 #include "restir/render/light_ris.h"
 #include "restir/scene/scene_trace.h"
