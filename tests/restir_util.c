@@ -544,3 +544,55 @@ double rt_determinant(double a[6][6], int n)
     }
     return det;
 }
+
+/* The final confidences of frame 4 of a still-camera sequence (cornell-glossy 16^2, no
+ * spatial pass, `trees` path trees, temporal M-cap C = 2.5 in `mode`): every pixel with a
+ * history must hold `expect` exactly (read from the sequence checkpoint: the final
+ * reservoirs of frame 4). Fails the test (naming `what`) otherwise. */
+void rt_mcap_sequence_exact(int trees, enum temporal_mcap_mode mode, double expect, const char *what)
+{
+    scene s;
+    restir_options o;
+    restir_sequence q;
+    restir_stats total;
+    reservoir *rs;
+    reservoir_dump_info info;
+    rerror e;
+    char ck[1100], name[128];
+    long i, n, with = 0, wrong = 0;
+    double first_wrong = 0;
+    if (rt_load_scene("scenes/cornell-glossy.scene", 16, &s)) return;
+    restir_options_default(&o);
+    o.spatial_passes = 0;
+    o.candidates = trees;
+    o.max_depth = 3;
+    o.temporal.mcap = 2.5;
+    o.temporal.mcap_mode = mode;
+    o.threads = 2;
+    o.seed = test_seed();
+    memset(&q, 0, sizeof q);
+    q.first = 0;
+    q.last = 4;
+    snprintf(name, sizeof name, "mcap-%d-%s.checkpoint", trees, temporal_mcap_mode_names[mode]);
+    snprintf(ck, sizeof ck, "%s", test_tmp_path(name));
+    q.checkpoint = ck;
+    if (restir_render_sequence(&s, &o, &q, NULL, NULL, &total, &e) || reservoir_dump_read(ck, &rs, &info, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        scene_free(&s);
+        return;
+    }
+    n = (long)info.width * (long)info.height;
+    for (i = 0; i < n; ++i) {
+        double c = (double)rs[i].confidence;
+        if (c == 0) continue; /* no primary hit */
+        if (c == expect)
+            ++with;
+        else if (!wrong++)
+            first_wrong = c;
+    }
+    free(rs);
+    scene_free(&s);
+    CHECKF(wrong == 0, "%s: %ld of %ld pixels have confidence != %g after 5 frames (first: %g)", what, wrong,
+           wrong + with, expect, first_wrong);
+    CHECKF(with > n / 2, "%s: only %ld of %ld pixels carry a history", what, with, n);
+}

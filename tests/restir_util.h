@@ -10,6 +10,7 @@
 #include "restir/frame/options.h"
 #include "restir/frame/pipeline.h"
 #include "restir/restir/initial.h"
+#include "restir/restir/reservoir_dump.h"
 #include "restir/restir/shift.h"
 
 /* The name rt_load_scene takes for the generated mirror corridor (generate_corridor). */
@@ -136,5 +137,9 @@ rgb rt_fresh_contribution(const restir_context *c, const path_vertex *y1, const 
 /* Determinant of the leading n x n block (n <= 6) by Gaussian elimination with partial
  * pivoting (a is overwritten): finite-difference Jacobians of the shift and mutation tests. */
 double rt_determinant(double a[6][6], int n);
+
+/* Frame 4's final confidences of a still-camera sequence with M-cap 2.5 in `mode` and
+ * `trees` path trees all equal `expect` (restir_util.c). */
+void rt_mcap_sequence_exact(int trees, enum temporal_mcap_mode mode, double expect, const char *what);
 
 #endif

@@ -206,46 +206,5 @@ TEST(evidence_temporal_round_trip_exact)
  * mcap-on-output). Read from the sequence checkpoint (the final reservoirs of frame 4). */
 TEST(evidence_temporal_mcap_on_input_exact)
 {
-    scene s;
-    restir_options o;
-    restir_sequence q;
-    restir_stats total;
-    reservoir *rs;
-    reservoir_dump_info info;
-    rerror e;
-    char ck[1100];
-    long i, n, with = 0, wrong = 0;
-    double first_wrong = 0;
-    if (rt_load_scene("scenes/cornell-glossy.scene", 16, &s)) return;
-    restir_options_default(&o);
-    o.spatial_passes = 0;
-    o.candidates = 1;
-    o.max_depth = 3;
-    o.temporal.mcap = 2.5;
-    o.threads = 2;
-    o.seed = test_seed();
-    memset(&q, 0, sizeof q);
-    q.first = 0;
-    q.last = 4;
-    snprintf(ck, sizeof ck, "%s", test_tmp_path("evidence-mcap.checkpoint"));
-    q.checkpoint = ck;
-    if (restir_render_sequence(&s, &o, &q, NULL, NULL, &total, &e) || reservoir_dump_read(ck, &rs, &info, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&s);
-        return;
-    }
-    n = (long)info.width * (long)info.height;
-    for (i = 0; i < n; ++i) {
-        double c = (double)rs[i].confidence;
-        if (c == 0) continue; /* no primary hit */
-        if (c == 3.5)
-            ++with;
-        else if (!wrong++)
-            first_wrong = c;
-    }
-    free(rs);
-    scene_free(&s);
-    CHECKF(wrong == 0, "%ld of %ld pixels have confidence != c_0 + min(c_1, C c_0) = 3.5 after 5 frames (first: %g)",
-           wrong, wrong + with, first_wrong);
-    CHECKF(with > n / 2, "only %ld of %ld pixels carry a history", with, n);
+    rt_mcap_sequence_exact(1, TEMPORAL_MCAP_RELATIVE, 3.5, "c_0 + min(c_1, C c_0) = 3.5");
 }

@@ -239,57 +239,10 @@ TEST(paper_mcap_modes_by_hand_exact)
 /* The final confidences of frame 4 of a still-camera sequence (cornell-glossy 16^2, no
  * spatial pass, 2 path trees: c_0 = 2, C = 2.5), every pixel with a history: relative
  * 2, 4, 6, 7, 7; absolute 2, 4, 4.5, 4.5, 4.5. Read from the sequence checkpoint. */
-static void mcap_sequence(enum temporal_mcap_mode mode, double expect)
-{
-    scene s;
-    restir_options o;
-    restir_sequence q;
-    restir_stats total;
-    reservoir *rs;
-    reservoir_dump_info info;
-    rerror e;
-    char ck[1100];
-    long i, n, with = 0, wrong = 0;
-    double first_wrong = 0;
-    if (rt_load_scene("scenes/cornell-glossy.scene", 16, &s)) return;
-    restir_options_default(&o);
-    o.spatial_passes = 0;
-    o.candidates = 2;
-    o.max_depth = 3;
-    o.temporal.mcap = 2.5;
-    o.temporal.mcap_mode = mode;
-    o.threads = 2;
-    o.seed = test_seed();
-    memset(&q, 0, sizeof q);
-    q.first = 0;
-    q.last = 4;
-    snprintf(ck, sizeof ck, "%s", test_tmp_path(mode ? "paper-mcap-absolute.checkpoint" : "paper-mcap-relative.checkpoint"));
-    q.checkpoint = ck;
-    if (restir_render_sequence(&s, &o, &q, NULL, NULL, &total, &e) || reservoir_dump_read(ck, &rs, &info, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&s);
-        return;
-    }
-    n = (long)info.width * (long)info.height;
-    for (i = 0; i < n; ++i) {
-        double c = (double)rs[i].confidence;
-        if (c == 0) continue; /* no primary hit */
-        if (c == expect)
-            ++with;
-        else if (!wrong++)
-            first_wrong = c;
-    }
-    free(rs);
-    scene_free(&s);
-    CHECKF(wrong == 0, "%s cap: %ld of %ld pixels have confidence != %g after 5 frames (first: %g)",
-           temporal_mcap_mode_names[mode], wrong, wrong + with, expect, first_wrong);
-    CHECKF(with > n / 2, "only %ld of %ld pixels carry a history", with, n);
-}
-
 TEST(paper_mcap_modes_sequence_exact)
 {
-    mcap_sequence(TEMPORAL_MCAP_RELATIVE, 7);
-    mcap_sequence(TEMPORAL_MCAP_ABSOLUTE, 4.5);
+    rt_mcap_sequence_exact(2, TEMPORAL_MCAP_RELATIVE, 7, "relative cap");
+    rt_mcap_sequence_exact(2, TEMPORAL_MCAP_ABSOLUTE, 4.5, "absolute cap");
 }
 
 /* The flags on the command line: each reaches --stats (only when it differs from the default;
