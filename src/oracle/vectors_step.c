@@ -4,6 +4,7 @@
  * outputs are the step's own results and the workspace entries it used. */
 #include "vectors_step.h"
 
+#include <math.h>
 #include <string.h>
 #include "restir/frame/options.h"
 #include "restir/restir/initial.h"
@@ -115,7 +116,7 @@ void vectors_cases_temporal(vectors_emit_fn emit, void *g)
         {1, 20, 3, 4, 6, 12, 8, 11, 1, 19, 0.5, 0.25, "Talbot, history two pixels away"},
         {1, 2, 1, 2, 12, 9, 13, 9, 1, 5, 0.5, 0.5, "Talbot, C = 2 caps the history's 5 to 2 (input, not output)"},
         {1, 2, 5, 6, 16, 5, 15, 6, 2, 30, 0.9, 0.1, "Talbot, C = 2, c_t = 2: history 30 capped to 4"},
-        {1, 1e300, 1, 2, 12, 9, 13, 9, 1, 50, 0.5, 0.5, "Talbot, no cap (C huge)"},
+        {1, INFINITY, 1, 2, 12, 9, 13, 9, 1, 50, 0.5, 0.5, "Talbot, no cap (C = inf)"},
         {3, 20, 1, 2, 12, 9, 13, 9, 1, 5, 0.5, 0.5, "pairwise defensive"},
         {3, 2, 7, 8, 4, 4, 5, 5, 1, 9, 0.3, 0.7, "pairwise defensive, capped"},
         {2, 20, 9, 10, 20, 14, 19, 14, 1, 5, 0.5, 0.5, "pairwise uniform"},
