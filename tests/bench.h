@@ -29,7 +29,7 @@
  * bug counts as caught at |z| >= 6 (tests/mutants/README.md). */
 #define BENCH_Z_CONSISTENT 4.5
 
-typedef struct {
+typedef struct bench_paired_s {
     const char *name;
     int runs;                    /* K pairs added */
     double sum_a[3], sum_b[3], sum_d[3], sum_dd[3]; /* accumulators (d: shifted by the first d) */

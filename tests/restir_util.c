@@ -1,6 +1,7 @@
 /* Test helpers for ReSTIR PT (tests/restir_util.h). */
 #include "pt_util.h"
 #include "restir_util.h"
+#include "bench.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -225,9 +226,20 @@ int rt_compare_sides(const check_side *a, const check_side *b, double alpha, int
     return status;
 }
 
+static bench_paired last_channels;
+
+const struct bench_paired_s *rt_last_channels(void) { return &last_channels; }
+
 int rt_compare_paired(const check_side *a, const check_side *b, double alpha, int block, check_result *r)
 {
-    return rt_compare_sides(a, b, alpha, block, 1, r);
+    int status = rt_compare_sides(a, b, alpha, block, 1, r);
+    long k;
+    bench_paired_init(&last_channels, "rt_compare_paired R, G, B");
+    if (status || !a->run_means || !b->run_means || a->runs != b->runs || a->runs < 2) return status;
+    for (k = 0; k < a->runs; ++k) bench_paired_add(&last_channels, a->run_means + 3 * k, b->run_means + 3 * k);
+    bench_paired_finish(&last_channels);
+    if (bench_paired_max_abs_z(&last_channels, NULL) >= BENCH_Z_CONSISTENT) r->different = 1;
+    return 0;
 }
 
 int rt_compare(check_side *a, check_side *b, double alpha, int block, check_result *r)

@@ -55,8 +55,14 @@ check_options rt_check_options(double alpha, int block);
  * failure. Returns 0 on success. */
 int rt_compare_sides(const check_side *a, const check_side *b, double alpha, int block, int paired,
                      check_result *r);
-/* rt_compare_sides(a, b, alpha, block, 1, r). */
+/* rt_compare_sides(a, b, alpha, block, 1, r), plus the paired bench per colour channel
+ * (tests/bench.h; issue 26) on the same runs: the K per-run image means of R, G and B of A
+ * and B (same seeds) give one paired t per channel, and a channel with |z| >=
+ * BENCH_Z_CONSISTENT sets r->different too (check_compare_paired's global test is on
+ * luminance, which a colour-only bias passes). rt_last_channels() holds the last bench. */
 int rt_compare_paired(const check_side *a, const check_side *b, double alpha, int block, check_result *r);
+struct bench_paired_s;
+const struct bench_paired_s *rt_last_channels(void);
 /* The signed normal-equivalent z of the image-mean luminance test of r. */
 double rt_mean_z(const check_result *r);
 

@@ -491,15 +491,20 @@ TEST(oracle_inspect_options_from_names_the_planted_bug)
     CHECKF(status == 0, "the patched build replayed with its own options: exit %d\n%s", status, out);
 }
 
-/* With --mutations the temporal dump holds the mutated output: inspect says a mutation changed
- * the step's output and compares the record with the mutated one (identical on our dump). */
+/* With --mutations the chain is a dump stage of its own (mutate-temporal): inspect of the
+ * temporal step compares the step's output (identical) and shows the chain that follows;
+ * inspect of mutate-temporal compares the chain's output with its record (identical). */
 TEST(oracle_inspect_from_dump_after_mutation)
 {
     const char *d = dump_of("mutate", "scenes/cornell.scene --method restir --preset gris-realtime --size 32x24 "
                                       "--sequence 0..1 --mutations 2 --quiet --no-png --threads 2");
     int status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage temporal --pixel 16,12", d);
-    CHECKF(status == 0 && strstr(out, "identical to the recomputation") &&
-               strstr(out, "an MCMC mutation inside stage temporal changed the step's output"),
+    CHECKF(status == 0 && strstr(out, "temporal.resv): identical to the recomputation") &&
+               strstr(out, "mutation after the step"),
+           "exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage mutate-temporal --pixel 16,12", d);
+    CHECKF(status == 0 && strstr(out, "mutate-temporal.resv): identical to the recomputation") &&
+               strstr(out, "it 0: "),
            "exit %d\n%s", status, out);
 }
 

@@ -23,7 +23,7 @@
 
 typedef struct {
     const char *a, *b, *images, *max_rel, *ignore;
-    int json, stat, first;
+    int json, stat, paired, first;
     double max_rel_w, max_rel_target, max_rel_conf, min_same, z, outliers;
 } diff_args;
 
@@ -130,11 +130,17 @@ static int report_row(const diff_args *a, const stage_manifest *m, long frame, c
                       const dump_diff_tolerance *t, int *first_row)
 {
     double same = (double)r->same / (double)r->pixels, z = dump_diff_mean_z(r), zc = dump_diff_confidence_z(r),
-           zn = dump_diff_nonempty_z(r);
-    /* a NaN z (non-finite values) fails: |NaN| <= bound is false */
-    int pass = a->stat ? r->nonfinite == 0 && fabs(z) <= a->z && fabs(zc) <= a->z && fabs(zn) <= a->z
-                       : dump_diff_pass(r, t);
+           zn = dump_diff_nonempty_z(r), zrgb[3], zp[4];
+    static const char *const ch[] = {"R", "G", "B"};
+    int pass, c;
     long i;
+    for (c = 0; c < 4; ++c) zp[c] = dump_diff_paired_z(r, c);
+    for (c = 0; c < 3; ++c) zrgb[c] = dump_diff_channel_z(r, c);
+    /* a NaN z (non-finite values) fails: |NaN| <= bound is false. F W is judged per channel
+     * R, G, B and in luminance: unpaired, or with --paired by the per-pixel differences */
+    pass = a->stat ? r->nonfinite == 0 && fabs(a->paired ? zp[3] : z) <= a->z && fabs(zc) <= a->z && fabs(zn) <= a->z
+                   : dump_diff_pass(r, t);
+    for (c = 0; c < 3 && a->stat; ++c) pass = pass && fabs(a->paired ? zp[c] : zrgb[c]) <= a->z;
     if (a->json) {
         printf("%s\n  {\"frame\": %ld, \"stage\": ", *first_row ? "" : ",", frame);
         json_put_string(stdout, stage);
@@ -153,6 +159,21 @@ static int report_row(const diff_args *a, const stage_manifest *m, long frame, c
         put_means("mean_FW", r->mean_fw, "z", z);
         put_means("mean_confidence", r->mean_c, "z_confidence", zc);
         put_means("nonempty", r->mean_full, "z_nonempty", zn);
+        for (c = 0; c < 3; ++c) {
+            char mn[16], zn_[16];
+            double v[2];
+            v[0] = r->mean_rgb[0][c];
+            v[1] = r->mean_rgb[1][c];
+            snprintf(mn, sizeof mn, "mean_FW_%s", ch[c]);
+            snprintf(zn_, sizeof zn_, "z_%s", ch[c]);
+            put_means(mn, v, zn_, zrgb[c]);
+        }
+        printf(", \"z_paired\": [");
+        for (c = 0; c < 4; ++c) {
+            if (c) printf(", ");
+            json_put_number(stdout, zp[c]);
+        }
+        printf("]");
         printf(", \"pass\": %s, \"first_differing\": [", pass ? "true" : "false");
         for (i = 0; i < r->n_first; ++i) {
             if (i) printf(", ");
@@ -167,10 +188,14 @@ static int report_row(const diff_args *a, const stage_manifest *m, long frame, c
         if (r->nonfinite) printf("    %ld pixels with a non-finite value (never within a tolerance)\n", r->nonfinite);
         if (r->beyond) printf("    %ld same-sample pixels beyond a tolerance (allowed: %.0f)\n", r->beyond,
                               floor(t->max_outlier_fraction * (double)r->pixels));
-        if (a->stat)
+        if (a->stat) {
             printf("    mean c %.6g | %.6g (z %+.2f)  non-empty %.6f | %.6f (z %+.2f)\n", r->mean_c[0], r->mean_c[1], zc,
                    r->mean_full[0], r->mean_full[1], zn);
-        else {
+            printf("    F*W");
+            for (c = 0; c < 3; ++c) printf(" %s %.6g | %.6g (z %+.2f) ", ch[c], r->mean_rgb[0][c], r->mean_rgb[1][c], zrgb[c]);
+            printf(" paired z R %+.2f G %+.2f B %+.2f lum %+.2f%s\n", zp[0], zp[1], zp[2], zp[3],
+                   a->paired ? " (judged)" : "");
+        } else {
             print_fields_text(r);
             for (i = 0; i < r->n_first; ++i) print_pixel_text(m, &r->firsts[i], frame);
         }
@@ -451,7 +476,8 @@ int cmd_diff_dump(int argc, char **argv)
             {"--max-outlier-fraction", OPT_REAL, &a.outliers, "fraction of the pixels that may be beyond a tolerance (same sample; never a non-finite value) (default 0)", NULL, 0, 1, NULL},
             {"--first", OPT_INT, &a.first, "differing pixels listed per stage (default 5, no upper limit)", NULL, 0, 0, NULL},
             {"--images", OPT_STRING, &a.images, "write per frame and stage the difference mask (PNG, PFM) and F W of A and B (PFM, PNG) into this directory", NULL, 0, 0, NULL},
-            {"--stat", OPT_FLAG, &a.stat, "statistical mode for builds with another RNG: compare the image means of luminance(F) W, of c and of the non-empty fraction per stage", NULL, 0, 0, NULL},
+            {"--stat", OPT_FLAG, &a.stat, "statistical mode for builds with another RNG: compare the image means of F W per channel R, G, B and in luminance, of c and of the non-empty fraction per stage", NULL, 0, 0, NULL},
+            {"--paired", OPT_FLAG, &a.paired, "with --stat (implied): judge F W (R, G, B, luminance) by the per-pixel differences A - B, far stronger when both share the oracle's RNG (a port with the same RNG, a planted bug)", NULL, 0, 0, NULL},
             {"--z", OPT_REAL, &a.z, "with --stat: largest |z| that passes (default 4; paired runs: |t|, default the t quantile of a 1e-3 two-sided false alarm over all rows and channels)", NULL, 0, 1e300, NULL},
         };
         for (n = 0; n < (int)(sizeof rows / sizeof rows[0]); ++n) options[n] = rows[n];
@@ -469,6 +495,7 @@ int cmd_diff_dump(int argc, char **argv)
     }
     a.a = positional[0];
     a.b = positional[1];
+    if (a.paired) a.stat = 1;
     if (a.stat && diff_dump_has_runs(a.a)) /* K runs per side: the paired per-channel test */
         return diff_dump_runs(a.a, a.b, a.z < 0 ? 0 : a.z, a.json);
     if (a.z < 0) a.z = 4.0;

@@ -253,12 +253,15 @@ static void catch_output(void *user, const char *stage, const reservoir *r)
 static void catch_trace(void *user, const pixel_trace *t)
 {
     trace_catch *c = user;
-    if (strcmp(t->stage, c->stage)) return; /* a later stage of the same frame */
+    /* a mutation chain belongs to stage mutate-S (its own dump stage) and is shown with S too */
     if (t->step == PIXEL_TRACE_MUTATION) {
-        c->mutation = *t;
-        c->have_mutation = 1;
+        if (!strcmp(t->stage, c->stage) || (!strncmp(t->stage, "mutate-", 7) && !strcmp(t->stage + 7, c->stage))) {
+            c->mutation = *t;
+            c->have_mutation = 1;
+        }
         return;
     }
+    if (strcmp(t->stage, c->stage)) return; /* a later stage of the same frame */
     c->t = *t;
     c->found = 1;
 }
@@ -521,6 +524,51 @@ static int dump_record(const replay_plan *p, long pixel, char *path, size_t size
     return 1;
 }
 
+/* A mutation stage (Mutations Algorithm 3 after the stage it names; dumped as
+ * mutate-initial, mutate-temporal, mutate-spatial): the pixel's chain as it ran, and the
+ * stage's output against the dump's record. */
+static int inspect_mutation_stage(const replay_plan *p, const trace_catch *c, long pixel, int json, const long *xy)
+{
+    char file[4200];
+    reservoir rec;
+    field_diff diffs[16];
+    rerror e;
+    int have, nd = 0, i;
+    if (!c->have_mutation || !c->have_final) {
+        printf("frame %ld, stage %s, pixel (%ld, %ld): no chain ran here (no primary hit)\n", p->frame, p->stage, xy[0],
+               xy[1]);
+        return 0;
+    }
+    have = dump_record(p, pixel, file, sizeof file, &rec, &e);
+    if (have < 0) {
+        fprintf(stderr, "restir inspect: %s\n", e.msg);
+        return 2;
+    }
+    if (have) nd = record_diffs(&rec, &c->final, diffs);
+    if (json) {
+        printf("{");
+        print_mutation(stdout, &c->mutation, 1);
+        printf("\"W\": %.17g, \"confidence\": %.17g, \"dump_record\": %d, \"differs\": [", (double)c->final.W,
+               (double)c->final.confidence, have);
+        for (i = 0; i < nd; ++i) printf("%s\"%s\"", i ? ", " : "", diffs[i].field);
+        printf("]}\n");
+        return 0;
+    }
+    printf("frame %ld, stage %s, pixel (%ld, %ld)\n", p->frame, p->stage, xy[0], xy[1]);
+    print_mutation(stdout, &c->mutation, 0);
+    printf("output: W %.17g, confidence %.17g, sample ", (double)c->final.W, (double)c->final.confidence);
+    print_id(stdout, &c->final.y, 0);
+    printf("\n");
+    if (!have) printf("dump record: %s is not in the dump (nothing to compare)\n", file);
+    else if (nd == 0) printf("dump record (%s): identical to the recomputation\n", file);
+    else {
+        printf("dump record (%s): DIFFERS from the recomputation in %d field(s):\n", file, nd);
+        for (i = 0; i < nd; ++i)
+            printf("  %s: dump %.17g, recomputed %.17g\n", diffs[i].field, diffs[i].dump, diffs[i].recomputed);
+    }
+    return 0;
+}
+
 static int parse_xy(const char *text, long xy[2])
 {
     char extra;
@@ -569,7 +617,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
         fprintf(stderr, "restir inspect: %s\n", e.msg);
         return 2;
     }
-    if (strcmp(stage, "temporal") && strncmp(stage, "spatial", 7)) {
+    if (strcmp(stage, "temporal") && strncmp(stage, "spatial", 7) && strncmp(stage, "mutate-", 7)) {
         fprintf(stderr, "restir inspect: --stage %s is not a reuse step (temporal, spatial1, ...); the initial "
                         "sample of a pixel: restir inspect SCENE --pixel x,y --first-frame F (exact)\n", stage);
         return 2;
@@ -604,6 +652,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
     remove_frame_image(prefix, p.frame);
     rmdir(tmpdir);
     if (status) return status;
+    if (!strncmp(stage, "mutate-", 7)) return inspect_mutation_stage(&p, &c, req.pixel, json, xy);
     if (!c.found) {
         printf("frame %ld, stage %s, pixel (%ld, %ld): no primary hit (or no such stage ran): the stage's output is "
                "an empty reservoir\n", p.frame, stage, xy[0], xy[1]);

@@ -207,9 +207,10 @@ static void trace_mutation(pipeline *pl, worker_state *w, long p, rng_key key, c
                                                                   (size_t)p),
                             &w->st.mutate, &t.mutation);
     t.step = PIXEL_TRACE_MUTATION;
-    snprintf(t.stage, sizeof t.stage, "%s", pl->mutate_stage == MUTATE_AFTER_INITIAL    ? "initial"
-                                            : pl->mutate_stage == MUTATE_AFTER_TEMPORAL ? "temporal"
-                                                                                         : "after-spatial");
+    /* the stage the chain's output is dumped as (stage_mutate) */
+    snprintf(t.stage, sizeof t.stage, "%s", pl->mutate_stage == MUTATE_AFTER_INITIAL    ? "mutate-initial"
+                                            : pl->mutate_stage == MUTATE_AFTER_TEMPORAL ? "mutate-temporal"
+                                                                                         : "mutate-spatial");
     t.frame = j->frame;
     t.pixel = p;
     t.pass = -1;
@@ -242,14 +243,30 @@ static void mutate_tile(void *ctx, int x0, int y0, int x1, int y1, int worker)
         }
 }
 
-/* N mutations of every pixel's reservoir in r (in place) if the options ask for `stage`. */
-static void stage_mutate(pipeline *pl, reservoir *r, int stage, restir_stats *times, double *t)
+/* The mutation pass itself (stage_mutate). */
+static void mutate_pass(pipeline *pl, reservoir *r, int stage, restir_stats *times, double *t)
 {
-    if (pl->j.o->mutation.count <= 0 || !(pl->j.o->mutation.stages & stage)) return;
     pl->out = r;
     pl->mutate_stage = stage;
     parallel_tiles(pl->j.s->width, pl->j.s->height, 16, pl->j.o->threads, mutate_tile, pl, NULL, NULL);
     times->ms_mutate += frame_lap_ms(t);
+}
+
+/* N mutations of every pixel's reservoir in r (in place) if the options ask for `stage`:
+ * a stage of its own for dumps, restart and diff-dump ("mutate-initial", "mutate-temporal",
+ * "mutate-spatial"), reported after the stage it mutates. Returns 1 if the frame was
+ * cancelled (the incomplete stage is neither dumped nor used). Without mutations nothing
+ * is reported: the stage order and every output stay those of a run without them. */
+static int stage_mutate(pipeline *pl, reservoir *r, int stage, restir_stats *times, double *t)
+{
+    const char *name = stage == MUTATE_AFTER_INITIAL    ? "mutate-initial"
+                       : stage == MUTATE_AFTER_TEMPORAL ? "mutate-temporal"
+                                                        : "mutate-spatial";
+    if (pl->j.o->mutation.count <= 0 || !(pl->j.o->mutation.stages & stage)) return 0;
+    if (!pipeline_stage_skipped(&pl->j, name)) mutate_pass(pl, r, stage, times, t);
+    if (threads_cancelled()) return 1;
+    pipeline_stage_done(&pl->j, name, r);
+    return 0;
 }
 
 /* ---- the frame ------------------------------------------------------------------------- */
@@ -317,19 +334,15 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
     times->ms_motion += frame_lap_ms(&t);
     if (threads_cancelled()) return 1;
     if (j->hook && j->hook->gbuffer) j->hook->gbuffer(j->hook->user, &j->g);
-    if (!pipeline_stage_skipped(j, "initial")) {
-        frame_stage_initial(j, times, &t);
-        stage_mutate(pl, j->initial, MUTATE_AFTER_INITIAL, times, &t); /* part of the "initial" dump */
-    }
+    if (!pipeline_stage_skipped(j, "initial")) frame_stage_initial(j, times, &t);
     if (threads_cancelled()) return 1; /* before a stage's dump: only complete stages are dumped */
     pipeline_stage_done(j, "initial", j->initial);
+    if (stage_mutate(pl, j->initial, MUTATE_AFTER_INITIAL, times, &t)) return 1;
     if (j->o->temporal.enabled) {
-        if (!pipeline_stage_skipped(j, "temporal")) {
-            stage_temporal(pl, j->initial, j->pong, times, &t);
-            stage_mutate(pl, j->pong, MUTATE_AFTER_TEMPORAL, times, &t); /* part of the "temporal" dump */
-        }
+        if (!pipeline_stage_skipped(j, "temporal")) stage_temporal(pl, j->initial, j->pong, times, &t);
         if (threads_cancelled()) return 1;
         pipeline_stage_done(j, "temporal", j->pong);
+        if (stage_mutate(pl, j->pong, MUTATE_AFTER_TEMPORAL, times, &t)) return 1;
         stage_boiling(pl, j->pong, times, &t);
         final = frame_stage_spatial(j, j->pong, j->initial, times, &t);
     } else {
@@ -337,8 +350,8 @@ static int pipeline_frame(pipeline *pl, int frame, restir_stats *times, rerror *
         final = frame_stage_spatial(j, j->initial, j->pong, times, &t);
     }
     if (threads_cancelled()) return 1;
-    if (j->o->spatial_passes > 0) stage_mutate(pl, final, MUTATE_AFTER_SPATIAL, times, &t);
     if (threads_cancelled()) return 1;
+    if (j->o->spatial_passes > 0 && stage_mutate(pl, final, MUTATE_AFTER_SPATIAL, times, &t)) return 1;
     if (!j->o->no_duplicate_stats) { /* Mutations Fig. 8: duplicated samples among the shaded
        * reservoirs (timed with the duplication map: a statistic of the same kind, not shading) */
         uint64_t valid;

@@ -320,6 +320,50 @@ static void image_mean(const reservoir *rs, long n, enum image_quantity q, doubl
     *se = n > 1 ? sqrt(fmax(s2 / (double)n - *mean * *mean, 0) / (double)(n - 1)) : 0;
 }
 
+/* F_c W of channel c = 0, 1, 2 (R, G, B), or luminance(F) W for c = 3. */
+static double channel_fw(const reservoir *r, int c)
+{
+    real f = c == 0 ? r->y.F.r : c == 1 ? r->y.F.g : r->y.F.b;
+    return c == 3 ? quantity(r, Q_FW) : (double)f * (double)r->W;
+}
+
+/* Per channel: the image means of F_c W of one side and their standard errors. */
+static void image_mean_rgb(const reservoir *rs, long n, double *mean, double *se)
+{
+    double s[3] = {0, 0, 0}, s2[3] = {0, 0, 0};
+    long p;
+    int c;
+    for (p = 0; p < n; ++p)
+        for (c = 0; c < 3; ++c) {
+            double v = channel_fw(&rs[p], c);
+            s[c] += v;
+            s2[c] += v * v;
+        }
+    for (c = 0; c < 3; ++c) {
+        mean[c] = s[c] / (double)n;
+        se[c] = n > 1 ? sqrt(fmax(s2[c] / (double)n - mean[c] * mean[c], 0) / (double)(n - 1)) : 0;
+    }
+}
+
+/* The paired differences A - B of F_c W (c = 0..2) and of luminance(F) W (c = 3): mean and
+ * standard error over the pixels (two passes: the differences are often tiny). */
+static void paired_means(const reservoir *a, const reservoir *b, long n, double *mean, double *se)
+{
+    long p;
+    int c;
+    for (c = 0; c < 4; ++c) {
+        double s = 0, s2 = 0;
+        for (p = 0; p < n; ++p)
+            s += channel_fw(&a[p], c) - channel_fw(&b[p], c);
+        mean[c] = s / (double)n;
+        for (p = 0; p < n; ++p) {
+            double d = channel_fw(&a[p], c) - channel_fw(&b[p], c) - mean[c];
+            s2 += d * d;
+        }
+        se[c] = n > 1 ? sqrt(s2 / (double)(n - 1) / (double)n) : 0;
+    }
+}
+
 void dump_diff_result_free(dump_diff_result *r)
 {
     free(r->firsts);
@@ -388,6 +432,9 @@ int dump_diff(const reservoir *a, const reservoir *b, long width, long height, c
     image_mean(b, n, Q_CONFIDENCE, &r->mean_c[1], &r->se_c[1]);
     image_mean(a, n, Q_NONEMPTY, &r->mean_full[0], &r->se_full[0]);
     image_mean(b, n, Q_NONEMPTY, &r->mean_full[1], &r->se_full[1]);
+    image_mean_rgb(a, n, r->mean_rgb[0], r->se_rgb[0]);
+    image_mean_rgb(b, n, r->mean_rgb[1], r->se_rgb[1]);
+    paired_means(a, b, n, r->paired_mean, r->paired_se);
     free(ew);
     free(et);
     free(ec);
@@ -413,3 +460,25 @@ static double two_sample_z(const double *mean, const double *se)
 double dump_diff_mean_z(const dump_diff_result *r) { return two_sample_z(r->mean_fw, r->se_fw); }
 double dump_diff_confidence_z(const dump_diff_result *r) { return two_sample_z(r->mean_c, r->se_c); }
 double dump_diff_nonempty_z(const dump_diff_result *r) { return two_sample_z(r->mean_full, r->se_full); }
+
+double dump_diff_channel_z(const dump_diff_result *r, int c)
+{
+    double m[2], se[2];
+    if (c < 0 || c > 2) return NAN;
+    m[0] = r->mean_rgb[0][c];
+    m[1] = r->mean_rgb[1][c];
+    se[0] = r->se_rgb[0][c];
+    se[1] = r->se_rgb[1][c];
+    return two_sample_z(m, se);
+}
+
+double dump_diff_paired_z(const dump_diff_result *r, int c)
+{
+    double m, s;
+    if (c < 0 || c > 3) return NAN;
+    m = r->paired_mean[c];
+    s = r->paired_se[c];
+    if (!isfinite(m) || !isfinite(s)) return NAN;
+    if (s == 0) return m == 0 ? 0 : (m > 0 ? INFINITY : -INFINITY);
+    return m / s;
+}

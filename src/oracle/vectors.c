@@ -6,6 +6,8 @@
  * "inf", "-inf", "nan". */
 #include "restir/oracle/vectors.h"
 
+#include "vectors_step.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -703,6 +705,17 @@ static int shift_scene_load(void)
     return 0;
 }
 
+int vectors_scene(const scene **s, const light_set **lights, const gbuffer **g, int *width, int *height)
+{
+    if (shift_scene_load()) return -1;
+    *s = &shift_scene.s;
+    *lights = &shift_scene.lights;
+    *g = &shift_scene.g;
+    *width = SHIFT_W;
+    *height = SHIFT_H;
+    return 0;
+}
+
 /* shift (0 reconnection, 1 random replay, 2 hybrid), seed, base x, y, destination x, y ->
  * base: valid, d, k, p̂; shift: failure reason (enum shift_failure, 0 = ok), J, offset d, k,
  * F rgb, p̂ (Stochastic MIS Eq. 5: Y = T(X); Jacobian GRIS Eq. 54 / Enhanced Eq. 2; the
@@ -862,6 +875,14 @@ static const vector_fn table[] = {
      "n,N~,N~_c,scaling,c_c,p^(Y_c),W_c,(c_i,p^_i(X_i),W_i,J_i,p^(Y_i),q_i=p^_{<-i}(Y_c)) x n,up[N~],uc[N~_c] -> "
      "m~_c,w~_c,(K_i,m~_i,w~_i) x n",
      e_stoch_step},
+    {"stochastic", "stochastic_pairwise_resample",
+     "seed,N~,N~_c,scaling,x,y,n,(x_i,y_i,c_i,W scale (-1 empty)) x n,u[1+n],up[N~],uc[N~_c] -> valid,d,k,target,W,c,"
+     "from_neighbour,m~_c,(K_i,K'_i,P_i,m~_i,J_i,q_i=p^_{<-i}(Y_c)) x n",
+     vectors_eval_stochastic_step},
+    {"temporal", "temporal_resample",
+     "mis(0 constant,1 talbot,2 pairwise,3 defensive),mcap,seed_t,seed_t-1,x,y,qx,qy (-1: no history),c_t,c_t-1,u0,u1 "
+     "-> valid,d,k,target,W,c,from_history,capped,ptarget[2*2],m_0(y_0),m_1(y_1),J_1",
+     vectors_eval_temporal_step},
     {"pairing", "pairing_shuffle_count", "sigma -> n_sigma", e_shuffle_count},
     {"pairing", "reuse_partner_offset",
      "w,sigma,seed,id,flip,mirror,transpose,ox,oy,x,y -> dx,dy,n_sigma (texture from reuse_texture_build)", e_partner},
@@ -878,6 +899,13 @@ static const vector_fn table[] = {
     {"mutation", "mutate_acceptance", "target_x,target_z,kernel_ratio -> a (before min(1, .))", e_mutate_acceptance},
     {"mutation", "mutate_weight", "W,target_x,target_z -> W", e_mutate_weight},
     {"mutation", "mutate_eq20_ratio", "p_k_z,G_z,p_k1_z,p_k_y,G_y,p_k1_y -> T(z->y)/T(y->z)", e_mutate_eq20},
+    {"mutation", "mutate_reservoir",
+     "strategy(0 rv,1 pp,2 fp),seed,x,y,stage(1,2,4),iterations -> valid,d,k,target,W,c (before),valid,d,k,target,W,c,"
+     "F.r,F.g,F.b,n_pss (after),proposals,accepted,rejected_mh,skipped",
+     vectors_eval_mutate_chain},
+    {"mutation", "mutate_propose",
+     "strategy,seed,x,y,xi,xi_lobe[2],xi_lobe_current[2] -> explicit,A_y terms[3],result (-1 ok),ratio,target_z,d_z,k_z",
+     vectors_eval_mutate_propose},
     {NULL, NULL, NULL, NULL}};
 
 static const vector_fn *find_fn(const char *fn)
@@ -956,6 +984,11 @@ static void emit(gen *g, const char *fn, const char *eqs, const char *label, con
         put_value(g->fp, out[i]);
     }
     fprintf(g->fp, "]}\n");
+}
+
+static void emit_cb(void *g, const char *fn, const char *eqs, const char *label, const double *in, int n_in)
+{
+    emit((gen *)g, fn, eqs, label, in, n_in);
 }
 
 #define EMIT(fn, eqs, label, ...)                                       \
@@ -1295,6 +1328,9 @@ static void gen_stochastic(gen *g)
          0.3, 3.0, 0.9, 0.35, 0.45, 0.5, 0.5);
     EMIT("stochastic_pairwise_weights", step, "empty neighbour (W = 0) is never picked", 2, 1, 1, 1, 1, 0.5, 2.0, 1,
          0.3, 0, 0.9, 0.35, 0.45, 1, 0.8, 1.5, 1.1, 0.6, 0.2, 0.01, 0.5);
+    /* the same step through stochastic_pairwise_resample itself, real shifts in the scene
+     * (the lines above re-compose its arithmetic and cannot see a bug inside it) */
+    vectors_cases_stochastic_step(emit_cb, g);
 }
 
 static void gen_pairing(gen *g)
@@ -1395,7 +1431,11 @@ static void gen_mutation(gen *g)
     EMIT("mutate_eq20_ratio", "Mutations 20", "x_{k+1} last or NEE (p(w_k, w_{k+1}) = 1)", 0.4, 0.02, 1, 0.3, 0.05, 1);
     EMIT("mutate_eq20_ratio", "Mutations 20", "x_{k+1} NEE-sampled from x_k (all 1)", 1, 1, 1, 1, 1, 1);
     EMIT("mutate_eq20_ratio", "Mutations 20", "degenerate current path (A(y) = 0)", 0.3, 0.05, 0.8, 0, 0.05, 0.8);
+    vectors_cases_mutate_step(emit_cb, g); /* whole chains and proposals through mutate.c */
 }
+
+/* The whole temporal step through temporal_resample (vectors_step.c). */
+static void gen_temporal(gen *g) { vectors_cases_temporal(emit_cb, g); }
 
 static const vector_family families[] = {
     {"rng", gen_rng},
@@ -1411,6 +1451,7 @@ static const vector_family families[] = {
     {"pairing", gen_pairing},
     {"footprint", gen_footprint},
     {"mutation", gen_mutation},
+    {"temporal", gen_temporal},
 };
 #define FAMILY_COUNT ((int)(sizeof families / sizeof families[0]))
 

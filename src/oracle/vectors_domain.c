@@ -49,6 +49,21 @@ static const arg_rule rules[] = {
     /* n, N~, N~_c are checked by the evaluator; the picks' random numbers after the domains: */
     {"stochastic_pairwise_weights", -1, ARG_UNIT_TAIL, 0, 0},
     {"stochastic_pick", -1, ARG_UNIT_TAIL, 0, 0},
+    /* whole steps (vectors_step.c): seeds, pixels, counts; the evaluators check the pixels */
+    {"temporal_resample", 0, ARG_INT, 0, 3},  {"temporal_resample", 2, ARG_U32, 0, 0},
+    {"temporal_resample", 3, ARG_U32, 0, 0},  {"temporal_resample", 4, ARG_INT, 0, 4096},
+    {"temporal_resample", 5, ARG_INT, 0, 4096}, {"temporal_resample", 6, ARG_INT, -1, 4096},
+    {"temporal_resample", 7, ARG_INT, -1, 4096}, {"temporal_resample", 10, ARG_UNIT, 0, 0},
+    {"temporal_resample", 11, ARG_UNIT, 0, 0},
+    {"mutate_reservoir", 0, ARG_INT, 0, 2},   {"mutate_reservoir", 1, ARG_U32, 0, 0},
+    {"mutate_reservoir", 2, ARG_INT, 0, 4096}, {"mutate_reservoir", 3, ARG_INT, 0, 4096},
+    {"mutate_reservoir", 4, ARG_INT, 1, 4},   {"mutate_reservoir", 5, ARG_INT, 1, 64},
+    {"mutate_propose", 0, ARG_INT, 0, 2},     {"mutate_propose", 1, ARG_U32, 0, 0},
+    {"mutate_propose", 2, ARG_INT, 0, 4096},  {"mutate_propose", 3, ARG_INT, 0, 4096},
+    {"mutate_propose", 4, ARG_UNIT_TAIL, 0, 0},
+    {"stochastic_pairwise_resample", 0, ARG_U32, 0, 0}, {"stochastic_pairwise_resample", 4, ARG_INT, 0, 4096},
+    {"stochastic_pairwise_resample", 5, ARG_INT, 0, 4096},
+    {"stochastic_pairwise_resample", -1, ARG_UNIT_TAIL, 0, 0},
     {NULL, 0, ARG_U32, 0, 0},
 };
 
@@ -59,6 +74,9 @@ static int whole(double x) { return isfinite(x) && floor(x) == x; }
 static int tail_start(const char *fn, const double *in, int n_in)
 {
     if (n_in < 3 || !whole(in[0]) || fabs(in[0]) > 64) return n_in;
+    if (!strcmp(fn, "mutate_propose")) return 4;
+    if (!strcmp(fn, "stochastic_pairwise_resample"))
+        return n_in > 6 && whole(in[6]) && fabs(in[6]) <= 64 ? 7 + 4 * (int)in[6] : n_in;
     if (!strcmp(fn, "stochastic_pairwise_weights")) return 7 + 6 * (int)in[0];
     return 2 + (int)in[0];
 }

@@ -92,6 +92,9 @@ typedef struct {
     double mean_fw[2], se_fw[2];        /* image mean of luminance(F) W and its standard error */
     double mean_c[2], se_c[2];          /* image mean of the confidence c and its standard error */
     double mean_full[2], se_full[2];    /* fraction of non-empty reservoirs (W > 0) and its s.e. */
+    double mean_rgb[2][3], se_rgb[2][3]; /* image mean of F_c W per channel c = R, G, B and its s.e. */
+    double paired_mean[4], paired_se[4]; /* mean over pixels of (A - B) of F_c W (c = R, G, B) and of
+                                            luminance(F) W (index 3), and its s.e. */
     long n_first;
     dump_diff_pixel *firsts;            /* the first t->first differing pixels (malloc'ed) */
     unsigned char *mask;                /* DUMP_PIXEL_* per pixel (malloc'ed) */
@@ -127,5 +130,14 @@ double dump_diff_mean_z(const dump_diff_result *r);
  * confidence sum) or the support (a shift that fails too often) wrong. */
 double dump_diff_confidence_z(const dump_diff_result *r);
 double dump_diff_nonempty_z(const dump_diff_result *r);
+/* Per colour channel c (0 R, 1 G, 2 B): the two-sample z of the image means of F_c W. The
+ * target is luminance, so a bug that moves colour and keeps luminance (an MH acceptance
+ * without its target ratio keeps luminance(F) W of every pixel exact, Mutations Eq. 23) is
+ * invisible to dump_diff_mean_z and visible here (issue 26). */
+double dump_diff_channel_z(const dump_diff_result *r, int c);
+/* The paired z of channel c (0..2 R, G, B; 3 luminance): mean(d)/se(d) over the pixels of
+ * d = A - B. Valid for independent runs too, and far stronger when A and B share the RNG
+ * (a port with the oracle's RNG, a planted bug): the pixels that agree add no noise. */
+double dump_diff_paired_z(const dump_diff_result *r, int c);
 
 #endif
