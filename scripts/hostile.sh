@@ -1,6 +1,7 @@
 #!/bin/sh
 # The hostile-case table (issue 27, docs/hostile-cases.md): runs every hostile case (the
-# ones issue 27 found and the older ones the CLI rules already handled) through build/restir,
+# ones issue 27 found and the older ones the CLI rules already handled) through build/restir
+# (or $HOSTILE_BIN),
 # each in its own empty directory, and prints a Markdown table: the case, the exit status
 # (and the expected one), the first line of the message, and the files left behind.
 #   sh scripts/hostile.sh            the table on stdout; exit 1 if a status is not the expected one
@@ -8,7 +9,7 @@
 # The test hostile_table_script (make test) runs it and fails on a mismatch. ~10 s.
 set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-R="$ROOT/build/restir"
+R=${HOSTILE_BIN:-$ROOT/build/restir} # the binary under test (absolute: each case runs in its own directory)
 S="$ROOT/scenes"
 W=${HOSTILE_DIR:-$ROOT/build/hostile}
 rm -rf "$W"
