@@ -591,7 +591,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
     cli_option options[] = {
         {"--from-dump", OPT_STRING, &dir, "the stage dump (a --dump-dir of restir render)", NULL, 0, 0, NULL},
         {"--frame", OPT_INT, &frame, "the frame F", NULL, 0, 1e8, NULL},
-        {"--stage", OPT_STRING, &stage, "the stage S: temporal or spatialK (a name of the dump's stage order)", NULL, 0, 0, NULL},
+        {"--stage", OPT_STRING, &stage, "the stage S: temporal, spatialK or mutate-initial|temporal|spatial (a name of the dump's stage order)", NULL, 0, 0, NULL},
         {"--pixel", OPT_STRING, &pixel, "the pixel x,y (row 0 at the top)", NULL, 0, 0, NULL},
         {"--json", OPT_FLAG, &json, "one JSON object with every number at 17 digits", NULL, 0, 0, NULL},
         {"--options-from", OPT_STRING, &options_from, "take the render command line from this dump's manifest (the oracle's dump of the same run) instead of DIR's", NULL, 0, 0, NULL},
