@@ -2,7 +2,7 @@
 # Needs only a C99 compiler (gcc or clang), make, libc, libm and pthreads.
 #
 #   make                 build build/restir
-#   make run             the oracle demo: ReSTIR PT vs path tracer, FLIP maps, check verdict (out/)
+#   make run             the oracle demo: ReSTIR PT vs path tracer on Cornell and ajar, check verdicts (out/)
 #   make test            build and run the test suite (ends with "N passed, N failed")
 #   make test-long       the longer statistical suites too
 #   make test-data       load every file of ../shared/data (real-world OBJ/MTL/PFM)
@@ -120,7 +120,7 @@ $(BUILD)/tests/%.o: CPPFLAGS += -I$(BUILD) -Itests -DRESTIR_BIN='"$(BUILD)/resti
 $(BUILD)/tests/run: $(TEST_OBJ) $(BUILD)/librestir.a
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
 
-# The oracle in two minutes: ReSTIR PT vs the path tracer at equal time, FLIP against a
+# The oracle in 2.5 minutes: ReSTIR PT vs the path tracer at equal time on two scenes, FLIP against a
 # reference, and the `check` verdict (scripts/demo.sh; docs/tour.md).
 run: $(BUILD)/restir
 	sh scripts/demo.sh out $(BUILD)/restir

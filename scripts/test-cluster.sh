@@ -11,6 +11,8 @@
 #      `#SBATCH --signal=B:TERM@120` sends) and Slurm records ExitCode=143:0, state FAILED,
 #      with a checkpoint of fewer than 1024 samples; resubmitting index 0 resumes and
 #      completes it; resubmitting a complete index (1) leaves its checkpoint unchanged;
+#      beside it, one task too long for `--time=3` gets the script's own
+#      `--signal=B:TERM@120` before the limit: ExitCode=143:0 and a checkpoint;
 #   3. the two merged images (parallel, Slurm with the resumed task) are byte-identical,
 #      and each agrees with one run over samples 0..4095 to at most one float ulp per
 #      value (docs/reference-renders.md, "How exact is a merge"); how many values differ
@@ -171,6 +173,16 @@ wait_done() {
 # ckpt_range FILE: "first-sample spp" of a path-tracer checkpoint (docs/path-tracer.md)
 ckpt_range() { od -An -tu4 -j24 -N8 "$1" | awk '{ print $1, $2 }'; }
 
+# The real time limit, beside the array: the same script with a task far too long for
+# `--time=3` (minutes), so that the recipe's own `#SBATCH --signal=B:TERM@120` line must
+# deliver SIGTERM about two minutes before the limit (Slurm checks every 30-60 s).
+mkdir -p "$TMP/limit/parts"
+ln -s "$(pwd)/scenes" "$TMP/limit/scenes"
+sed 's/^SPP=1024$/SPP=1000000/' "$TMP/slurm/reference.sbatch" > "$TMP/limit/reference.sbatch"
+LIMIT_JOB=$(cd "$TMP/limit" && sbatch --parsable --array=0 --time=3 reference.sbatch) || fail "sbatch --time=3"
+LIMIT_START=$(date +%s)
+say "Slurm: job $LIMIT_JOB: one task with --time=3 (minutes) and the recipe's --signal=B:TERM@120"
+
 cd "$TMP/slurm" || fail "cd"
 JOB=$(sh -e submit.sh) || { slurm_logs; fail "the submit recipe"; }
 say "Slurm: job array $JOB (tasks 0-3, 1024 spp each); SIGTERM to task 0 while it renders"
@@ -218,6 +230,13 @@ say "  both resubmitted tasks ran with --resume (their checkpoints existed)"
 [ "$(ckpt_range parts/part0.ckpt)" = "0 1024" ] || fail "resumed task 0: checkpoint holds $(ckpt_range parts/part0.ckpt)"
 cmp -s part1.before parts/part1.ckpt || fail "resubmitting the complete task 1 changed its checkpoint"
 sh -e merge.sh > merge.log 2>&1 || { cat merge.log; fail "the Slurm merge recipe"; }
+wait_done "$LIMIT_JOB"
+LIMIT_END=$(date +%s)
+say "  time-limit task: $(job_field "${LIMIT_JOB}_0" JobState), ExitCode=$(job_field "${LIMIT_JOB}_0" ExitCode), RunTime=$(job_field "${LIMIT_JOB}_0" RunTime), checkpoint $(ckpt_range "$TMP/limit/parts/part0.ckpt" 2> /dev/null | awk '{ print $2 }') spp"
+[ "$(job_field "${LIMIT_JOB}_0" ExitCode)" = 143:0 ] ||
+    { cat "$TMP/limit/slurm-${LIMIT_JOB}_0.out"; fail "time-limit task: ExitCode is not 143:0 (the --signal line did not reach restir)"; }
+[ -f "$TMP/limit/parts/part0.ckpt" ] || fail "time-limit task: no checkpoint"
+[ $((LIMIT_END - LIMIT_START)) -lt 180 ] || fail "time-limit task: ran into the limit itself (no early signal)"
 T_SLURM=$(date +%s)
 
 # ---- 3. the merged images against one run ----
