@@ -193,3 +193,11 @@ int bench_sequence_mean(const scene *s, const restir_options *o, int frame, doub
     }
     return 0;
 }
+
+int bench_sequence_run(void *user, uint32_t seed, double mean[3])
+{
+    const bench_sequence_config *c = user;
+    restir_options o = c->o;
+    o.seed = seed;
+    return bench_sequence_mean(c->s, &o, c->frame, mean);
+}

@@ -72,4 +72,13 @@ int bench_restir_mean(const scene *s, const restir_options *o, double mean[3]);
 /* restir_render_sequence over frames 0..frame: the image means of frame `frame`. */
 int bench_sequence_mean(const scene *s, const restir_options *o, int frame, double mean[3]);
 
+/* A bench_run_fn for bench_paired_run: user is a bench_sequence_config; the sequence run
+ * with o.seed = seed, the image means of frame `frame`. */
+typedef struct {
+    const scene *s;
+    restir_options o;
+    int frame;
+} bench_sequence_config;
+int bench_sequence_run(void *user, uint32_t seed, double mean[3]);
+
 #endif

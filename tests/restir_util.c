@@ -608,3 +608,27 @@ void rt_mcap_sequence_exact(int trees, enum temporal_mcap_mode mode, double expe
            wrong + with, expect, first_wrong);
     CHECKF(with > n / 2, "%s: only %ld of %ld pixels carry a history", what, with, n);
 }
+
+/* A glossy floor (roughness 0.3: not connectable with --roughness-threshold 0.5, so paths
+ * reconnect at k = 3 and prefix mutations move y_2), a back wall half red, half green, and a
+ * small light in front of the red half: a pixel's colour depends on where y_2 lands, and a
+ * chain that does not leave p̂ invariant drifts in colour while the luminance of F W stays
+ * exact (Eq. 17). */
+int rt_make_two_tone(scene *s, int res)
+{
+    uint32_t metal, red, green, light;
+    const float h = 0.1f, a = 0.4f;
+    if (test_scene_begin(s, 10, 4)) return -1;
+    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
+    test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.9, (real)0.9);
+    test_scene_last_material(s)->roughness = (real)0.3;
+    red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.9, (real)0.1, (real)0.1), rgb_gray(0));
+    green = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1, (real)0.9, (real)0.1), rgb_gray(0));
+    light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(1, 1, 1));
+    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), metal);
+    test_scene_quad(s, v3f(-1, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), red);
+    test_scene_quad(s, v3f(0, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), green);
+    test_scene_quad(s, v3f(-0.9f, h, 0.45f), v3f(a, 0, 0), v3f(0, a, 0), light);
+    test_scene_camera(s, v3(0, (real)1.2, (real)-0.9), v3(0, 0, (real)0.05), v3(0, 1, 0), 40, res);
+    return test_scene_prepare(s);
+}

@@ -148,4 +148,8 @@ double rt_determinant(double a[6][6], int n);
  * `trees` path trees all equal `expect` (restir_util.c). */
 void rt_mcap_sequence_exact(int trees, enum temporal_mcap_mode mode, double expect, const char *what);
 
+/* The two-tone scene of the mutation tests: a glossy floor (reconnection at k = 3), a back
+ * wall half red, half green, a small light in front of the red half (restir_util.c). */
+int rt_make_two_tone(scene *s, int res);
+
 #endif

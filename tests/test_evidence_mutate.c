@@ -203,43 +203,6 @@ TEST(evidence_mutate_acceptance_at_call_site_exact)
 
 /* ---- paired N vs 0 mutations, per channel ------------------------------------------------------ */
 
-/* A glossy floor (roughness 0.3: not connectable with --roughness-threshold 0.5, so paths
- * reconnect at k = 3 and prefix mutations move y_2), a back wall half red, half green, and a
- * small light in front of the red half: a pixel's colour depends on where y_2 lands, and a
- * chain that does not leave p̂ invariant drifts in colour while the luminance of F W stays
- * exact (Eq. 17). (The scene of test_mutate.c.) */
-static int make_two_tone(scene *s, int res)
-{
-    uint32_t metal, red, green, light;
-    const float h = 0.1f, a = 0.4f;
-    if (test_scene_begin(s, 10, 4)) return -1;
-    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.9, (real)0.9);
-    test_scene_last_material(s)->roughness = (real)0.3;
-    red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.9, (real)0.1, (real)0.1), rgb_gray(0));
-    green = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1, (real)0.9, (real)0.1), rgb_gray(0));
-    light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(1, 1, 1));
-    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), metal);
-    test_scene_quad(s, v3f(-1, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), red);
-    test_scene_quad(s, v3f(0, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), green);
-    test_scene_quad(s, v3f(-0.9f, h, 0.45f), v3f(a, 0, 0), v3f(0, a, 0), light);
-    test_scene_camera(s, v3(0, (real)1.2, (real)-0.9), v3(0, 0, (real)0.05), v3(0, 1, 0), 40, res);
-    return test_scene_prepare(s);
-}
-
-typedef struct {
-    const scene *s;
-    restir_options o;
-} mut_config;
-
-static int run_mut(void *user, uint32_t seed, double mean[3])
-{
-    mut_config *c = user;
-    restir_options o = c->o;
-    o.seed = seed;
-    return bench_sequence_mean(c->s, &o, 4, mean);
-}
-
 /* Frame 4 of a sequence with N = 20 mutations of `strategy` after the temporal step against
  * the same sequence without (same seeds: the frames share their initial and temporal samples
  * until the first mutation). path: a scene file, or NULL for the two-tone scene (indirect
@@ -247,12 +210,13 @@ static int run_mut(void *user, uint32_t seed, double mean[3])
 static void mutate_paired(const char *path, int res, int runs, int strategy, bench_paired *p, char *name, size_t n)
 {
     scene s;
-    mut_config on, off;
+    bench_sequence_config on, off;
     snprintf(name, n, "mutations %s x20 vs none, %s", mutate_strategy_names[strategy], path ? path : "two-tone");
     bench_paired_init(p, name);
-    if (path ? rt_load_scene(path, res, &s) : make_two_tone(&s, res)) return;
+    if (path ? rt_load_scene(path, res, &s) : rt_make_two_tone(&s, res)) return;
     restir_options_default(&on.o);
     on.s = off.s = &s;
+    on.frame = off.frame = 4;
     on.o.shift = RESTIR_SHIFT_HYBRID;
     on.o.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
     on.o.candidates = 2;
@@ -267,7 +231,7 @@ static void mutate_paired(const char *path, int res, int runs, int strategy, ben
     on.o.mutation.stages = MUTATE_AFTER_TEMPORAL;
     off.o = on.o;
     off.o.mutation.count = 0;
-    bench_paired_run(p, runs, test_seed() * 40503u + 7u + 1000u * (uint32_t)strategy, run_mut, &on, run_mut, &off);
+    bench_paired_run(p, runs, test_seed() * 40503u + 7u + 1000u * (uint32_t)strategy, bench_sequence_run, &on, bench_sequence_run, &off);
     scene_free(&s);
 }
 

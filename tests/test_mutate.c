@@ -257,26 +257,6 @@ static void floor_and_two_tone_wall(scene *s, uint32_t floor, uint32_t red, uint
     test_scene_quad(s, v3f(0, 0, 0.6f), v3f(0, 1, 0), v3f(1, 0, 0), green);
 }
 
-/* A glossy floor (roughness 0.3: not connectable with --roughness-threshold 0.5, so paths
- * reconnect at k = 3 and prefix mutations move y_2), a back wall half red, half green, and a
- * small light 8 cm above the floor: the colour of a pixel depends on where y_2 lands. */
-static int make_two_tone(scene *s, int res)
-{
-    uint32_t metal, red, green, light;
-    const float h = 0.1f, a = 0.4f;
-    if (test_scene_begin(s, 10, 4)) return -1;
-    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.9, (real)0.9);
-    test_scene_last_material(s)->roughness = (real)0.3;
-    red_and_green(s, &red, &green);
-    light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(1, 1, 1));
-    floor_and_two_tone_wall(s, metal, red, green);
-    /* facing the wall (+z) just in front of its red half: G(y_2 -> light) varies a lot */
-    test_scene_quad(s, v3f(-0.9f, h, 0.45f), v3f(a, 0, 0), v3f(0, a, 0), light);
-    test_scene_camera(s, v3(0, (real)1.2, (real)-0.9), v3(0, 0, (real)0.05), v3(0, 1, 0), 40, res);
-    return test_scene_prepare(s);
-}
-
 /* For the rv kernel (Mutations Eq. 20): a diffuse floor (x_1, connectable), a wall half red,
  * half green (x_2 = the reconnection vertex, k = 2), a white panel in front of the red half
  * facing the wall (x_3, kept by rv) and a light above the gap between them, facing down (x_4,
@@ -429,7 +409,7 @@ static double expect_paired(const char *path, int res, int runs, const mutate_ca
     check_result c;
     double z = 0;
     if (!strcmp(path, "two-tone")) {
-        if (make_two_tone(&s, res)) return 0;
+        if (rt_make_two_tone(&s, res)) return 0;
     } else if (!strcmp(path, "panel")) {
         if (make_panel(&s, res)) return 0;
     } else if (rt_load_scene(path, res, &s))

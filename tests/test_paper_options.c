@@ -154,31 +154,19 @@ TEST(paper_gaussian_perturb_is_normal)
     CHECKF(fabs(m2 - 1) < 0.01 && fabs(m4 / 3 - 1) < 0.03, "E[n^2] = %.4f (1), E[n^4] = %.4f (3)", m2, m4);
 }
 
-typedef struct {
-    const scene *s;
-    restir_options o;
-} kernel_config;
-
-static int run_kernel(void *user, uint32_t seed, double mean[3])
-{
-    kernel_config *c = user;
-    restir_options o = c->o;
-    o.seed = seed;
-    return bench_sequence_mean(c->s, &o, 4, mean);
-}
-
 /* Frame 4 with N = 20 pp mutations after the temporal step, Gaussian kernel with the
  * paper's amount, against the same sequence without mutations (same seeds), per channel,
  * cornell-glossy 16^2, K = 32 pairs (as evidence_mutate_paired_per_channel for Kelemen). */
 TEST(paper_gaussian_mutations_paired_per_channel)
 {
     scene s;
-    kernel_config on, off;
+    bench_sequence_config on, off;
     bench_paired p;
     bench_paired_init(&p, "gaussian pp mutations x20 vs none, cornell-glossy");
     if (rt_load_scene("scenes/cornell-glossy.scene", 16, &s)) return;
     restir_options_default(&on.o);
     on.s = off.s = &s;
+    on.frame = off.frame = 4;
     on.o.shift = RESTIR_SHIFT_HYBRID;
     on.o.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
     on.o.candidates = 2;
@@ -190,7 +178,7 @@ TEST(paper_gaussian_mutations_paired_per_channel)
     on.o.mutation.stages = MUTATE_AFTER_TEMPORAL;
     off.o = on.o;
     off.o.mutation.count = 0;
-    bench_paired_run(&p, 32, test_seed() * 40503u + 7u + 5000u, run_kernel, &on, run_kernel, &off);
+    bench_paired_run(&p, 32, test_seed() * 40503u + 7u + 5000u, bench_sequence_run, &on, bench_sequence_run, &off);
     scene_free(&s);
     if (!test_has_failed()) bench_paired_expect_consistent(&p, BENCH_Z_CONSISTENT);
 }
