@@ -8,7 +8,8 @@
  *     normal) with its own xorshift RNG: a cosine bounce and a shadow ray towards a fixed
  *     point above the scene's bounding box;
  *   - timing: wall clock (CLOCK_MONOTONIC) around the whole loop, including each side's
- *     conversion of the shared ray record into its own ray type;
+ *     conversion of the shared ray record into its own ray type, and beside it the thread's
+ *     CPU time (the figure that survives a loaded machine);
  *   - order: all repetitions of one tracer, then all of the other (not interleaved), then the
  *     median of each tracer's Mrays/s, and ratio = median(restir) / median(Embree).
  * Embree: rtcIntersect1 / rtcOccluded1, default build quality and flags, threads=1.
