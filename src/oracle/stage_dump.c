@@ -340,8 +340,9 @@ void stage_io_gbuffer(stage_io *io, const gbuffer *g)
     stage_dump_path(path, sizeof path, io->dump_dir, io->frame, "gbuffer", "gbuf");
     if (io->region.width) {
         gbuffer sub;
-        long i, n = io->region.width * io->region.height;
-        if (region_check(io, g->width, g->height)) return;
+        long i, n;
+        if (region_check(io, g->width, g->height)) return; /* grows the region by --dump-halo */
+        n = io->region.width * io->region.height;
         sub.width = (int)io->region.width;
         sub.height = (int)io->region.height;
         sub.texels = rmalloc((size_t)n, sizeof *sub.texels, &io->err);
