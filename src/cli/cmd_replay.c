@@ -576,12 +576,13 @@ static void print_mutation(FILE *f, const pixel_trace *m, int json)
     fprintf(f, "\n");
 }
 
-/* The dump's own stage-S record of pixel p (0: the file is absent). */
-static int dump_record(const replay_plan *p, long pixel, char *path, size_t size, reservoir *rec, rerror *e)
+/* The dump's own record of pixel p in stage `stage` of frame F (0: the file is absent). */
+static int dump_record(const replay_plan *p, const char *stage, long pixel, char *path, size_t size, reservoir *rec,
+                       rerror *e)
 {
     reservoir *rs;
     reservoir_dump_info info;
-    stage_dump_path(path, size, p->dir, (uint32_t)p->frame, p->stage, "resv");
+    stage_dump_path(path, size, p->dir, (uint32_t)p->frame, stage, "resv");
     if (!file_exists(path)) return 0;
     if (reservoir_dump_read(path, &rs, &info, e)) return -1;
     if (p->m.region.width) /* a region dump: the record's index within the rectangle */
@@ -600,24 +601,29 @@ static int dump_record(const replay_plan *p, long pixel, char *path, size_t size
  * stage's output against the dump's record. */
 static int inspect_mutation_stage(const replay_plan *p, const trace_catch *c, long pixel, int json, const long *xy)
 {
-    char file[4200];
-    reservoir rec;
+    char file[4200], in_file[4200];
+    reservoir rec, in;
     field_diff diffs[16];
     rerror e;
-    int have, nd = 0, i;
+    int have, have_in, nd = 0, i;
     if (!c->have_mutation || !c->have_final) {
         printf("frame %ld, stage %s, pixel (%ld, %ld): no chain ran here (no primary hit)\n", p->frame, p->stage, xy[0],
                xy[1]);
         return 0;
     }
-    have = dump_record(p, pixel, file, sizeof file, &rec, &e);
-    if (have < 0) {
+    reservoir_init(&in);
+    have = dump_record(p, p->stage, pixel, file, sizeof file, &rec, &e);
+    /* the chain's start: the stage's input, the dump's record of the stage before it */
+    have_in = have < 0 ? -1 : dump_record(p, p->prev, pixel, in_file, sizeof in_file, &in, &e);
+    if (have < 0 || have_in < 0) {
         fprintf(stderr, "restir inspect: %s\n", e.msg);
         return 2;
     }
     if (have) nd = record_diffs(&rec, &c->final, diffs);
     if (json) {
-        printf("{");
+        printf("{\"in\": {\"file\": ");
+        json_put_string(stdout, in_file);
+        printf(", \"W\": %.17g, \"target\": %.17g}, ", (double)in.W, (double)in.y.target);
         print_mutation(stdout, &c->mutation, 1);
         printf("\"W\": %.17g, \"confidence\": %.17g, \"dump_record\": %d, \"differs\": [", (double)c->final.W,
                (double)c->final.confidence, have);
@@ -626,6 +632,9 @@ static int inspect_mutation_stage(const replay_plan *p, const trace_catch *c, lo
         return 0;
     }
     printf("frame %ld, stage %s, pixel (%ld, %ld)\n", p->frame, p->stage, xy[0], xy[1]);
+    printf("input (%s): W %.17g, p^ %.17g, sample ", in_file, (double)in.W, (double)in.y.target);
+    print_id(stdout, &in.y, 0);
+    printf("\n");
     print_mutation(stdout, &c->mutation, 0);
     printf("output: W %.17g, confidence %.17g, sample ", (double)c->final.W, (double)c->final.confidence);
     print_id(stdout, &c->final.y, 0);
@@ -742,7 +751,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
                "an empty reservoir\n", p.frame, stage, xy[0], xy[1]);
         return 0;
     }
-    have = dump_record(&p, req.pixel, file, sizeof file, &rec, &e);
+    have = dump_record(&p, p.stage, req.pixel, file, sizeof file, &rec, &e);
     if (have < 0) {
         fprintf(stderr, "restir inspect: %s\n", e.msg);
         return 2;
