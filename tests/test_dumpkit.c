@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "../tools/dumpkit/restir_dump.h"
+#include "dumpkit_sample.h"
 #include "restir/oracle/stage_dump.h"
 #include "restir/restir/reservoir_dump.h"
 #include "test.h"
@@ -208,24 +209,7 @@ TEST(dumpkit_gpu_record_converts)
     real pss[PATH_MAX_PSS];
     unsigned char buf[RESERVOIR_DUMP_RECORD_PSS];
     rerror e;
-    memset(&g, 0, sizeof g);
-    g.wsum = 0.75f;
-    g.W = 3.0f;
-    g.confidence = 5.0f;
-    g.seed = 11;
-    g.pixel = 222;
-    g.sample = 3;
-    g.packed_d_tech_k_npss = 4u | (RESTIR_TECH_BSDF << 8) | (3u << 16);
-    g.packed_lobe[0] = 0xFFu | (1u << 8) | (2u << 16) | (0u << 24);
-    g.packed_lobe[1] = g.packed_lobe[2] = g.packed_lobe[3] = 0xFFFFFFFFu;
-    g.rc_triangle = 77;
-    g.rc_normal[1] = 1.0f;
-    g.rc_wo[0] = 1.0f;
-    g.rc_pdf_prev = 0.5f;
-    g.rc_geom = 0.25f;
-    g.rc_pdf = 1.0f;
-    g.F[0] = 0.125f;
-    g.target = 0.25f;
+    dumpkit_sample_gpu_record(&g);
     restir_gpu_record_to_resv(&g, &rec);
     if (!little_endian()) return;
     memcpy(buf, &rec, sizeof rec);
@@ -234,7 +218,7 @@ TEST(dumpkit_gpu_record_converts)
           back.y.pixel == 222 && back.y.sample == 3);
     CHECK(back.y.length == 4 && back.y.technique == PATH_TECH_BSDF && back.y.rc_k == 3 && back.y.lobe[0] == PATH_LOBE_NONE &&
           back.y.lobe[1] == 1 && back.y.lobe[2] == 2 && back.y.lobe[3] == 0 && back.y.lobe[4] == PATH_LOBE_NONE);
-    CHECK(back.y.rc_triangle == 77 && back.y.rc_pdf_prev == (real)0.5 && back.y.rc_geom == (real)0.25 &&
+    CHECK(back.y.rc_triangle == 77 && back.y.rc_position.z == -1.5f && back.y.rc_pdf_prev == (real)0.5 && back.y.rc_geom == (real)0.25 &&
           back.y.F.r == (real)0.125 && back.y.target == (real)0.25);
     CHECKF(path_sample_check(&back.y, "converted record", &e) == 0, "%s", e.msg);
 }

@@ -249,17 +249,6 @@ failed:
 
 /* ---- the whole-image input directory of a replay from a region dump ------------------ */
 
-static void put_names(FILE *fp, char names[][STAGE_NAME_SIZE], int n)
-{
-    int i;
-    fputc('[', fp);
-    for (i = 0; i < n; ++i) {
-        if (i) fputs(", ", fp);
-        json_put_string(fp, names[i]);
-    }
-    fputc(']', fp);
-}
-
 static void put_rect(FILE *fp, const char *key, const stage_region *r)
 {
     fprintf(fp, "\"%s\": {\"x\": %ld, \"y\": %ld, \"width\": %ld, \"height\": %ld}", key, r->x, r->y, r->width, r->height);
@@ -293,9 +282,9 @@ int region_input_dir_make(const region_input_plan *p, rerror *e)
     fprintf(f.fp, "{\"format\": \"restir-stage-dump\", \"format_version\": %u, \"image\": {\"width\": %ld, "
                   "\"height\": %ld},\n \"frames\": {\"first\": %ld, \"last\": %ld, \"written\": %ld},\n \"stage_order\": ",
             STAGE_DUMP_FORMAT_VERSION, m->width, m->height, m->first, m->last, m->last - m->first + 1);
-    put_names(f.fp, (char(*)[STAGE_NAME_SIZE])m->order, m->n_order);
+    stage_names_put(f.fp, (char(*)[STAGE_NAME_SIZE])m->order, m->n_order);
     fprintf(f.fp, ",\n \"dumped_stages\": ");
-    put_names(f.fp, dumped, n);
+    stage_names_put(f.fp, dumped, n);
     fprintf(f.fp, ",\n \"region_input\": {");
     put_rect(f.fp, "dumped", &m->region);
     fprintf(f.fp, ", ");

@@ -378,7 +378,7 @@ static int file_crc(const char *path, uint32_t *crc, long *bytes)
     return 0;
 }
 
-static void put_name_list(FILE *fp, char names[][STAGE_NAME_SIZE], int n)
+void stage_names_put(FILE *fp, char names[][STAGE_NAME_SIZE], int n)
 {
     int i;
     fputc('[', fp);
@@ -415,10 +415,10 @@ static int write_manifest(stage_io *io, const restir_options *o, rerror *e)
     }
     fprintf(f.fp, "],\n");
     fprintf(f.fp, "  \"stage_order\": ");
-    put_name_list(f.fp, io->order, io->n_order);
+    stage_names_put(f.fp, io->order, io->n_order);
     fprintf(f.fp, ",\n  \"dumped_stages\": ");
-    if (io->n_want) put_name_list(f.fp, io->want, io->n_want);
-    else put_name_list(f.fp, io->order, io->n_order);
+    if (io->n_want) stage_names_put(f.fp, io->want, io->n_want);
+    else stage_names_put(f.fp, io->order, io->n_order);
     fprintf(f.fp, ",\n  \"restart\": ");
     if (io->from_dir) {
         fprintf(f.fp, "{\"from_dump\": ");
@@ -557,31 +557,15 @@ static int read_inspect_option(json_reader *r, stage_manifest *m, const char *ke
     return 0;
 }
 
-/* {"x", "y", "width", "height"} (other keys skipped). */
-static int read_rect(json_reader *r, stage_region *out)
-{
-    if (json_expect(r, '{')) return -1;
-    if (json_peek(r) == '}') return json_expect(r, '}');
-    for (;;) {
-        char key[64];
-        int status;
-        if (json_read_string(r, key, sizeof key) || json_expect(r, ':')) return -1;
-        if (!strcmp(key, "x")) status = read_long(r, &out->x);
-        else if (!strcmp(key, "y")) status = read_long(r, &out->y);
-        else if (!strcmp(key, "width")) status = read_long(r, &out->width);
-        else if (!strcmp(key, "height")) status = read_long(r, &out->height);
-        else status = json_skip_value(r);
-        if (status) return -1;
-        if (json_peek(r) != ',') break;
-        r->pos++;
-    }
-    return json_expect(r, '}');
-}
-
 /* An object's members: frames {first, last}, scene {path}, image {width, height}, halo
  * {pixels, core}, region_input {dumped, check, stage, history} or the options inspect
  * needs; other keys skipped. */
-static int read_object(json_reader *r, stage_manifest *m, const char *outer)
+static int read_object(json_reader *r, stage_manifest *m, const char *outer, stage_region *rect);
+
+/* {"x", "y", "width", "height"} into *out (other keys skipped). */
+static int read_rect(json_reader *r, stage_manifest *m, stage_region *out) { return read_object(r, m, "rect", out); }
+
+static int read_object(json_reader *r, stage_manifest *m, const char *outer, stage_region *rect)
 {
     if (json_expect(r, '{')) return -1;
     if (json_peek(r) == '}') return json_expect(r, '}');
@@ -592,19 +576,19 @@ static int read_object(json_reader *r, stage_manifest *m, const char *outer)
         if (!strcmp(outer, "frames") && !strcmp(key, "first")) status = read_long(r, &m->first);
         else if (!strcmp(outer, "frames") && !strcmp(key, "last")) status = read_long(r, &m->last);
         else if (!strcmp(outer, "frames") && !strcmp(key, "written")) status = read_long(r, &m->written);
-        else if (!strcmp(outer, "region") && !strcmp(key, "x")) status = read_long(r, &m->region.x);
-        else if (!strcmp(outer, "region") && !strcmp(key, "y")) status = read_long(r, &m->region.y);
-        else if (!strcmp(outer, "region") && !strcmp(key, "width")) status = read_long(r, &m->region.width);
-        else if (!strcmp(outer, "region") && !strcmp(key, "height")) status = read_long(r, &m->region.height);
+        else if (!strcmp(outer, "rect") && !strcmp(key, "x")) status = read_long(r, &rect->x);
+        else if (!strcmp(outer, "rect") && !strcmp(key, "y")) status = read_long(r, &rect->y);
+        else if (!strcmp(outer, "rect") && !strcmp(key, "width")) status = read_long(r, &rect->width);
+        else if (!strcmp(outer, "rect") && !strcmp(key, "height")) status = read_long(r, &rect->height);
         else if (!strcmp(outer, "scene") && !strcmp(key, "path") && json_peek(r) == '"')
             status = json_read_string(r, m->scene, sizeof m->scene);
         else if (!strcmp(outer, "image") && !strcmp(key, "width")) status = read_long(r, &m->width);
         else if (!strcmp(outer, "image") && !strcmp(key, "height")) status = read_long(r, &m->height);
         else if (!strcmp(outer, "options")) status = read_inspect_option(r, m, key);
         else if (!strcmp(outer, "halo") && !strcmp(key, "pixels")) status = read_long(r, &m->halo);
-        else if (!strcmp(outer, "halo") && !strcmp(key, "core")) status = read_rect(r, &m->core);
-        else if (!strcmp(outer, "region_input") && !strcmp(key, "dumped")) status = read_rect(r, &m->in_dumped);
-        else if (!strcmp(outer, "region_input") && !strcmp(key, "check")) status = read_rect(r, &m->in_check);
+        else if (!strcmp(outer, "halo") && !strcmp(key, "core")) status = read_rect(r, m, &m->core);
+        else if (!strcmp(outer, "region_input") && !strcmp(key, "dumped")) status = read_rect(r, m, &m->in_dumped);
+        else if (!strcmp(outer, "region_input") && !strcmp(key, "check")) status = read_rect(r, m, &m->in_check);
         else if (!strcmp(outer, "region_input") && !strcmp(key, "stage"))
             status = json_read_string(r, m->in_stage, sizeof m->in_stage);
         else if (!strcmp(outer, "region_input") && !strcmp(key, "history")) status = read_long(r, &m->in_history);
@@ -634,10 +618,10 @@ int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e)
         else if (!strcmp(key, "stage_order")) status = read_order(&r, m);
         else if (!strcmp(key, "seed")) status = read_long(&r, &m->seed);
         else if (!strcmp(key, "dumped_stages")) status = read_names(&r, m->dumped, &m->n_dumped);
-        else if (!strcmp(key, "region") && json_peek(&r) == '{') status = read_object(&r, m, key);
+        else if (!strcmp(key, "region") && json_peek(&r) == '{') status = read_rect(&r, m, &m->region);
         else if (!strcmp(key, "frames") || !strcmp(key, "scene") || !strcmp(key, "image") || !strcmp(key, "options") ||
                  ((!strcmp(key, "halo") || !strcmp(key, "region_input")) && json_peek(&r) == '{'))
-            status = read_object(&r, m, key);
+            status = read_object(&r, m, key, NULL);
         else status = json_skip_value(&r);
         if (status) goto fail;
         if (json_peek(&r) != ',') break;

@@ -139,6 +139,9 @@ void stage_io_gbuffer(stage_io *io, const gbuffer *g);
 int gbuffer_dump_write(const char *path, const gbuffer *g, uint32_t frame, rerror *e);
 int gbuffer_dump_read(const char *path, gbuffer *g, uint32_t *frame, rerror *e);
 
+/* A JSON array of the n stage names (a manifest's stage_order, dumped_stages). */
+void stage_names_put(FILE *fp, char names[][STAGE_NAME_SIZE], int n);
+
 /* Path of DIR/frame_NNNN/NAME.EXT into buf. */
 void stage_dump_path(char *buf, size_t size, const char *dir, uint32_t frame, const char *name, const char *ext);
 
