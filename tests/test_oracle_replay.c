@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/oracle/region_input.h"
 #include "restir/oracle/stage_dump.h"
 #include "test.h"
 
@@ -654,4 +655,48 @@ TEST(oracle_region_dump_refuses_edge_pixels)
     fp = fopen(o, "r");
     CHECKF(!fp, "%s was left behind", o);
     if (fp) fclose(fp);
+}
+
+/* The read rule of docs/oracle.md §6 on hand-made texels: the temporal source is floor(s +
+ * mv) (with --dedup the 17 x 17 window around it), nothing without a primary hit or when x1
+ * was not visible, unbounded for a disoccluded pixel under dual motion vectors; a spatial
+ * pass reads the box of floor(radius + 0.5) (disk) or floor(radius) (box). */
+TEST(oracle_region_reads_by_hand)
+{
+    restir_options o;
+    region_reach rr;
+    region_read reads[2];
+    gbuffer_texel t;
+    rerror e;
+    restir_options_default(&o);
+    o.spatial.radius = 6.4;
+    CHECKF(region_reach_for(&rr, &o, &e) == 0 && rr.spatial == 6, "disk reach %d", rr.spatial);
+    memset(&t, 0, sizeof t);
+    t.valid = t.prev_valid = 1;
+    t.pixel[0] = 10.5f;
+    t.pixel[1] = 20.5f;
+    t.motion[0] = -3.7f; /* floor(6.8) = 6 */
+    t.motion[1] = 2.6f;  /* floor(23.1) = 23 */
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 1, reads) == 2 && reads[0].box.x0 == 10 &&
+          reads[0].box.y1 == 20 && !strcmp(reads[1].what, "history") && reads[1].box.x0 == 6 && reads[1].box.x1 == 6 &&
+          reads[1].box.y0 == 23 && reads[1].box.y1 == 23);
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 0, reads) == 1); /* first frame: no history */
+    rr.dedup = 1;
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 1, reads) == 2 && reads[1].box.x0 == 0 &&
+          reads[1].box.x1 == 14 && reads[1].box.y0 == 15 && reads[1].box.y1 == 29); /* clipped to the image */
+    CHECK(region_pixel_reads(&rr, "spatial2", 40, 30, 10, 20, &t, 1, reads) == 1 && reads[0].box.x0 == 4 &&
+          reads[0].box.x1 == 16 && reads[0].box.y0 == 14 && reads[0].box.y1 == 26);
+    CHECK(region_pixel_reads(&rr, "mutate-spatial", 40, 30, 10, 20, &t, 1, reads) == 1 && reads[0].box.x0 == 10 &&
+          reads[0].box.x1 == 10);
+    CHECK(region_pixel_reads(&rr, "boiling", 40, 30, 10, 20, &t, 1, reads) == 1 && reads[0].box.x0 == 0 &&
+          reads[0].box.x1 == 15 && reads[0].box.y0 == 16 && reads[0].box.y1 == 29);
+    t.prev_valid = 0;
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 1, reads) == 1);
+    rr.dual = 1;
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 1, reads) == -1);
+    t.valid = 0;
+    CHECK(region_pixel_reads(&rr, "spatial1", 40, 30, 10, 20, &t, 1, reads) == 0);
+    o.spatial.pattern = NEIGHBOR_BOX;
+    o.spatial.radius = 3.9;
+    CHECK(region_reach_for(&rr, &o, &e) == 0 && rr.spatial == 3);
 }
