@@ -23,7 +23,8 @@ static int ablation_index(const char *const *names, const char *name)
 static int apply_stage_options(render_args *a)
 {
     rerror e;
-    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage || a->dump_region || a->history_from_dump;
+    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage || a->dump_region || a->dump_halo ||
+              a->history_from_dump;
     if (!any) return 0;
     if (!a->sequence) {
         fprintf(stderr, "restir render: --dump-dir, --dump-stages, --from-dump and --from-stage need --sequence A..B\n");
@@ -37,6 +38,11 @@ static int apply_stage_options(render_args *a)
         fprintf(stderr, "restir render: %s\n", a->sio.dump_dir ? e.msg : "--dump-region needs --dump-dir DIR");
         return 2;
     }
+    if (a->dump_halo > 0 && !a->dump_region) {
+        fprintf(stderr, "restir render: --dump-halo needs --dump-region X,Y,W,H\n");
+        return 2;
+    }
+    a->sio.halo = a->dump_halo;
     if (!a->sio.from_dir != !a->from_stage) {
         fprintf(stderr, "restir render: --from-dump DIR and --from-stage S go together\n");
         return 2;
