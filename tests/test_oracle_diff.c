@@ -12,6 +12,7 @@
 #include "restir/core/pfm.h"
 #include "restir/oracle/dump_diff.h"
 #include "restir/oracle/stage_dump.h"
+#include "dump_util.h"
 #include "test.h"
 
 static char out[262144];
@@ -20,37 +21,16 @@ static char out[262144];
                     "--sequence 0..2 --quiet --no-png --threads 2"
 #define DIFF_W 40
 
-static const char *diff_dir(const char *name)
-{
-    static char buf[4][1100];
-    static int slot;
-    char *b = buf[slot++ % 4];
-    snprintf(b, 1100, "%s/diff_%s", test_tmpdir(), name);
-    return b;
-}
+static const char *diff_dir(const char *name) { return dump_scratch("diff_", name); }
 
 /* The reference run, every stage dumped (once per test run). */
-static const char *reference(void)
-{
-    static int done;
-    static char dir[1100];
-    if (!done) {
-        snprintf(dir, sizeof dir, "%s", diff_dir("A"));
-        done = test_cli(out, sizeof out, "render " DIFF_COMMON " -o %s/da.pfm --dump-dir %s", test_tmpdir(), dir) == 0
-                   ? 1
-                   : -1;
-    }
-    if (done < 0) test_fail(__FILE__, __LINE__, "the reference run failed: %s", out);
-    return dir;
-}
+static const char *reference(void) { return dump_once(DIFF_COMMON, test_tmp_path("da.pfm"), diff_dir("A")); }
 
 /* A fresh copy of the reference dump called name. */
 static const char *copy_of_reference(const char *name)
 {
-    char cmd[4000];
-    const char *a = reference(), *d = diff_dir(name);
-    snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", d, a, d);
-    if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
+    const char *d = diff_dir(name);
+    dump_copy(reference(), d);
     return d;
 }
 
@@ -91,30 +71,28 @@ static void apply_edit(reservoir *r, enum edit what)
 /* Applies `what` to record p of dir/frame/stage (p = -1: every record; p = -2: the first
  * record with a reconnection vertex); returns the record edited (p = -1: the count), -1 on
  * failure. */
+typedef struct {
+    long p; /* the record to edit; -1: every record; -2: the first with a reconnection vertex */
+    enum edit what;
+} record_edit;
+
+static void edit_one(void *user, long i, reservoir *r)
+{
+    record_edit *t = user;
+    if (t->p == -2 && r->y.rc_k != PATH_RC_NONE) t->p = i;
+    if (t->p == -1 || i == t->p) apply_edit(r, t->what);
+}
+
 static long edit_record(const char *dir, int frame, const char *stage, long p, enum edit what)
 {
     char path[1200];
-    reservoir *rs;
-    reservoir_dump_info info;
-    rerror e;
-    long i, n;
+    record_edit t;
+    long n;
+    t.p = p;
+    t.what = what;
     stage_dump_path(path, sizeof path, dir, (uint32_t)frame, stage, "resv");
-    if (reservoir_dump_read(path, &rs, &info, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    n = (long)info.width * (long)info.height;
-    if (p == -2)
-        for (p = 0; p < n && rs[p].y.rc_k == PATH_RC_NONE; ++p) continue;
-    for (i = 0; i < n; ++i)
-        if (p < 0 || i == p) apply_edit(&rs[i], what);
-    if (p < 0) p = n;
-    if (reservoir_dump_write(path, rs, &info, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        p = -1;
-    }
-    free(rs);
-    return p;
+    n = dump_edit(path, path, edit_one, &t);
+    return n < 0 ? -1 : t.p < 0 ? n : t.p;
 }
 
 /* W = +inf or c = +inf in one pixel of B is a difference, whatever the tolerances. */

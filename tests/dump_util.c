@@ -1,0 +1,69 @@
+/* dump_util.h: scratch stage-dump directories for the oracle tests. */
+#include "dump_util.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "restir/restir/reservoir_dump.h"
+#include "test.h"
+
+#define DUMP_PATH_MAX 1100
+#define DUMPS_MAX 32
+
+const char *dump_scratch(const char *prefix, const char *name)
+{
+    static char slots[8][DUMP_PATH_MAX];
+    static int next;
+    char *p = slots[next++ & 7];
+    snprintf(p, sizeof slots[0], "%s/%s%s", test_tmpdir(), prefix, name);
+    return p;
+}
+
+const char *dump_once(const char *args, const char *pfm, const char *dir)
+{
+    static char made[DUMPS_MAX][DUMP_PATH_MAX];
+    static int n_made;
+    static char out[262144];
+    char cmd[DUMP_PATH_MAX + 16];
+    int i;
+    for (i = 0; i < n_made; ++i)
+        if (!strcmp(made[i], dir)) return made[i];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
+    if (test_cli(out, sizeof out, "render %s -o %s --dump-dir %s", args, pfm, dir) != 0) {
+        test_fail(__FILE__, __LINE__, "the reference run failed: %s", out);
+        return dir;
+    }
+    if (n_made == DUMPS_MAX) return dir; /* made again by the next call */
+    snprintf(made[n_made], sizeof made[0], "%s", dir);
+    return made[n_made++];
+}
+
+const char *dump_copy(const char *src, const char *dst)
+{
+    char cmd[4000];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && cp -r '%s' '%s'", dst, src, dst);
+    if (system(cmd) == 0) return dst;
+    test_fail(__FILE__, __LINE__, "%s failed", cmd);
+    return NULL;
+}
+
+long dump_edit(const char *src, const char *dst, dump_edit_fn edit, void *user)
+{
+    reservoir *rs;
+    reservoir_dump_info info;
+    rerror e;
+    long i, n;
+    if (reservoir_dump_read(src, &rs, &info, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
+    n = (long)info.width * (long)info.height;
+    for (i = 0; i < n; ++i) edit(user, i, &rs[i]);
+    if (reservoir_dump_write(dst, rs, &info, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        n = -1;
+    }
+    free(rs);
+    return n;
+}
