@@ -67,3 +67,26 @@ long dump_edit(const char *src, const char *dst, dump_edit_fn edit, void *user)
     free(rs);
     return n;
 }
+
+typedef struct {
+    long p;
+    double scale;
+    int with_wsum;
+} w_scaling;
+
+static void scale_record(void *user, long i, reservoir *r)
+{
+    const w_scaling *w = user;
+    if (w->p >= 0 && i != w->p) return;
+    r->W *= (real)w->scale;
+    if (w->with_wsum) r->wsum *= (real)w->scale;
+}
+
+long dump_scale_w(const char *src, const char *dst, long p, double scale, int with_wsum)
+{
+    w_scaling w;
+    w.p = p;
+    w.scale = scale;
+    w.with_wsum = with_wsum;
+    return dump_edit(src, dst, scale_record, &w);
+}

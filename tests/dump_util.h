@@ -28,5 +28,8 @@ typedef void (*dump_edit_fn)(void *user, long i, reservoir *r);
  * order and writes the result to dst (may be src). Returns the number of records, or -1
  * after recording a test failure (the file could not be read or written). */
 long dump_edit(const char *src, const char *dst, dump_edit_fn edit, void *user);
+/* dump_edit with W of record p (p < 0: every record) multiplied by scale, and its wsum too
+ * when with_wsum (a W planted consistently with the resampling sum). */
+long dump_scale_w(const char *src, const char *dst, long p, double scale, int with_wsum);
 
 #endif

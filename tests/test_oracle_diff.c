@@ -117,38 +117,38 @@ TEST(oracle_diff_nonfinite_is_a_difference)
  * is truncated or holds another frame's file: exit 2, never 0. */
 TEST(oracle_diff_incomplete_input_is_an_error)
 {
+    /* Each case damages a fresh copy of the reference by a shell command run inside it and
+     * diffs the copy as A and/or as B against the reference. */
+    static const struct {
+        const char *name, *damage;
+        int as_a, as_b;
+        const char *expect; /* in the message; NULL: exit 2 is the whole check */
+    } cases[] = {
+        {"manifest_only", "find . -mindepth 1 -maxdepth 1 ! -name manifest.json -exec rm -rf {} +", 1, 0, "missing"},
+        {"no_frame", "rm -rf frame_0001", 1, 1, NULL},
+        /* a run cut short: its manifest says 2 of 3 frames (what an interrupted run leaves) */
+        {"cut", "sed -i 's/\"written\": 3/\"written\": 2/' manifest.json && rm -rf frame_0002", 1, 0, "cut short"},
+        /* B: a stage missing, a truncated file, another frame's file */
+        {"no_stage", "rm frame_0002/spatial2.resv", 0, 1, NULL},
+        {"short", "truncate -s -100 frame_0001/temporal.resv", 0, 1, NULL},
+        {"swapped", "cp frame_0000/temporal.resv frame_0001/temporal.resv", 0, 1, "holds frame 0, stage 'temporal'"},
+    };
     const char *a = reference(), *d;
     char cmd[4000];
-    d = diff_dir("manifest_only");
-    snprintf(cmd, sizeof cmd, "rm -rf %s && mkdir -p %s && cp %s/manifest.json %s/", d, d, a, d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", d, a) == 2, "%s", out);
-    CHECKF(strstr(out, "missing") != NULL, "%s", out);
-    d = copy_of_reference("no_frame");
-    snprintf(cmd, sizeof cmd, "rm -rf %s/frame_0001", d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", d, a) == 2, "A without frame 1:\n%s", out);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", a, d) == 2, "B without frame 1:\n%s", out);
-    /* a run cut short: its manifest says 2 of 3 frames (what an interrupted run leaves) */
-    d = copy_of_reference("cut");
-    snprintf(cmd, sizeof cmd, "sed -i 's/\"written\": 3/\"written\": 2/' %s/manifest.json && rm -rf %s/frame_0002", d, d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", d, a) == 2, "%s", out);
-    CHECKF(strstr(out, "cut short") != NULL, "%s", out);
-    /* B: a stage missing, a truncated file, another frame's file */
-    d = copy_of_reference("no_stage");
-    snprintf(cmd, sizeof cmd, "rm %s/frame_0002/spatial2.resv", d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", a, d) == 2, "%s", out);
-    d = copy_of_reference("short");
-    snprintf(cmd, sizeof cmd, "truncate -s -100 %s/frame_0001/temporal.resv", d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", a, d) == 2, "%s", out);
-    d = copy_of_reference("swapped");
-    snprintf(cmd, sizeof cmd, "cp %s/frame_0000/temporal.resv %s/frame_0001/temporal.resv", d, d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", a, d) == 2, "%s", out);
-    CHECKF(strstr(out, "holds frame 0, stage 'temporal'") != NULL, "%s", out);
+    size_t i;
+    int b;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        d = copy_of_reference(cases[i].name);
+        snprintf(cmd, sizeof cmd, "cd '%s' && %s", d, cases[i].damage);
+        CHECKF(system(cmd) == 0, "%s failed", cmd);
+        for (b = 0; b < 2; ++b) {
+            if (!(b ? cases[i].as_b : cases[i].as_a)) continue;
+            CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", b ? a : d, b ? d : a) == 2, "%s as %s:\n%s",
+                   cases[i].name, b ? "B" : "A", out);
+            CHECKF(!cases[i].expect || strstr(out, cases[i].expect), "%s as %s: no '%s' in\n%s", cases[i].name,
+                   b ? "B" : "A", cases[i].expect, out);
+        }
+    }
 }
 
 /* Every documented field is compared: one pixel's reconnection field or F changed alone is

@@ -24,25 +24,10 @@ static const char *kit_dir(const char *name) { return dump_scratch("", name); }
 /* The reference run: every stage dumped into kit/A, frames kit/a.NNNN.pfm (once per run). */
 static const char *reference_dump(void) { return dump_once(KIT_COMMON, test_tmp_path("a.pfm"), kit_dir("A")); }
 
-/* W of record p (p < 0: every record) times scale. */
-typedef struct {
-    long p;
-    double scale;
-} w_scaling;
-
-static void scale_record_w(void *user, long i, reservoir *r)
-{
-    const w_scaling *w = user;
-    if (w->p < 0 || i == w->p) r->W *= (real)w->scale;
-}
-
 /* Copies src to dst, multiplying W of pixel p (record p; p < 0: every pixel) by `scale`. */
 static void copy_scaling_w(const char *src, const char *dst, long p, double scale)
 {
-    w_scaling w;
-    w.p = p;
-    w.scale = scale;
-    dump_edit(src, dst, scale_record_w, &w);
+    dump_scale_w(src, dst, p, scale, 0);
 }
 
 TEST(oracle_dump_layout_and_manifest)

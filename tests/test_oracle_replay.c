@@ -47,27 +47,11 @@ static const char *copy_of(const char *from, const char *name)
 }
 
 /* Multiplies W (and wsum) of record p of dir/frame/stage by `scale` (p < 0: every record). */
-typedef struct {
-    long p;
-    double scale;
-} w_scaling;
-
-static void scale_record(void *user, long i, reservoir *r)
-{
-    const w_scaling *w = user;
-    if (w->p >= 0 && i != w->p) return;
-    r->W *= (real)w->scale;
-    r->wsum *= (real)w->scale;
-}
-
 static void scale_w(const char *dir, int frame, const char *stage, long p, double scale)
 {
     char path[1200];
-    w_scaling w;
-    w.p = p;
-    w.scale = scale;
     stage_dump_path(path, sizeof path, dir, (uint32_t)frame, stage, "resv");
-    dump_edit(path, path, scale_record, &w);
+    dump_scale_w(path, path, p, scale, 1);
 }
 
 typedef struct {
