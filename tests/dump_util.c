@@ -68,25 +68,25 @@ long dump_edit(const char *src, const char *dst, dump_edit_fn edit, void *user)
     return n;
 }
 
+/* The factors of record p (p < 0: every record): W and wsum. */
 typedef struct {
     long p;
-    double scale;
-    int with_wsum;
+    real w_factor, wsum_factor;
 } w_scaling;
 
 static void scale_record(void *user, long i, reservoir *r)
 {
     const w_scaling *w = user;
     if (w->p >= 0 && i != w->p) return;
-    r->W *= (real)w->scale;
-    if (w->with_wsum) r->wsum *= (real)w->scale;
+    r->W *= w->w_factor;
+    r->wsum *= w->wsum_factor;
 }
 
 long dump_scale_w(const char *src, const char *dst, long p, double scale, int with_wsum)
 {
     w_scaling w;
     w.p = p;
-    w.scale = scale;
-    w.with_wsum = with_wsum;
+    w.w_factor = (real)scale;
+    w.wsum_factor = with_wsum ? (real)scale : 1;
     return dump_edit(src, dst, scale_record, &w);
 }
