@@ -10,6 +10,7 @@
 #include "restir/render/aov.h"
 #include "capture.h"
 #include "test.h"
+#include "text_util.h"
 #include "restir/core/pfm.h"
 
 #define SCENE "scenes/cornell.scene --size 24x20 --threads 2"
@@ -133,9 +134,7 @@ TEST(cli_rule_runs_interrupted_keeps_finished_runs)
 /* An option of another method is an error with a hint, before anything is written. */
 TEST(cli_rule_options_of_another_method_refused)
 {
-    static const struct {
-        const char *args, *expect;
-    } cases[] = {
+    static const bad_input cases[] = {
         {"--method restir --spp 4", "--spp applies to --method pt, not --method restir (restir averages --frames"},
         {"--method pt --spatial-passes 1", "--spatial-passes applies to --method restir, not --method pt"},
         {"--method pt --preset gris-offline", "--preset applies to --method restir"},
@@ -148,9 +147,9 @@ TEST(cli_rule_options_of_another_method_refused)
     for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         int status;
         remove(pfm);
-        status = test_cli(out, sizeof out, "render " SCENE " %s -o %s", cases[i].args, pfm);
-        CHECKF(status == 2 && strstr(out, cases[i].expect), "%s: status %d, %s", cases[i].args, status, out);
-        CHECKF(!test_file_exists(pfm), "%s left %s", cases[i].args, pfm);
+        status = test_cli(out, sizeof out, "render " SCENE " %s -o %s", cases[i].input, pfm);
+        CHECKF(status == 2 && strstr(out, cases[i].expect), "%s: status %d, %s", cases[i].input, status, out);
+        CHECKF(!test_file_exists(pfm), "%s left %s", cases[i].input, pfm);
     }
     /* the shared rows stay valid for restir */
     CHECKF(test_cli(out, sizeof out, "render " SMALL " --method restir --max-depth 3 --time-limit 0.01 --quiet -o %s", pfm) == 0,

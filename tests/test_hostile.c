@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "test.h"
+#include "text_util.h"
 
 #define SMALL "scenes/cornell.scene --size 16x16 --threads 2 --max-depth 4"
 
@@ -185,9 +186,7 @@ TEST(hostile_sequence_errors_leave_nothing)
  * "difference") on a wrong input count. All are bad vectors: exit 2. */
 TEST(hostile_vectors_check_bad_vectors)
 {
-    static const struct {
-        const char *line, *expect;
-    } cases[] = {
+    static const bad_input cases[] = {
         {"{\"fn\": \"rng_u\", \"case\": \"x\", \"in\": [1, 0, 0, -1, 1, 0], \"out\": [1, 0.5]}", "input 3 is -1"},
         {"{\"fn\": \"rng_u\", \"case\": \"x\", \"in\": [-1, 0, 0, 1, 1, 0], \"out\": [1, 0.5]}", "input 0 is -1"},
         {"{\"fn\": \"rng_u\", \"case\": \"x\", \"in\": [1, 0, 0, 1, 1], \"out\": [1, 0.5]}", "5 inputs do not fit"},
@@ -200,7 +199,7 @@ TEST(hostile_vectors_check_bad_vectors)
     for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         char path[1024], text[1024];
         int status;
-        snprintf(text, sizeof text, "%s%s", cases[i].line, cases[i].line[0] ? "\n" : "");
+        snprintf(text, sizeof text, "%s%s", cases[i].input, cases[i].input[0] ? "\n" : "");
         snprintf(path, sizeof path, "%s", test_write_file("hostile-vec.jsonl", text));
         status = test_cli(out, sizeof out, "vectors --check %s", path);
         CHECKF(status == 2 && strstr(out, cases[i].expect), "case %zu: status %d: %s", i, status, out);
