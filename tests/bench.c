@@ -8,6 +8,7 @@
 #include "restir/metrics/stats.h"
 #include "restir/frame/offline.h"
 #include "restir/frame/pipeline.h"
+#include "pt_util.h"
 #include "test.h"
 
 static const char *const channel_names[3] = {"R", "G", "B"};
@@ -133,11 +134,10 @@ int bench_paired_run(bench_paired *p, int runs, uint32_t seed0, bench_run_fn a, 
 
 void bench_image_mean(const image *img, double mean[3])
 {
-    size_t i, n = (size_t)img->width * (size_t)img->height;
-    double s[3] = {0, 0, 0};
+    size_t n = (size_t)img->width * (size_t)img->height;
+    double s[3];
     int c;
-    for (i = 0; i < n; ++i)
-        for (c = 0; c < 3; ++c) s[c] += img->px[3 * i + (size_t)c];
+    test_image_sums(img, s);
     for (c = 0; c < 3; ++c) mean[c] = n ? s[c] / (double)n : 0;
 }
 
@@ -199,5 +199,6 @@ int bench_sequence_run(void *user, uint32_t seed, double mean[3])
     const bench_sequence_config *c = user;
     restir_options o = c->o;
     o.seed = seed;
+    if (c->frame == BENCH_OFFLINE) return bench_restir_mean(c->s, &o, mean);
     return bench_sequence_mean(c->s, &o, c->frame, mean);
 }

@@ -239,3 +239,12 @@ int test_write_runs(char *list, size_t size, int width, int height, int runs, co
     image_free(&img);
     return k < runs ? -1 : 0;
 }
+
+void test_image_sums(const image *img, double sum[3])
+{
+    size_t i, n = (size_t)img->width * (size_t)img->height;
+    int c;
+    sum[0] = sum[1] = sum[2] = 0;
+    for (i = 0; i < n; ++i)
+        for (c = 0; c < 3; ++c) sum[c] += img->px[3 * i + (size_t)c];
+}

@@ -51,6 +51,8 @@ typedef void (*test_run_image_fn)(void *user, int k, image *img);
  * lists their paths, separated by spaces, in list (of `size` bytes). 0 on success. */
 int test_write_runs(char *list, size_t size, int width, int height, int runs, const char *stem,
                     test_run_image_fn make, void *user);
+/* The sums over every pixel of R, G and B (in pixel order). */
+void test_image_sums(const image *img, double sum[3]);
 /* The largest relative difference |a - b| / max(|a|, 1e-30) over every pixel and channel
  * (a and b of the same size). */
 double test_image_max_rel_diff(const image *a, const image *b);

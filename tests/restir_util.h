@@ -152,4 +152,28 @@ void rt_mcap_sequence_exact(int trees, enum temporal_mcap_mode mode, double expe
  * wall half red, half green, a small light in front of the red half (restir_util.c). */
 int rt_make_two_tone(scene *s, int res);
 
+/* One frame's reservoirs on a scene, with the lights and the context to shift or mutate
+ * them (the fixture of the mutation tests). */
+typedef struct {
+    scene s;
+    restir_result res;
+    light_set lights;
+    restir_context c;
+} rt_frame;
+/* Loads path at res x res and renders one frame (restir_render, reservoirs kept) with the
+ * default options but shift, max_depth, seed and 2 threads; the context is that frame's
+ * (restir_context_for). 0 on success (a test failure is recorded otherwise). */
+int rt_frame_open(rt_frame *f, const char *path, int res, int shift, int max_depth, uint32_t seed);
+void rt_frame_close(rt_frame *f);
+
+/* The options of the paired mutation bench: the hybrid shift, pairwise-defensive MIS, 2
+ * candidates, paths of at most 4 segments, 2 threads, 20 mutations after the temporal step
+ * (the caller sets the strategy, kernel, ...). */
+void rt_mutation_options(restir_options *o);
+/* Frame 4 of sequences with the options `on` against the same sequences without mutations
+ * (the same seeds: the frames share their initial and temporal samples until the first
+ * mutation), K = runs pairs from seed0, into p (initialised by the caller). */
+void rt_mutation_paired(const scene *s, const restir_options *on, int runs, uint32_t seed0,
+                        struct bench_paired_s *p);
+
 #endif

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "bench.h"
 #include "pt_util.h"
 #include "scene_text_util.h"
 #include "test.h"
@@ -316,16 +317,6 @@ TEST(sky_convex_object_constant_environment_exact)
     scene_free(&s);
 }
 
-/* The mean of every channel of an image. */
-static void image_mean(const image *img, double m[3])
-{
-    int x, y, c;
-    m[0] = m[1] = m[2] = 0;
-    for (y = 0; y < img->height; ++y)
-        for (x = 0; x < img->width; ++x)
-            for (c = 0; c < 3; ++c) m[c] += image_pixel(img, x, y)[c];
-    for (c = 0; c < 3; ++c) m[c] /= (double)img->width * img->height;
-}
 
 /* A Lambertian plane (rho, normal +y) seen from above, lit by either one bright texel of an
  * otherwise black 64 x 32 map, or by the equivalent sun: the texel's centre direction, the
@@ -373,7 +364,7 @@ TEST(sky_bright_texel_equals_sun)
             scene_free(&s);
             return;
         }
-        image_mean(&r.mean, got[variant]);
+        bench_image_mean(&r.mean, got[variant]);
         pt_result_free(&r);
         scene_free(&s);
     }
