@@ -297,28 +297,6 @@ void rt_bench_close(rt_bench *b)
     scene_free(&b->s);
 }
 
-int rt_sequence_runs(const scene *s, const restir_options *o, int first, int last, int runs, restir_frame_sink sink,
-                     void *user, restir_stats *run0)
-{
-    restir_sequence seq;
-    rerror e;
-    int k;
-    memset(&seq, 0, sizeof seq);
-    seq.first = first;
-    seq.last = last;
-    for (k = 0; k < runs; ++k) {
-        restir_options ok = *o;
-        restir_stats total;
-        ok.seed = o->seed + 7919u * (uint32_t)k;
-        if (restir_render_sequence(s, &ok, &seq, sink, user, &total, &e)) {
-            test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
-            return -1;
-        }
-        if (k == 0 && run0) *run0 = total;
-    }
-    return 0;
-}
-
 static int collect_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
 {
     rt_frame_sides *q = user;

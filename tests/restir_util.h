@@ -12,6 +12,7 @@
 #include "restir/restir/initial.h"
 #include "restir/restir/reservoir_dump.h"
 #include "restir/restir/shift.h"
+#include "sequence_util.h"
 
 /* The name rt_load_scene takes for the generated mirror corridor (generate_corridor). */
 #define RT_CORRIDOR "generated:corridor"
@@ -85,12 +86,6 @@ typedef struct {
 /* path NULL: the spot scene. 0 on success (a test failure is recorded otherwise). */
 int rt_bench_open(rt_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth, uint32_t pt_seed);
 void rt_bench_close(rt_bench *b);
-
-/* K sequences first..last of the real-time pipeline (restir_render_sequence), run k with the
- * seed o->seed + 7919 k, every frame to sink(user, ...); *run0 (may be NULL) receives run 0's
- * totals. 0 on success (a test failure is recorded otherwise). */
-int rt_sequence_runs(const scene *s, const restir_options *o, int first, int last, int runs, restir_frame_sink sink,
-                     void *user, restir_stats *run0);
 
 #define RT_MAX_TIMES 3
 /* Frames times[0..nt) (ascending) of K sequences 0..times[nt-1]: run k of side[i] is frame

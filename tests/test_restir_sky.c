@@ -182,18 +182,6 @@ TEST(restir_sky_paired_every_shift)
 
 /* ---- temporal reuse (still camera): frame 3 of K sequences against the path tracer ---- */
 
-typedef struct {
-    int frame;
-    check_side side;
-} one_frame;
-
-static int collect(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
-{
-    one_frame *q = user;
-    (void)st;
-    return frame == q->frame ? check_side_add_run(&q->side, img, "run", e) : 0;
-}
-
 TEST(restir_sky_temporal)
 {
     static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
@@ -207,13 +195,10 @@ TEST(restir_sky_temporal)
     }
     for (i = 0; i < 5 && !test_has_failed(); ++i) {
         restir_options o;
-        restir_sequence seq;
-        one_frame q;
-        check_options opt;
+        rt_frame_sides q;
         check_result c;
-        rerror e;
         char what[128];
-        int k, status = 0;
+        int status;
         sky_options(&o, i < 3 ? shifts[i] : i == 3 ? RESTIR_SHIFT_RECONNECTION : RESTIR_SHIFT_HYBRID,
                     MIS_PAIRWISE_DEFENSIVE, 1, 80u + (uint32_t)i);
         o.temporal.mis = i == 1 ? MIS_PAIRWISE_DEFENSIVE : MIS_TALBOT;
@@ -221,31 +206,11 @@ TEST(restir_sky_temporal)
             o.mutation.count = 2;
             o.mutation.strategy = i == 3 ? MUTATE_RV : MUTATE_PP;
         }
-        memset(&seq, 0, sizeof seq);
-        seq.first = 0;
-        seq.last = 3;
-        q.frame = 3;
-        if (check_side_begin_runs(&q.side, s.width, s.height, BLOCK, &e)) {
-            test_fail(__FILE__, __LINE__, "%s", e.msg);
-            break;
-        }
-        for (k = 0; k < RUNS && !status; ++k) {
-            restir_options ok = o;
-            restir_stats total;
-            ok.seed = o.seed + 7919u * (uint32_t)k;
-            status = restir_render_sequence(&s, &ok, &seq, collect, &q, &total, &e);
-        }
-        if (status || check_side_end_runs(&q.side, &e)) {
-            test_fail(__FILE__, __LINE__, "sequence: %s", e.msg);
-            check_side_free(&q.side);
-            break;
-        }
-        check_options_default(&opt);
-        opt.alpha = ALPHA;
-        opt.block_size = BLOCK;
-        status = check_compare(&q.side, &pt, &opt, &c, &e);
-        check_side_free(&q.side);
-        CHECKF(status == 0, "check_compare: %s", e.msg);
+        q.times[0] = 3; /* frame 3 of K sequences 0..3 */
+        q.nt = 1;
+        if (rt_frame_sides_run(&s, &o, RUNS, BLOCK, &q)) break;
+        status = rt_compare_sides(&q.side[0], &pt, ALPHA, BLOCK, 0, &c);
+        rt_frame_sides_free(&q);
         if (status) break;
         snprintf(what, sizeof what, "courtyard temporal frame 3 shift %s temporal %s mutations %d %s",
                  restir_shift_names[o.shift], restir_mis_names[o.temporal.mis], o.mutation.count,
