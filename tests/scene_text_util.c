@@ -12,6 +12,14 @@ int scene_from_text(scene *s, const char *name, const char *text, rerror *e)
     return scene_load(s, path, e);
 }
 
+const material *find_material(const scene *s, const char *name)
+{
+    size_t i;
+    for (i = 0; i < s->material_count; ++i)
+        if (!strcmp(s->materials[i].name, name)) return &s->materials[i];
+    return NULL;
+}
+
 int error_at(const char *msg, const char *name, long line, const char *what)
 {
     char prefix[1200];

@@ -12,6 +12,9 @@
  * scene_load's status (e filled on failure). */
 int scene_from_text(scene *s, const char *name, const char *text, rerror *e);
 
+/* The material called name in s, or NULL. */
+const material *find_material(const scene *s, const char *name);
+
 /* 1 if msg is one line that starts with "<scratch dir>/<name>:<line>: " (line 0:
  * "<scratch dir>/<name>: ", the file as a whole) and contains `what`. */
 int error_at(const char *msg, const char *name, long line, const char *what);

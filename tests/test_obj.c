@@ -336,14 +336,6 @@ TEST(obj_object_ids)
     scene_free(&s);
 }
 
-static const material *find_material(const scene *s, const char *name)
-{
-    size_t i;
-    for (i = 0; i < s->material_count; ++i)
-        if (!strcmp(s->materials[i].name, name)) return &s->materials[i];
-    return NULL;
-}
-
 /* mtllib with two files, an escaped space, a whole-line name with spaces; usemtl names
  * with spaces; faces before any usemtl use "default"; an undefined name warns. */
 TEST(obj_usemtl_and_mtllib)

@@ -22,14 +22,6 @@ static int load_scene_text(scene *s, const char *text, rerror *e)
     return scene_from_text(s, "t.scene", text, e);
 }
 
-static const material *find_material(const scene *s, const char *name)
-{
-    size_t i;
-    for (i = 0; i < s->material_count; ++i)
-        if (!strcmp(s->materials[i].name, name)) return &s->materials[i];
-    return NULL;
-}
-
 TEST(scene_file_directives)
 {
     scene s;
