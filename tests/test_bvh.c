@@ -13,6 +13,7 @@
 #include "restir/core/rng.h"
 #include "restir/scene/scene.h"
 #include "restir/core/warp.h"
+#include "mesh_util.h"
 #include "test.h"
 #include "restir/scene/scene_trace.h"
 
@@ -1315,52 +1316,24 @@ TEST(scene_prepare_empty_scene_fails)
 /* ------------------------------------------------------------------------------- */
 /* Generated scene                                                                   */
 
-typedef struct {
-    uint32_t a, b;
-} edge;
-
-static int compare_edges(const void *x, const void *y)
-{
-    const edge *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    return p->b < q->b ? -1 : p->b > q->b;
-}
-
 /* >= 100k triangles at subdivision 92, and closed: every directed edge of the sphere
  * appears once and its reverse once (consistent outward winding, no holes). */
 TEST(generate_displaced_sphere_closed)
 {
     scene s;
     rerror e;
-    edge *edges;
-    size_t i, sphere_tris = 0, n = 0;
+    const char *problem;
+    double volume;
+    size_t i, sphere_tris = 0;
     CHECKF(generate_displaced_sphere(&s, 92, &e) == 0, "%s", e.msg);
     CHECKF(s.triangle_count >= 100000, "%zu triangles", s.triangle_count);
     CHECK(s.material_count == 2 && s.object_count == 2 && s.has_camera);
     CHECK(!rgb_is_black(s.materials[1].emission) && rgb_is_black(s.materials[0].emission));
-    edges = malloc(3 * s.triangle_count * sizeof *edges);
-    for (i = 0; i < s.triangle_count; ++i) {
-        int k;
-        if (s.triangles[i].object != 0) continue;
-        sphere_tris++;
-        for (k = 0; k < 3; ++k) {
-            edges[n].a = s.triangles[i].v[k];
-            edges[n].b = s.triangles[i].v[(k + 1) % 3];
-            n++;
-        }
-    }
+    for (i = 0; i < s.triangle_count; ++i) sphere_tris += s.triangles[i].object == 0;
     CHECK(sphere_tris == 12 * 92 * 92);
     CHECK(s.position_count == 6 * 92 * 92 + 2 + 4); /* Euler: V = E - F + 2 */
-    qsort(edges, n, sizeof *edges, compare_edges);
-    for (i = 0; i < n; ++i) {
-        edge rev, *found;
-        CHECKF(i == 0 || compare_edges(&edges[i - 1], &edges[i]) != 0, "directed edge used twice");
-        rev.a = edges[i].b;
-        rev.b = edges[i].a;
-        found = bsearch(&rev, edges, n, sizeof *edges, compare_edges);
-        CHECKF(found != NULL, "edge %u-%u has no opposite", edges[i].a, edges[i].b);
-    }
-    free(edges);
+    problem = check_closed_outward(&s, 0, &volume);
+    CHECKF(problem == NULL, "the sphere: %s", problem);
     /* The light faces down, toward the sphere. */
     {
         const triangle *t = &s.triangles[s.triangle_count - 1];
