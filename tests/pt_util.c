@@ -70,6 +70,14 @@ uint32_t test_scene_material(scene *s, enum material_type type, rgb diffuse, rgb
     return (uint32_t)s->material_count++;
 }
 
+uint32_t test_scene_glossy(scene *s, enum material_type type, rgb diffuse, rgb specular, real roughness)
+{
+    uint32_t m = test_scene_material(s, type, diffuse, rgb_gray(0));
+    s->materials[m].specular = specular;
+    s->materials[m].roughness = roughness;
+    return m;
+}
+
 void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material)
 {
     triangle *t = &s->triangles[s->triangle_count++];

@@ -22,6 +22,8 @@ double chi2_test(const double *observed, const double *expected, size_t n, doubl
  * (3 fresh vertices each) and max_materials materials; the scene is freed by scene_free. */
 int test_scene_begin(scene *s, size_t max_triangles, size_t max_materials);
 uint32_t test_scene_material(scene *s, enum material_type type, rgb diffuse, rgb emission);
+/* A material with a glossy lobe (conductor, plastic): specular colour and GGX roughness. */
+uint32_t test_scene_glossy(scene *s, enum material_type type, rgb diffuse, rgb specular, real roughness);
 void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material);
 /* Parallelogram p, p+e1, p+e1+e2, p+e2 as two triangles; front normal along e1 x e2. */
 void test_scene_quad(scene *s, vec3f p, vec3f e1, vec3f e2, uint32_t material);

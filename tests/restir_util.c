@@ -403,9 +403,7 @@ int rt_make_spot(scene *s, int res)
     uint32_t metal, white, light;
     const float h = 0.08f, a = 0.15f;
     if (test_scene_begin(s, 8, 3)) return -1;
-    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.85, (real)0.8);
-    test_scene_last_material(s)->roughness = (real)0.3;
+    metal = test_scene_glossy(s, MAT_CONDUCTOR, rgb_gray(0), rgb_make((real)0.9, (real)0.85, (real)0.8), (real)0.3);
     white = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.8, (real)0.8, (real)0.8), rgb_gray(0));
     light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(4, (real)3.5, 3));
     test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), metal);        /* floor, +y */
@@ -598,9 +596,7 @@ int rt_make_two_tone(scene *s, int res)
     uint32_t metal, red, green, light;
     const float h = 0.1f, a = 0.4f;
     if (test_scene_begin(s, 10, 4)) return -1;
-    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.9, (real)0.9);
-    test_scene_last_material(s)->roughness = (real)0.3;
+    metal = test_scene_glossy(s, MAT_CONDUCTOR, rgb_gray(0), rgb_make((real)0.9, (real)0.9, (real)0.9), (real)0.3);
     red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.9, (real)0.1, (real)0.1), rgb_gray(0));
     green = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1, (real)0.9, (real)0.1), rgb_gray(0));
     light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(1, 1, 1));

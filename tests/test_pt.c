@@ -45,12 +45,8 @@ static int make_glossy_box_at(scene *s, int res, real dx, real dy)
     red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.6, (real)0.06, (real)0.05), rgb_gray(0));
     green = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.14, (real)0.45, (real)0.09), rgb_gray(0));
     light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(17, 12, 4));
-    plastic = test_scene_material(s, MAT_PLASTIC, rgb_make((real)0.2, (real)0.3, (real)0.7), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_gray(1);
-    test_scene_last_material(s)->roughness = (real)0.3;
-    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_make((real)0.95, (real)0.64, (real)0.54);
-    test_scene_last_material(s)->roughness = (real)0.25;
+    plastic = test_scene_glossy(s, MAT_PLASTIC, rgb_make((real)0.2, (real)0.3, (real)0.7), rgb_gray(1), (real)0.3);
+    metal = test_scene_glossy(s, MAT_CONDUCTOR, rgb_gray(0), rgb_make((real)0.95, (real)0.64, (real)0.54), (real)0.25);
     glass = test_scene_material(s, MAT_DIELECTRIC, rgb_gray(0), rgb_gray(0));
     test_scene_last_material(s)->specular = rgb_gray(1);
     /* Walls (inward): floor, ceiling, back, left red, right green. */
@@ -296,9 +292,7 @@ static int make_plastic_under_light(scene *s, int res)
 {
     uint32_t floor_m, light_m;
     if (test_scene_begin(s, 4, 2)) return -1;
-    floor_m = test_scene_material(s, MAT_PLASTIC, rgb_make((real)0.1, (real)0.15, (real)0.3), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_gray(1);
-    test_scene_last_material(s)->roughness = (real)0.9;
+    floor_m = test_scene_glossy(s, MAT_PLASTIC, rgb_make((real)0.1, (real)0.15, (real)0.3), rgb_gray(1), (real)0.9);
     light_m = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(1, (real)0.8, (real)0.6));
     test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), floor_m);
     test_scene_quad(s, v3f(-0.5f, 0.4f, -0.5f), v3f(1, 0, 0), v3f(0, 0, 1), light_m);
