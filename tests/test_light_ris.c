@@ -191,6 +191,23 @@ TEST(light_tiles_are_addressed)
     scene_free(&s);
 }
 
+/* Light RIS with n candidates (the options o otherwise), then the same with light tiles,
+ * against the plain sampler on s. 0 if both agree with it (a test failure otherwise). */
+static int ris_against_plain(const scene *s, pt_options *o, int n)
+{
+    check_side plain;
+    char what[64];
+    if (plain_side(s, o, &plain)) return -1;
+    o->light_ris.candidates = n;
+    snprintf(what, sizeof what, "light RIS N = %d", n);
+    compare_with(s, &plain, o, 0, what);
+    o->light_ris.tiles = 1;
+    snprintf(what, sizeof what, "light RIS N = %d with tiles", n);
+    if (!test_has_failed()) compare_with(s, &plain, o, 0, what);
+    check_side_free(&plain);
+    return test_has_failed() ? -1 : 0;
+}
+
 /* Light RIS (N = 32 at x1, the paper's count) against the plain sampler on the
  * many-lights hall: direct and one-bounce light (d <= 3), where the NEE/BSDF MIS weights
  * carry p̃ on both sides. Then the same with light tiles; the ablation is compared with the
@@ -199,20 +216,14 @@ TEST(light_ris_unbiased_many_lights)
 {
     scene s;
     pt_options o;
-    check_side plain;
+    check_side ris;
     if (rt_load_scene("scenes/many-lights.scene", 24, &s)) return;
     options(&o, 3, 16);
-    if (plain_side(&s, &o, &plain) == 0) {
-        check_side ris;
-        o.light_ris.candidates = 32;
-        compare_with(&s, &plain, &o, 0, "light RIS N = 32");
-        o.light_ris.tiles = 1;
-        if (!test_has_failed()) compare_with(&s, &plain, &o, 0, "light RIS N = 32 with tiles");
-        check_side_free(&plain);
+    if (ris_against_plain(&s, &o, 32) == 0) {
         o.light_ris.tiles = 0;
         o.seed = test_seed() * 131u + 9;
         o.spp = 8; /* 16 runs of 8: a paired z saturates near 5 with 8 runs (7 dof) */
-        if (!test_has_failed() && rt_pt_side_options(&s, &o, 16, 8, &ris) == 0) {
+        if (rt_pt_side_options(&s, &o, 16, 8, &ris) == 0) {
             o.ablations = PT_ABLATE_LIGHT_RIS_PDF;
             ablation_paired(&s, &ris, &o, "ablation light-ris-pdf vs light RIS");
             check_side_free(&ris);
@@ -226,16 +237,9 @@ TEST(light_ris_unbiased_cornell_glossy)
 {
     scene s;
     pt_options o;
-    check_side plain;
     if (rt_load_scene("scenes/cornell-glossy.scene", 24, &s)) return;
     options(&o, 5, 16);
-    if (plain_side(&s, &o, &plain) == 0) {
-        o.light_ris.candidates = 8;
-        compare_with(&s, &plain, &o, 0, "light RIS N = 8");
-        o.light_ris.tiles = 1;
-        if (!test_has_failed()) compare_with(&s, &plain, &o, 0, "light RIS N = 8 with tiles");
-        check_side_free(&plain);
-    }
+    ris_against_plain(&s, &o, 8);
     scene_free(&s);
 }
 
