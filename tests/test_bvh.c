@@ -442,59 +442,80 @@ TEST(bvh_collapse_is_sah_optimal)
 /* ------------------------------------------------------------------------------- */
 /* BVH == brute force                                                                */
 
-TEST(bvh_matches_brute_force_random_soup)
+/* Ray i of a brute-force comparison on the soup m (which rays may aim at). */
+typedef ray (*ray_maker)(const soup *m, long i);
+
+/* A BVH over m against brute force for the rays make(m, 0..n-1): the same first hit for
+ * every ray; *hits counts the rays that hit. 0 if all agree (a test failure names the
+ * first ray that does not). */
+static int expect_brute_force(const soup *m, long n, ray_maker make, long *hits)
 {
-    soup m = {0};
     bvh b;
     rerror e;
     char why[256];
-    long i, hits = 0;
-    random_soup(&m, 20, 3000);
-    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
-    for (i = 0; i < 3000; ++i) {
-        ray r = make_ray(urand_box(30, (uint32_t)i, -1.5f, 1.5f), urand_direction(30, (uint32_t)i));
-        /* Every third ray gets a finite, random range: the range must be honoured. */
-        if (i % 3 == 1) {
-            r.tmin = urand(31, (uint32_t)i, 0) * 0.5f;
-            r.tmax = r.tmin + urand(31, (uint32_t)i, 1) * 2.0f;
-        }
-        /* Every third ray is aimed at a vertex exactly (shared-nothing soup, but it
-         * exercises the exactly-zero edge functions and the double fallback). */
-        if (i % 3 == 2) r.dir = v3f_sub(m.v[(size_t)i % (3 * m.count)], r.origin);
-        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
+    long i;
+    if (bvh_build(&b, m->v, m->count, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
     }
-    CHECKF(hits > 1000, "only %ld hits", hits);
+    for (i = 0; i < n; ++i) {
+        ray r = make(m, i);
+        if (!agrees_with_brute_force(m, &b, &r, hits, why, sizeof why)) {
+            test_fail(__FILE__, __LINE__, "ray %ld: %s", i, why);
+            bvh_free(&b);
+            return -1;
+        }
+    }
     bvh_free(&b);
+    return 0;
+}
+
+static ray soup_ray(const soup *m, long i)
+{
+    ray r = make_ray(urand_box(30, (uint32_t)i, -1.5f, 1.5f), urand_direction(30, (uint32_t)i));
+    /* Every third ray gets a finite, random range: the range must be honoured. */
+    if (i % 3 == 1) {
+        r.tmin = urand(31, (uint32_t)i, 0) * 0.5f;
+        r.tmax = r.tmin + urand(31, (uint32_t)i, 1) * 2.0f;
+    }
+    /* Every third ray is aimed at a vertex exactly (shared-nothing soup, but it exercises
+     * the exactly-zero edge functions and the double fallback). */
+    if (i % 3 == 2) r.dir = v3f_sub(m->v[(size_t)i % (3 * m->count)], r.origin);
+    return r;
+}
+
+TEST(bvh_matches_brute_force_random_soup)
+{
+    soup m = {0};
+    long hits = 0;
+    random_soup(&m, 20, 3000);
+    if (expect_brute_force(&m, 3000, soup_ray, &hits) == 0) CHECKF(hits > 1000, "only %ld hits", hits);
     soup_free(&m);
+}
+
+static ray sphere_ray(const soup *m, long i)
+{
+    if (i % 2) { /* from outside toward a point near the sphere */
+        vec3f o = v3f_scale(urand_direction(40, (uint32_t)i), 4.0f);
+        return make_ray(o, v3f_sub(urand_box(41, (uint32_t)i, -1.1f, 1.1f), o));
+    } else { /* from inside: aimed exactly at a mesh vertex half of the time */
+        vec3f o = urand_box(42, (uint32_t)i, -0.5f, 0.5f);
+        return make_ray(o, i % 4 ? urand_direction(42, (uint32_t)i) : v3f_sub(m->v[(size_t)i % (3 * m->count)], o));
+    }
 }
 
 TEST(bvh_matches_brute_force_sphere)
 {
     scene s;
     soup m = {0};
-    bvh b;
     rerror e;
-    char why[256];
-    long i, hits = 0;
+    long hits = 0;
     size_t t;
     CHECKF(generate_displaced_sphere(&s, 14, &e) == 0, "%s", e.msg);
     for (t = 0; t < s.triangle_count; ++t)
         soup_add(&m, s.positions[s.triangles[t].v[0]], s.positions[s.triangles[t].v[1]],
                  s.positions[s.triangles[t].v[2]]);
-    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
-    for (i = 0; i < 3000; ++i) {
-        ray r;
-        if (i % 2) { /* from outside toward a point near the sphere */
-            vec3f o = v3f_scale(urand_direction(40, (uint32_t)i), 4.0f);
-            r = make_ray(o, v3f_sub(urand_box(41, (uint32_t)i, -1.1f, 1.1f), o));
-        } else { /* from inside: aimed exactly at a mesh vertex half of the time */
-            vec3f o = urand_box(42, (uint32_t)i, -0.5f, 0.5f);
-            r = make_ray(o, i % 4 ? urand_direction(42, (uint32_t)i) : v3f_sub(m.v[(size_t)i % (3 * m.count)], o));
-        }
-        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
-    }
-    CHECKF(hits > 2000, "only %ld hits", hits);
-    bvh_free(&b);
+    if (expect_brute_force(&m, 3000, sphere_ray, &hits) == 0) CHECKF(hits > 2000, "only %ld hits", hits);
     soup_free(&m);
     free_generated_scene(&s);
 }
@@ -1376,22 +1397,20 @@ TEST(generate_write_obj_roundtrips_vertices)
 /* ------------------------------------------------------------------------------- */
 /* Longer versions                                                                    */
 
+static ray long_ray(const soup *m, long i)
+{
+    ray r = make_ray(urand_box(201, (uint32_t)i, -1.5f, 1.5f), urand_direction(201, (uint32_t)i));
+    if (i % 2) r.dir = v3f_sub(m->v[(size_t)(urand(202, (uint32_t)i, 0) * 3 * (float)m->count) % (3 * m->count)], r.origin);
+    return r;
+}
+
 TEST_LONG(bvh_matches_brute_force_long)
 {
     soup m = {0};
-    bvh b;
-    rerror e;
-    char why[256];
-    long i, hits = 0;
+    long hits = 0;
     random_soup(&m, 200, 20000);
     closed_mesh(&m, 20, 1, 0.7f, v3f(0.1f, 0.2f, 0.3f));
-    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
-    for (i = 0; i < 15000; ++i) {
-        ray r = make_ray(urand_box(201, (uint32_t)i, -1.5f, 1.5f), urand_direction(201, (uint32_t)i));
-        if (i % 2) r.dir = v3f_sub(m.v[(size_t)(urand(202, (uint32_t)i, 0) * 3 * (float)m.count) % (3 * m.count)], r.origin);
-        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
-    }
-    bvh_free(&b);
+    expect_brute_force(&m, 15000, long_ray, &hits);
     soup_free(&m);
 }
 
