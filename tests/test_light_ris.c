@@ -21,23 +21,34 @@ static void options(pt_options *o, int depth, uint32_t spp)
     o->threads = 2;
 }
 
+/* Side a (K runs of the path tracer with the options a; the side is freed here) against ref
+ * at level 1e-3 in 8 x 8 blocks, paired or not: the margin, and with RESTIR_TEST_VERBOSE the
+ * numbers, reported as `what`. 0 on success (*c then holds the verdict's numbers). */
+static int compare_pt(const scene *s, const pt_options *a, int runs, const check_side *ref, int paired,
+                      const char *what, check_result *c)
+{
+    check_side sa;
+    int status;
+    if (rt_pt_side_options(s, a, runs, 8, &sa)) return -1;
+    status = rt_compare_sides(&sa, ref, 1e-3, 8, paired, c);
+    check_side_free(&sa);
+    if (status) return status;
+    check_result_free(c);
+    test_margin(fabs(rt_mean_z(c)) > fabs(c->worst.z) ? rt_mean_z(c) : c->worst.z);
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  %s%s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
+                paired ? " (paired)" : "", rt_mean_z(c), c->lum_a.mean, c->lum_b.mean, c->rejected, c->tests,
+                c->worst.z);
+    return 0;
+}
+
 /* The ablation a against the correct light RIS side ref rendered with the SAME numbers (a's
  * seed; 16 runs each): paired (check_compare_paired, run k against run k), so only the
  * changed MIS weight of the BSDF hits differs between the sides. Must be rejected. */
 static void ablation_paired(const scene *s, const check_side *ref, const pt_options *a, const char *what)
 {
-    check_side sa;
     check_result c;
-    int status;
-    if (rt_pt_side_options(s, a, 16, 8, &sa)) return;
-    status = rt_compare_sides(&sa, ref, 1e-3, 8, 1, &c);
-    check_side_free(&sa);
-    if (status) return;
-    check_result_free(&c);
-    test_margin(fabs(rt_mean_z(&c)) > fabs(c.worst.z) ? rt_mean_z(&c) : c.worst.z);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s (paired): mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n",
-                what, rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+    if (compare_pt(s, a, 16, ref, 1, what, &c)) return;
     CHECKF(c.different, "%s not detected (paired): mean z %.2f, worst block z %.2f", what, rt_mean_z(&c), c.worst.z);
 }
 
@@ -57,19 +68,9 @@ static void compare_with(const scene *s, const check_side *ref, const pt_options
                          const char *what)
 {
     pt_options a_seeded = *a;
-    check_side sa;
     check_result c;
-    int status;
     a_seeded.seed = test_seed() * 131u + 7;
-    if (rt_pt_side_options(s, &a_seeded, 8, 8, &sa)) return;
-    status = rt_compare_sides(&sa, ref, 1e-3, 8, 0, &c);
-    check_side_free(&sa);
-    if (status) return;
-    check_result_free(&c);
-    test_margin(fabs(rt_mean_z(&c)) > fabs(c.worst.z) ? rt_mean_z(&c) : c.worst.z);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
-                rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+    if (compare_pt(s, &a_seeded, 8, ref, 0, what, &c)) return;
     if (expect_different)
         CHECKF(c.different, "%s not detected: mean p = %.3g (lum %.5g vs %.5g), worst block z %.2f", what,
                c.global.p, c.lum_a.mean, c.lum_b.mean, c.worst.z);
