@@ -100,6 +100,20 @@ const char *test_tmp_path(const char *name)
     return p;
 }
 
+#define KEPT_PATHS 64
+static char kept[KEPT_PATHS][1024];
+static int n_kept;
+
+const char *test_tmp_keep(const char *name)
+{
+    if (n_kept == KEPT_PATHS) {
+        test_fail(__FILE__, __LINE__, "more than %d test_tmp_keep paths in one test", KEPT_PATHS);
+        n_kept = KEPT_PATHS - 1;
+    }
+    snprintf(kept[n_kept], sizeof kept[0], "%s/%s", RESTIR_TMP, name);
+    return kept[n_kept++];
+}
+
 int test_files_equal(const char *a, const char *b)
 {
     FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
@@ -240,6 +254,7 @@ int main(int argc, char **argv)
         current_failed = 0;
         current_margin = -1;
         current_message[0] = '\0';
+        n_kept = 0;
         t0 = wall_seconds();
         t->fn();
         if (current_failed) {
