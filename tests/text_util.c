@@ -1,4 +1,4 @@
-/* text_util.h: numbers out of printed text. */
+/* text_util.h: numbers out of printed text (the bad_input rows are data only). */
 #include "text_util.h"
 
 #include <math.h>

@@ -1,5 +1,6 @@
-/* Numbers read back out of what a command printed (its JSON or text), for the tests that
- * redo a printed computation by hand. */
+/* Text in the tests: the rows of the error tables (a bad input and the message it must
+ * give), and numbers read back out of what a command printed (its JSON or text), for the
+ * tests that redo a printed computation by hand. */
 #ifndef RESTIR_TESTS_TEXT_UTIL_H
 #define RESTIR_TESTS_TEXT_UTIL_H
 
