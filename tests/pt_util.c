@@ -70,6 +70,14 @@ uint32_t test_scene_material(scene *s, enum material_type type, rgb diffuse, rgb
     return (uint32_t)s->material_count++;
 }
 
+uint32_t test_scene_glossy(scene *s, enum material_type type, rgb diffuse, rgb specular, real roughness)
+{
+    uint32_t m = test_scene_material(s, type, diffuse, rgb_gray(0));
+    s->materials[m].specular = specular;
+    s->materials[m].roughness = roughness;
+    return m;
+}
+
 void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material)
 {
     triangle *t = &s->triangles[s->triangle_count++];
@@ -238,4 +246,13 @@ int test_write_runs(char *list, size_t size, int width, int height, int runs, co
     }
     image_free(&img);
     return k < runs ? -1 : 0;
+}
+
+void test_image_sums(const image *img, double sum[3])
+{
+    size_t i, n = (size_t)img->width * (size_t)img->height;
+    int c;
+    sum[0] = sum[1] = sum[2] = 0;
+    for (i = 0; i < n; ++i)
+        for (c = 0; c < 3; ++c) sum[c] += img->px[3 * i + (size_t)c];
 }

@@ -22,6 +22,8 @@ double chi2_test(const double *observed, const double *expected, size_t n, doubl
  * (3 fresh vertices each) and max_materials materials; the scene is freed by scene_free. */
 int test_scene_begin(scene *s, size_t max_triangles, size_t max_materials);
 uint32_t test_scene_material(scene *s, enum material_type type, rgb diffuse, rgb emission);
+/* A material with a glossy lobe (conductor, plastic): specular colour and GGX roughness. */
+uint32_t test_scene_glossy(scene *s, enum material_type type, rgb diffuse, rgb specular, real roughness);
 void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material);
 /* Parallelogram p, p+e1, p+e1+e2, p+e2 as two triangles; front normal along e1 x e2. */
 void test_scene_quad(scene *s, vec3f p, vec3f e1, vec3f e2, uint32_t material);
@@ -51,6 +53,8 @@ typedef void (*test_run_image_fn)(void *user, int k, image *img);
  * lists their paths, separated by spaces, in list (of `size` bytes). 0 on success. */
 int test_write_runs(char *list, size_t size, int width, int height, int runs, const char *stem,
                     test_run_image_fn make, void *user);
+/* The sums over every pixel of R, G and B (in pixel order). */
+void test_image_sums(const image *img, double sum[3]);
 /* The largest relative difference |a - b| / max(|a|, 1e-30) over every pixel and channel
  * (a and b of the same size). */
 double test_image_max_rel_diff(const image *a, const image *b);

@@ -57,18 +57,12 @@ static void integrate(int n, int tiles, int batches, int per_batch, bench_paired
     light_set lights;
     restir_context ca, cb;
     restir_options o;
-    rerror e;
     path_vertex v[4];
     int nv = 0, i, k, j;
     snprintf(name, name_size, "light RIS N %d%s vs plain NEE, MIS at 4 shading points of many-lights", n,
              tiles ? " tiles" : "");
     bench_paired_init(p, name);
-    if (rt_load_scene("scenes/many-lights.scene", 32, &s)) return;
-    if (lights_build(&lights, &s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&s);
-        return;
-    }
+    if (rt_load_scene_lights("scenes/many-lights.scene", 32, &s, &lights)) return;
     restir_options_default(&o);
     restir_context_for(&cb, &s, &lights, &o);
     o.light_ris.candidates = n;
@@ -184,17 +178,11 @@ TEST(evidence_light_ris_pdf_hit_by_definition_exact)
     static const int counts[] = {1, 2, 3, 4, 8, 16, 32, 64};
     scene s;
     light_set lights;
-    rerror e;
     double tol = sizeof(real) == 4 ? 1e-4 : 1e-9, worst = 0;
     long checked = 0;
     int p, ci, tiles, k;
     uint32_t i;
-    if (rt_load_scene("scenes/many-lights.scene", 32, &s)) return;
-    if (lights_build(&lights, &s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&s);
-        return;
-    }
+    if (rt_load_scene_lights("scenes/many-lights.scene", 32, &s, &lights)) return;
     for (p = 0; p < 4 && !test_has_failed(); ++p) {
         path_vertex v;
         if (!rt_primary_vertex(&s, px[p][0], px[p][1], &v)) continue;

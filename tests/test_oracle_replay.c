@@ -8,7 +8,9 @@
 #include <string.h>
 #include "restir/oracle/region_input.h"
 #include "restir/oracle/stage_dump.h"
+#include "dump_util.h"
 #include "test.h"
+#include "text_util.h"
 
 static char out[262144];
 
@@ -25,78 +27,32 @@ static char out[262144];
 #endif
 static int near(double a, double b) { return fabs(a - b) <= HAND_TOL * fmax(fabs(a), fabs(b)) + 1e-300; }
 
-static const char *replay_dir(const char *name)
-{
-    static char buf[4][1100];
-    static int slot;
-    char *b = buf[slot++ % 4];
-    snprintf(b, 1100, "%s/replay_%s", test_tmpdir(), name);
-    return b;
-}
+static const char *replay_dir(const char *name) { return dump_scratch("replay_", name); }
 
 /* A dump made once per test process with `args` (key: its directory name; a directory left
  * by an earlier process, maybe by another build, is replaced). */
 static const char *dump_of(const char *name, const char *args)
 {
-    static char made[32][64];
-    static int n_made;
-    const char *dir = replay_dir(name);
-    char cmd[1400];
-    int i;
-    for (i = 0; i < n_made; ++i)
-        if (!strcmp(made[i], name)) return dir;
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
-    if (test_cli(out, sizeof out, "render %s -o %s/%s.pfm --dump-dir %s", args, test_tmpdir(), name, dir) != 0)
-        test_fail(__FILE__, __LINE__, "the reference run failed: %s", out);
-    else if (n_made < 32)
-        snprintf(made[n_made++], sizeof made[0], "%s", name);
-    return dir;
+    char pfm[1100];
+    snprintf(pfm, sizeof pfm, "%s/%s.pfm", test_tmpdir(), name);
+    return dump_once(args, pfm, replay_dir(name));
 }
 
 static const char *reference(void) { return dump_of("A", REPLAY_COMMON); }
 
 static const char *copy_of(const char *from, const char *name)
 {
-    char cmd[4000];
     const char *d = replay_dir(name);
-    snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", d, from, d);
-    if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
+    dump_copy(from, d);
     return d;
 }
 
 /* Multiplies W (and wsum) of record p of dir/frame/stage by `scale` (p < 0: every record). */
-static int scale_w(const char *dir, int frame, const char *stage, long p, double scale)
+static void scale_w(const char *dir, int frame, const char *stage, long p, double scale)
 {
     char path[1200];
-    reservoir *rs;
-    reservoir_dump_info info;
-    rerror e;
-    long i, n;
     stage_dump_path(path, sizeof path, dir, (uint32_t)frame, stage, "resv");
-    if (reservoir_dump_read(path, &rs, &info, &e)) return test_fail(__FILE__, __LINE__, "%s", e.msg), -1;
-    n = (long)info.width * (long)info.height;
-    for (i = 0; i < n; ++i)
-        if (p < 0 || i == p) {
-            rs[i].W *= (real)scale;
-            rs[i].wsum *= (real)scale;
-        }
-    if (reservoir_dump_write(path, rs, &info, &e)) test_fail(__FILE__, __LINE__, "%s", e.msg);
-    free(rs);
-    return 0;
-}
-
-/* The number after "key": at or after *from (advanced past it); NAN if absent. */
-static double json_after(const char **from, const char *key)
-{
-    char pattern[64];
-    const char *p;
-    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
-    p = strstr(*from, pattern);
-    if (!p) return NAN;
-    p += strlen(pattern);
-    *from = p;
-    return strtod(p, NULL);
+    dump_scale_w(path, path, p, scale, 1);
 }
 
 typedef struct {

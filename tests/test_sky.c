@@ -3,7 +3,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "bench.h"
 #include "pt_util.h"
+#include "scene_text_util.h"
 #include "test.h"
 #include "restir/core/pfm.h"
 #include "restir/render/camera.h"
@@ -315,16 +317,6 @@ TEST(sky_convex_object_constant_environment_exact)
     scene_free(&s);
 }
 
-/* The mean of every channel of an image. */
-static void image_mean(const image *img, double m[3])
-{
-    int x, y, c;
-    m[0] = m[1] = m[2] = 0;
-    for (y = 0; y < img->height; ++y)
-        for (x = 0; x < img->width; ++x)
-            for (c = 0; c < 3; ++c) m[c] += image_pixel(img, x, y)[c];
-    for (c = 0; c < 3; ++c) m[c] /= (double)img->width * img->height;
-}
 
 /* A Lambertian plane (rho, normal +y) seen from above, lit by either one bright texel of an
  * otherwise black 64 x 32 map, or by the equivalent sun: the texel's centre direction, the
@@ -372,7 +364,7 @@ TEST(sky_bright_texel_equals_sun)
             scene_free(&s);
             return;
         }
-        image_mean(&r.mean, got[variant]);
+        bench_image_mean(&r.mean, got[variant]);
         pt_result_free(&r);
         scene_free(&s);
     }
@@ -416,10 +408,8 @@ static void write_sky_pfm(void)
 
 static int load_sky_scene(scene *s, const char *text, rerror *e)
 {
-    char path[1024];
     test_write_file("sky.obj", sky_obj);
-    snprintf(path, sizeof path, "%s", test_write_file("sky.scene", text));
-    return scene_load(s, path, e);
+    return scene_from_text(s, "sky.scene", text, e);
 }
 
 TEST(sky_scene_file_directives)
@@ -450,11 +440,7 @@ TEST(sky_scene_file_directives)
 
 TEST(sky_scene_file_errors_have_file_and_line)
 {
-    static const struct {
-        const char *text;
-        long line;
-        const char *what;
-    } cases[] = {
+    static const bad_line cases[] = {
         {"mesh sky.obj\nenvironment\n", 2, "expected 'constant R G B' or 'map FILE"},
         {"mesh sky.obj\nenvironment constant 1 1\n", 2, "expected 3 numbers"},
         {"mesh sky.obj\nenvironment constant 1 -1 1\n", 2, "outside [0, 1e30]"},
@@ -472,16 +458,8 @@ TEST(sky_scene_file_errors_have_file_and_line)
         {"mesh sky.obj\nsun 0 1 0 1 1 1\n", 2, "expected 3 numbers"},
         {"mesh sky.obj\nsun 0 1 0 1 1 1 1\nsun 0 1 0 1 1 1 1\n", 3, "sun given twice (first on line 2)"},
     };
-    size_t i;
     write_sky_pfm();
-    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
-        rerror e;
-        char prefix[1200];
-        CHECKF(load_sky_scene(&s, cases[i].text, &e) != 0, "case %zu loaded", i);
-        snprintf(prefix, sizeof prefix, "%s:%ld: ", test_tmp_path("sky.scene"), cases[i].line);
-        CHECKF(!strncmp(e.msg, prefix, strlen(prefix)) && strstr(e.msg, cases[i].what), "case %zu: %s", i, e.msg);
-    }
+    expect_bad_lines(cases, sizeof cases / sizeof cases[0], "sky.scene", load_sky_scene);
 }
 
 /* scene_clone (animated scenes keep posed copies) copies the sky deeply: the copy answers
