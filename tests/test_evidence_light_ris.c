@@ -105,14 +105,6 @@ static void matrix(const int *counts, int nc, int batches, int per_batch, int wi
         }
 }
 
-/* make test: N = 2, where the next bounce's count is 1 (the largest relative change), no
- * tiles (the exact test below covers tiles and every count). */
-TEST(evidence_light_ris_mis_pdf_single_points)
-{
-    static const int counts[] = {2};
-    matrix(counts, 1, 32, 3072, 0);
-}
-
 /* 10^6 samples per configuration (64 x 4096 at each of the 4 points), every candidate count 1..64. */
 TEST_LONG(evidence_light_ris_mis_pdf_single_points_long)
 {

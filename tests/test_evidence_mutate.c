@@ -188,17 +188,6 @@ static void mutate_paired(const char *path, int res, int runs, int strategy, ben
     scene_free(&s);
 }
 
-/* pp on cornell-glossy (all light), 16², K = 32, per channel. mh-no-target-ratio shifts the
- * colour here (red up, blue down: z about -5.7 in blue at seed 1; the luminance of F W stays
- * exact), caught exactly by the call-site test above. */
-TEST(evidence_mutate_paired_per_channel)
-{
-    bench_paired p;
-    char name[160];
-    mutate_paired("scenes/cornell-glossy.scene", 16, 32, MUTATE_PP, &p, name, sizeof name);
-    if (!test_has_failed()) bench_paired_expect_consistent(&p, BENCH_Z_CONSISTENT);
-}
-
 /* Every strategy on cornell-glossy, glass and the two-tone scene. */
 TEST_LONG(evidence_mutate_paired_per_channel_long)
 {

@@ -71,13 +71,6 @@ static void temporal_paired(int res, int runs, int frame, double pan, int max_de
     bench_paired_expect_consistent(&pairwise, BENCH_Z_CONSISTENT);
 }
 
-/* Direct light only (paths of 2 segments: the glossy highlights change with the view, the
- * noise is low): 24², K = 48, frame 8 of a pan of 12.5 units per frame. */
-TEST(evidence_temporal_mis_paired_pan)
-{
-    temporal_paired(24, 48, 8, 200, 2);
-}
-
 /* Paths up to 3 segments at 32², K = 128. */
 TEST_LONG(evidence_temporal_mis_paired_pan_long)
 {
