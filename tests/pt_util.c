@@ -3,6 +3,7 @@
 #include "chi2.h"
 #include "test.h"
 #include "restir/core/pfm.h"
+#include "restir/scene/scene_trace.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -255,4 +256,54 @@ void test_image_sums(const image *img, double sum[3])
     sum[0] = sum[1] = sum[2] = 0;
     for (i = 0; i < n; ++i)
         for (c = 0; c < 3; ++c) sum[c] += img->px[3 * i + (size_t)c];
+}
+
+/* One sample of the direct light at x_1 = v (key: the path), NEE + BSDF with MIS, through
+ * the library's calls as the path tracer makes them at x_1. */
+rgb test_direct_mis_sample(const path_context *c, const path_vertex *v, const rng_key *key)
+{
+    rgb L = rgb_gray(0);
+    nee_sample nee;
+    bsdf_bounce b;
+    bsdf_sample_record rec;
+    if (vertex_sample_light(c, v, key, 1, &nee))
+        L = rgb_scale(nee.contribution, path_mis_weight_nee(c, nee.pdf_light, nee.pdf_bsdf));
+    if (vertex_sample_bsdf(v, key, 1, &b, &rec)) {
+        ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
+        surface_hit h;
+        if (b.pdf_all < 0) b.pdf_all = path_bounce_pdf_all(v, &rec);
+        if (scene_intersect(c->scene, &r, &h)) {
+            path_vertex hv;
+            rgb Le;
+            path_vertex_make(&hv, c->scene, &h, v3_from_f(r.dir));
+            Le = path_vertex_emitted(c, &hv);
+            if (!rgb_is_black(Le)) {
+                real w = path_mis_weight_bsdf_hit(c, &b, path_light_pdf_hit(c, v, &hv, *key, 1));
+                L = rgb_add(L, rgb_scale(rgb_mul(b.weight, Le), w));
+            }
+        }
+    }
+    return L;
+}
+
+void test_direct_mis_paired_batches(bench_paired *p, const path_context *a, const path_context *b,
+                                    const path_vertex *v, const uint32_t *point_id, int nv, uint32_t key_seed,
+                                    int batches, int per_batch)
+{
+    int i, j, k;
+    for (k = 0; k < batches && !test_has_failed(); ++k) {
+        double ma[3] = {0, 0, 0}, mb[3] = {0, 0, 0};
+        for (j = 0; j < per_batch; ++j)
+            for (i = 0; i < nv; ++i) {
+                rng_key key = rng_key_make(key_seed, point_id[i], (uint32_t)(k * per_batch + j));
+                rgb la = test_direct_mis_sample(a, &v[i], &key), lb = test_direct_mis_sample(b, &v[i], &key);
+                ma[0] += la.r, ma[1] += la.g, ma[2] += la.b;
+                mb[0] += lb.r, mb[1] += lb.g, mb[2] += lb.b;
+            }
+        for (i = 0; i < 3; ++i) {
+            ma[i] /= (double)per_batch * nv;
+            mb[i] /= (double)per_batch * nv;
+        }
+        bench_paired_add(p, ma, mb);
+    }
 }

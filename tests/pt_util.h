@@ -8,6 +8,8 @@
 #include "restir/core/image.h"
 #include "restir/render/pt.h"
 #include "restir/scene/scene.h"
+#include "restir/render/vertex_sampling.h"
+#include "bench.h"
 
 /* Two-sided normal tail P(|Z| >= |z|). */
 double normal_two_sided_p(double z);
@@ -60,5 +62,16 @@ void test_image_sums(const image *img, double sum[3]);
 double test_image_max_rel_diff(const image *a, const image *b);
 /* scene_prepare, recording a test failure with its message; returns nonzero on failure. */
 int test_scene_prepare(scene *s);
+
+/* One sample of the direct light at x_1 = v (key: the path), NEE + BSDF with MIS, through the
+ * library's calls as the path tracer makes them at x_1 (the light-RIS evidence and power tests). */
+rgb test_direct_mis_sample(const path_context *c, const path_vertex *v, const rng_key *key);
+
+/* The paired light-RIS bench at single shading points: `batches` batches of `per_batch` samples
+ * at each of the nv points v, sample j of point i keyed rng_key_make(key_seed, point_id[i], j)
+ * for both A (context a) and B (context b), each batch's per-channel means added to p. */
+void test_direct_mis_paired_batches(bench_paired *p, const path_context *a, const path_context *b,
+                                    const path_vertex *v, const uint32_t *point_id, int nv, uint32_t key_seed,
+                                    int batches, int per_batch);
 
 #endif

@@ -59,34 +59,6 @@ static int make_lit_floor(scene *s)
     return test_scene_prepare(s);
 }
 
-/* One sample of the direct light at x_1 = v (key: the path), NEE + BSDF with MIS, through
- * the library's calls as the path tracer makes them at x_1. */
-static rgb direct_mis_sample(const path_context *c, const path_vertex *v, const rng_key *key)
-{
-    rgb L = rgb_gray(0);
-    nee_sample nee;
-    bsdf_bounce b;
-    bsdf_sample_record rec;
-    if (vertex_sample_light(c, v, key, 1, &nee))
-        L = rgb_scale(nee.contribution, path_mis_weight_nee(c, nee.pdf_light, nee.pdf_bsdf));
-    if (vertex_sample_bsdf(v, key, 1, &b, &rec)) {
-        ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
-        surface_hit h;
-        if (b.pdf_all < 0) b.pdf_all = path_bounce_pdf_all(v, &rec);
-        if (scene_intersect(c->scene, &r, &h)) {
-            path_vertex hv;
-            rgb Le;
-            path_vertex_make(&hv, c->scene, &h, v3_from_f(r.dir));
-            Le = path_vertex_emitted(c, &hv);
-            if (!rgb_is_black(Le)) {
-                real w = path_mis_weight_bsdf_hit(c, &b, path_light_pdf_hit(c, v, &hv, *key, 1));
-                L = rgb_add(L, rgb_scale(rgb_mul(b.weight, Le), w));
-            }
-        }
-    }
-    return L;
-}
-
 /* The shading points: primary hits of pixels spread over the floor. */
 static int shading_points(const scene *s, path_vertex *v, int max)
 {
@@ -108,7 +80,8 @@ static void lit_floor_paired(int n, int tiles, int batches, int per_batch, bench
     restir_options o;
     rerror e;
     path_vertex v[6];
-    int nv, i, k, j;
+    uint32_t point_id[6];
+    int nv, i;
     snprintf(name, size, "light RIS N %d%s vs plain NEE, MIS at 6 points under a lit ceiling", n,
              tiles ? " tiles" : "");
     bench_paired_init(p, name);
@@ -125,23 +98,8 @@ static void lit_floor_paired(int n, int tiles, int batches, int per_batch, bench
     restir_context_for(&ca, &s, &lights, &o);
     nv = shading_points(&s, v, 6);
     CHECKF(nv >= 4, "only %d shading points on the floor", nv);
-    for (k = 0; k < batches && !test_has_failed(); ++k) {
-        double a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
-        for (j = 0; j < per_batch; ++j) {
-            uint32_t sample = (uint32_t)(k * per_batch + j);
-            for (i = 0; i < nv; ++i) {
-                rng_key key = rng_key_make(test_seed() * 31u + 11u, (uint32_t)i, sample);
-                rgb la = direct_mis_sample(&ca.path, &v[i], &key), lb = direct_mis_sample(&cb.path, &v[i], &key);
-                a[0] += la.r, a[1] += la.g, a[2] += la.b;
-                b[0] += lb.r, b[1] += lb.g, b[2] += lb.b;
-            }
-        }
-        for (i = 0; i < 3; ++i) {
-            a[i] /= (double)per_batch * nv;
-            b[i] /= (double)per_batch * nv;
-        }
-        bench_paired_add(p, a, b);
-    }
+    for (i = 0; i < nv; ++i) point_id[i] = (uint32_t)i;
+    test_direct_mis_paired_batches(p, &ca.path, &cb.path, v, point_id, nv, test_seed() * 31u + 11u, batches, per_batch);
     if (!test_has_failed()) bench_paired_finish(p);
     lights_free(&lights);
     scene_free(&s);
