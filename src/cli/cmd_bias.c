@@ -17,6 +17,7 @@
 #include "restir/metrics/bias_runs.h"
 #include "restir/metrics/moments.h"
 #include "restir/metrics/stats.h"
+#include "outputs_ready.h"
 
 static const char usage[] =
     "usage: restir compare --bias RUN.pfm... (--ref REF.pfm | --ref-moments PREFIX) [options]\n"
@@ -62,6 +63,32 @@ static int parse_int(const char *val, int lo, int hi, int *out)
     if (end == val || *end || errno || v < lo || v > hi) return -1;
     *out = (int)v;
     return 0;
+}
+
+/* Before reading any image: the runs are distinct files (one file twice is not two
+ * independent renders) and --json is writable and none of the inputs. */
+static int check_files(const bias_args *a)
+{
+    char mean[4200], var[4200], meta[4200];
+    named_file out, *ins = calloc((size_t)a->file_count + 5, sizeof *ins);
+    int i, n = a->file_count, status;
+    if (!ins) return usage_error("out of memory", "");
+    for (i = 0; i < n; ++i) ins[i].path = a->files[i], ins[i].role = "a run";
+    status = inputs_distinct("compare --bias", ins, n);
+    ins[n].path = a->ref, ins[n++].role = "--ref";
+    ins[n].path = a->mask, ins[n++].role = "--mask";
+    if (a->ref_moments) {
+        snprintf(mean, sizeof mean, "%s.mean.pfm", a->ref_moments);
+        snprintf(var, sizeof var, "%s.var.pfm", a->ref_moments);
+        snprintf(meta, sizeof meta, "%s.moments.json", a->ref_moments);
+        ins[n].path = mean, ins[n++].role = "a file of --ref-moments";
+        ins[n].path = var, ins[n++].role = "a file of --ref-moments";
+        ins[n].path = meta, ins[n++].role = "a file of --ref-moments";
+    }
+    out.path = a->json, out.role = "--json";
+    if (!status) status = outputs_ready("compare --bias", &out, 1, ins, n);
+    free(ins);
+    return status;
 }
 
 static int parse_args(int argc, char **argv, bias_args *a, int *done)
@@ -114,7 +141,7 @@ static int parse_args(int argc, char **argv, bias_args *a, int *done)
     }
     if (a->file_count < 2 || a->file_count > 65535) return usage_error("needs 2..65535 runs (independent renders)", "");
     if (!a->ref == !a->ref_moments) return usage_error("needs one of --ref REF.pfm or --ref-moments PREFIX", "");
-    return 0;
+    return check_files(a);
 }
 
 static double lum_at(const image *img, long i)

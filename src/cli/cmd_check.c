@@ -20,6 +20,7 @@
 #include "restir/metrics/output_set.h"
 #include "args.h"
 #include "collide.h"
+#include "outputs_ready.h"
 
 #define MAX_INPUTS 4096
 
@@ -552,19 +553,24 @@ static int scale_side(check_side *a, double scale)
     return 0;
 }
 
-/* --json, --z-map and --block-z-map must not overwrite each other or an input image. */
+/* --json, --z-map and --block-z-map can be written and must not overwrite each other or an
+ * input image; no input is given twice. */
 static int check_collisions(const check_args *args)
 {
     static const char *const moments_files[] = {".mean.pfm", ".var.pfm", ".moments.json", ".blocks.bin"};
     named_file outs[3], ins[2 * MAX_INPUTS + 12];
     char names[8][4200];
-    int n = 0, side, i, m = 0;
+    int n = 0, side, i, m = 0, runs;
     outs[0].path = args->json, outs[0].role = "--json";
     outs[1].path = args->z_map, outs[1].role = "--z-map";
     outs[2].path = args->block_z_map, outs[2].role = "--block-z-map";
-    for (side = 0; side < 2; ++side) {
+    for (side = 0; side < 2; ++side) { /* the runs first: they must be distinct files */
         const side_args *s = side ? &args->b : &args->a;
         for (i = 0; i < s->runs.count; ++i) ins[n].path = s->runs.items[i], ins[n++].role = side ? "--b" : "--a";
+    }
+    runs = n;
+    for (side = 0; side < 2; ++side) {
+        const side_args *s = side ? &args->b : &args->a;
         ins[n].path = s->ref, ins[n++].role = "--ref";
         ins[n].path = s->ref_var, ins[n++].role = "--ref-var";
         for (i = 0; s->moments && i < 4; ++i, ++m) { /* PREFIX or PREFIX.moments.json */
@@ -574,7 +580,9 @@ static int check_collisions(const check_args *args)
             ins[n].path = names[m], ins[n++].role = side ? "a file of --b-moments" : "a file of --a-moments";
         }
     }
-    return outputs_distinct("check", outs, 3, ins, n, NULL);
+    /* the runs of both sides are distinct files: one file twice is not two independent runs */
+    if (inputs_distinct("check", ins, runs)) return 2;
+    return outputs_ready("check", outs, 3, ins, n);
 }
 
 int cmd_check(int argc, char **argv)

@@ -15,6 +15,7 @@
 #include "restir/metrics/covariance.h"
 #include "restir/metrics/output_set.h"
 #include "args.h"
+#include "outputs_ready.h"
 
 /* What the option table cannot say (printed after it by --help). */
 static const char help_notes[] =
@@ -33,6 +34,23 @@ static int usage_error(const char *what, const char *arg)
 {
     fprintf(stderr, "restir compare --covariance: %s%s\n(restir compare --covariance --help for usage)\n", what, arg);
     return 2;
+}
+
+/* Before reading any image: the runs are distinct files (one file twice is not two
+ * independent renders) and the outputs are writable, distinct and not a run. */
+static int check_files(const covariance_args *a)
+{
+    named_file outs[3], *ins = calloc((size_t)a->file_count, sizeof *ins);
+    int i, status;
+    if (!ins) return usage_error("out of memory", "");
+    for (i = 0; i < a->file_count; ++i) ins[i].path = a->files[i], ins[i].role = "a run";
+    outs[0].path = a->curve, outs[0].role = "--curve";
+    outs[1].path = a->map, outs[1].role = "--map";
+    outs[2].path = a->json, outs[2].role = "--json";
+    status = inputs_distinct("compare --covariance", ins, a->file_count);
+    if (!status) status = outputs_ready("compare --covariance", outs, 3, ins, a->file_count);
+    free(ins);
+    return status;
 }
 
 static int parse_args(int argc, char **argv, covariance_args *a, int *done)
@@ -64,7 +82,7 @@ static int parse_args(int argc, char **argv, covariance_args *a, int *done)
     }
     if (a->file_count < 2) return usage_error("needs at least 2 images (independent renders)", "");
     if (a->exclude_center && a->radius < 1) return usage_error("--exclude-center needs --radius >= 1", "");
-    return 0;
+    return check_files(a);
 }
 
 static int accumulate(const covariance_args *a, covariance_accum *c, rerror *e)

@@ -14,6 +14,7 @@
 #include "restir/render/pt_state.h"
 #include "args.h"
 #include "collide.h"
+#include "outputs_ready.h"
 #include "output.h"
 
 #define MERGE_MAX_INPUTS 4096
@@ -127,7 +128,7 @@ static int merge_images(const merge_args *a, const char **inputs, int n, image *
 }
 
 /* Before reading anything: every output writable, none overwriting another or an input
- * (`merge -o a.ckpt a.ckpt b.ckpt` would replace an input by a PFM). */
+ * (`merge -o a.ckpt a.ckpt b.ckpt` would replace an input by a PFM), no input twice. */
 static int check_merge_outputs(const merge_args *a, const char **inputs, int count)
 {
     named_file outs[3], *ins = calloc((size_t)count + 1, sizeof *ins);
@@ -150,6 +151,8 @@ static int check_merge_outputs(const merge_args *a, const char **inputs, int cou
         snprintf(label[i], sizeof label[i], "input %d", i + 1);
         ins[i].path = inputs[i], ins[i].role = label[i];
     }
+    /* one run twice would count its samples twice (checkpoints would say "not adjacent") */
+    if (!status) status = inputs_distinct("merge", ins, count);
     if (!status) status = outputs_distinct("merge", outs, 3, ins, count, NULL);
     free(ins);
     return status;
@@ -162,6 +165,7 @@ int cmd_merge(int argc, char **argv)
     image out;
     char png[4096];
     int count = 0, status, checkpoints = 0, i;
+    file_before ckpt_before;
     memset(&a, 0, sizeof a);
     if (!inputs) return 2;
     {
@@ -192,6 +196,7 @@ int cmd_merge(int argc, char **argv)
         fprintf(stderr, "restir merge: inputs must be all checkpoints or all images\n");
         status = 2;
     }
+    if (a.checkpoint_out) file_before_note(&ckpt_before, a.checkpoint_out);
     if (!status) status = checkpoints ? merge_checkpoints(&a, inputs, count, &out) : merge_images(&a, inputs, count, &out);
     if (!status) {
         if (a.no_png) png[0] = '\0';
@@ -199,6 +204,9 @@ int cmd_merge(int argc, char **argv)
         else preview_path(png, sizeof png, a.output);
         status = write_outputs(&out, a.output, png, a.exposure);
         image_free(&out);
+        /* exit 2 leaves nothing: not the merged checkpoint written before the image failed */
+        if (status && a.checkpoint_out && file_remove_if_written(&ckpt_before, a.checkpoint_out))
+            fprintf(stderr, "restir merge: %s: removed (the merged image could not be written)\n", a.checkpoint_out);
     }
     free(inputs);
     return status;
