@@ -133,7 +133,6 @@ static int check_merge_outputs(const merge_args *a, const char **inputs, int cou
 {
     named_file outs[3], *ins = calloc((size_t)count + 1, sizeof *ins);
     char png[4096], label[MERGE_MAX_INPUTS][24];
-    rerror e;
     int i, status = 0;
     if (!ins) return 2;
     if (a->no_png) png[0] = '\0';
@@ -142,18 +141,13 @@ static int check_merge_outputs(const merge_args *a, const char **inputs, int cou
     outs[0].path = a->output, outs[0].role = "-o";
     outs[1].path = png, outs[1].role = "the PNG preview";
     outs[2].path = a->checkpoint_out, outs[2].role = "--checkpoint-out";
-    for (i = 0; i < 3 && !status; ++i)
-        if (outs[i].path && outs[i].path[0] && output_path_check(outs[i].path, &e)) {
-            fprintf(stderr, "restir merge: %s\n", e.msg);
-            status = 2;
-        }
     for (i = 0; i < count; ++i) {
         snprintf(label[i], sizeof label[i], "input %d", i + 1);
         ins[i].path = inputs[i], ins[i].role = label[i];
     }
     /* one run twice would count its samples twice (checkpoints would say "not adjacent") */
     if (!status) status = inputs_distinct("merge", ins, count);
-    if (!status) status = outputs_distinct("merge", outs, 3, ins, count, NULL);
+    if (!status) status = outputs_ready("merge", outs, 3, ins, count);
     free(ins);
     return status;
 }

@@ -10,6 +10,7 @@
 #include "restir/oracle/vectors.h"
 #include "args.h"
 #include "outputs_ready.h"
+#include "signal_cleanup.h"
 
 /* vectors_write, and after a failure (a full disk half-way through the families) the
  * files this call wrote and the directory it made are removed again: exit 2 leaves
@@ -25,7 +26,9 @@ static int vectors_write_all(const char *dir, const char *const *families, long 
     for (i = 0; i < n; ++i) {
         snprintf(path, sizeof path, "%s/%s.jsonl", dir, families[i]);
         file_before_note(&before[i], path);
+        cleanup_register(path);
     }
+    cleanup_install("vectors");
     if (vectors_write(dir, e)) {
         for (i = 0; i < n; ++i) {
             snprintf(path, sizeof path, "%s/%s.jsonl", dir, families[i]);

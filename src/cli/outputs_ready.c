@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include "restir/core/error.h"
 #include "output.h"
+#include "signal_cleanup.h"
 
 int outputs_ready(const char *command, const named_file *outs, int n_out, const named_file *ins, int n_in)
 {
@@ -15,7 +16,10 @@ int outputs_ready(const char *command, const named_file *outs, int n_out, const 
             fprintf(stderr, "restir %s: %s %s\n", command, outs[i].role, e.msg);
             return 2;
         }
-    return outputs_distinct(command, outs, n_out, ins, n_in, NULL);
+    if (outputs_distinct(command, outs, n_out, ins, n_in, NULL)) return 2;
+    for (i = 0; i < n_out; ++i) cleanup_register(outs[i].path);
+    cleanup_install(command);
+    return 0;
 }
 
 int inputs_distinct(const char *command, const named_file *ins, int n_in)

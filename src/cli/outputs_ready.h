@@ -9,7 +9,8 @@
 #include "collide.h"
 
 /* 0, or 2 after printing "restir COMMAND: what is wrong" (an output path that cannot be
- * written, two outputs that collide, an output that is an input). */
+ * written, two outputs that collide, an output that is an input). On 0 the outputs are
+ * registered for removal on SIGINT / SIGTERM (signal_cleanup.h). */
 int outputs_ready(const char *command, const named_file *outs, int n_out, const named_file *ins, int n_in);
 
 /* 2 after printing "restir COMMAND: ROLE PATH is given twice" if two of ins[] name one

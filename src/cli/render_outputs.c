@@ -51,18 +51,26 @@ static int against_frames(const render_args *a, const char *prefix, const named_
     return 2;
 }
 
-/* An output inside the --dump-dir tree (its manifest.json, frame_NNNN/, run_KK/) or the
- * dump directory being an input's place (--from-dump DIR: the stages being read). */
+/* An output that is one of the --dump-dir tree's own files (DIR/manifest.json, anything in
+ * DIR/frame_NNNN/ or DIR/run_KK/; a file directly in DIR is fine: replay writes its frame
+ * there), or a dump directory overlapping --from-dump DIR (the stages being read). */
 static int against_dump(const render_args *a, const named_file *f, int n)
 {
+    char manifest[4200], dir[4200];
     int i;
     if (!a->sio.dump_dir) return 0;
-    for (i = 0; i < n; ++i)
-        if (f[i].path && f[i].path[0] && path_within(f[i].path, a->sio.dump_dir)) {
-            fprintf(stderr, "restir render: %s %s is inside --dump-dir %s: the dump owns that directory (its "
-                            "manifest.json and frame_NNNN/)\n", f[i].role, f[i].path, a->sio.dump_dir);
+    snprintf(manifest, sizeof manifest, "%s/manifest.json", a->sio.dump_dir);
+    for (i = 0; i < n; ++i) {
+        const char *slash;
+        if (!f[i].path || !f[i].path[0] || !path_within(f[i].path, a->sio.dump_dir)) continue;
+        slash = strrchr(f[i].path, '/');
+        snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - f[i].path) : 1, slash ? f[i].path : ".");
+        if (same_file(f[i].path, manifest) || same_file(f[i].path, a->sio.dump_dir) || !same_file(dir, a->sio.dump_dir)) {
+            fprintf(stderr, "restir render: %s %s is a file of --dump-dir %s (its manifest.json, frame_NNNN/, "
+                            "run_KK/): one would overwrite the other\n", f[i].role, f[i].path, a->sio.dump_dir);
             return 2;
         }
+    }
     if (a->sio.from_dir && (path_within(a->sio.dump_dir, a->sio.from_dir) || path_within(a->sio.from_dir, a->sio.dump_dir))) {
         fprintf(stderr, "restir render: --dump-dir %s and --from-dump %s overlap: the new dump would overwrite the "
                         "stages it reads\n", a->sio.dump_dir, a->sio.from_dir);

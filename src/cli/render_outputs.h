@@ -2,7 +2,7 @@
  * before anything is rendered (docs/cli.md, "Outputs never overwrite each other or an
  * input"): -o or, with --runs, its PREFIX.mean.pfm/.var.pfm/.moments.json/.blocks.bin, or,
  * with --sequence A..B, the frames PREFIX.NNNN.pfm/.png (with --runs their per-frame
- * moments); the PNG preview, --stats, --checkpoint, and the --dump-dir tree. */
+ * moments); the PNG preview, --stats, --checkpoint, and the --dump-dir tree's own files. */
 #ifndef RESTIR_SRC_CLI_RENDER_OUTPUTS_H
 #define RESTIR_SRC_CLI_RENDER_OUTPUTS_H
 

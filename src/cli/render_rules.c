@@ -7,6 +7,7 @@
 #include <string.h>
 #include "collide.h"
 #include "render_outputs.h"
+#include "signal_cleanup.h"
 #include "output.h"
 #include "render_replay.h"
 #include "stop.h"
@@ -217,7 +218,9 @@ int check_output_paths(const render_args *a, const char *out, const char *png)
         fprintf(stderr, "restir render: --png %s is the PFM's own path\n", png);
         return 2;
     }
-    return render_outputs_distinct(a, out, png);
+    if (render_outputs_distinct(a, out, png)) return 2;
+    for (i = 0; i < count; ++i) cleanup_register(paths[i]); /* the second signal's cleanup (stop.c) */
+    return 0;
 }
 
 /* --aov duplicates|age (issue 12): reservoirs exist only with --method restir (checked by
