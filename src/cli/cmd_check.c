@@ -618,6 +618,7 @@ int cmd_check(int argc, char **argv)
                 fprintf(stderr, "restir check: warning: %s\n", msg);
     }
     if (write_outputs(&args, &a, &b, &r, status, &e)) {
+        message_unstaged(e.msg);
         fprintf(stderr, "%s\n", e.msg);
         status = 2;
     } else {

@@ -173,8 +173,10 @@ int cmd_compare_covariance(int argc, char **argv)
                write_outputs(&args, &c, v, &map, &e)) {
         status = 2;
     }
-    if (status)
+    if (status) {
+        message_unstaged(e.msg);
         fprintf(stderr, "%s\n", e.msg);
+    }
     else
         printf("covariance (Mutations Eq. 21, luminance, %s centre): %ld images, %d x %d, radius %d: %.6g\n",
                args.exclude_center ? "without" : "with", c.images, c.width, c.height, args.radius, v[args.radius]);

@@ -2,6 +2,7 @@
 #include "outputs_ready.h"
 
 #include <stdio.h>
+#include <string.h>
 #include <sys/stat.h>
 #include "restir/core/error.h"
 #include "output.h"
@@ -33,6 +34,16 @@ int inputs_distinct(const char *command, const named_file *ins, int n_in)
                 return 2;
             }
     return 0;
+}
+
+void message_unstaged(char *msg)
+{
+    char *p;
+    while ((p = strstr(msg, ".staged.")) != NULL) {
+        char *end = p + strlen(".staged.");
+        while (*end >= '0' && *end <= '9') ++end;
+        memmove(p, end, strlen(end) + 1);
+    }
 }
 
 void file_before_note(file_before *b, const char *path)

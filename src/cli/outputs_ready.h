@@ -17,6 +17,10 @@ int outputs_ready(const char *command, const named_file *outs, int n_out, const 
  * file (K runs of one file are not K independent runs), else 0. */
 int inputs_distinct(const char *command, const named_file *ins, int n_in);
 
+/* Removes output_set.c's ".staged.PID" from an error message, so that it names the output
+ * the user gave ("z.pfm: write failed", not "z.pfm.staged.28785: write failed"). */
+void message_unstaged(char *msg);
+
 /* What is at a path before a command writes it, so that a failure can remove what this
  * call wrote and nothing older (an atomic write replaces the inode). */
 typedef struct {
