@@ -14,6 +14,7 @@
 #include "restir/core/json_text.h"
 #include "restir/core/pfm.h"
 #include "restir/core/png.h"
+#include "restir/core/progress.h"
 #include "restir/core/upside_down.h"
 #include "restir/metrics/check.h"
 #include "restir/metrics/moments.h"
@@ -45,6 +46,8 @@ typedef struct {
     side_args a, b;
     check_options opt;
     int require_equivalence, quiet, paired, no_skew_correction, correction;
+    int progress;          /* --progress (enum progress_mode) */
+    double progress_every; /* --progress-every */
     const char *json, *z_map, *block_z_map;
     double scale_a; /* --scale-a (0: not given) */
 } check_args;
@@ -91,7 +94,8 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
             {"--block-z-map", OPT_STRING, &a->block_z_map, "the same per block (one pixel per block)", NULL, 0, 0, NULL},
             {"--no-skew-correction", OPT_FLAG, &a->no_skew_correction, "plain Welch block tests (default: discount the tail opposite the pooled skewness of the per-run block means, Hall 1992)", NULL, 0, 0, NULL},
             {"--scale-a", OPT_REAL, &a->scale_a, "multiply side A by S (a planted relative bias S - 1, to measure power)", NULL, 1e-300, 1e6, NULL},
-            {"--quiet", OPT_FLAG, &a->quiet, "print only the verdict line", NULL, 0, 0, NULL},
+            {"--quiet", OPT_FLAG, &a->quiet, "print only the verdict line (and no progress)", NULL, 0, 0, NULL},
+            CLI_PROGRESS_ROWS(&a->progress, &a->progress_every),
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
         status = cli_parse("check", argc, argv, options, positional, 0, &count);
@@ -120,13 +124,20 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
 
 /* ---- loading a side ---- */
 
+/* Reading the runs is what takes long (K images of 1080p: 24 MB each): progress counts
+ * them over both sides. */
+static progress load_progress;
+static long runs_read, runs_total;
+
 static int load_runs(check_side *side, const side_args *s, int block, rerror *e)
 {
     int i;
     for (i = 0; i < s->runs.count; ++i) {
         image img;
         int status;
+        progress_update(&load_progress, runs_read, runs_total);
         if (image_read(s->runs.items[i], &img, NULL, e)) return -1;
+        ++runs_read;
         if (i == 0 && check_side_begin_runs(side, img.width, img.height, block, e)) {
             image_free(&img);
             return -1;
@@ -596,7 +607,14 @@ int cmd_check(int argc, char **argv)
     if (check_collisions(&args)) return 2;
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
-    if (load_side(&a, &args.a, args.opt.block_size, &e) || load_side(&b, &args.b, args.opt.block_size, &e) ||
+    progress_set_mode((enum progress_mode)args.progress, args.progress_every);
+    progress_begin(&load_progress, "check: reading runs", args.quiet);
+    runs_total = args.a.runs.count + args.b.runs.count;
+    progress_expect(&load_progress, runs_total);
+    status = load_side(&a, &args.a, args.opt.block_size, &e) || load_side(&b, &args.b, args.opt.block_size, &e);
+    if (!status) progress_update(&load_progress, runs_total, runs_total);
+    progress_end(&load_progress);
+    if (status ||
         ((a.width != b.width || a.height != b.height) &&
          rerror_at(&e, side_file(&args.b), 0, "image is %d x %d but side A (%s) is %d x %d", b.width, b.height,
                    side_file(&args.a), a.width, a.height)) ||

@@ -12,6 +12,7 @@
 #include "restir/core/image_io.h"
 #include "restir/core/json_text.h"
 #include "restir/core/pfm.h"
+#include "restir/core/progress.h"
 #include "restir/metrics/covariance.h"
 #include "restir/metrics/output_set.h"
 #include "args.h"
@@ -28,6 +29,8 @@ typedef struct {
     int file_count;
     int radius, exclude_center, covariance;
     const char *curve, *map, *json;
+    int progress;          /* --progress (enum progress_mode) */
+    double progress_every; /* --progress-every */
 } covariance_args;
 
 static int usage_error(const char *what, const char *arg)
@@ -69,6 +72,7 @@ static int parse_args(int argc, char **argv, covariance_args *a, int *done)
             {"--curve", OPT_STRING, &a->curve, "OUT.csv: the value for every radius 0..R (CSV radius,covariance; plot with restir plot)", NULL, 0, 0, NULL},
             {"--map", OPT_STRING, &a->map, "OUT.pfm: per-pixel box covariance at radius R", NULL, 0, 0, NULL},
             {"--json", OPT_STRING, &a->json, "OUT.json: machine-readable result", NULL, 0, 0, NULL},
+            CLI_PROGRESS_ROWS(&a->progress, &a->progress_every),
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
         status = cli_parse("compare --covariance", argc, argv, options, a->files, argc, &a->file_count);
@@ -85,21 +89,37 @@ static int parse_args(int argc, char **argv, covariance_args *a, int *done)
     return check_files(a);
 }
 
+/* Each image is read and its box products added (K images of 1080p at radius 8: seconds
+ * each): progress counts the images. */
 static int accumulate(const covariance_args *a, covariance_accum *c, rerror *e)
 {
+    progress p;
     int i;
+    progress_set_mode((enum progress_mode)a->progress, a->progress_every);
+    progress_begin(&p, "compare --covariance", 0);
+    progress_expect(&p, a->file_count);
     for (i = 0; i < a->file_count; ++i) {
         image img;
         int status;
-        if (image_read(a->files[i], &img, NULL, e)) return -1;
+        progress_update(&p, i, a->file_count);
+        if (image_read(a->files[i], &img, NULL, e)) {
+            progress_end(&p);
+            return -1;
+        }
         if (i == 0 && covariance_init(c, img.width, img.height, a->radius, a->exclude_center, e)) {
             image_free(&img);
+            progress_end(&p);
             return -1;
         }
         status = covariance_add(c, &img, a->files[i], e);
         image_free(&img);
-        if (status) return -1;
+        if (status) {
+            progress_end(&p);
+            return -1;
+        }
     }
+    progress_update(&p, a->file_count, a->file_count);
+    progress_end(&p);
     return 0;
 }
 

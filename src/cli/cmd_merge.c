@@ -9,6 +9,7 @@
 #include <string.h>
 #include "restir/core/image_io.h"
 #include "restir/core/pfm.h"
+#include "restir/core/progress.h"
 #include "restir/render/pt.h"
 #include "restir/render/pt_checkpoint.h"
 #include "restir/render/pt_state.h"
@@ -23,6 +24,8 @@ typedef struct {
     const char *output, *png, *counts, *checkpoint_out;
     int no_png, quiet;
     double exposure;
+    int progress;          /* --progress (enum progress_mode) */
+    double progress_every; /* --progress-every */
 } merge_args;
 
 static int is_checkpoint(const char *path)
@@ -59,14 +62,19 @@ static int cmp_offset(const void *a, const void *b)
     return x->sample_offset < y->sample_offset ? -1 : x->sample_offset > y->sample_offset;
 }
 
+/* Reading the inputs is what takes long (many 1080p checkpoints): progress counts them. */
+static progress read_progress;
+
 static int merge_checkpoints(const merge_args *a, const char **inputs, int n, image *out)
 {
     pt_state *st = calloc((size_t)n, sizeof *st);
     rerror e;
     int i, status = 0;
     if (!st) return 2;
-    for (i = 0; i < n && !status; ++i)
+    for (i = 0; i < n && !status; ++i) {
+        progress_update(&read_progress, i, n);
         if (pt_checkpoint_read(inputs[i], &st[i], &e)) status = 2;
+    }
     if (!status) {
         qsort(st, (size_t)n, sizeof *st, cmp_offset);
         for (i = 1; i < n && !status; ++i)
@@ -113,7 +121,7 @@ static int merge_images(const merge_args *a, const char **inputs, int n, image *
         status = 2;
     }
     for (i = 0; i < n && !status; ++i, ++loaded)
-        if (image_read(inputs[i], &imgs[i], NULL, &e) || image_check_finite(inputs[i], &imgs[i], &e)) {
+        if ((progress_update(&read_progress, i, n), image_read(inputs[i], &imgs[i], NULL, &e)) || image_check_finite(inputs[i], &imgs[i], &e)) {
             fprintf(stderr, "%s\n", e.msg);
             status = 2;
         }
@@ -171,6 +179,7 @@ int cmd_merge(int argc, char **argv)
             {"--no-png", OPT_FLAG, &a.no_png, "do not write the PNG preview", NULL, 0, 0, NULL},
             {"--exposure", OPT_REAL, &a.exposure, "preview exposure in stops (default 0)", NULL, -64, 64, NULL},
             {"--quiet", OPT_FLAG, &a.quiet, "no messages on stderr", NULL, 0, 0, NULL},
+            CLI_PROGRESS_ROWS(&a.progress, &a.progress_every),
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
         status = cli_parse("merge", argc, argv, options, inputs, MERGE_MAX_INPUTS, &count);
@@ -191,7 +200,12 @@ int cmd_merge(int argc, char **argv)
         status = 2;
     }
     if (a.checkpoint_out) file_before_note(&ckpt_before, a.checkpoint_out);
+    progress_set_mode((enum progress_mode)a.progress, a.progress_every);
+    progress_begin(&read_progress, "merge: reading inputs", a.quiet);
+    progress_expect(&read_progress, count);
     if (!status) status = checkpoints ? merge_checkpoints(&a, inputs, count, &out) : merge_images(&a, inputs, count, &out);
+    if (!status) progress_update(&read_progress, count, count);
+    progress_end(&read_progress);
     if (!status) {
         if (a.no_png) png[0] = '\0';
         else if (a.png) snprintf(png, sizeof png, "%s", a.png);

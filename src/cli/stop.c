@@ -27,7 +27,7 @@ static double monotonic_seconds(void)
  * STOP_REPEAT_SECONDS of the first is the same request, not a second one. */
 static void on_stop_signal(int sig)
 {
-    static const char msg[] = "restir render: second signal: exiting at once, nothing more written\n";
+    static const char msg[] = "restir: second signal: exiting at once, nothing more written\n";
     if (stop_requested) {
         if (monotonic_seconds() - first_signal_seconds < STOP_REPEAT_SECONDS) return;
         cleanup_remove_temps(); /* the file being written: no PATH.tmp.PID left */
