@@ -230,6 +230,7 @@ static int bench_animation_generated(int subdivisions, const bench_args *a, int 
     k[1].frame = 16;
     k[1].angle_degrees = 180;
     k[1].translate = v3((real)0.2, 0, 0);
+    if ((status = bench_step("animation", "generated:displaced_sphere(animated)")) != 0) return status;
     if (generate_displaced_sphere(&s, subdivisions, &e) || scene_add_object_animation(&s, 0, v3(0, 0, 0), k, 2, &e) ||
         scene_prepare(&s, &e)) {
         fprintf(stderr, "%s\n", e.msg);
@@ -480,6 +481,7 @@ int cmd_bench(int argc, char **argv)
     printf("\n]\n");
     stop_signals_restore();
     progress_end(&bench_progress);
+    if (status == 0 && stop_signal()) status = 128 + stop_signal(); /* during the last step: all complete */
     if (status > 128 && stop_signal())
         fprintf(stderr, "restir bench: interrupted by %s after %d step(s): the JSON on stdout holds their complete "
                         "entries only\n", stop_signal_name(), bench_steps);
