@@ -12,26 +12,30 @@
 #include <unistd.h>
 #include "restir/core/image.h"
 #include "restir/core/pfm.h"
+#include "pt_util.h"
 #include "test.h"
 
 #define SMALL "scenes/cornell.scene --size 16x16 --threads 2 --max-depth 4"
 
 static char out[65536];
 
-/* K = 3 one-spp renders of the small Cornell box as NAME_k.pfm; their paths, space-separated. */
-static int write_runs(char *list, size_t size, const char *name, int k)
+/* Run k: noise in [0, 1) from a linear congruential stream (noise, not statistics). */
+static void noise_run(void *user, int k, image *img)
 {
-    int i;
-    list[0] = '\0';
-    for (i = 0; i < k; ++i) {
-        char file[64];
-        const char *path;
-        snprintf(file, sizeof file, "%s_%d.pfm", name, i);
-        path = test_tmp_path(file);
-        if (test_cli(out, sizeof out, "render " SMALL " --spp 1 --seed %d --quiet --no-png -o %s", i + 1, path)) return -1;
-        snprintf(list + strlen(list), size - strlen(list), "%s%s", i ? " " : "", path);
+    uint32_t state = test_seed() * 2654435761u + (uint32_t)k;
+    size_t p;
+    (void)user;
+    for (p = 0; p < 3 * (size_t)img->width * (size_t)img->height; ++p) {
+        state = state * 1664525u + 1013904223u;
+        img->px[p] = (float)(state >> 8) / 16777216.0f;
     }
-    return 0;
+}
+
+/* K noise images of 512 x 512 (3 MB each: reading six takes longer than the 0.01 s between
+ * two lines) as NAMEk.pfm; their paths, space-separated. */
+static int write_noise_runs(char *list, size_t size, const char *name, int k)
+{
+    return test_write_runs(list, size, 512, 512, k, name, noise_run, NULL);
 }
 
 /* Entries of a directory other than . and .. (-1 if it cannot be read). */
@@ -54,10 +58,8 @@ TEST(audit_output_to_a_device_refused)
     static char runs[4096];
     char link[2048], ref[2048]; /* copies: test_tmp_path's buffers rotate */
     struct stat st;
-    CHECK(write_runs(runs, sizeof runs, "audit_dev", 2) == 0);
+    CHECK(write_noise_runs(runs, sizeof runs, "audit_dev", 2) == 0 && write_noise_runs(ref, sizeof ref, "audit_ref", 1) == 0);
     snprintf(link, sizeof link, "%s", test_tmp_path("audit-null-link"));
-    snprintf(ref, sizeof ref, "%s", test_tmp_path("audit-ref.pfm"));
-    CHECK(test_cli(out, sizeof out, "render " SMALL " --spp 1 --seed 9 --quiet --no-png -o %s", ref) == 0);
     remove(link);
     CHECK(symlink("/dev/null", link) == 0);
     CHECKF(test_cli(out, sizeof out, "compare %s %s --json %s", ref, ref, link) == 2 && strstr(out, "not a regular file"),
@@ -120,33 +122,6 @@ TEST(audit_sigterm_removes_partial_outputs)
 /* check, compare --covariance, merge and bench print plain progress lines in a log with
  * --progress lines (stderr is a file here); a short call prints none by default; check
  * --quiet none at all. */
-/* K noise images of 512 x 512 (3 MB each: reading six takes longer than the 0.01 s between
- * two lines) as NAME_k.pfm; their paths, space-separated. */
-static int write_noise_runs(char *list, size_t size, const char *name, int k)
-{
-    image img;
-    rerror e;
-    int i;
-    size_t p;
-    list[0] = '\0';
-    if (image_alloc(&img, 512, 512, &e)) return -1;
-    for (i = 0; i < k; ++i) {
-        char file[64];
-        const char *path;
-        uint32_t state = test_seed() * 2654435761u + (uint32_t)i;
-        for (p = 0; p < 3 * (size_t)512 * 512; ++p) { /* a linear congruential stream: noise, not statistics */
-            state = state * 1664525u + 1013904223u;
-            img.px[p] = (float)(state >> 8) / 16777216.0f;
-        }
-        snprintf(file, sizeof file, "%s_%d.pfm", name, i);
-        path = test_tmp_path(file);
-        if (pfm_write(path, &img, &e)) break;
-        snprintf(list + strlen(list), size - strlen(list), "%s%s", i ? " " : "", path);
-    }
-    image_free(&img);
-    return i == k ? 0 : -1;
-}
-
 TEST(audit_progress_lines_beyond_render)
 {
     static char runs[4096], runs_b[4096];

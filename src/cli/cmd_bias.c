@@ -93,7 +93,7 @@ static int check_files(const bias_args *a)
 
 static int parse_args(int argc, char **argv, bias_args *a, int *done)
 {
-    int i;
+    int i, range_given = 0;
     *done = 0;
     memset(a, 0, sizeof *a);
     a->block = 4;
@@ -133,6 +133,7 @@ static int parse_args(int argc, char **argv, bias_args *a, int *done)
                 return usage_error("--resamples must be an integer in 10..100000, not ", val);
         } else if (!strcmp(opt, "--mask-range")) {
             char *end;
+            range_given = 1;
             a->lo = strtod(val, &end);
             if (end == val || *end != ',' || (a->hi = strtod(end + 1, &end), *end) || !(a->lo <= a->hi))
                 return usage_error("--mask-range must be LO,HI with LO <= HI, not ", val);
@@ -141,6 +142,7 @@ static int parse_args(int argc, char **argv, bias_args *a, int *done)
     }
     if (a->file_count < 2 || a->file_count > 65535) return usage_error("needs 2..65535 runs (independent renders)", "");
     if (!a->ref == !a->ref_moments) return usage_error("needs one of --ref REF.pfm or --ref-moments PREFIX", "");
+    if (range_given && !a->mask) return usage_error("--mask-range needs --mask M.pfm (without a mask it has no effect)", "");
     return check_files(a);
 }
 

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "restir/core/image_io.h"
 #include "restir/core/pfm.h"
 #include "restir/core/progress.h"
@@ -195,6 +196,13 @@ int cmd_merge(int argc, char **argv)
     }
     if (!status) status = check_merge_outputs(&a, inputs, count);
     for (i = 0; i < count; ++i) checkpoints += is_checkpoint(inputs[i]);
+    for (i = 0; i < count && !status; ++i) {
+        struct stat st;
+        if (stat(inputs[i], &st) == 0 && S_ISREG(st.st_mode) && st.st_size == 0) {
+            fprintf(stderr, "restir merge: %s: empty file (neither a checkpoint nor an image)\n", inputs[i]);
+            status = 2;
+        }
+    }
     if (!status && checkpoints != 0 && checkpoints != count) {
         fprintf(stderr, "restir merge: inputs must be all checkpoints or all images\n");
         status = 2;
