@@ -322,6 +322,24 @@ static int write_json(const char *path, const bias_result *r, int block, double 
     return atomic_file_commit(&f, e);
 }
 
+/* Exit 0 only with finite numbers: no reference block in the mask range (a black
+ * reference: the default range starts at 0.5) or a zero reference mean gave "rel_bias -nan"
+ * and a JSON file with -nan tokens, exit 0. */
+static int result_unfit(const bias_args *a, const bias_result *r, double nm, double nh, rerror *e)
+{
+    if (r->blocks == 0)
+        return rerror_set(e, "restir compare --bias: no block to measure: none has a nonzero reference and a "
+                             "luminance of %s in --mask-range %g,%g", a->mask ? a->mask : a->ref ? a->ref : a->ref_moments,
+                          a->lo, a->hi);
+    if (!isfinite(r->rel_bias.value) || !isfinite(r->rel_bias.lo) || !isfinite(r->rel_bias.hi) ||
+        !isfinite(r->mean_abs_rel.value) || !isfinite(r->corrected) || !isfinite(r->noise_floor) || !isfinite(nm) ||
+        !isfinite(nh))
+        return rerror_set(e, "restir compare --bias: a result is not finite (rel_bias %g [%g, %g], nmse %g +- %g): the "
+                             "reference's mean over the measured blocks is zero or the runs overflow",
+                          r->rel_bias.value, r->rel_bias.lo, r->rel_bias.hi, nm, nh);
+    return 0;
+}
+
 int cmd_compare_bias(int argc, char **argv)
 {
     bias_args a;
@@ -339,6 +357,7 @@ int cmd_compare_bias(int argc, char **argv)
     }
     status = run(&a, &r, nmse, &e);
     if (!status) mean_t(nmse, a.file_count, a.level, &nm, &nh);
+    if (!status && (status = result_unfit(&a, &r, nm, nh, &e)) != 0) status = -1;
     if (status || (a.json && write_json(a.json, &r, a.block, a.level, a.ref_moments != NULL, nm, nh, &e))) {
         fprintf(stderr, "%s\n", e.msg);
         free(a.files);

@@ -137,7 +137,10 @@ int cmd_generate(int argc, char **argv)
         const cli_option options[] = {
             {"-o", OPT_STRING, &a.output, "output OBJ; the MTL and the scene file go next to it (.mtl, .scene)", NULL, 0, 0, NULL},
             {"--door-angle", OPT_REAL, &a.door_angle, "ajar: door opening angle in degrees, 0..90 (default 10; 0 = closed)", NULL, 0, AJAR_MAX_DOOR_ANGLE, &a.angle_seen},
-            {"--subdivisions", OPT_INT, &a.subdivisions, "sphere: grid size per cube face (default 92: 100k triangles)", NULL, 1, 8192, &a.subdivisions_seen},
+            /* at most 2000 (48M triangles, about 3 GB of memory and a 2 GB OBJ), as bench
+             * --generated: 8192 (805M triangles) would need about 50 GB and write 34 GB (extrapolated
+             * from 300: 67 MB resident, a 45 MB OBJ) */
+            {"--subdivisions", OPT_INT, &a.subdivisions, "sphere: grid size per cube face, 1..2000 (default 92: 100k triangles)", NULL, 1, 2000, &a.subdivisions_seen},
             {"--no-scene", OPT_FLAG, &a.no_scene, "write only the OBJ and MTL", NULL, 0, 0, NULL},
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
