@@ -69,6 +69,20 @@ NAN="\$R render $SMALL --spp 1 --quiet --no-png -o a.pfm; python3 -c \"import st
 RARE="printf 'v -2 0 -2\\nv 2 0 -2\\nv 2 0 2\\nv -2 0 2\\nv -1 3 -1\\nv 1 3 -1\\nv 1 3 1\\nv -1 3 1\\nv -0.01 0.05 -0.01\\nv 0.01 0.05 -0.01\\nv 0.01 0.05 0.01\\nv -0.01 0.05 0.01\\nusemtl floor\\nf 1 4 3\\nf 1 3 2\\nusemtl sky\\nf 5 6 7\\nf 5 7 8\\nusemtl spot\\nf 9 10 11\\nf 9 11 12\\n' > rare.obj; printf 'mesh rare.obj\\ncamera eye 0 1 1 target 0 0 0 up 0 1 0 fov 20\\nsize 48 48\\nmaterial floor type lambert kd 0.7 0.7 0.7\\nmaterial sky type lambert kd 0 0 0 ke 5 5 5\\nmaterial spot type lambert kd 0 0 0 ke 5 5 5\\n' > rare.scene; for k in \$(seq 10 41); do \$R render rare.scene --spp 4 --jitter --pt-strategy nee --seed \$k --threads 2 --quiet --no-png -o n\$k.pfm; done"
 RUNS4="for k in 1 2 3 4; do \$R render $SMALL --spp 1 --seed \$k --quiet --no-png -o r\$k.pfm; done"
 
+# The common setups run once into fixture directories; a case's setup copies them (the
+# same files, and the script stays well under 15 s).
+F="$W/fixtures"
+fixture() { mkdir -p "$F/$1" && (cd "$F/$1" && eval "$2") >/dev/null 2>&1; }
+fixture runs4 "$RUNS4"
+fixture ckpts "$CKPTS"
+fixture dump "$DUMP"
+fixture nan "$NAN"
+RUNS4="cp $F/runs4/* ."
+CKPTS="cp $F/ckpts/* ."
+DUMP="cp -r $F/dump/* ."
+NAN="cp $F/nan/* ."
+CORRUPT="$DUMP; head -c 100 dump/frame_0001/initial.resv > t; mv t dump/frame_0001/initial.resv"
+
 echo "| # | case | exit | message (first line) | left behind |"
 echo "| --- | --- | --- | --- | --- |"
 echo "| | **issue 27** | | | |"
