@@ -20,12 +20,13 @@ SMALL="$S/cornell.scene --size 16x16 --threads 2 --max-depth 4"
 fails=0
 n=0
 
-# row NAME EXPECTED SETUP COMMAND: SETUP runs first (its files are not leftovers), then
-# COMMAND (a shell line; $R is the binary) with a 20 s limit; the row is printed. The
+# row NAME EXPECTED SETUP COMMAND [KNOWN]: SETUP runs first (its files are not leftovers),
+# then COMMAND (a shell line; $R is the binary) with a 20 s limit; the row is printed. KNOWN
+# (e.g. "known: kit") marks files an exit 2 leaves today as a recorded fault, not a failure. The
 # message is the first line of stderr (of stdout when stderr is empty), and the last one
 # when there are more.
 row() {
-    name=$1 expected=$2 setup=$3 cmd=$4
+    name=$1 expected=$2 setup=$3 cmd=$4 known=${5:-}
     n=$((n + 1))
     [ -z "${HOSTILE_TIMES:-}" ] || t0=$(date +%s%N)
     d="$W/case$n"
@@ -51,6 +52,8 @@ row() {
     if [ "$status" != "$expected" ]; then
         mark=" **expected $expected**"
         fails=$((fails + 1))
+    elif [ "$status" = 2 ] && [ "$left" != none ] && [ -n "$known" ]; then
+        mark=" ($known)" # a known fault of another helper's command, recorded as it is today
     elif [ "$status" = 2 ] && [ "$left" != none ]; then
         mark=" **exit 2 left files**" # the rule: exit 2 leaves nothing
         fails=$((fails + 1))
@@ -227,6 +230,9 @@ echo "| | **commands of helper kit (inspect, replay, diff-dump, diagnose): behav
 row "replay --dump-dir into the dump it replays (refused by render's dump checks)" 2 "$DUMP" "\$R replay dump --frame 1 --stage temporal --dump-dir dump"
 row "diff-dump --images into dump A (today: exit 0, images written among A's stage files)" 0 "$DUMP; cp -r dump d2" "\$R diff-dump dump d2 --images dump > /dev/null"
 row "diff-dump, its table to a full stdout" 2 "$DUMP; cp -r dump d2" "\$R diff-dump dump d2 > /dev/full"
+row "diff-dump --images on a full disk (today: exit 2 leaves the images written so far)" 2 "$DUMP; cp -r dump d2" "$DISK \$R diff-dump dump d2 --images im > /dev/null" "known: kit"
+row "replay --dump-dir on a full disk" 2 "$DUMP" "$DISK \$R replay dump --frame 1 --stage temporal --dump-dir out"
+row "diff-dump --images naming a link to /dev/null" 2 "$DUMP; cp -r dump d2; ln -s /dev/null nl" "\$R diff-dump dump d2 --images nl"
 echo
 echo "$n cases, $fails with an unexpected exit status (or files left by an exit 2)."
 [ "$fails" = 0 ]
