@@ -170,6 +170,25 @@ int check_method_options(const render_args *a, const cli_option *options, const 
                 return 2;
             }
     }
+    if (a->sequence) { /* each was ignored (exit 0): a sequence renders exactly its frames A..B */
+        static const char *const stills[] = {"--frame", "--first-frame", "--frames"};
+        for (h = 0; h < 3; ++h)
+            if (cli_given(options, given, stills[h])) {
+                fprintf(stderr, "restir render: %s is for a still image; --sequence A..B renders frames A to B (one "
+                                "pose each, one frame each)\n", stills[h]);
+                return 2;
+            }
+    }
+    if (a->runs > 0 && cli_given(options, given, "--progressive")) { /* was ignored: no run writes -o */
+        fprintf(stderr, "restir render: --progressive rewrites -o during one render; --runs K writes PREFIX.mean.pfm "
+                        "etc. once the K runs are done\n");
+        return 2;
+    }
+    if (a->sequence && cli_given(options, given, "--png")) { /* was ignored: no such file, exit 0 */
+        fprintf(stderr, "restir render: --png names one preview; --sequence A..B writes one per frame next to its PFM, "
+                        "PREFIX.NNNN.png (-o PREFIX.pfm; --no-png for none)\n");
+        return 2;
+    }
     if (a->runs > 0 && !a->sequence && (cli_given(options, given, "--checkpoint") || cli_given(options, given, "--resume"))) {
         /* K runs are K renders with seeds S..S+K-1: one checkpoint file cannot hold them, and
          * one resumed state has one seed (it failed as "a different seed" for run 2) */
