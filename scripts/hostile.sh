@@ -16,6 +16,7 @@ S="$ROOT/scenes"
 W=${HOSTILE_DIR:-$ROOT/build/hostile}
 rm -rf "$W"
 mkdir -p "$W"
+W=$(cd "$W" && pwd) # absolute: each case runs in its own directory and copies fixtures from $W
 SMALL="$S/cornell.scene --size 16x16 --threads 2 --max-depth 4"
 fails=0
 n=0
@@ -158,6 +159,7 @@ row "compare --error-map into /dev" 2 "$RUNS4" "\$R compare r1.pfm r2.pfm --erro
 row "compare --error-map below a regular file (checked before work)" 2 "$RUNS4" "\$R compare r1.pfm r2.pfm --error-map r1.pfm/m.png"
 row "compare --error-map on a full disk" 2 "$RUNS4" "$DISK \$R compare r1.pfm r2.pfm --error-map m.png"
 row "compare, its table to a full stdout (was: exit 0)" 2 "$RUNS4" "\$R compare r1.pfm r2.pfm > /dev/full"
+row "compare --metric without --error-map (was: ignored, exit 0)" 2 "$RUNS4" "\$R compare r1.pfm r2.pfm --metric mse"
 row "compare a 0x0 PFM" 2 "printf 'PF\n0 0\n-1.0\n' > z.pfm" "\$R compare z.pfm z.pfm"
 row "compare a NaN pixel" 2 "$NAN" "\$R compare nan.pfm a.pfm"
 row "compare --covariance with one run twice (was: exit 0)" 2 "$RUNS4" "\$R compare --covariance r1.pfm ./r1.pfm r2.pfm"
@@ -190,6 +192,8 @@ row "stats mean-ci of one number" 2 "echo 5 > one.txt" "\$R stats mean-ci one.tx
 row "stats t-table to a full stdout (was: exit 0)" 2 "" "\$R stats t-table > /dev/full"
 row "help to a full stdout (was: exit 0)" 2 "" "\$R help > /dev/full"
 row "merge of one image twice (was: exit 0, its samples counted twice)" 2 "\$R render $SMALL --spp 1 --quiet --no-png -o a.pfm" "\$R merge -o m.pfm a.pfm ./a.pfm --counts 1,1"
+row "merge of images with --checkpoint-out (was: ignored, exit 0)" 2 "$CKPTS" "\$R merge -o m.pfm a.pfm b.pfm --counts 1,1 --checkpoint-out m.ckpt"
+row "merge of checkpoints with --counts (was: ignored, exit 0)" 2 "$CKPTS" "\$R merge -o m.pfm a.ckpt b.ckpt --counts 1,1"
 row "merge -o to a link to /dev/full" 2 "$CKPTS; $FULL" "\$R merge -o full a.ckpt b.ckpt --no-png"
 row "merge of an empty checkpoint (was: 'all checkpoints or all images')" 2 "$CKPTS; : > e.ckpt" "\$R merge -o m.pfm e.ckpt b.ckpt"
 row "merge on a full disk" 2 "$CKPTS" "$DISK \$R merge -o m.pfm a.ckpt b.ckpt --checkpoint-out m.ckpt"

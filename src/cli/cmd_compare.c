@@ -104,6 +104,9 @@ static int parse_args(int argc, char **argv, compare_options *o)
     o->test_path = positional[0];
     o->ref_path = positional[1];
     if (metric && (o->metric = metric_from_name(metric)) < 0) return usage_error("unknown metric '%s'", metric);
+    if (metric && !o->map_path) /* it chooses the map only: alone it was ignored (every metric is printed) */
+        return usage_error("--metric %s chooses the --error-map's metric; without --error-map every metric is printed",
+                           metric);
     if (crop) {
         if (parse_crop(crop, &o->crop)) return usage_error("--crop '%s' is not x,y,w,h", crop);
         o->has_crop = 1;

@@ -207,6 +207,15 @@ int cmd_merge(int argc, char **argv)
         fprintf(stderr, "restir merge: inputs must be all checkpoints or all images\n");
         status = 2;
     }
+    /* each was ignored (exit 0): a checkpoint knows its sample count, an image has no state */
+    if (!status && checkpoints && a.counts) {
+        fprintf(stderr, "restir merge: --counts is for image inputs; a checkpoint holds its own sample count\n");
+        status = 2;
+    }
+    if (!status && !checkpoints && a.checkpoint_out) {
+        fprintf(stderr, "restir merge: --checkpoint-out needs checkpoint inputs (images hold no path-tracer state)\n");
+        status = 2;
+    }
     if (a.checkpoint_out) file_before_note(&ckpt_before, a.checkpoint_out);
     progress_set_mode((enum progress_mode)a.progress, a.progress_every);
     progress_begin(&read_progress, "merge: reading inputs", a.quiet);
