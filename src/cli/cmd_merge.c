@@ -82,7 +82,10 @@ static int merge_checkpoints(const merge_args *a, const char **inputs, int n, im
             if (pt_state_merge(&st[0], &st[i], &e)) status = 2;
     }
     if (!status && pt_state_mean(&st[0], out, &e)) status = 2;
-    if (!status && a->checkpoint_out && pt_checkpoint_write(a->checkpoint_out, &st[0], &e)) status = 2;
+    if (!status && a->checkpoint_out && pt_checkpoint_write(a->checkpoint_out, &st[0], &e)) {
+        image_free(out); /* the caller frees the image only on success */
+        status = 2;
+    }
     if (status) fprintf(stderr, "%s\n", e.msg);
     else if (!a->quiet)
         fprintf(stderr, "merged %d checkpoints: %u spp (samples %u..%llu)%s\n", n, st[0].spp, st[0].sample_offset,
