@@ -13,8 +13,9 @@
  * registered for removal on SIGINT / SIGTERM (signal_cleanup.h). */
 int outputs_ready(const char *command, const named_file *outs, int n_out, const named_file *ins, int n_in);
 
-/* 2 after printing "restir COMMAND: ROLE PATH is given twice" if two of ins[] name one
- * file (K runs of one file are not K independent runs), else 0. */
+/* 2 after printing "restir COMMAND: ROLE A and ROLE B are one file" if two existing files
+ * of ins[] are one (the same inode: also another spelling or a link; K runs of one file
+ * are not K independent runs), else 0. O(n log n). */
 int inputs_distinct(const char *command, const named_file *ins, int n_in);
 
 /* Removes output_set.c's ".staged.PID" from an error message, so that it names the output
