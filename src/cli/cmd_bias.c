@@ -236,6 +236,18 @@ static void reference_noise(const moments_file *mf, const bias_args *a, const im
     }
 }
 
+/* -1 with "PATH: pixel (x, y) is not finite" if img holds a NaN or Inf (a NaN run made
+ * every result NaN), else 0. */
+static int image_unfinite(const char *path, const image *img, rerror *e)
+{
+    size_t i, n = 3 * (size_t)img->width * (size_t)img->height;
+    for (i = 0; i < n; ++i)
+        if (!isfinite(img->px[i]))
+            return rerror_set(e, "%s: pixel (%ld, %ld) is not finite", path, (long)(i / 3) % img->width,
+                              (long)(i / 3) / img->width);
+    return 0;
+}
+
 static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
 {
     image ref, mask, img;
@@ -257,7 +269,8 @@ static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
     } else if (image_read(a->ref, &ref, NULL, e)) {
         return -1;
     }
-    if (a->mask && image_read(a->mask, &mask, NULL, e)) goto done;
+    if (image_unfinite(a->ref ? a->ref : a->ref_moments, &ref, e)) goto done;
+    if (a->mask && (image_read(a->mask, &mask, NULL, e) || image_unfinite(a->mask, &mask, e))) goto done;
     if (a->mask && (mask.width != ref.width || mask.height != ref.height)) {
         rerror_set(e, "%s: %dx%d, the reference is %dx%d", a->mask, mask.width, mask.height, ref.width, ref.height);
         goto done;
@@ -274,6 +287,10 @@ static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
     block_means(&ref, a, a->mask ? &mask : NULL, bw, ref_b, weight);
     for (k = 0; k < a->file_count; ++k) {
         if (image_read(a->files[k], &img, NULL, e)) goto done;
+        if (image_unfinite(a->files[k], &img, e)) {
+            image_free(&img);
+            goto done;
+        }
         if (img.width != ref.width || img.height != ref.height) {
             rerror_set(e, "%s: %dx%d, the reference is %dx%d", a->files[k], img.width, img.height, ref.width, ref.height);
             image_free(&img);

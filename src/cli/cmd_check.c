@@ -160,9 +160,11 @@ static int load_reference(check_side *side, const side_args *s, rerror *e)
     n = (size_t)ref.width * (size_t)ref.height * 3;
     for (i = 0; i < n; ++i)
         if (!isfinite(ref.px[i])) {
+            /* the message first: image_free zeroes the width (it divided by zero: SIGFPE) */
+            rerror_at(e, s->ref, 0, "pixel (%ld, %ld) is not finite", (long)(i / 3) % ref.width,
+                      (long)(i / 3) / ref.width);
             image_free(&ref);
-            return rerror_at(e, s->ref, 0, "pixel (%ld, %ld) is not finite", (long)(i / 3) % ref.width,
-                             (long)(i / 3) / ref.width);
+            return -1;
         }
     if (!s->ref_var) return check_side_exact(side, &ref, e);
     memset(&f, 0, sizeof f);
