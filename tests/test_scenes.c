@@ -380,10 +380,13 @@ TEST(scenes_generated_mtl_round_trips_material_types)
 
 TEST(scenes_cli_generate)
 {
-    const char *obj = test_tmp_path("gen/ajar20.obj");
+    /* a copy: test_tmp_path's buffers rotate (test_cli takes one), and the later
+     * `generate corridor -o %s` once wrote its OBJ as cli-output.txt */
+    char obj[4200];
     char scene_path[4200], mtl[4200];
     scene s;
     rerror e;
+    snprintf(obj, sizeof obj, "%s", test_tmp_path("gen/ajar20.obj"));
     snprintf(scene_path, sizeof scene_path, "%.*s.scene", (int)(strlen(obj) - 4), obj);
     snprintf(mtl, sizeof mtl, "%.*s.mtl", (int)(strlen(obj) - 4), obj);
     CHECKF(test_cli(out, sizeof out, "generate ajar --door-angle 20 -o %s", obj) == 0, "%s", out);

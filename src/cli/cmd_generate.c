@@ -9,6 +9,7 @@
 #include "restir/scene/generate_atrium.h"
 #include "restir/scene/generate_rooms.h"
 #include "args.h"
+#include "outputs_ready.h"
 
 typedef struct {
     const char *output;
@@ -37,6 +38,12 @@ static void scene_path_for(const char *obj_path, char *out, size_t size)
         snprintf(out, size, "%.*s.scene", (int)(len - 4), obj_path);
     else
         snprintf(out, size, "%s.scene", obj_path);
+}
+
+/* OUT.obj -> OUT.mtl, as generate_write_obj names it. */
+static void mtl_path_for(const char *obj_path, char *out, size_t size)
+{
+    snprintf(out, size, "%.*s.mtl", (int)(strlen(obj_path) - 4), obj_path);
 }
 
 static const char *base_name(const char *path)
@@ -118,7 +125,8 @@ int cmd_generate(int argc, char **argv)
 {
     generate_args a;
     const char *positional[2];
-    char scene_path[4200], comment[1024];
+    char scene_path[4200], mtl_path[4200], comment[1024];
+    file_before before[3];
     int count, status;
     scene s;
     rerror e;
@@ -129,7 +137,10 @@ int cmd_generate(int argc, char **argv)
         const cli_option options[] = {
             {"-o", OPT_STRING, &a.output, "output OBJ; the MTL and the scene file go next to it (.mtl, .scene)", NULL, 0, 0, NULL},
             {"--door-angle", OPT_REAL, &a.door_angle, "ajar: door opening angle in degrees, 0..90 (default 10; 0 = closed)", NULL, 0, AJAR_MAX_DOOR_ANGLE, &a.angle_seen},
-            {"--subdivisions", OPT_INT, &a.subdivisions, "sphere: grid size per cube face (default 92: 100k triangles)", NULL, 1, 8192, &a.subdivisions_seen},
+            /* at most 2000 (48M triangles, about 3 GB of memory and a 2 GB OBJ), as bench
+             * --generated: 8192 (805M triangles) would need about 50 GB and write 34 GB (extrapolated
+             * from 300: 67 MB resident, a 45 MB OBJ) */
+            {"--subdivisions", OPT_INT, &a.subdivisions, "sphere: grid size per cube face, 1..2000 (default 92: 100k triangles)", NULL, 1, 2000, &a.subdivisions_seen},
             {"--no-scene", OPT_FLAG, &a.no_scene, "write only the OBJ and MTL", NULL, 0, 0, NULL},
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
@@ -152,15 +163,35 @@ int cmd_generate(int argc, char **argv)
         fprintf(stderr, "restir generate: --door-angle is for ajar, --subdivisions for sphere\n");
         return 2;
     }
+    if (strlen(a.output) < 5 || strcmp(a.output + strlen(a.output) - 4, ".obj")) {
+        /* a scene file is read by its extension: OUT.scene holding OBJ text would not load */
+        fprintf(stderr, "restir generate: -o %s: the output is an OBJ file and its name must end in .obj (the .mtl "
+                        "and .scene go next to it)\n", a.output);
+        return 2;
+    }
+    scene_path_for(a.output, scene_path, sizeof scene_path);
+    mtl_path_for(a.output, mtl_path, sizeof mtl_path);
+    {
+        const named_file outs[] = {{a.output, "-o"}, {mtl_path, "the MTL"}, {a.no_scene ? NULL : scene_path, "the scene file"}};
+        if (outputs_ready("generate", outs, 3, NULL, 0)) return 2;
+    }
     if (generate_kind(positional[0], &a, &s, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
     describe(positional[0], &a, comment, sizeof comment);
-    scene_path_for(a.output, scene_path, sizeof scene_path);
+    file_before_note(&before[0], a.output);
+    file_before_note(&before[1], mtl_path);
+    file_before_note(&before[2], scene_path);
     status = generate_write_obj(&s, a.output, &e);
     if (!status && !a.no_scene) status = generate_write_scene_file(&s, scene_path, base_name(a.output), comment, &e);
-    if (status) fprintf(stderr, "%s\n", e.msg);
+    if (status) {
+        /* exit 2 leaves nothing: the OBJ or MTL committed before the failure goes too */
+        int removed = file_remove_if_written(&before[0], a.output) + file_remove_if_written(&before[1], mtl_path) +
+                      file_remove_if_written(&before[2], scene_path);
+        fprintf(stderr, "%s\n", e.msg);
+        if (removed) fprintf(stderr, "restir generate: removed the %d file(s) this call wrote before the error\n", removed);
+    }
     scene_free(&s);
     return status ? 2 : 0;
 }

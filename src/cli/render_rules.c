@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "collide.h"
+#include "render_outputs.h"
+#include "signal_cleanup.h"
 #include "output.h"
 #include "render_replay.h"
 #include "stop.h"
@@ -174,6 +176,33 @@ int check_method_options(const render_args *a, const cli_option *options, const 
                 return 2;
             }
     }
+    if (a->sequence) { /* each was ignored (exit 0): a sequence renders exactly its frames A..B */
+        static const char *const stills[] = {"--frame", "--first-frame", "--frames"};
+        for (h = 0; h < 3; ++h)
+            if (cli_given(options, given, stills[h])) {
+                fprintf(stderr, "restir render: %s is for a still image; --sequence A..B renders frames A to B (one "
+                                "pose each, one frame each)\n", stills[h]);
+                return 2;
+            }
+    }
+    if (a->runs > 0 && cli_given(options, given, "--progressive")) { /* was ignored: no run writes -o */
+        fprintf(stderr, "restir render: --progressive rewrites -o during one render; --runs K writes PREFIX.mean.pfm "
+                        "etc. once the K runs are done\n");
+        return 2;
+    }
+    if (a->sequence && cli_given(options, given, "--png")) { /* was ignored: no such file, exit 0 */
+        fprintf(stderr, "restir render: --png names one preview; --sequence A..B writes one per frame next to its PFM, "
+                        "PREFIX.NNNN.png (-o PREFIX.pfm; --no-png for none)\n");
+        return 2;
+    }
+    if (a->runs > 0 && !a->sequence && (cli_given(options, given, "--checkpoint") || cli_given(options, given, "--resume"))) {
+        /* K runs are K renders with seeds S..S+K-1: one checkpoint file cannot hold them, and
+         * one resumed state has one seed (it failed as "a different seed" for run 2) */
+        fprintf(stderr, "restir render: --runs K with %s: the K runs have K seeds and one checkpoint holds one run "
+                        "(checkpoint runs one by one with --seed S, then restir merge; or rerun --runs)\n",
+                cli_given(options, given, "--checkpoint") ? "--checkpoint" : "--resume");
+        return 2;
+    }
     if (cli_given(options, given, "--sample-offset") && cli_given(options, given, "--resume")) {
         fprintf(stderr, "restir render: --sample-offset and --resume: a resumed run continues the checkpoint's own "
                         "sample range (for a disjoint range start a fresh run and use restir merge)\n");
@@ -186,24 +215,6 @@ int check_method_options(const render_args *a, const cli_option *options, const 
         return 2;
     }
     return 0;
-}
-
-/* No output may overwrite another output or an input (collide.h); --resume FILE
- * --checkpoint FILE continues one checkpoint in place. --runs writes PREFIX.* instead of
- * -o (the sidecar files are distinct by construction). */
-static int check_output_collisions(const render_args *a, const char *out, const char *png)
-{
-    char mean[4200], prefix[4096];
-    named_file outs[4], ins[2];
-    output_prefix(prefix, sizeof prefix, out);
-    snprintf(mean, sizeof mean, "%s.mean.pfm", prefix);
-    outs[0].path = a->runs > 0 ? mean : a->sequence ? NULL : out, outs[0].role = "-o";
-    outs[1].path = png, outs[1].role = "the PNG preview";
-    outs[2].path = a->stats, outs[2].role = "--stats";
-    outs[3].path = a->pt.o.checkpoint_path, outs[3].role = "--checkpoint";
-    ins[0].path = a->sio.scene_path, ins[0].role = "the scene";
-    ins[1].path = a->pt.o.resume_path, ins[1].role = "--resume";
-    return outputs_distinct("render", outs, 4, ins, 2, a->pt.o.resume_path);
 }
 
 /* Every file the command will write, checked before anything is rendered. */
@@ -232,7 +243,9 @@ int check_output_paths(const render_args *a, const char *out, const char *png)
         fprintf(stderr, "restir render: --png %s is the PFM's own path\n", png);
         return 2;
     }
-    return check_output_collisions(a, out, png);
+    if (render_outputs_distinct(a, out, png)) return 2;
+    for (i = 0; i < count; ++i) cleanup_register(paths[i]); /* the second signal's cleanup (stop.c) */
+    return 0;
 }
 
 /* --aov duplicates|age (issue 12): reservoirs exist only with --method restir (checked by
