@@ -82,6 +82,7 @@ void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material)
     t->v[1] = (uint32_t)base + 1;
     t->v[2] = (uint32_t)base + 2;
     t->n[0] = t->n[1] = t->n[2] = -1;
+    t->t[0] = t->t[1] = t->t[2] = -1;
     t->material = material;
     t->object = 0;
 }

@@ -92,6 +92,9 @@ void scene_free(scene *s)
     size_t i;
     free(s->positions);
     free(s->normals);
+    free(s->texcoords);
+    for (i = 0; i < s->texture_count; ++i) texture_free(&s->textures[i]);
+    free(s->textures);
     free(s->triangles);
     free(s->materials);
     for (i = 0; i < s->object_count; ++i) free(s->object_names[i]);
