@@ -17,6 +17,8 @@
 #include "restir/scene/scene_trace.h"
 #include "restir/scene/surface_maps.h"
 #include "restir/scene/texture.h"
+#include "restir/scene/sky.h"
+#include "restir/core/exr.h"
 
 /* Writes a w x h RGB8 PNG (row 0 = top) in the scratch directory; returns its path. */
 static const char *write_png(const char *name, int w, int h, const unsigned char *rgb8)
@@ -388,4 +390,47 @@ TEST(texture_white_furnace_with_cutouts)
         }
     pt_result_free(&r);
     scene_free(&s);
+}
+
+/* ---- environment maps by extension ------------------------------------------------------- */
+
+/* The same 6 x 3 radiance map written as PFM and as EXR (float, ZIP) loads to the same
+ * texels; a PNG map is the sRGB-decoded picture; another extension is refused. */
+TEST(sky_exr_and_png_maps)
+{
+    image img;
+    scene_sky a, b, c;
+    unsigned char px[6 * 3 * 3];
+    rerror e;
+    int i;
+    if (image_alloc(&img, 6, 3, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return;
+    }
+    for (i = 0; i < 6 * 3 * 3; ++i) {
+        img.px[i] = (float)(0.25 * (i % 7) + 0.125 * (i % 3));
+        px[i] = (unsigned char)(37 * i % 256);
+    }
+    sky_init(&a);
+    sky_init(&b);
+    sky_init(&c);
+    CHECKF(!pfm_write(test_tmp_path("env.pfm"), &img, &e) && !exr_write(test_tmp_path("env.exr"), &img, EXR_ZIP, EXR_FLOAT, &e) &&
+               !png_write_rgb8(test_tmp_path("env.png"), 6, 3, px, &e),
+           "%s", e.msg);
+    CHECKF(!sky_load_map(&a, test_tmp_path("env.pfm"), 1, &e) && !sky_load_map(&b, test_tmp_path("env.exr"), 1, &e) &&
+               !sky_load_map(&c, test_tmp_path("env.png"), 1, &e),
+           "%s", e.msg);
+    if (!test_has_failed()) {
+        CHECK(a.width == 6 && b.width == 6 && b.height == 3 && c.height == 3);
+        CHECK(!memcmp(a.texels, b.texels, 6 * 3 * 3 * sizeof *a.texels));
+        for (i = 0; i < 6 * 3 * 3; ++i)
+            CHECKF(fabs(c.texels[i] - srgb_to_linear(px[i] / 255.0)) < 1e-7, "png texel %d: %g", i, (double)c.texels[i]);
+    }
+    sky_free(&a);
+    sky_free(&b);
+    sky_free(&c);
+    sky_init(&a);
+    CHECK(sky_load_map(&a, test_tmp_path("env.hdr"), 1, &e) != 0 && strstr(e.msg, ".exr") != NULL);
+    sky_free(&a);
+    image_free(&img);
 }

@@ -1017,6 +1017,18 @@ static int filter_keeps(const hit_filter *f, const bvh_leaf_block *q, const lane
     return f->accept(f->ctx, q->tri[k], lh->v[k] / lh->det[k], lh->w[k] / lh->det[k]);
 }
 
+/* 1 if some lane of `mask` passes the filter (kept out of line: only cut-out scenes call it). */
+#ifdef __GNUC__
+__attribute__((noinline))
+#endif
+static int any_lane_kept(const hit_filter *f, const bvh_leaf_block *q, const lane_hits *lh, unsigned mask)
+{
+    int k;
+    for (k = 0; k < BVH_LANES; ++k)
+        if (((mask >> k) & 1u) && filter_keeps(f, q, lh, k)) return 1;
+    return 0;
+}
+
 /* Any hit in the leaf of `count` triangles from block `first` that the filter keeps. */
 static HOT_INLINE int leaf_occludes(const ray_setup *s, const bvh *b, uint32_t first, uint32_t count,
                                     const hit_filter *f)
@@ -1025,10 +1037,8 @@ static HOT_INLINE int leaf_occludes(const ray_setup *s, const bvh *b, uint32_t f
     for (block = first, end = first + (count + BVH_LANES - 1) / BVH_LANES; block < end; ++block) {
         lane_hits lh;
         unsigned mask = watertight_lanes(s, &b->blocks[block], &lh);
-        int k;
-        if (mask && !f) return 1;
-        for (k = 0; mask && k < BVH_LANES; ++k)
-            if (((mask >> k) & 1u) && filter_keeps(f, &b->blocks[block], &lh, k)) return 1;
+        /* f is a constant NULL in the unfiltered query: then this is `if (mask) return 1`. */
+        if (mask && (!f || any_lane_kept(f, &b->blocks[block], &lh, mask))) return 1;
     }
     return 0;
 }
