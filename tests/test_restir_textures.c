@@ -75,11 +75,13 @@ static void compare(const check_side *a, const check_side *pt, const char *what)
     check_result_free(&c);
 }
 
-/* Spatial reuse (2 passes): reconnection with pairwise-defensive MIS, hybrid with Talbot. */
+/* Spatial reuse (2 passes): reconnection with pairwise-defensive MIS, hybrid with Talbot, and
+ * hybrid with light RIS and tiles (8 candidates: the textured sign's emission at light
+ * points known only by their position, docs/materials.md §7.5). */
 TEST(restir_textures_spatial)
 {
-    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_HYBRID};
-    static const int families[] = {MIS_PAIRWISE_DEFENSIVE, MIS_TALBOT};
+    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_HYBRID, RESTIR_SHIFT_HYBRID};
+    static const int families[] = {MIS_PAIRWISE_DEFENSIVE, MIS_TALBOT, MIS_PAIRWISE_DEFENSIVE};
     scene s;
     check_side pt;
     int i;
@@ -88,14 +90,18 @@ TEST(restir_textures_spatial)
         scene_free(&s);
         return;
     }
-    for (i = 0; i < 2 && !test_has_failed(); ++i) {
+    for (i = 0; i < 3 && !test_has_failed(); ++i) {
         restir_options o;
         check_side a;
         char what[128];
         room_options(&o, shifts[i], families[i], 2, (uint32_t)i);
+        if (i == 2) {
+            o.light_ris.candidates = 8;
+            o.light_ris.tiles = 1;
+        }
         if (rt_restir_side(&s, &o, RUNS, BLOCK, &a)) break;
-        snprintf(what, sizeof what, "textured-room spatial shift %s mis %s", restir_shift_names[shifts[i]],
-                 restir_mis_names[families[i]]);
+        snprintf(what, sizeof what, "textured-room spatial shift %s mis %s%s", restir_shift_names[shifts[i]],
+                 restir_mis_names[families[i]], i == 2 ? " light-ris 8 tiles" : "");
         compare(&a, &pt, what);
         check_side_free(&a);
     }
