@@ -109,18 +109,6 @@ TEST(restir_textures_spatial)
     scene_free(&s);
 }
 
-typedef struct {
-    int frame;
-    check_side side;
-} one_frame;
-
-static int collect(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
-{
-    one_frame *q = user;
-    (void)st;
-    return frame == q->frame ? check_side_add_run(&q->side, img, "run", e) : 0;
-}
-
 /* Temporal reuse (still camera, frame 3 of each sequence) with the hybrid shift and one
  * spatial pass after it. */
 TEST(restir_textures_temporal)
@@ -128,10 +116,7 @@ TEST(restir_textures_temporal)
     scene s;
     check_side pt;
     restir_options o;
-    restir_sequence seq;
-    one_frame q;
-    rerror e;
-    int k, status = 0;
+    rt_frame_sides q;
     if (rt_load_scene("scenes/textured-room.scene", RES, &s)) return;
     if (pt_reference(&s, &pt)) {
         scene_free(&s);
@@ -139,24 +124,14 @@ TEST(restir_textures_temporal)
     }
     room_options(&o, RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, 7);
     o.temporal.mis = MIS_TALBOT;
-    memset(&seq, 0, sizeof seq);
-    seq.first = 0;
-    seq.last = 3;
-    q.frame = 3;
-    if (check_side_begin_runs(&q.side, s.width, s.height, BLOCK, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        goto done;
+    memset(&q, 0, sizeof q);
+    q.times[0] = 3;
+    q.nt = 1;
+    if (rt_frame_sides_run(&s, &o, RUNS, BLOCK, &q)) test_fail(__FILE__, __LINE__, "the sequences failed");
+    else {
+        compare(&q.side[0], &pt, "textured-room temporal frame 3 shift hybrid");
+        rt_frame_sides_free(&q);
     }
-    for (k = 0; k < RUNS && !status; ++k) {
-        restir_options ok = o;
-        restir_stats total;
-        ok.seed = o.seed + 7919u * (uint32_t)k;
-        status = restir_render_sequence(&s, &ok, &seq, collect, &q, &total, &e);
-    }
-    if (status || check_side_end_runs(&q.side, &e)) test_fail(__FILE__, __LINE__, "sequence: %s", e.msg);
-    else compare(&q.side, &pt, "textured-room temporal frame 3 shift hybrid");
-    check_side_free(&q.side);
-done:
     check_side_free(&pt);
     scene_free(&s);
 }
