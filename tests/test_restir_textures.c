@@ -25,17 +25,10 @@ static int verbose(void) { return getenv("RESTIR_TEST_VERBOSE") != NULL; }
 
 static void room_options(restir_options *o, int shift, int mis, int passes, uint32_t salt)
 {
-    restir_options_default(o);
-    o->seed = test_seed() * 4099u + 977u * salt + 29u;
-    o->shift = shift;
-    o->spatial.mis = (mis_family)mis;
-    o->spatial_passes = passes;
-    o->spatial.neighbors = 3;
-    o->spatial.radius = 4.0;
+    rt_spatial_options(o, test_seed() * 4099u + 977u * salt + 29u, shift, mis, passes, 3, 4.0);
     o->frames = 2;
     o->candidates = 2;
     o->max_depth = 4;
-    o->threads = 2;
 }
 
 static void report(const char *what, const check_result *c)
@@ -138,8 +131,8 @@ TEST(restir_textures_temporal)
 
 /* ---- a cut-out canopy over a textured court ---------------------------------------------- */
 
-/* Writes an 8 x 8 RGB8 PNG whose texel (x, y) is code(x, y) in all three channels, or the
- * two-colour checker below when colour is set. */
+/* Writes an 8 x 8 RGB8 PNG: a two-colour checker (colour set), else a mask open (0) on a
+ * third of the texels and opaque (255) elsewhere. */
 static int write_map(const char *name, int colour)
 {
     unsigned char px[8 * 8 * 3];
@@ -160,35 +153,24 @@ static int write_map(const char *name, int colour)
 }
 
 /* A court (floor y = 0 and a back wall z = -2, both with a high-contrast map_Kd checker,
- * the floor rough plastic with map_Pr) under a canopy at y = 1.2 whose map_d is a fine
- * checker (half holes), lit by an area light above the canopy and a dim constant sky: all
+ * the floor rough plastic with map_Pr) under a canopy at y = 1.2 whose map_d opens a third
+ * of its texels, lit by an area light above the canopy and a dim constant sky: all
  * direct light passes the cut-outs, and reconnection vertices lie on textured surfaces. */
 static int load_canopy(scene *s)
 {
-    rerror e;
     if (write_map("canopy-kd.png", 1) || write_map("canopy-mask.png", 0)) return -1;
-    test_write_file("canopy.mtl", "newmtl court\nKd 1 1 1\nPr 0.7\nmap_Kd canopy-kd.png\nmap_Pr canopy-mask.png\n"
-                                  "newmtl wall\nKd 1 1 1\nmap_Kd canopy-kd.png\n"
-                                  "newmtl canopy\nKd 0.6 0.6 0.6\nmap_d canopy-mask.png\n"
-                                  "newmtl light\nKd 0 0 0\nKe 6 6 6\n");
-    test_write_file("canopy.obj",
-                    "mtllib canopy.mtl\nvt 0 0\nvt 2 0\nvt 2 2\nvt 0 2\n"
-                    "usemtl court\nv -2 0 2\nv 2 0 2\nv 2 0 -2\nv -2 0 -2\nf 1/1 2/2 3/3 4/4\n"
-                    "usemtl wall\nv -2 0 -2\nv 2 0 -2\nv 2 2.5 -2\nv -2 2.5 -2\nf 5/1 6/2 7/3 8/4\n"
-                    "usemtl canopy\nv -1.5 1.2 1.5\nv 1.5 1.2 1.5\nv 1.5 1.2 -1.9\nv -1.5 1.2 -1.9\nf 9/1 10/2 11/3 12/4\n"
-                    "usemtl light\nv -0.6 2.2 -0.6\nv -0.6 2.2 0.6\nv 0.6 2.2 0.6\nv 0.6 2.2 -0.6\nf 13 16 15 14\n");
-    if (scene_load(s, test_write_file("canopy.scene", "mesh canopy.obj\ncamera eye 0 0.9 3.5 target 0 0.5 -1 up 0 1 0 "
-                                                      "fov 50\nsize 16 16\nenvironment constant 0.05 0.06 0.08\n"),
-                   &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    if (scene_prepare(s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(s);
-        return -1;
-    }
-    return 0;
+    return test_scene_from_text(s, "canopy",
+                                "newmtl court\nKd 1 1 1\nPr 0.7\nmap_Kd canopy-kd.png\nmap_Pr canopy-mask.png\n"
+                                "newmtl wall\nKd 1 1 1\nmap_Kd canopy-kd.png\n"
+                                "newmtl canopy\nKd 0.6 0.6 0.6\nmap_d canopy-mask.png\n"
+                                "newmtl light\nKd 0 0 0\nKe 6 6 6\n",
+                                "mtllib canopy.mtl\nvt 0 0\nvt 2 0\nvt 2 2\nvt 0 2\n"
+                                "usemtl court\nv -2 0 2\nv 2 0 2\nv 2 0 -2\nv -2 0 -2\nf 1/1 2/2 3/3 4/4\n"
+                                "usemtl wall\nv -2 0 -2\nv 2 0 -2\nv 2 2.5 -2\nv -2 2.5 -2\nf 5/1 6/2 7/3 8/4\n"
+                                "usemtl canopy\nv -1.5 1.2 1.5\nv 1.5 1.2 1.5\nv 1.5 1.2 -1.9\nv -1.5 1.2 -1.9\nf 9/1 10/2 11/3 12/4\n"
+                                "usemtl light\nv -0.6 2.2 -0.6\nv -0.6 2.2 0.6\nv 0.6 2.2 0.6\nv 0.6 2.2 -0.6\nf 13 16 15 14\n",
+                                "mesh canopy.obj\ncamera eye 0 0.9 3.5 target 0 0.5 -1 up 0 1 0 fov 50\nsize 16 16\n"
+                                "environment constant 0.05 0.06 0.08\n");
 }
 
 /* Reconnection (pairwise-defensive) and hybrid (Talbot) spatial reuse under the canopy. */
@@ -238,20 +220,14 @@ static int load_cutout_wall(scene *s)
         test_fail(__FILE__, __LINE__, "%s", e.msg);
         return -1;
     }
-    test_write_file("cutwall.mtl", "newmtl white\nKd 0.8 0.8 0.8\nnewmtl card\nKd 0.8 0.8 0.8\nmap_d wall-mask.png\n"
-                                   "newmtl light\nKd 0 0 0\nKe 20 18 15\n");
-    test_write_file("cutwall.obj",
-                    "mtllib cutwall.mtl\nusemtl white\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\nf 1 2 3 4\n"
-                    "usemtl card\nv 0 0 -1.2\nv 0 0 1.2\nv 0 1.5 1.2\nv 0 1.5 -1.2\nvt 0 0.25\nvt 1 0.25\nvt 1 1\nvt 0 1\n"
-                    "f 5/1 6/2 7/3 8/4\n"
-                    "usemtl light\nv 0.3 0.8 -0.2\nv 0.7 0.8 -0.2\nv 0.7 0.8 0.2\nv 0.3 0.8 0.2\nf 9 10 11 12\n");
-    if (scene_load(s, test_write_file("cutwall.scene", "mesh cutwall.obj\ncamera eye 0 3 0.01 target 0 0 0 up 0 0 1 "
-                                                       "fov 40\nsize 24 24\n"),
-                   &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    return test_scene_prepare(s) ? -1 : 0;
+    return test_scene_from_text(s, "cutwall",
+                                "newmtl white\nKd 0.8 0.8 0.8\nnewmtl card\nKd 0.8 0.8 0.8\nmap_d wall-mask.png\n"
+                                "newmtl light\nKd 0 0 0\nKe 20 18 15\n",
+                                "mtllib cutwall.mtl\nusemtl white\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\nf 1 2 3 4\n"
+                                "usemtl card\nv 0 0 -1.2\nv 0 0 1.2\nv 0 1.5 1.2\nv 0 1.5 -1.2\nvt 0 0.25\nvt 1 0.25\nvt 1 1\nvt 0 1\n"
+                                "f 5/1 6/2 7/3 8/4\n"
+                                "usemtl light\nv 0.3 0.8 -0.2\nv 0.7 0.8 -0.2\nv 0.7 0.8 0.2\nv 0.3 0.8 0.2\nf 9 10 11 12\n",
+                                "mesh cutwall.obj\ncamera eye 0 3 0.01 target 0 0 0 up 0 0 1 fov 40\nsize 24 24\n");
 }
 
 TEST(restir_textures_cutout_shadow_stays_black)

@@ -209,20 +209,14 @@ TEST(texture_plane_constant_environment_exact)
     const rgb L = rgb_make((real)1, (real)2, (real)3), kd = rgb_make((real)0.9, (real)0.8, (real)1);
     scene s;
     pt_result r;
-    rerror e;
-    char text[4096];
     int x, y, surface = 0, distinct = 0;
     real first_r = -1;
     checker_png("checker.png");
-    test_write_file("tx.mtl", "newmtl plane\nKd 0.9 0.8 1\nmap_Kd checker.png\n");
-    test_write_file("tx.obj", plane_obj);
-    snprintf(text, sizeof text, "mesh tx.obj\ncamera eye 0 3 0.001 target 0 0 0 up 0 0 -1 fov 45\nsize 32 32\n"
-                                "environment constant 1 2 3\n");
-    if (scene_load(&s, test_write_file("plane.scene", text), &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
+    if (test_scene_from_text(&s, "tx", "newmtl plane\nKd 0.9 0.8 1\nmap_Kd checker.png\n", plane_obj,
+                             "mesh tx.obj\ncamera eye 0 3 0.001 target 0 0 0 up 0 0 -1 fov 45\nsize 32 32\n"
+                             "environment constant 1 2 3\n"))
         return;
-    }
-    if (test_scene_prepare(&s) || render(&s, PT_STRATEGY_BSDF, 3, 2, &r)) {
+    if (render(&s, PT_STRATEGY_BSDF, 3, 2, &r)) {
         scene_free(&s);
         return;
     }
@@ -260,23 +254,13 @@ TEST(texture_plane_constant_environment_exact)
 static int load_shadow_scene(scene *s, const char *mask_png)
 {
     char mtl[512];
-    rerror e;
     snprintf(mtl, sizeof mtl, "newmtl ground\nKd 0.8 0.8 0.8\nnewmtl card\nKd 0.5 0.5 0.5\nmap_d %s\n", mask_png);
-    test_write_file("shadow.mtl", mtl);
-    test_write_file("shadow.obj", "mtllib shadow.mtl\nusemtl ground\nv -3 0 3\nv 3 0 3\nv 3 0 -3\nv -3 0 -3\n"
-                                  "f 1 2 3 4\nusemtl card\nv 0.4 1 0.6\nv 1.6 1 0.6\nv 1.6 1 -0.6\nv 0.4 1 -0.6\n"
-                                  "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 5/1 6/2 7/3 8/4\n");
-    if (scene_load(s, test_write_file("shadow.scene", "mesh shadow.obj\ncamera eye 0 3 0.0001 target 0 0 0 up 0 0 -1 "
-                                                      "fov 18\nsize 32 32\nsun 1 1 0 0.25 200 300 400\n"),
-                   &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    if (test_scene_prepare(s)) {
-        scene_free(s);
-        return -1;
-    }
-    return 0;
+    return test_scene_from_text(s, "shadow", mtl,
+                                "mtllib shadow.mtl\nusemtl ground\nv -3 0 3\nv 3 0 3\nv 3 0 -3\nv -3 0 -3\n"
+                                "f 1 2 3 4\nusemtl card\nv 0.4 1 0.6\nv 1.6 1 0.6\nv 1.6 1 -0.6\nv 0.4 1 -0.6\n"
+                                "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 5/1 6/2 7/3 8/4\n",
+                                "mesh shadow.obj\ncamera eye 0 3 0.0001 target 0 0 0 up 0 0 -1 fov 18\nsize 32 32\n"
+                                "sun 1 1 0 0.25 200 300 400\n");
 }
 
 /* The shadow of a cut-out card under a small sun is its mask. The card (mask: an 8 x 8
@@ -355,7 +339,6 @@ TEST(texture_white_furnace_with_cutouts)
     unsigned char white[4 * 4 * 3], holes[4 * 4 * 3];
     scene s;
     pt_result r;
-    rerror e;
     int x, y, c, i;
     for (i = 0; i < 16; ++i) {
         memset(white + 3 * i, 255, 3);
@@ -363,21 +346,18 @@ TEST(texture_white_furnace_with_cutouts)
     }
     write_png("white.png", 4, 4, white);
     write_png("holes.png", 4, 4, holes);
-    test_write_file("furnace.mtl", "newmtl w\nKd 1 1 1\nmap_Kd white.png\n"
-                                   "newmtl card\nKd 1 1 1\nmap_Kd white.png\nmap_d holes.png\n");
-    test_write_file("furnace.obj", "mtllib furnace.mtl\nusemtl w\nv -2 0 2\nv 2 0 2\nv 2 0 -2\nv -2 0 -2\n"
+    if (test_scene_from_text(&s, "furnace",
+                             "newmtl w\nKd 1 1 1\nmap_Kd white.png\nnewmtl card\nKd 1 1 1\nmap_Kd white.png\nmap_d holes.png\n",
+                             "mtllib furnace.mtl\nusemtl w\nv -2 0 2\nv 2 0 2\nv 2 0 -2\nv -2 0 -2\n"
                                    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n"
                                    "v -0.3 0 -0.3\nv 0.3 0 -0.3\nv 0.3 0.6 -0.3\nv -0.3 0.6 -0.3\nf 5/1 6/2 7/3 8/4\n"
                                    "v -0.3 0.6 -0.3\nv 0.3 0.6 -0.3\nv 0.3 0.6 0.3\nv -0.3 0.6 0.3\nf 12/1 11/2 10/3 9/4\n"
                                    "usemtl card\nv -1.5 0.3 1\nv 1.5 0.3 1\nv 1.5 0.3 -1.5\nv -1.5 0.3 -1.5\n"
-                                   "f 13/1 14/2 15/3 16/4\n");
-    if (scene_load(&s, test_write_file("furnace.scene", "mesh furnace.obj\ncamera eye 0.5 2 3 target 0 0 0 up 0 1 0 "
-                                                        "fov 50\nsize 24 24\nenvironment constant 0.5 1 2\n"),
-                   &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
+                                   "f 13/1 14/2 15/3 16/4\n",
+                             "mesh furnace.obj\ncamera eye 0.5 2 3 target 0 0 0 up 0 1 0 fov 50\nsize 24 24\n"
+                             "environment constant 0.5 1 2\n"))
         return;
-    }
-    if (test_scene_prepare(&s) || render(&s, PT_STRATEGY_BSDF, 64, 8, &r)) {
+    if (render(&s, PT_STRATEGY_BSDF, 64, 8, &r)) {
         scene_free(&s);
         return;
     }
