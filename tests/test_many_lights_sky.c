@@ -82,17 +82,10 @@ TEST(many_lights_sky_restir_light_ris)
         scene_free(&s);
         return;
     }
-    restir_options_default(&o);
-    o.seed = test_seed() * 4099u + 31u;
-    o.shift = RESTIR_SHIFT_HYBRID;
-    o.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
-    o.spatial_passes = 1;
-    o.spatial.neighbors = 3;
-    o.spatial.radius = 4.0;
+    rt_spatial_options(&o, test_seed() * 4099u + 31u, RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, 3, 4.0);
     o.frames = 2;
     o.candidates = 2;
     o.max_depth = 3;
-    o.threads = 2;
     o.light_ris.candidates = 8;
     o.light_ris.tiles = 1;
     if (rt_restir_side(&s, &o, RUNS, BLOCK, &a)) {
