@@ -150,6 +150,22 @@ TEST(texture_mtl_statements)
     CHECKF(strstr(e.msg, "tx.mtl:3: map_Pr: ") != NULL && strstr(e.msg, "nowhere.png") != NULL, "%s", e.msg);
     CHECK(load_text_scene(&s, quad_obj, "newmtl m\nKe 1 1 1\nmap_d tx-map.png\n", &e) != 0);
     CHECKF(strstr(e.msg, "tx.mtl:1: material 'm': map_d") != NULL, "%s", e.msg);
+    /* a map file that cannot be read: with allow_missing_mtl a warning, and the material is untextured */
+    {
+        scene_load_options opt;
+        char path[4096];
+        memset(&opt, 0, sizeof opt);
+        opt.allow_missing_mtl = 1;
+        test_write_file("tx.mtl", "newmtl m\nKd 0.5 0.5 0.5\nmap_Kd nowhere.png\n");
+        snprintf(path, sizeof path, "%s", test_write_file("tx.obj", quad_obj));
+        CHECKF(!scene_load_with_options(&s, path, &opt, &e), "%s", e.msg);
+        if (!test_has_failed()) {
+            CHECK(s.warning_count == 1 && strstr(s.warnings[0], "tx.mtl:3: map_Kd: ") &&
+                  strstr(s.warnings[0], "(the map is ignored)"));
+            CHECK(!s.materials[0].map_kd && s.materials[0].diffuse.r == (real)0.5 && s.texture_count == 0);
+            scene_free(&s);
+        }
+    }
     /* bump and the other maps stay ignored; a map of a data kind shares nothing with a colour one */
     CHECKF(!load_text_scene(&s, quad_obj, "newmtl m\nmap_bump tx-map.png\nmap_Ks x.png\nmap_Kd tx-map.png\nmap_Pr tx-map.png\n",
                             &e),

@@ -231,6 +231,11 @@ static int map_statement(mtl_parser *p, const char *key, char *rest, enum textur
     if (builder_texture(p->b, path, kind, map, e)) {
         char what[sizeof e->msg];
         memcpy(what, e->msg, sizeof what);
+        /* As a missing mtllib: an error unless the caller allows missing material files. */
+        if (p->b->options.allow_missing_mtl)
+            return builder_warn(p->b, p->path, p->text.line, "%s: %s (the map is ignored)", key, what)
+                       ? rerror_set(e, "out of memory")
+                       : 0;
         return rerror_at(e, p->path, p->text.line, "%s: %s", key, what);
     }
     return 0;

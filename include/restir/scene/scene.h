@@ -113,7 +113,8 @@ typedef struct {
 int scene_load(scene *s, const char *path, rerror *e);
 
 typedef struct {
-    int allow_missing_mtl; /* a material library that cannot be opened is a warning, not an error */
+    int allow_missing_mtl; /* a material library, or a map file of one (map_Kd ...), that cannot be
+                            * opened or decoded is a warning (the map is then ignored), not an error */
 } scene_load_options;
 
 /* scene_load with options (NULL = defaults, which is what scene_load uses). */
