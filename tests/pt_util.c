@@ -148,6 +148,27 @@ int test_scene_prepare(scene *s)
     return 0;
 }
 
+int test_scene_from_text(scene *s, const char *name, const char *mtl, const char *obj, const char *scene_text)
+{
+    char file[256], path[4096];
+    rerror e;
+    snprintf(file, sizeof file, "%s.mtl", name);
+    test_write_file(file, mtl);
+    snprintf(file, sizeof file, "%s.obj", name);
+    test_write_file(file, obj);
+    snprintf(file, sizeof file, "%s.scene", name);
+    snprintf(path, sizeof path, "%s", test_write_file(file, scene_text));
+    if (scene_load(s, path, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
+    if (test_scene_prepare(s)) {
+        scene_free(s);
+        return -1;
+    }
+    return 0;
+}
+
 /* Inward-facing triangle of the furnace sphere (skips the degenerate ones at the poles). */
 static void furnace_triangle(scene *s, vec3f a, vec3f b, vec3f c, vec3f centre, uint32_t m)
 {
@@ -239,25 +260,4 @@ int test_write_runs(char *list, size_t size, int width, int height, int runs, co
     }
     image_free(&img);
     return k < runs ? -1 : 0;
-}
-
-int test_scene_from_text(scene *s, const char *name, const char *mtl, const char *obj, const char *scene_text)
-{
-    char file[256], path[4096];
-    rerror e;
-    snprintf(file, sizeof file, "%s.mtl", name);
-    test_write_file(file, mtl);
-    snprintf(file, sizeof file, "%s.obj", name);
-    test_write_file(file, obj);
-    snprintf(file, sizeof file, "%s.scene", name);
-    snprintf(path, sizeof path, "%s", test_write_file(file, scene_text));
-    if (scene_load(s, path, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    if (test_scene_prepare(s)) {
-        scene_free(s);
-        return -1;
-    }
-    return 0;
 }
