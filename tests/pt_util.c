@@ -91,6 +91,7 @@ void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material)
     t->v[1] = (uint32_t)base + 1;
     t->v[2] = (uint32_t)base + 2;
     t->n[0] = t->n[1] = t->n[2] = -1;
+    t->t[0] = t->t[1] = t->t[2] = -1;
     t->material = material;
     t->object = 0;
 }
@@ -151,6 +152,27 @@ int test_scene_prepare(scene *s)
     rerror e;
     if (scene_prepare(s, &e)) {
         test_fail(__FILE__, __LINE__, "scene_prepare: %s", e.msg);
+        return -1;
+    }
+    return 0;
+}
+
+int test_scene_from_text(scene *s, const char *name, const char *mtl, const char *obj, const char *scene_text)
+{
+    char file[256], path[4096];
+    rerror e;
+    snprintf(file, sizeof file, "%s.mtl", name);
+    test_write_file(file, mtl);
+    snprintf(file, sizeof file, "%s.obj", name);
+    test_write_file(file, obj);
+    snprintf(file, sizeof file, "%s.scene", name);
+    snprintf(path, sizeof path, "%s", test_write_file(file, scene_text));
+    if (scene_load(s, path, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
+    if (test_scene_prepare(s)) {
+        scene_free(s);
         return -1;
     }
     return 0;

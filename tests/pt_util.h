@@ -60,6 +60,9 @@ void test_image_sums(const image *img, double sum[3]);
 /* The largest relative difference |a - b| / max(|a|, 1e-30) over every pixel and channel
  * (a and b of the same size). */
 double test_image_max_rel_diff(const image *a, const image *b);
+/* Writes NAME.mtl, NAME.obj and NAME.scene (the given texts) in the scratch directory, loads
+ * the scene and prepares it, recording a test failure with its message; 0 on success. */
+int test_scene_from_text(scene *s, const char *name, const char *mtl, const char *obj, const char *scene_text);
 /* scene_prepare, recording a test failure with its message; returns nonzero on failure. */
 int test_scene_prepare(scene *s);
 

@@ -1486,3 +1486,63 @@ TEST(spawn_ray_concave_edge)
         free(s.face_normals);
     }
 }
+
+/* ------------------------------------------------------------------------------- */
+/* Filtered queries (alpha cut-outs, docs/materials.md §7.4) == brute force          */
+
+/* A filter that cuts parts of some triangles away by their barycentrics (as map_d does). */
+static int test_cut_filter(const void *ctx, uint32_t tri, float b1, float b2)
+{
+    (void)ctx;
+    if (tri % 3 == 0 && b1 > 0.3f) return 0;
+    if (tri % 5 == 1 && b1 + b2 < 0.5f) return 0;
+    return 1;
+}
+
+/* Closest kept hit (lowest index among equal t: the loop ascends) and any kept hit. */
+static int brute_filtered(const soup *m, const ray *r, bvh_hit *h, int *occluded)
+{
+    size_t i;
+    h->tri = BVH_NO_HIT;
+    *occluded = 0;
+    for (i = 0; i < m->count; ++i) {
+        float t, b1, b2;
+        if (!ray_triangle_watertight(r, m->v[3 * i], m->v[3 * i + 1], m->v[3 * i + 2], &t, &b1, &b2)) continue;
+        if (!test_cut_filter(NULL, (uint32_t)i, b1, b2)) continue;
+        *occluded = 1;
+        if (h->tri == BVH_NO_HIT || t < h->t) {
+            h->t = t;
+            h->tri = (uint32_t)i;
+        }
+    }
+    return h->tri != BVH_NO_HIT;
+}
+
+TEST(bvh_filtered_matches_brute_force)
+{
+    soup m = {0};
+    bvh b;
+    rerror e;
+    long i, hits = 0, rejected_closest = 0;
+    int simd;
+    random_soup(&m, 21, 3000);
+    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+    for (simd = b.simd; simd >= 0 && !test_has_failed(); --simd) {
+        b.simd = simd; /* the AVX2 build (if any) and the portable one */
+        for (i = 0; i < 1500 && !test_has_failed(); ++i) {
+            ray r = make_ray(urand_box(32, (uint32_t)i, -1.5f, 1.5f), urand_direction(32, (uint32_t)i));
+            bvh_hit hb, hr, plain;
+            int fb = bvh_intersect_filtered(&b, &r, &hb, test_cut_filter, NULL), ob, orf;
+            int fr = brute_filtered(&m, &r, &hr, &orf);
+            ob = bvh_occluded_filtered(&b, &r, test_cut_filter, NULL);
+            CHECKF(fb == fr && (!fb || (hb.tri == hr.tri && same_bits(hb.t, hr.t))),
+                   "ray %ld: closest kept: bvh %d tri %u, brute %d tri %u", i, fb, hb.tri, fr, hr.tri);
+            CHECKF(ob == orf, "ray %ld: any kept hit: bvh %d, brute %d", i, ob, orf);
+            hits += fb;
+            if (bvh_intersect(&b, &r, &plain) && (!fb || plain.tri != hb.tri)) rejected_closest++;
+        }
+    }
+    CHECKF(hits > 500 && rejected_closest > 50, "only %ld kept hits, %ld rejected closest hits", hits, rejected_closest);
+    bvh_free(&b);
+    soup_free(&m);
+}

@@ -384,7 +384,7 @@ TEST(mtl_mapping_rules)
         "newmtl metal\nKd 0.9 0.6 0.2\nPm 1\nPr 0.25\n"
         "newmtl pbrplastic\nKd 0.2 0.3 0.4\nPm 0.2\nPr 0.6\n"
         "newmtl blackspec\nKd 0 0 0\nKs 0.5 0.5 0.5\nNs 0\n"
-        "newmtl lamp\nKd 0 0 0\nKe 17 12 4\nKa 20 20 20\nmap_Kd -o 1 2 3 tex.png\n";
+        "newmtl lamp\nKd 0 0 0\nKe 17 12 4\nKa 20 20 20\nmap_Ka -o 1 2 3 tex.png\nmap_bump -bm 2 bump.png\n";
     test_write_file("mapping.mtl", mtl);
     CHECKF(!load_text(&s, "mapping.obj", "mtllib mapping.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", &e), "%s", e.msg);
     CHECK((m = find_material(&s, "matte")) && m->type == MAT_LAMBERT && m->diffuse.g == (real)0.4);

@@ -451,7 +451,7 @@ TEST(sky_scene_file_errors_have_file_and_line)
         {"mesh sky.obj\nenvironment map sky.pfm scale -1\n", 2, "scale -1 is negative"},
         {"mesh sky.obj\nenvironment map sky.pfm rotate 1 rotate 2\n", 2, "rotate given twice"},
         {"mesh sky.obj\nenvironment map nowhere.pfm\n", 2, "nowhere.pfm"},
-        {"mesh sky.obj\nenvironment map sky.exr\n", 2, "PFM files"},
+        {"mesh sky.obj\nenvironment map sky.hdr\n", 2, ".pfm, .exr or .png"},
         {"mesh sky.obj\nsun 0 0 0 1 1 1 1\n", 2, "direction is zero"},
         {"mesh sky.obj\nsun 0 1 0 90 1 1 1\n", 2, "outside (0, 90)"},
         {"mesh sky.obj\nsun 0 1 0 0 1 1 1\n", 2, "outside (0, 90)"},

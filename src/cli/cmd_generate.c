@@ -1,4 +1,4 @@
-/* restir generate ajar|glass|corridor|sphere|pillars|shadow|ajar-swing|ajar-swing-still|many-lights|atrium -o OUT.obj: writes a generated scene as OUT.obj,
+/* restir generate ajar|glass|corridor|sphere|pillars|shadow|ajar-swing|ajar-swing-still|many-lights|many-lights-sky|atrium -o OUT.obj: writes a generated scene as OUT.obj,
  * OUT.mtl and OUT.scene (docs/scenes.md). */
 #include "cmd_generate.h"
 
@@ -19,11 +19,11 @@ typedef struct {
     int angle_seen, subdivisions_seen;
 } generate_args;
 
-#define GENERATE_KINDS_TEXT "ajar, glass, corridor, sphere, pillars, shadow, ajar-swing, ajar-swing-still, many-lights, atrium"
+#define GENERATE_KINDS_TEXT "ajar, glass, corridor, sphere, pillars, shadow, ajar-swing, ajar-swing-still, many-lights, many-lights-sky, atrium"
 
 static int known_kind(const char *kind)
 {
-    static const char *const kinds[] = {"ajar", "glass", "corridor", "sphere", "pillars", "shadow", "ajar-swing", "ajar-swing-still", "many-lights", "atrium"};
+    static const char *const kinds[] = {"ajar", "glass", "corridor", "sphere", "pillars", "shadow", "ajar-swing", "ajar-swing-still", "many-lights", "many-lights-sky", "atrium"};
     size_t i;
     for (i = 0; i < sizeof kinds / sizeof *kinds; ++i)
         if (!strcmp(kind, kinds[i])) return 1;
@@ -95,6 +95,12 @@ static void describe(const char *kind, const generate_args *a, char *out, size_t
                  "pillars, a glossy floor and a copper block; light RIS for NEE (Enhanced 6.1, docs/scenes.md). Metres.\n"
                  "Written by: restir generate many-lights -o %s",
                  base_name(a->output));
+    else if (!strcmp(kind, "many-lights-sky"))
+        snprintf(out, size,
+                 "Many lights under the sky: the many-lights hall without its ceiling slab (the ceiling lights hang in\n"
+                 "place) under a constant dusk sky and a low sun; the environment as one more light (docs/scenes.md). Metres.\n"
+                 "Written by: restir generate many-lights-sky -o %s",
+                 base_name(a->output));
     else if (!strcmp(kind, "atrium"))
         snprintf(out, size,
                  "Atrium: a generated Sponza-like interior (no Sponza in ../shared/data): a courtyard between two-storey\n"
@@ -117,6 +123,7 @@ static int generate_kind(const char *kind, const generate_args *a, scene *s, rer
     if (!strcmp(kind, "ajar-swing-still")) return generate_ajar_swing(s, 1, e);
     if (!strcmp(kind, "corridor")) return generate_corridor(s, e);
     if (!strcmp(kind, "many-lights")) return generate_many_lights(s, e);
+    if (!strcmp(kind, "many-lights-sky")) return generate_many_lights_sky(s, e);
     if (!strcmp(kind, "atrium")) return generate_atrium(s, e);
     return generate_displaced_sphere(s, a->subdivisions, e);
 }

@@ -7,6 +7,8 @@
 #include "restir/core/image.h"
 #include "restir/core/pfm.h"
 #include "restir/scene/bvh.h"
+#include "restir/scene/scene_trace.h"
+#include "restir/core/image_io.h"
 
 void sky_init(scene_sky *k)
 {
@@ -110,10 +112,11 @@ int sky_load_map(scene_sky *k, const char *path, real scale, rerror *e)
 {
     image img;
     int status;
-    /* Any decoder that yields float RGB rows (top first) plugs in here (EXR: the images branch). */
-    if (!has_extension(path, ".pfm"))
-        return rerror_set(e, "%s: environment maps are read from PFM files (.pfm) in this build", path);
-    if (pfm_read(path, &img, NULL, e)) return -1;
+    /* Radiance maps: PFM and EXR (linear); a PNG is taken as an sRGB-encoded picture
+     * (image_read's rule). Rows top first. */
+    if (!has_extension(path, ".pfm") && !has_extension(path, ".exr") && !has_extension(path, ".png"))
+        return rerror_set(e, "%s: environment maps are read from .pfm, .exr or .png files", path);
+    if (image_read(path, &img, NULL, e)) return -1;
     status = sky_set_map(k, img.width, img.height, img.px, scale, e);
     image_free(&img);
     if (status && e) {
@@ -311,5 +314,5 @@ int sky_visible(const scene *s, vec3f p, vec3f ng, vec3 w)
     r.dir = d;
     r.tmin = 0;
     r.tmax = INFINITY;
-    return !bvh_occluded(&s->accel, &r);
+    return !scene_occluded(s, &r);
 }
