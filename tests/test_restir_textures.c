@@ -68,13 +68,52 @@ static void compare(const check_side *a, const check_side *pt, const char *what)
     check_result_free(&c);
 }
 
-/* Spatial reuse (2 passes): reconnection with pairwise-defensive MIS, hybrid with Talbot, and
+/* Spatial reuse (2 passes): reconnection with pairwise-defensive MIS, hybrid with Talbot,
  * hybrid with light RIS and tiles (8 candidates: the textured sign's emission at light
- * points known only by their position, docs/materials.md §7.5). */
+ * points known only by their position, docs/materials.md §7.5), random replay with
+ * pairwise-defensive MIS, and the stochastic pairwise step (Stochastic MIS, one pick) with
+ * the hybrid shift. */
 TEST(restir_textures_spatial)
 {
-    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_HYBRID, RESTIR_SHIFT_HYBRID};
-    static const int families[] = {MIS_PAIRWISE_DEFENSIVE, MIS_TALBOT, MIS_PAIRWISE_DEFENSIVE};
+    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_HYBRID, RESTIR_SHIFT_HYBRID,
+                                 RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
+    static const int families[] = {MIS_PAIRWISE_DEFENSIVE, MIS_TALBOT, MIS_PAIRWISE_DEFENSIVE, MIS_PAIRWISE_DEFENSIVE,
+                                   MIS_PAIRWISE_DEFENSIVE};
+    scene s;
+    check_side pt;
+    int i;
+    if (rt_load_scene("scenes/textured-room.scene", RES, &s)) return;
+    if (pt_reference(&s, &pt)) {
+        scene_free(&s);
+        return;
+    }
+    for (i = 0; i < 5 && !test_has_failed(); ++i) {
+        restir_options o;
+        check_side a;
+        char what[128];
+        room_options(&o, shifts[i], families[i], 2, (uint32_t)i);
+        if (i == 2) {
+            o.light_ris.candidates = 8;
+            o.light_ris.tiles = 1;
+        }
+        if (i == 4) o.spatial.algorithm = SPATIAL_STOCHASTIC_PAIRWISE;
+        if (rt_restir_side(&s, &o, RUNS, BLOCK, &a)) break;
+        snprintf(what, sizeof what, "textured-room spatial shift %s mis %s%s", restir_shift_names[shifts[i]],
+                 i == 4 ? "stochastic-pairwise" : restir_mis_names[families[i]], i == 2 ? " light-ris 8 tiles" : "");
+        compare(&a, &pt, what);
+        check_side_free(&a);
+    }
+    check_side_free(&pt);
+    scene_free(&s);
+}
+
+/* Temporal reuse (still camera, frame 3 of each sequence) with the hybrid shift and one
+ * spatial pass after it: Talbot temporal MIS; then with two MCMC mutations after temporal
+ * reuse (Mutations Algorithm 3), rv with Talbot and pp with pairwise-defensive temporal MIS
+ * (mutated primary-sample-space numbers re-evaluate textured BSDFs and cut-outs). */
+TEST(restir_textures_temporal)
+{
+    static const int strategies[] = {-1, MUTATE_RV, MUTATE_PP};
     scene s;
     check_side pt;
     int i;
@@ -85,44 +124,24 @@ TEST(restir_textures_spatial)
     }
     for (i = 0; i < 3 && !test_has_failed(); ++i) {
         restir_options o;
-        check_side a;
+        rt_frame_sides q;
         char what[128];
-        room_options(&o, shifts[i], families[i], 2, (uint32_t)i);
-        if (i == 2) {
-            o.light_ris.candidates = 8;
-            o.light_ris.tiles = 1;
+        room_options(&o, RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, 7u + (uint32_t)i);
+        o.temporal.mis = i == 2 ? MIS_PAIRWISE_DEFENSIVE : MIS_TALBOT;
+        if (strategies[i] >= 0) {
+            o.mutation.count = 2;
+            o.mutation.strategy = strategies[i];
         }
-        if (rt_restir_side(&s, &o, RUNS, BLOCK, &a)) break;
-        snprintf(what, sizeof what, "textured-room spatial shift %s mis %s%s", restir_shift_names[shifts[i]],
-                 restir_mis_names[families[i]], i == 2 ? " light-ris 8 tiles" : "");
-        compare(&a, &pt, what);
-        check_side_free(&a);
-    }
-    check_side_free(&pt);
-    scene_free(&s);
-}
-
-/* Temporal reuse (still camera, frame 3 of each sequence) with the hybrid shift and one
- * spatial pass after it. */
-TEST(restir_textures_temporal)
-{
-    scene s;
-    check_side pt;
-    restir_options o;
-    rt_frame_sides q;
-    if (rt_load_scene("scenes/textured-room.scene", RES, &s)) return;
-    if (pt_reference(&s, &pt)) {
-        scene_free(&s);
-        return;
-    }
-    room_options(&o, RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, 7);
-    o.temporal.mis = MIS_TALBOT;
-    memset(&q, 0, sizeof q);
-    q.times[0] = 3;
-    q.nt = 1;
-    if (rt_frame_sides_run(&s, &o, RUNS, BLOCK, &q)) test_fail(__FILE__, __LINE__, "the sequences failed");
-    else {
-        compare(&q.side[0], &pt, "textured-room temporal frame 3 shift hybrid");
+        memset(&q, 0, sizeof q);
+        q.times[0] = 3;
+        q.nt = 1;
+        snprintf(what, sizeof what, "textured-room temporal frame 3 shift hybrid temporal %s mutations %s",
+                 restir_mis_names[o.temporal.mis], strategies[i] >= 0 ? mutate_strategy_names[strategies[i]] : "none");
+        if (rt_frame_sides_run(&s, &o, RUNS, BLOCK, &q)) {
+            test_fail(__FILE__, __LINE__, "%s: the sequences failed", what);
+            break;
+        }
+        compare(&q.side[0], &pt, what);
         rt_frame_sides_free(&q);
     }
     check_side_free(&pt);
