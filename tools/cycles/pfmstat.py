@@ -1,31 +1,18 @@
 """Pure-Python PFM helpers for tools/cycles (no numpy in Debian's Blender or system Python).
 Images are lists of rows, row 0 at the top, each row a list of (r, g, b)."""
-import struct
+import os
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "scripts", "results"))
+from relmse_channels import read_pfm as read_pfm_flat  # noqa: E402  (one PFM reader)
 
 
 def read_pfm(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    toks, pos = [], 0
-    while len(toks) < 4:
-        while data[pos:pos + 1].isspace():
-            pos += 1
-        end = pos
-        while not data[end:end + 1].isspace():
-            end += 1
-        toks.append(data[pos:end].decode())
-        pos = end
-    pos += 1
-    w, h, s = int(toks[1]), int(toks[2]), float(toks[3])
-    n = 3 if toks[0] == "PF" else 1
-    px = struct.unpack_from(("<" if s < 0 else ">") + "%df" % (w * h * n), data, pos)
-    rows = []
-    for y in range(h):  # the file's first row is the bottom one
-        base = (h - 1 - y) * w * n
-        rows.append([tuple(px[base + n * x + c] if n == 3 else px[base + x] for c in range(3))
-                     for x in range(w)])
-    return rows
+    w, h, px = read_pfm_flat(path)
+    # the file's first row is the bottom one
+    return [[tuple(px[3 * ((h - 1 - y) * w + x) + c] for c in range(3)) for x in range(w)]
+            for y in range(h)]
 
 
 if __name__ == "__main__":

@@ -17,12 +17,15 @@
 import math
 import os
 import shlex
-import struct
 import subprocess
 import sys
 
 import bpy
 from mathutils import Matrix, Vector
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "scripts", "results"))
+from relmse_channels import read_pfm as read_pfm_flat  # noqa: E402  (one PFM reader)
 
 
 def fail(msg):
@@ -224,27 +227,6 @@ def build_camera(sc):
     bpy.context.scene.camera = ob
 
 
-def read_pfm(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    parts, pos = [], 0
-    while len(parts) < 4:  # "PF", W, H, scale: whitespace-separated header tokens
-        while data[pos:pos + 1].isspace():
-            pos += 1
-        end = pos
-        while not data[end:end + 1].isspace():
-            end += 1
-        parts.append(data[pos:end].decode())
-        pos = end
-    pos += 1  # the single whitespace byte after the scale
-    if parts[0] != "PF":
-        fail("%s: only colour PFM (PF) maps are read here" % path)
-    w, h, s = int(parts[1]), int(parts[2]), float(parts[3])
-    fmt = ("<" if s < 0 else ">") + "%df" % (w * h * 3)
-    px = struct.unpack_from(fmt, data, pos)
-    return w, h, px  # rows bottom to top, as the PFM file and Blender's pixel buffer both are
-
-
 def build_world(sc):
     world = bpy.data.worlds.new("world")
     bpy.context.scene.world = world
@@ -264,7 +246,7 @@ def build_world(sc):
         bg.inputs["Color"].default_value = (r, g, b, 1.0)
     else:
         _, path, rot_deg, scale = env
-        w, h, px = read_pfm(path)
+        w, h, px = read_pfm_flat(path)  # rows bottom to top, as Blender's pixel buffer
         img = bpy.data.images.new("sky", width=w, height=h, alpha=True, float_buffer=True)
         img.colorspace_settings.name = "Linear"
         rgba = []
