@@ -321,6 +321,11 @@ def configure(scene, sc, opts, out_path):
     c.seed = opts["seed"]
     c.use_animated_seed = False
     c.use_adaptive_sampling = False
+    # the 3.4 defaults, pinned: progressive multi-jitter, fully scrambled per seed (runs with
+    # different seeds are independent randomisations)
+    c.sampling_pattern = "PROGRESSIVE_MULTI_JITTER"
+    c.scrambling_distance = 1.0
+    c.auto_scrambling_distance = False
     c.use_denoising = False
     c.use_preview_denoising = False
     bounces = opts["max-depth"] - 2  # our path length d <= D is Cycles' bounces <= D - 2
@@ -344,7 +349,6 @@ def configure(scene, sc, opts, out_path):
     # types only; measured: widths 0.01 and 1 give identical images): uniform over the pixel,
     # which is `restir render --jitter`.
     c.pixel_filter_type = "BOX"
-    c.sample_clamp_direct = 0.0
     v = scene.view_settings
     v.view_transform = "Standard"
     v.look = "None"
