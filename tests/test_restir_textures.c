@@ -52,6 +52,17 @@ static int pt_reference(const scene *s, check_side *pt)
     return rt_pt_side_options(s, &ref, RUNS, BLOCK, pt);
 }
 
+/* The textured room at RES and its path-traced side; on failure nothing is left to free. */
+static int open_room(scene *s, check_side *pt)
+{
+    if (rt_load_scene("scenes/textured-room.scene", RES, s)) return -1;
+    if (pt_reference(s, pt)) {
+        scene_free(s);
+        return -1;
+    }
+    return 0;
+}
+
 static void compare(const check_side *a, const check_side *pt, const char *what)
 {
     check_options opt;
@@ -82,11 +93,7 @@ TEST(restir_textures_spatial)
     scene s;
     check_side pt;
     int i;
-    if (rt_load_scene("scenes/textured-room.scene", RES, &s)) return;
-    if (pt_reference(&s, &pt)) {
-        scene_free(&s);
-        return;
-    }
+    if (open_room(&s, &pt)) return;
     for (i = 0; i < 5 && !test_has_failed(); ++i) {
         restir_options o;
         check_side a;
@@ -117,11 +124,7 @@ TEST(restir_textures_temporal)
     scene s;
     check_side pt;
     int i;
-    if (rt_load_scene("scenes/textured-room.scene", RES, &s)) return;
-    if (pt_reference(&s, &pt)) {
-        scene_free(&s);
-        return;
-    }
+    if (open_room(&s, &pt)) return;
     for (i = 0; i < 3 && !test_has_failed(); ++i) {
         restir_options o;
         rt_frame_sides q;
