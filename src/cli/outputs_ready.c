@@ -52,7 +52,7 @@ int inputs_distinct(const char *command, const named_file *ins, int n_in)
             ids[n].ino = st.st_ino;
             ids[n++].index = i;
         }
-    qsort(ids, (size_t)n, sizeof *ids, compare_ids);
+    if (n > 1) qsort(ids, (size_t)n, sizeof *ids, compare_ids); /* (qsort of NULL, 0 is undefined) */
     for (i = 1; i < n && !status; ++i)
         if (ids[i].dev == ids[i - 1].dev && ids[i].ino == ids[i - 1].ino) {
             const named_file *a = &ins[ids[i - 1].index], *b = &ins[ids[i].index];
