@@ -445,12 +445,12 @@ static size_t stored_blocks(const unsigned char *in, size_t n, unsigned char *ou
 
 size_t deflate_zlib(const unsigned char *in, size_t n, unsigned char *out)
 {
-    size_t stored_size = 5 * (n / STORED_MAX + 1) + n, k, i;
+    size_t stored_size = 5 * (n / STORED_MAX + 1) + n, k;
     uint32_t adler = adler32_update(1, in, n);
     int32_t *head = malloc(sizeof(int32_t) << HASH_BITS);
     bitout w;
     if (!head) return 0;
-    for (i = 0; i < (size_t)1 << HASH_BITS; ++i) head[i] = -1;
+    memset(head, 0xff, sizeof(int32_t) << HASH_BITS); /* every entry -1 (two's complement): no match yet */
     out[0] = 0x78; /* CM 8 (deflate), CINFO 7 (32 KB window) */
     out[1] = 0x01; /* no dictionary; 0x7801 is a multiple of 31 */
     memset(&w, 0, sizeof w);
