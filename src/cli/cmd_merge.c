@@ -142,7 +142,8 @@ static int check_merge_outputs(const merge_args *a, const char **inputs, int cou
     outs[1].path = png, outs[1].role = "the PNG preview";
     outs[2].path = a->checkpoint_out, outs[2].role = "--checkpoint-out";
     for (i = 0; i < 3 && !status; ++i)
-        if (outs[i].path && outs[i].path[0] && output_path_check(outs[i].path, &e)) {
+        if (outs[i].path && outs[i].path[0] &&
+            (output_path_check(outs[i].path, &e) || (i == 0 && image_output_check(outs[i].path, &e)))) {
             fprintf(stderr, "restir merge: %s\n", e.msg);
             status = 2;
         }

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/core/image_io.h"
 #include "collide.h"
 #include "output.h"
 #include "render_replay.h"
@@ -190,7 +191,7 @@ static int check_output_collisions(const render_args *a, const char *out, const 
     char mean[4200], prefix[4096];
     named_file outs[4], ins[2];
     output_prefix(prefix, sizeof prefix, out);
-    snprintf(mean, sizeof mean, "%s.mean.pfm", prefix);
+    snprintf(mean, sizeof mean, "%s.mean.%s", prefix, image_output_ext(out));
     outs[0].path = a->runs > 0 ? mean : a->sequence ? NULL : out, outs[0].role = "-o";
     outs[1].path = png, outs[1].role = "the PNG preview";
     outs[2].path = a->stats, outs[2].role = "--stats";
@@ -210,6 +211,10 @@ int check_output_paths(const render_args *a, const char *out, const char *png)
     if (n >= 4 && !strcmp(out + n - 4, ".png")) {
         fprintf(stderr, "restir render: -o %s: -o names the PFM (the data); the PNG preview is written next to it "
                         "(use -o %.*s.pfm, or --png FILE for the preview's name)\n", out, (int)(n - 4), out);
+        return 2;
+    }
+    if (image_output_check(out, &e)) {
+        fprintf(stderr, "restir render: -o %s\n", e.msg);
         return 2;
     }
     paths[count++] = out;
