@@ -5,6 +5,7 @@
 #include <string.h>
 #include "pt_util.h"
 #include "test.h"
+#include "restir/core/image_io.h"
 #include "restir/core/pfm.h"
 #include "restir/render/camera.h"
 #include "restir/render/pt.h"
@@ -411,6 +412,7 @@ static void write_sky_pfm(void)
             p[2] = 0;
         }
     if (pfm_write(test_tmp_path("sky.pfm"), &img, &e)) test_fail(__FILE__, __LINE__, "%s", e.msg);
+    if (image_write(test_tmp_path("sky.exr"), &img, &e)) test_fail(__FILE__, __LINE__, "%s", e.msg);
     image_free(&img);
 }
 
@@ -440,6 +442,13 @@ TEST(sky_scene_file_directives)
     CHECK_NEAR(sky_env_radiance(s.sky, v3(0, (real)-0.5, 1)).r, 2 * (3 + 10 + 1), 0); /* bottom row, u = 3/4 + */
     CHECK(sky_sun_radiance(s.sky, v3(0, 1, 0)).g == 20 && rgb_is_black(sky_sun_radiance(s.sky, v3(1, 0, 0))));
     scene_free(&s);
+    /* the same map as OpenEXR (by extension, image_io.h): the same radiance, R G and B */
+    CHECKF(!load_sky_scene(&s, "mesh sky.obj\nenvironment map sky.exr rotate 90 scale 2\n", &e), "%s", e.msg);
+    if (test_has_failed()) return;
+    w = v3(0, (real)-0.5, 1);
+    CHECK(sky_env_radiance(s.sky, w).r == 2 * (3 + 10 + 1) && sky_env_radiance(s.sky, w).g == 1 &&
+          sky_env_radiance(s.sky, w).b == 0);
+    scene_free(&s);
     CHECKF(!load_sky_scene(&s, "mesh sky.obj\nenvironment constant 0.5 1 2\n", &e), "%s", e.msg);
     if (!test_has_failed()) CHECK(s.sky && s.sky->has_env && !s.sky->env_is_map && s.sky->env_constant.b == 2);
     scene_free(&s);
@@ -465,7 +474,7 @@ TEST(sky_scene_file_errors_have_file_and_line)
         {"mesh sky.obj\nenvironment map sky.pfm scale -1\n", 2, "scale -1 is negative"},
         {"mesh sky.obj\nenvironment map sky.pfm rotate 1 rotate 2\n", 2, "rotate given twice"},
         {"mesh sky.obj\nenvironment map nowhere.pfm\n", 2, "nowhere.pfm"},
-        {"mesh sky.obj\nenvironment map sky.exr\n", 2, "PFM files"},
+        {"mesh sky.obj\nenvironment map sky.hdr\n", 2, "read from .pfm, .exr or .png files"},
         {"mesh sky.obj\nsun 0 0 0 1 1 1 1\n", 2, "direction is zero"},
         {"mesh sky.obj\nsun 0 1 0 90 1 1 1\n", 2, "outside (0, 90)"},
         {"mesh sky.obj\nsun 0 1 0 0 1 1 1\n", 2, "outside (0, 90)"},
