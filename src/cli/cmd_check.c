@@ -72,11 +72,11 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
     {
         const cli_option options[] = {
             {"--a", OPT_LIST, &a->a.runs, "side A: K >= 2 independent renders", NULL, 0, 0, NULL},
-            {"--a-moments", OPT_STRING, &a->a.moments, "side A: PREFIX.moments.json (+ .mean.pfm, .var.pfm)", NULL, 0, 0, NULL},
+            {"--a-moments", OPT_STRING, &a->a.moments, "side A: PREFIX.moments.json (+ the .mean and .var images it names, PFM or EXR)", NULL, 0, 0, NULL},
             {"--b", OPT_LIST, &a->b.runs, "side B: K >= 2 independent renders", NULL, 0, 0, NULL},
             {"--b-moments", OPT_STRING, &a->b.moments, "side B: a moments file set", NULL, 0, 0, NULL},
-            {"--ref", OPT_STRING, &a->b.ref, "side B: a reference REF.pfm taken as exact (or with --ref-var, --ref-runs)", NULL, 0, 0, NULL},
-            {"--ref-var", OPT_STRING, &a->b.ref_var, "the reference's single-run variance VAR.pfm", NULL, 0, 0, NULL},
+            {"--ref", OPT_STRING, &a->b.ref, "side B: a reference REF.pfm (or .exr, .png) taken as exact (or with --ref-var, --ref-runs)", NULL, 0, 0, NULL},
+            {"--ref-var", OPT_STRING, &a->b.ref_var, "the reference's single-run variance VAR.pfm (or .exr)", NULL, 0, 0, NULL},
             {"--ref-runs", OPT_INT, &a->b.ref_runs, "the number of runs N behind --ref-var", NULL, 2, 2147483647.0, NULL},
             {"--block", OPT_INT, &a->opt.block_size, "block size in pixels (default 8; 1 = per pixel)", NULL, 1, 4096, NULL},
             {"--alpha", OPT_REAL, &a->opt.alpha, "level of the 'different' verdict, in (0, 1) (default 0.01)", NULL, 0, 0, NULL},
