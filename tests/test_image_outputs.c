@@ -42,6 +42,15 @@ static int same_image(const char *a_path, const char *b_path)
     return same;
 }
 
+/* DIR/STEM.exr and DIR/STEM.pfm hold the same image. */
+static int exr_matches_pfm(const char *dir, const char *stem)
+{
+    char a[700], b[700];
+    snprintf(a, sizeof a, "%s/%s.exr", dir, stem);
+    snprintf(b, sizeof b, "%s/%s.pfm", dir, stem);
+    return same_image(a, b);
+}
+
 static int exists(const char *path)
 {
     struct stat st;
@@ -88,9 +97,8 @@ TEST(sequence_frames_follow_the_extension)
     CHECKF(test_cli(out, sizeof out, "render %s %s -o %s/s.exr", SCENE, opts, dir) == 0, "%s", out);
     CHECKF(test_cli(out, sizeof out, "render %s %s --no-png -o %s/s.pfm", SCENE, opts, dir) == 0, "%s", out);
     for (f = 0; f < 2; ++f) {
-        snprintf(a, sizeof a, "%s/s.%04d.exr", dir, f);
-        snprintf(b, sizeof b, "%s/s.%04d.pfm", dir, f);
-        CHECKF(same_image(a, b), "%s differs from %s", a, b);
+        snprintf(b, sizeof b, "s.%04d", f);
+        CHECKF(exr_matches_pfm(dir, b), "%s/%s.exr differs from its .pfm", dir, b);
         snprintf(a, sizeof a, "%s/s.%04d.png", dir, f);
         CHECKF(exists(a), "no preview %s", a);
     }
@@ -110,17 +118,12 @@ TEST(sequence_frames_follow_the_extension)
  * written nothing of the set is left (no staged file either). */
 TEST(runs_moments_follow_the_extension)
 {
-    char dir[256], out[8192], a[700], b[700];
+    char dir[256], out[8192], a[700];
     const char *opts = "--method pt --spp 2 --size 12x8 --runs 2 --threads 1 --quiet --no-png";
     CHECK(fresh_dir("runs-exr", dir, sizeof dir) != NULL);
     CHECKF(test_cli(out, sizeof out, "render %s %s -o %s/r.exr", SCENE, opts, dir) == 0, "%s", out);
     CHECKF(test_cli(out, sizeof out, "render %s %s -o %s/r.pfm", SCENE, opts, dir) == 0, "%s", out);
-    snprintf(a, sizeof a, "%s/r.mean.exr", dir);
-    snprintf(b, sizeof b, "%s/r.mean.pfm", dir);
-    CHECK(same_image(a, b));
-    snprintf(a, sizeof a, "%s/r.var.exr", dir);
-    snprintf(b, sizeof b, "%s/r.var.pfm", dir);
-    CHECK(same_image(a, b));
+    CHECK(exr_matches_pfm(dir, "r.mean") && exr_matches_pfm(dir, "r.var"));
     CHECKF(test_cli(out, sizeof out, "check --a-moments %s/r --b-moments %s/r", dir, dir) == 0, "%s", out);
     remove_tree(dir);
     CHECK(fresh_dir("runs-exr", dir, sizeof dir) != NULL);
@@ -134,7 +137,7 @@ TEST(runs_moments_follow_the_extension)
 /* check --z-map/--block-z-map and compare --covariance --map: .exr holds the PFM's bits. */
 TEST(z_and_covariance_maps_follow_the_extension)
 {
-    char dir[256], out[8192], a[700], b[700], runs[1500];
+    char dir[256], out[8192], runs[1500];
     const char *opts = "--method pt --spp 2 --size 12x8 --threads 1 --quiet --no-png";
     int k;
     CHECK(fresh_dir("maps-exr", dir, sizeof dir) != NULL);
@@ -145,18 +148,11 @@ TEST(z_and_covariance_maps_follow_the_extension)
                     dir) != 2, "%s", out);
     CHECKF(test_cli(out, sizeof out, "check %s --block 4 --z-map %s/z.pfm --block-z-map %s/bz.pfm", runs, dir,
                     dir) != 2, "%s", out);
-    snprintf(a, sizeof a, "%s/z.exr", dir);
-    snprintf(b, sizeof b, "%s/z.pfm", dir);
-    CHECK(same_image(a, b));
-    snprintf(a, sizeof a, "%s/bz.exr", dir);
-    snprintf(b, sizeof b, "%s/bz.pfm", dir);
-    CHECK(same_image(a, b));
+    CHECK(exr_matches_pfm(dir, "z") && exr_matches_pfm(dir, "bz"));
     for (k = 0; k < 2; ++k)
         CHECKF(test_cli(out, sizeof out, "compare --covariance %s/run0.pfm %s/run1.pfm %s/run2.pfm --radius 2 --map %s/cov.%s",
                         dir, dir, dir, dir, k ? "pfm" : "exr") == 0, "%s", out);
-    snprintf(a, sizeof a, "%s/cov.exr", dir);
-    snprintf(b, sizeof b, "%s/cov.pfm", dir);
-    CHECK(same_image(a, b));
+    CHECK(exr_matches_pfm(dir, "cov"));
     remove_tree(dir);
 }
 
