@@ -204,7 +204,7 @@ static void put_box(unsigned char *b, int32_t x0, int32_t y0, int32_t x1, int32_
 }
 
 /* A hand-made uncompressed EXR: one HALF channel Y, a 2 x 1 data window at (0,0) holding
- * 1.0 and 2.0, and the display window given (about 150 bytes whatever its size). */
+ * 1.0 and 2.0, and the display window given (about 200 bytes whatever its size). */
 static int write_tiny_exr(const char *path, int32_t dx1, int32_t dy1)
 {
     unsigned char f[512], v[32], box[16];
@@ -240,7 +240,7 @@ static int write_tiny_exr(const char *path, int32_t dx1, int32_t dy1)
 }
 
 /* The display window may exceed the data window by up to 2^24 pixels, or 1024 per byte
- * of the file: a 150-byte file with a 4097 x 4096 display window is refused by name
+ * of the file: a 200-byte file with a 4097 x 4096 display window is refused by name
  * before anything is allocated; a 64 x 64 one reads with zeros around the data; the
  * caller's bound of exr_read_bounded refuses what exceeds it. */
 TEST(exr_display_window_limit)
