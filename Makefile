@@ -149,7 +149,7 @@ bench: $(BUILD)/restir
 	$(BUILD)/restir bench all
 
 # The hostile-case table (issue 27): every hostile input through the binary, its exit
-# status, message and leftovers (scripts/hostile.sh; ~5 s; `make test` runs it too).
+# status, message and leftovers (scripts/hostile.sh; ~10 s; `make test` runs it too).
 hostile-table: $(BUILD)/restir
 	{ sed -n '1,/^<!-- table -->$$/p' docs/hostile-cases.md; HOSTILE_BIN=$(CURDIR)/$(BUILD)/restir sh scripts/hostile.sh; } > docs/hostile-cases.md.tmp && \
 	  mv docs/hostile-cases.md.tmp docs/hostile-cases.md

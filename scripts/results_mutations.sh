@@ -2,18 +2,18 @@
 # Regenerates docs/results.md's "MCMC mutations" section (issue 13) with our own CLI; not
 # part of `make test`.   sh scripts/results_mutations.sh [OUT_DIR] [BUILD_DIR]   (make results-mutations)
 # The real-time pipeline (gris-realtime preset, hybrid shift, SIZE x SIZE, frames 0..LAST,
-# frame LAST measured) with N mutations after temporal reuse (Mutations §3), RUNS = GROUPS x
+# frame LAST measured) with N mutations after temporal reuse (Mutations §3), RUNS = NGROUPS x
 # PER_GROUP seeds per configuration; mean ± 95% t half-width:
 #   table 1, per scene x strategy x N in {0, 1, 5}: acceptance rate, rejected for T = 0, the
 #     fraction of duplicated samples among the shaded reservoirs (Fig. 8), covariance (Eq. 21,
-#     radius 8, `restir compare --covariance`, over GROUPS groups of PER_GROUP images; Table 1,
+#     radius 8, `restir compare --covariance`, over NGROUPS groups of PER_GROUP images; Table 1,
 #     Figs. 9, 13), relMSE against a path-traced reference (over seeds), and the frame time over
 #     the frame time without the mutation stage, within each run (robust to machine load);
 #   table 2, the M-cap (Fig. 11): --mcap 20 and 100 with 0 and 5 rv mutations, frames 0..LAST2.
 set -eu
 . "$(dirname "$0")/results/lib.sh"
 results_init out/results-mutations "$@"
-defaults SIZE=48 THREADS=2 LAST=3 LAST2=5 GROUPS=4 PER_GROUP=4 REF_SPP=4096 SCENES=cornell-glossy
+defaults SIZE=48 THREADS=2 LAST=3 LAST2=5 NGROUPS=4 PER_GROUP=4 REF_SPP=4096 SCENES=cornell-glossy
 mkdir -p "$TMP"
 
 render() { "$R" render "$@" --size "${SIZE}x${SIZE}" --threads "$THREADS" --quiet --no-png; }
@@ -41,7 +41,7 @@ config() {
     [ -f "$ref" ] || render "scenes/$scene.scene" --method pt --spp "$REF_SPP" --seed 9001 --frame "$last" --max-depth 10 -o "$ref"
     for x in acc t0 dup ms share rel cov; do : > "$TMP/$name.$x"; done
     g=0
-    while [ "$g" -lt "$GROUPS" ]; do
+    while [ "$g" -lt "$NGROUPS" ]; do
         files=""
         i=0
         while [ "$i" -lt "$PER_GROUP" ]; do

@@ -8,6 +8,8 @@
 #include "restir/metrics/stats.h"
 #include "restir/frame/offline.h"
 #include "restir/frame/pipeline.h"
+#include "pt_util.h"
+#include "sequence_util.h"
 #include "test.h"
 
 static const char *const channel_names[3] = {"R", "G", "B"};
@@ -133,11 +135,10 @@ int bench_paired_run(bench_paired *p, int runs, uint32_t seed0, bench_run_fn a, 
 
 void bench_image_mean(const image *img, double mean[3])
 {
-    size_t i, n = (size_t)img->width * (size_t)img->height;
-    double s[3] = {0, 0, 0};
+    size_t n = (size_t)img->width * (size_t)img->height;
+    double s[3];
     int c;
-    for (i = 0; i < n; ++i)
-        for (c = 0; c < 3; ++c) s[c] += img->px[3 * i + (size_t)c];
+    test_image_sums(img, s);
     for (c = 0; c < 3; ++c) mean[c] = n ? s[c] / (double)n : 0;
 }
 
@@ -154,44 +155,25 @@ int bench_restir_mean(const scene *s, const restir_options *o, double mean[3])
     return 0;
 }
 
-typedef struct {
-    int frame, seen;
-    double *mean;
-} frame_take;
-
-static int take_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
-{
-    frame_take *t = user;
-    (void)st;
-    (void)e;
-    if (frame == t->frame) {
-        bench_image_mean(img, t->mean);
-        t->seen = 1;
-    }
-    return 0;
-}
-
 int bench_sequence_mean(const scene *s, const restir_options *o, int frame, double mean[3])
 {
-    restir_sequence q;
-    restir_stats total;
-    frame_take t;
-    rerror e;
-    memset(&q, 0, sizeof q);
-    q.first = 0;
-    q.last = frame;
-    t.frame = frame;
-    t.seen = 0;
-    t.mean = mean;
-    if (restir_render_sequence(s, o, &q, take_frame, &t, &total, &e)) {
-        test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
+    image *img = calloc((size_t)frame + 1, sizeof *img);
+    int f, status = -1;
+    if (!img) {
+        test_fail(__FILE__, __LINE__, "out of memory");
         return -1;
     }
-    if (!t.seen) {
-        test_fail(__FILE__, __LINE__, "restir_render_sequence: frame %d was not rendered", frame);
-        return -1;
+    if (rt_sequence_images(s, o, 0, frame, img) == 0) {
+        if (img[frame].px) {
+            bench_image_mean(&img[frame], mean);
+            status = 0;
+        } else {
+            test_fail(__FILE__, __LINE__, "restir_render_sequence: frame %d was not rendered", frame);
+        }
+        for (f = 0; f <= frame; ++f) image_free(&img[f]);
     }
-    return 0;
+    free(img);
+    return status;
 }
 
 int bench_sequence_run(void *user, uint32_t seed, double mean[3])
@@ -199,5 +181,6 @@ int bench_sequence_run(void *user, uint32_t seed, double mean[3])
     const bench_sequence_config *c = user;
     restir_options o = c->o;
     o.seed = seed;
+    if (c->frame == BENCH_OFFLINE) return bench_restir_mean(c->s, &o, mean);
     return bench_sequence_mean(c->s, &o, c->frame, mean);
 }

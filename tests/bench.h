@@ -73,7 +73,9 @@ int bench_restir_mean(const scene *s, const restir_options *o, double mean[3]);
 int bench_sequence_mean(const scene *s, const restir_options *o, int frame, double mean[3]);
 
 /* A bench_run_fn for bench_paired_run: user is a bench_sequence_config; the sequence run
- * with o.seed = seed, the image means of frame `frame`. */
+ * with o.seed = seed, the image means of frame `frame` (frame BENCH_OFFLINE: one
+ * restir_render, the offline driver, instead of a sequence). */
+#define BENCH_OFFLINE (-1)
 typedef struct {
     const scene *s;
     restir_options o;

@@ -3,6 +3,7 @@
 #include "chi2.h"
 #include "test.h"
 #include "restir/core/pfm.h"
+#include "restir/scene/scene_trace.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -70,6 +71,14 @@ uint32_t test_scene_material(scene *s, enum material_type type, rgb diffuse, rgb
     return (uint32_t)s->material_count++;
 }
 
+uint32_t test_scene_glossy(scene *s, enum material_type type, rgb diffuse, rgb specular, real roughness)
+{
+    uint32_t m = test_scene_material(s, type, diffuse, rgb_gray(0));
+    s->materials[m].specular = specular;
+    s->materials[m].roughness = roughness;
+    return m;
+}
+
 void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material)
 {
     triangle *t = &s->triangles[s->triangle_count++];
@@ -82,6 +91,7 @@ void test_scene_triangle(scene *s, vec3f a, vec3f b, vec3f c, uint32_t material)
     t->v[1] = (uint32_t)base + 1;
     t->v[2] = (uint32_t)base + 2;
     t->n[0] = t->n[1] = t->n[2] = -1;
+    t->t[0] = t->t[1] = t->t[2] = -1;
     t->material = material;
     t->object = 0;
 }
@@ -142,6 +152,27 @@ int test_scene_prepare(scene *s)
     rerror e;
     if (scene_prepare(s, &e)) {
         test_fail(__FILE__, __LINE__, "scene_prepare: %s", e.msg);
+        return -1;
+    }
+    return 0;
+}
+
+int test_scene_from_text(scene *s, const char *name, const char *mtl, const char *obj, const char *scene_text)
+{
+    char file[256], path[4096];
+    rerror e;
+    snprintf(file, sizeof file, "%s.mtl", name);
+    test_write_file(file, mtl);
+    snprintf(file, sizeof file, "%s.obj", name);
+    test_write_file(file, obj);
+    snprintf(file, sizeof file, "%s.scene", name);
+    snprintf(path, sizeof path, "%s", test_write_file(file, scene_text));
+    if (scene_load(s, path, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
+    }
+    if (test_scene_prepare(s)) {
+        scene_free(s);
         return -1;
     }
     return 0;
@@ -238,4 +269,63 @@ int test_write_runs(char *list, size_t size, int width, int height, int runs, co
     }
     image_free(&img);
     return k < runs ? -1 : 0;
+}
+
+void test_image_sums(const image *img, double sum[3])
+{
+    size_t i, n = (size_t)img->width * (size_t)img->height;
+    int c;
+    sum[0] = sum[1] = sum[2] = 0;
+    for (i = 0; i < n; ++i)
+        for (c = 0; c < 3; ++c) sum[c] += img->px[3 * i + (size_t)c];
+}
+
+/* One sample of the direct light at x_1 = v (key: the path), NEE + BSDF with MIS, through
+ * the library's calls as the path tracer makes them at x_1. */
+rgb test_direct_mis_sample(const path_context *c, const path_vertex *v, const rng_key *key)
+{
+    rgb L = rgb_gray(0);
+    nee_sample nee;
+    bsdf_bounce b;
+    bsdf_sample_record rec;
+    if (vertex_sample_light(c, v, key, 1, &nee))
+        L = rgb_scale(nee.contribution, path_mis_weight_nee(c, nee.pdf_light, nee.pdf_bsdf));
+    if (vertex_sample_bsdf(v, key, 1, &b, &rec)) {
+        ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
+        surface_hit h;
+        if (b.pdf_all < 0) b.pdf_all = path_bounce_pdf_all(v, &rec);
+        if (scene_intersect(c->scene, &r, &h)) {
+            path_vertex hv;
+            rgb Le;
+            path_vertex_make(&hv, c->scene, &h, v3_from_f(r.dir));
+            Le = path_vertex_emitted(c, &hv);
+            if (!rgb_is_black(Le)) {
+                real w = path_mis_weight_bsdf_hit(c, &b, path_light_pdf_hit(c, v, &hv, *key, 1));
+                L = rgb_add(L, rgb_scale(rgb_mul(b.weight, Le), w));
+            }
+        }
+    }
+    return L;
+}
+
+void test_direct_mis_paired_batches(bench_paired *p, const path_context *a, const path_context *b,
+                                    const path_vertex *v, const uint32_t *point_id, int nv, uint32_t key_seed,
+                                    int batches, int per_batch)
+{
+    int i, j, k;
+    for (k = 0; k < batches && !test_has_failed(); ++k) {
+        double ma[3] = {0, 0, 0}, mb[3] = {0, 0, 0};
+        for (j = 0; j < per_batch; ++j)
+            for (i = 0; i < nv; ++i) {
+                rng_key key = rng_key_make(key_seed, point_id[i], (uint32_t)(k * per_batch + j));
+                rgb la = test_direct_mis_sample(a, &v[i], &key), lb = test_direct_mis_sample(b, &v[i], &key);
+                ma[0] += la.r, ma[1] += la.g, ma[2] += la.b;
+                mb[0] += lb.r, mb[1] += lb.g, mb[2] += lb.b;
+            }
+        for (i = 0; i < 3; ++i) {
+            ma[i] /= (double)per_batch * nv;
+            mb[i] /= (double)per_batch * nv;
+        }
+        bench_paired_add(p, ma, mb);
+    }
 }

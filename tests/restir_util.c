@@ -69,6 +69,7 @@ int rt_load_scene_lights(const char *path, int res, scene *s, light_set *ls)
     if (rt_load_scene(path, res, s)) return -1;
     if (lights_build(ls, s, &e)) {
         test_fail(__FILE__, __LINE__, "%s", e.msg);
+        scene_free(s);
         return -1;
     }
     return 0;
@@ -296,28 +297,6 @@ void rt_bench_close(rt_bench *b)
     scene_free(&b->s);
 }
 
-int rt_sequence_runs(const scene *s, const restir_options *o, int first, int last, int runs, restir_frame_sink sink,
-                     void *user, restir_stats *run0)
-{
-    restir_sequence seq;
-    rerror e;
-    int k;
-    memset(&seq, 0, sizeof seq);
-    seq.first = first;
-    seq.last = last;
-    for (k = 0; k < runs; ++k) {
-        restir_options ok = *o;
-        restir_stats total;
-        ok.seed = o->seed + 7919u * (uint32_t)k;
-        if (restir_render_sequence(s, &ok, &seq, sink, user, &total, &e)) {
-            test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
-            return -1;
-        }
-        if (k == 0 && run0) *run0 = total;
-    }
-    return 0;
-}
-
 static int collect_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
 {
     rt_frame_sides *q = user;
@@ -424,9 +403,7 @@ int rt_make_spot(scene *s, int res)
     uint32_t metal, white, light;
     const float h = 0.08f, a = 0.15f;
     if (test_scene_begin(s, 8, 3)) return -1;
-    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.85, (real)0.8);
-    test_scene_last_material(s)->roughness = (real)0.3;
+    metal = test_scene_glossy(s, MAT_CONDUCTOR, rgb_gray(0), rgb_make((real)0.9, (real)0.85, (real)0.8), (real)0.3);
     white = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.8, (real)0.8, (real)0.8), rgb_gray(0));
     light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(4, (real)3.5, 3));
     test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), metal);        /* floor, +y */
@@ -619,9 +596,7 @@ int rt_make_two_tone(scene *s, int res)
     uint32_t metal, red, green, light;
     const float h = 0.1f, a = 0.4f;
     if (test_scene_begin(s, 10, 4)) return -1;
-    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_make((real)0.9, (real)0.9, (real)0.9);
-    test_scene_last_material(s)->roughness = (real)0.3;
+    metal = test_scene_glossy(s, MAT_CONDUCTOR, rgb_gray(0), rgb_make((real)0.9, (real)0.9, (real)0.9), (real)0.3);
     red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.9, (real)0.1, (real)0.1), rgb_gray(0));
     green = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1, (real)0.9, (real)0.1), rgb_gray(0));
     light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(1, 1, 1));
@@ -631,4 +606,56 @@ int rt_make_two_tone(scene *s, int res)
     test_scene_quad(s, v3f(-0.9f, h, 0.45f), v3f(a, 0, 0), v3f(0, a, 0), light);
     test_scene_camera(s, v3(0, (real)1.2, (real)-0.9), v3(0, 0, (real)0.05), v3(0, 1, 0), 40, res);
     return test_scene_prepare(s);
+}
+
+int rt_frame_open(rt_frame *f, const char *path, int res, int shift, int max_depth, uint32_t seed)
+{
+    restir_options o;
+    rerror e;
+    memset(f, 0, sizeof *f);
+    restir_options_default(&o);
+    o.shift = shift;
+    o.max_depth = max_depth;
+    o.keep_reservoirs = 1;
+    o.seed = seed;
+    o.threads = 2;
+    if (rt_load_scene_lights(path, res, &f->s, &f->lights)) return -1;
+    if (restir_render(&f->s, &o, &f->res, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        lights_free(&f->lights);
+        scene_free(&f->s);
+        return -1;
+    }
+    restir_context_for(&f->c, &f->s, &f->lights, &o);
+    return 0;
+}
+
+void rt_frame_close(rt_frame *f)
+{
+    lights_free(&f->lights);
+    restir_result_free(&f->res);
+    scene_free(&f->s);
+}
+
+void rt_mutation_options(restir_options *o)
+{
+    restir_options_default(o);
+    o->shift = RESTIR_SHIFT_HYBRID;
+    o->spatial.mis = MIS_PAIRWISE_DEFENSIVE;
+    o->candidates = 2;
+    o->max_depth = 4;
+    o->threads = 2;
+    o->mutation.count = 20;
+    o->mutation.stages = MUTATE_AFTER_TEMPORAL;
+}
+
+void rt_mutation_paired(const scene *s, const restir_options *on, int runs, uint32_t seed0,
+                        bench_paired *p)
+{
+    bench_sequence_config a, b;
+    a.s = b.s = s;
+    a.frame = b.frame = 4;
+    a.o = b.o = *on;
+    b.o.mutation.count = 0;
+    bench_paired_run(p, runs, seed0, bench_sequence_run, &a, bench_sequence_run, &b);
 }

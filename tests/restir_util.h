@@ -12,6 +12,7 @@
 #include "restir/restir/initial.h"
 #include "restir/restir/reservoir_dump.h"
 #include "restir/restir/shift.h"
+#include "sequence_util.h"
 
 /* The name rt_load_scene takes for the generated mirror corridor (generate_corridor). */
 #define RT_CORRIDOR "generated:corridor"
@@ -86,12 +87,6 @@ typedef struct {
 int rt_bench_open(rt_bench *b, const char *path, int res, int runs, uint32_t spp, int max_depth, uint32_t pt_seed);
 void rt_bench_close(rt_bench *b);
 
-/* K sequences first..last of the real-time pipeline (restir_render_sequence), run k with the
- * seed o->seed + 7919 k, every frame to sink(user, ...); *run0 (may be NULL) receives run 0's
- * totals. 0 on success (a test failure is recorded otherwise). */
-int rt_sequence_runs(const scene *s, const restir_options *o, int first, int last, int runs, restir_frame_sink sink,
-                     void *user, restir_stats *run0);
-
 #define RT_MAX_TIMES 3
 /* Frames times[0..nt) (ascending) of K sequences 0..times[nt-1]: run k of side[i] is frame
  * times[i] of run k. */
@@ -151,5 +146,29 @@ void rt_mcap_sequence_exact(int trees, enum temporal_mcap_mode mode, double expe
 /* The two-tone scene of the mutation tests: a glossy floor (reconnection at k = 3), a back
  * wall half red, half green, a small light in front of the red half (restir_util.c). */
 int rt_make_two_tone(scene *s, int res);
+
+/* One frame's reservoirs on a scene, with the lights and the context to shift or mutate
+ * them (the fixture of the mutation tests). */
+typedef struct {
+    scene s;
+    restir_result res;
+    light_set lights;
+    restir_context c;
+} rt_frame;
+/* Loads path at res x res and renders one frame (restir_render, reservoirs kept) with the
+ * default options but shift, max_depth, seed and 2 threads; the context is that frame's
+ * (restir_context_for). 0 on success (a test failure is recorded otherwise). */
+int rt_frame_open(rt_frame *f, const char *path, int res, int shift, int max_depth, uint32_t seed);
+void rt_frame_close(rt_frame *f);
+
+/* The options of the paired mutation bench: the hybrid shift, pairwise-defensive MIS, 2
+ * candidates, paths of at most 4 segments, 2 threads, 20 mutations after the temporal step
+ * (the caller sets the strategy, kernel, ...). */
+void rt_mutation_options(restir_options *o);
+/* Frame 4 of sequences with the options `on` against the same sequences without mutations
+ * (the same seeds: the frames share their initial and temporal samples until the first
+ * mutation), K = runs pairs from seed0, into p (initialised by the caller). */
+void rt_mutation_paired(const scene *s, const restir_options *on, int runs, uint32_t seed0,
+                        struct bench_paired_s *p);
 
 #endif

@@ -69,6 +69,14 @@ int test_cli(char *out, size_t out_size, const char *fmt, ...)
 #endif
     ;
 
+/* test_tmp_path that stays valid until the test ends (up to 64 per test; more is a test
+ * failure): the paths a test keeps while it calls test_cli and test_tmp_path. */
+const char *test_tmp_keep(const char *name);
+
+/* test_cli under `timeout --preserve-status -s SIG SECONDS` (ARGS as they are): the signal
+ * reaches restir after SECONDS; returns its exit status (-1 if it did not exit). */
+int test_cli_signal(char *out, size_t out_size, const char *sig, double seconds, const char *args);
+
 /* Writes text to a file in the scratch directory; returns its path (static, rotated). */
 const char *test_write_file(const char *name, const char *text);
 /* 1 if both files exist and hold the same bytes. */

@@ -7,7 +7,9 @@
 #include "restir/scene/animation.h"
 #include "restir/scene/generate_rooms.h"
 #include "restir/scene/scene.h"
+#include "scene_text_util.h"
 #include "test.h"
+#include "text_util.h"
 #include "restir/scene/scene_trace.h"
 
 /* Two unit squares sharing an edge: "left" (x in [0,1]) and "right" (x in [1,2]), both in
@@ -23,13 +25,12 @@ static const char *pair_mtl = "newmtl white\nKd 0.7 0.7 0.7\nnewmtl glow\nKd 0 0
 
 static int load_pair(scene *s, const char *animation, rerror *e)
 {
-    char text[2048], path[1024];
+    char text[2048];
     test_write_file("pair.obj", pair_obj);
     test_write_file("pair.mtl", pair_mtl);
     snprintf(text, sizeof text, "mesh pair.obj\ncamera eye 1 0.5 5 target 1 0.5 0 up 0 1 0 fov 40\nsize 16 16\n%s",
              animation);
-    snprintf(path, sizeof path, "%s", test_write_file("pair.scene", text));
-    return scene_load(s, path, e);
+    return scene_from_text(s, "pair.scene", text, e);
 }
 
 static uint32_t object_id(const scene *s, const char *name)
@@ -161,9 +162,7 @@ TEST(animation_static_scene_untouched)
 /* Every bad animate line: file:line and what is wrong. */
 TEST(animation_load_errors_name_the_line)
 {
-    static const struct {
-        const char *text, *expect;
-    } cases[] = {
+    static const bad_input cases[] = {
         {"animate right 5\nanimate right 5 translate 1 0 0\n", "pair.scene:5: animate 'right': frame 5 after frame 5"},
         {"animate right 5\nanimate left 1\nanimate right 2\n", "pair.scene:6: animate 'right': frame 2 after frame 5"},
         {"animate nobody 0\n", "pair.scene:4: animate: no object named 'nobody'"},
@@ -185,7 +184,7 @@ TEST(animation_load_errors_name_the_line)
         scene s;
         rerror e;
         const char *msg;
-        CHECKF(load_pair(&s, cases[i].text, &e) != 0, "case %zu loaded", i);
+        CHECKF(load_pair(&s, cases[i].input, &e) != 0, "case %zu loaded", i);
         msg = strstr(e.msg, "pair.scene:");
         CHECKF(msg && !strncmp(msg, cases[i].expect, strlen(cases[i].expect)), "case %zu: '%s' does not start with '%s'",
                i, e.msg, cases[i].expect);

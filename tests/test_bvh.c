@@ -13,6 +13,7 @@
 #include "restir/core/rng.h"
 #include "restir/scene/scene.h"
 #include "restir/core/warp.h"
+#include "mesh_util.h"
 #include "test.h"
 #include "restir/scene/scene_trace.h"
 
@@ -441,59 +442,80 @@ TEST(bvh_collapse_is_sah_optimal)
 /* ------------------------------------------------------------------------------- */
 /* BVH == brute force                                                                */
 
-TEST(bvh_matches_brute_force_random_soup)
+/* Ray i of a brute-force comparison on the soup m (which rays may aim at). */
+typedef ray (*ray_maker)(const soup *m, long i);
+
+/* A BVH over m against brute force for the rays make(m, 0..n-1): the same first hit for
+ * every ray; *hits counts the rays that hit. 0 if all agree (a test failure names the
+ * first ray that does not). */
+static int expect_brute_force(const soup *m, long n, ray_maker make, long *hits)
 {
-    soup m = {0};
     bvh b;
     rerror e;
     char why[256];
-    long i, hits = 0;
-    random_soup(&m, 20, 3000);
-    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
-    for (i = 0; i < 3000; ++i) {
-        ray r = make_ray(urand_box(30, (uint32_t)i, -1.5f, 1.5f), urand_direction(30, (uint32_t)i));
-        /* Every third ray gets a finite, random range: the range must be honoured. */
-        if (i % 3 == 1) {
-            r.tmin = urand(31, (uint32_t)i, 0) * 0.5f;
-            r.tmax = r.tmin + urand(31, (uint32_t)i, 1) * 2.0f;
-        }
-        /* Every third ray is aimed at a vertex exactly (shared-nothing soup, but it
-         * exercises the exactly-zero edge functions and the double fallback). */
-        if (i % 3 == 2) r.dir = v3f_sub(m.v[(size_t)i % (3 * m.count)], r.origin);
-        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
+    long i;
+    if (bvh_build(&b, m->v, m->count, &e)) {
+        test_fail(__FILE__, __LINE__, "%s", e.msg);
+        return -1;
     }
-    CHECKF(hits > 1000, "only %ld hits", hits);
+    for (i = 0; i < n; ++i) {
+        ray r = make(m, i);
+        if (!agrees_with_brute_force(m, &b, &r, hits, why, sizeof why)) {
+            test_fail(__FILE__, __LINE__, "ray %ld: %s", i, why);
+            bvh_free(&b);
+            return -1;
+        }
+    }
     bvh_free(&b);
+    return 0;
+}
+
+static ray soup_ray(const soup *m, long i)
+{
+    ray r = make_ray(urand_box(30, (uint32_t)i, -1.5f, 1.5f), urand_direction(30, (uint32_t)i));
+    /* Every third ray gets a finite, random range: the range must be honoured. */
+    if (i % 3 == 1) {
+        r.tmin = urand(31, (uint32_t)i, 0) * 0.5f;
+        r.tmax = r.tmin + urand(31, (uint32_t)i, 1) * 2.0f;
+    }
+    /* Every third ray is aimed at a vertex exactly (shared-nothing soup, but it exercises
+     * the exactly-zero edge functions and the double fallback). */
+    if (i % 3 == 2) r.dir = v3f_sub(m->v[(size_t)i % (3 * m->count)], r.origin);
+    return r;
+}
+
+TEST(bvh_matches_brute_force_random_soup)
+{
+    soup m = {0};
+    long hits = 0;
+    random_soup(&m, 20, 3000);
+    if (expect_brute_force(&m, 3000, soup_ray, &hits) == 0) CHECKF(hits > 1000, "only %ld hits", hits);
     soup_free(&m);
+}
+
+static ray sphere_ray(const soup *m, long i)
+{
+    if (i % 2) { /* from outside toward a point near the sphere */
+        vec3f o = v3f_scale(urand_direction(40, (uint32_t)i), 4.0f);
+        return make_ray(o, v3f_sub(urand_box(41, (uint32_t)i, -1.1f, 1.1f), o));
+    } else { /* from inside: aimed exactly at a mesh vertex half of the time */
+        vec3f o = urand_box(42, (uint32_t)i, -0.5f, 0.5f);
+        return make_ray(o, i % 4 ? urand_direction(42, (uint32_t)i) : v3f_sub(m->v[(size_t)i % (3 * m->count)], o));
+    }
 }
 
 TEST(bvh_matches_brute_force_sphere)
 {
     scene s;
     soup m = {0};
-    bvh b;
     rerror e;
-    char why[256];
-    long i, hits = 0;
+    long hits = 0;
     size_t t;
     CHECKF(generate_displaced_sphere(&s, 14, &e) == 0, "%s", e.msg);
     for (t = 0; t < s.triangle_count; ++t)
         soup_add(&m, s.positions[s.triangles[t].v[0]], s.positions[s.triangles[t].v[1]],
                  s.positions[s.triangles[t].v[2]]);
-    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
-    for (i = 0; i < 3000; ++i) {
-        ray r;
-        if (i % 2) { /* from outside toward a point near the sphere */
-            vec3f o = v3f_scale(urand_direction(40, (uint32_t)i), 4.0f);
-            r = make_ray(o, v3f_sub(urand_box(41, (uint32_t)i, -1.1f, 1.1f), o));
-        } else { /* from inside: aimed exactly at a mesh vertex half of the time */
-            vec3f o = urand_box(42, (uint32_t)i, -0.5f, 0.5f);
-            r = make_ray(o, i % 4 ? urand_direction(42, (uint32_t)i) : v3f_sub(m.v[(size_t)i % (3 * m.count)], o));
-        }
-        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
-    }
-    CHECKF(hits > 2000, "only %ld hits", hits);
-    bvh_free(&b);
+    if (expect_brute_force(&m, 3000, sphere_ray, &hits) == 0) CHECKF(hits > 2000, "only %ld hits", hits);
     soup_free(&m);
     free_generated_scene(&s);
 }
@@ -819,7 +841,10 @@ static long count_leaks(const soup *m, const bvh *b, long rays, uint32_t tag)
     return leaks;
 }
 
-TEST(bvh_watertight_closed_meshes)
+/* A closed cube (cells per edge: n_cube) and a closed sphere (n_sphere), offset by `offset`:
+ * none of `rays` rays aimed at their edges and vertices from inside leaks (tags tag0 and
+ * tag0 + 2). */
+static void expect_watertight(int n_cube, int n_sphere, vec3f offset, long rays, uint32_t tag0)
 {
     int shape;
     for (shape = 0; shape < 2; ++shape) {
@@ -827,13 +852,18 @@ TEST(bvh_watertight_closed_meshes)
         bvh b;
         rerror e;
         long leaks;
-        closed_mesh(&m, shape ? 9 : 5, shape, 1.0f, v3f(0.0f, 0.0f, 0.0f));
+        closed_mesh(&m, shape ? n_sphere : n_cube, shape, 1.0f, offset);
         CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
-        leaks = count_leaks(&m, &b, 50000, 60 + 2u * (uint32_t)shape);
-        CHECKF(leaks == 0, "%s: %ld of 50000 rays aimed at edges/vertices leaked", shape ? "sphere" : "cube", leaks);
+        leaks = count_leaks(&m, &b, rays, tag0 + 2u * (uint32_t)shape);
         bvh_free(&b);
         soup_free(&m);
+        CHECKF(leaks == 0, "%s: %ld of %ld rays aimed at edges/vertices leaked", shape ? "sphere" : "cube", leaks, rays);
     }
+}
+
+TEST(bvh_watertight_closed_meshes)
+{
+    expect_watertight(5, 9, v3f(0.0f, 0.0f, 0.0f), 50000, 60);
 }
 
 /* ------------------------------------------------------------------------------- */
@@ -1315,52 +1345,24 @@ TEST(scene_prepare_empty_scene_fails)
 /* ------------------------------------------------------------------------------- */
 /* Generated scene                                                                   */
 
-typedef struct {
-    uint32_t a, b;
-} edge;
-
-static int compare_edges(const void *x, const void *y)
-{
-    const edge *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    return p->b < q->b ? -1 : p->b > q->b;
-}
-
 /* >= 100k triangles at subdivision 92, and closed: every directed edge of the sphere
  * appears once and its reverse once (consistent outward winding, no holes). */
 TEST(generate_displaced_sphere_closed)
 {
     scene s;
     rerror e;
-    edge *edges;
-    size_t i, sphere_tris = 0, n = 0;
+    const char *problem;
+    double volume;
+    size_t i, sphere_tris = 0;
     CHECKF(generate_displaced_sphere(&s, 92, &e) == 0, "%s", e.msg);
     CHECKF(s.triangle_count >= 100000, "%zu triangles", s.triangle_count);
     CHECK(s.material_count == 2 && s.object_count == 2 && s.has_camera);
     CHECK(!rgb_is_black(s.materials[1].emission) && rgb_is_black(s.materials[0].emission));
-    edges = malloc(3 * s.triangle_count * sizeof *edges);
-    for (i = 0; i < s.triangle_count; ++i) {
-        int k;
-        if (s.triangles[i].object != 0) continue;
-        sphere_tris++;
-        for (k = 0; k < 3; ++k) {
-            edges[n].a = s.triangles[i].v[k];
-            edges[n].b = s.triangles[i].v[(k + 1) % 3];
-            n++;
-        }
-    }
+    for (i = 0; i < s.triangle_count; ++i) sphere_tris += s.triangles[i].object == 0;
     CHECK(sphere_tris == 12 * 92 * 92);
     CHECK(s.position_count == 6 * 92 * 92 + 2 + 4); /* Euler: V = E - F + 2 */
-    qsort(edges, n, sizeof *edges, compare_edges);
-    for (i = 0; i < n; ++i) {
-        edge rev, *found;
-        CHECKF(i == 0 || compare_edges(&edges[i - 1], &edges[i]) != 0, "directed edge used twice");
-        rev.a = edges[i].b;
-        rev.b = edges[i].a;
-        found = bsearch(&rev, edges, n, sizeof *edges, compare_edges);
-        CHECKF(found != NULL, "edge %u-%u has no opposite", edges[i].a, edges[i].b);
-    }
-    free(edges);
+    problem = check_closed_outward(&s, 0, &volume);
+    CHECKF(problem == NULL, "the sphere: %s", problem);
     /* The light faces down, toward the sphere. */
     {
         const triangle *t = &s.triangles[s.triangle_count - 1];
@@ -1403,40 +1405,26 @@ TEST(generate_write_obj_roundtrips_vertices)
 /* ------------------------------------------------------------------------------- */
 /* Longer versions                                                                    */
 
+static ray long_ray(const soup *m, long i)
+{
+    ray r = make_ray(urand_box(201, (uint32_t)i, -1.5f, 1.5f), urand_direction(201, (uint32_t)i));
+    if (i % 2) r.dir = v3f_sub(m->v[(size_t)(urand(202, (uint32_t)i, 0) * 3 * (float)m->count) % (3 * m->count)], r.origin);
+    return r;
+}
+
 TEST_LONG(bvh_matches_brute_force_long)
 {
     soup m = {0};
-    bvh b;
-    rerror e;
-    char why[256];
-    long i, hits = 0;
+    long hits = 0;
     random_soup(&m, 200, 20000);
     closed_mesh(&m, 20, 1, 0.7f, v3f(0.1f, 0.2f, 0.3f));
-    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
-    for (i = 0; i < 15000; ++i) {
-        ray r = make_ray(urand_box(201, (uint32_t)i, -1.5f, 1.5f), urand_direction(201, (uint32_t)i));
-        if (i % 2) r.dir = v3f_sub(m.v[(size_t)(urand(202, (uint32_t)i, 0) * 3 * (float)m.count) % (3 * m.count)], r.origin);
-        CHECKF(agrees_with_brute_force(&m, &b, &r, &hits, why, sizeof why), "ray %ld: %s", i, why);
-    }
-    bvh_free(&b);
+    expect_brute_force(&m, 15000, long_ray, &hits);
     soup_free(&m);
 }
 
 TEST_LONG(bvh_watertight_long)
 {
-    int shape;
-    for (shape = 0; shape < 2; ++shape) {
-        soup m = {0};
-        bvh b;
-        rerror e;
-        long leaks;
-        closed_mesh(&m, shape ? 40 : 16, shape, 1.0f, v3f(0.01f, -0.02f, 0.03f));
-        CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
-        leaks = count_leaks(&m, &b, 1000000, 210 + 2u * (uint32_t)shape);
-        CHECKF(leaks == 0, "%ld of 10^6 rays leaked", leaks);
-        bvh_free(&b);
-        soup_free(&m);
-    }
+    expect_watertight(16, 40, v3f(0.01f, -0.02f, 0.03f), 1000000, 210);
 }
 
 /* A 1M-triangle build: prints the time and the tree statistics. */
@@ -1497,4 +1485,64 @@ TEST(spawn_ray_concave_edge)
         bvh_free(&s.accel);
         free(s.face_normals);
     }
+}
+
+/* ------------------------------------------------------------------------------- */
+/* Filtered queries (alpha cut-outs, docs/materials.md §7.4) == brute force          */
+
+/* A filter that cuts parts of some triangles away by their barycentrics (as map_d does). */
+static int test_cut_filter(const void *ctx, uint32_t tri, float b1, float b2)
+{
+    (void)ctx;
+    if (tri % 3 == 0 && b1 > 0.3f) return 0;
+    if (tri % 5 == 1 && b1 + b2 < 0.5f) return 0;
+    return 1;
+}
+
+/* Closest kept hit (lowest index among equal t: the loop ascends) and any kept hit. */
+static int brute_filtered(const soup *m, const ray *r, bvh_hit *h, int *occluded)
+{
+    size_t i;
+    h->tri = BVH_NO_HIT;
+    *occluded = 0;
+    for (i = 0; i < m->count; ++i) {
+        float t, b1, b2;
+        if (!ray_triangle_watertight(r, m->v[3 * i], m->v[3 * i + 1], m->v[3 * i + 2], &t, &b1, &b2)) continue;
+        if (!test_cut_filter(NULL, (uint32_t)i, b1, b2)) continue;
+        *occluded = 1;
+        if (h->tri == BVH_NO_HIT || t < h->t) {
+            h->t = t;
+            h->tri = (uint32_t)i;
+        }
+    }
+    return h->tri != BVH_NO_HIT;
+}
+
+TEST(bvh_filtered_matches_brute_force)
+{
+    soup m = {0};
+    bvh b;
+    rerror e;
+    long i, hits = 0, rejected_closest = 0;
+    int simd;
+    random_soup(&m, 21, 3000);
+    CHECKF(bvh_build(&b, m.v, m.count, &e) == 0, "%s", e.msg);
+    for (simd = b.simd; simd >= 0 && !test_has_failed(); --simd) {
+        b.simd = simd; /* the AVX2 build (if any) and the portable one */
+        for (i = 0; i < 1500 && !test_has_failed(); ++i) {
+            ray r = make_ray(urand_box(32, (uint32_t)i, -1.5f, 1.5f), urand_direction(32, (uint32_t)i));
+            bvh_hit hb, hr, plain;
+            int fb = bvh_intersect_filtered(&b, &r, &hb, test_cut_filter, NULL), ob, orf;
+            int fr = brute_filtered(&m, &r, &hr, &orf);
+            ob = bvh_occluded_filtered(&b, &r, test_cut_filter, NULL);
+            CHECKF(fb == fr && (!fb || (hb.tri == hr.tri && same_bits(hb.t, hr.t))),
+                   "ray %ld: closest kept: bvh %d tri %u, brute %d tri %u", i, fb, hb.tri, fr, hr.tri);
+            CHECKF(ob == orf, "ray %ld: any kept hit: bvh %d, brute %d", i, ob, orf);
+            hits += fb;
+            if (bvh_intersect(&b, &r, &plain) && (!fb || plain.tri != hb.tri)) rejected_closest++;
+        }
+    }
+    CHECKF(hits > 500 && rejected_closest > 50, "only %ld kept hits, %ld rejected closest hits", hits, rejected_closest);
+    bvh_free(&b);
+    soup_free(&m);
 }

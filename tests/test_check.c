@@ -220,18 +220,42 @@ static void report(const char *what, const tally *t)
            t->global_rejects, t->block_rejects, t->equivalent);
 }
 
+/* `trials` A/A trials of p (both sides from it) at alpha = 0.1, side A from K = 8 runs
+ * (sa), side B from sb (runs_b runs), reported as `what`. */
+static int aa_trials(tally *t, const synth *p, int trials, enum side_source sa, enum side_source sb, int runs_b,
+                     uint32_t salt, const char *what)
+{
+    check_options o = rt_check_options(0.1, 0);
+    if (run_trials(t, trials, p, p, sa, sb, 8, runs_b, &o, salt)) return -1;
+    report(what, t);
+    return 0;
+}
+
+/* The calibration of the two parts of an A/A verdict at alpha = 0.1 (each at alpha/2 =
+ * 0.05): image-mean rejections Binomial(n, 0.05) (within 3 sd), block rejections at most
+ * that often. 0 if both hold (a test failure otherwise). */
+static int expect_calibrated(const tally *t)
+{
+    if (!binomial_ok(t->global_rejects, t->trials, 0.05, 3.0)) {
+        test_fail(__FILE__, __LINE__, "global rejections %d of %d", t->global_rejects, t->trials);
+        return -1;
+    }
+    if (t->block_rejects > t->trials * 0.05 + 3.0 * sqrt(t->trials * 0.05) + 1) {
+        test_fail(__FILE__, __LINE__, "block rejections %d", t->block_rejects);
+        return -1;
+    }
+    return 0;
+}
+
 /* A/A: both sides from the same distribution, heavy-tailed pixels, zero-variance band,
  * K = 8 runs each. alpha = 0.1 so 200 trials resolve the rate (expected 20 if the two
  * parts were independent; each part alone at alpha/2 = 0.05, expected 10). */
 TEST(check_calibration_runs)
 {
     synth p = synth_default();
-    check_options o = rt_check_options(0.1, 0);
     tally t;
-    CHECK(run_trials(&t, 200, &p, &p, FROM_RUNS, FROM_RUNS, 8, 8, &o, 1) == 0);
-    report("A/A runs, heavy tails, K=8", &t);
-    CHECKF(binomial_ok(t.global_rejects, t.trials, 0.05, 3.0), "global rejections %d of %d", t.global_rejects, t.trials);
-    CHECKF(t.block_rejects <= t.trials * 0.05 + 3.0 * sqrt(t.trials * 0.05) + 1, "block rejections %d", t.block_rejects);
+    CHECK(aa_trials(&t, &p, 200, FROM_RUNS, FROM_RUNS, 8, 1, "A/A runs, heavy tails, K=8") == 0);
+    if (expect_calibrated(&t)) return;
     CHECKF(t.different <= t.trials * 0.1 + 3.0 * sqrt(t.trials * 0.09) + 1, "different %d of %d", t.different, t.trials);
 }
 
@@ -239,12 +263,9 @@ TEST(check_calibration_runs)
 TEST(check_calibration_reference)
 {
     synth p = synth_default();
-    check_options o = rt_check_options(0.1, 0);
     tally t;
-    CHECK(run_trials(&t, 200, &p, &p, FROM_RUNS, FROM_EXACT, 8, 0, &o, 2) == 0);
-    report("runs vs exact reference, K=8", &t);
-    CHECKF(binomial_ok(t.global_rejects, t.trials, 0.05, 3.0), "global rejections %d of %d", t.global_rejects, t.trials);
-    CHECKF(t.block_rejects <= t.trials * 0.05 + 3.0 * sqrt(t.trials * 0.05) + 1, "block rejections %d", t.block_rejects);
+    CHECK(aa_trials(&t, &p, 200, FROM_RUNS, FROM_EXACT, 0, 2, "runs vs exact reference, K=8") == 0);
+    expect_calibrated(&t);
 }
 
 /* Moments files: with per-run means (as `render --runs` writes them) against a
@@ -252,10 +273,9 @@ TEST(check_calibration_reference)
 TEST(check_calibration_moments)
 {
     synth p = synth_default();
-    check_options o = rt_check_options(0.1, 0);
     tally t;
-    CHECK(run_trials(&t, 200, &p, &p, FROM_MOMENTS, FROM_MOMENTS_NO_RUN_MEANS, 8, 8, &o, 3) == 0);
-    report("moments vs moments without run means, K=8", &t);
+    CHECK(aa_trials(&t, &p, 200, FROM_MOMENTS, FROM_MOMENTS_NO_RUN_MEANS, 8, 3,
+                    "moments vs moments without run means, K=8") == 0);
     CHECKF(t.global_rejects <= t.trials * 0.05 + 3.0 * sqrt(t.trials * 0.05) + 1, "global %d", t.global_rejects);
     CHECKF(t.block_rejects <= t.trials * 0.05 + 3.0 * sqrt(t.trials * 0.05) + 1, "blocks %d", t.block_rejects);
 }
@@ -267,15 +287,12 @@ TEST(check_calibration_moments)
 TEST(check_correlated_pixels)
 {
     synth p = synth_default();
-    check_options o = rt_check_options(0.1, 0);
     tally t;
     p.tile_sd = 0.3;
-    CHECK(run_trials(&t, 200, &p, &p, FROM_RUNS, FROM_RUNS, 8, 8, &o, 4) == 0);
-    report("A/A runs, correlated 4x4 tiles, K=8", &t);
-    CHECKF(binomial_ok(t.global_rejects, t.trials, 0.05, 3.0), "global rejections %d of %d", t.global_rejects, t.trials);
-    CHECKF(t.block_rejects <= t.trials * 0.05 + 3.0 * sqrt(t.trials * 0.05) + 1, "block rejections %d", t.block_rejects);
-    CHECK(run_trials(&t, 50, &p, &p, FROM_MOMENTS_NO_RUN_MEANS, FROM_MOMENTS_NO_RUN_MEANS, 8, 8, &o, 5) == 0);
-    report("same, moments without run means (expected bad)", &t);
+    CHECK(aa_trials(&t, &p, 200, FROM_RUNS, FROM_RUNS, 8, 4, "A/A runs, correlated 4x4 tiles, K=8") == 0);
+    if (expect_calibrated(&t)) return;
+    CHECK(aa_trials(&t, &p, 50, FROM_MOMENTS_NO_RUN_MEANS, FROM_MOMENTS_NO_RUN_MEANS, 8, 5,
+                    "same, moments without run means (expected bad)") == 0);
     CHECKF(t.different > 5 * 0.1 * t.trials, "independence assumption not detected: %d of %d", t.different, t.trials);
 }
 

@@ -322,12 +322,10 @@ static int file_contains(const char *path, const char *text)
 TEST(check_cli_correlated_restir)
 {
     static char out[16384];
-    char restir[1100], pt[1100], old[1100], json[1100], bin[1200];
+    const char *restir = test_tmp_keep("corr_restir"), *pt = test_tmp_keep("corr_pt");
+    const char *old = test_tmp_keep("corr_restir_old"), *json = test_tmp_keep("corr.json");
+    char bin[1200];
     int status;
-    snprintf(restir, sizeof restir, "%s", test_tmp_path("corr_restir"));
-    snprintf(pt, sizeof pt, "%s", test_tmp_path("corr_pt"));
-    snprintf(old, sizeof old, "%s", test_tmp_path("corr_restir_old"));
-    snprintf(json, sizeof json, "%s", test_tmp_path("corr.json"));
     status = test_cli(out, sizeof out,
                       "render scenes/cornell.scene --method restir --spatial-passes 1 --size 24x24 --runs 8 "
                       "--seed 49 --quiet --no-png -o %s.pfm", restir);

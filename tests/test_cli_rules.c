@@ -10,6 +10,7 @@
 #include "restir/render/aov.h"
 #include "capture.h"
 #include "test.h"
+#include "text_util.h"
 #include "restir/core/pfm.h"
 
 #define SCENE "scenes/cornell.scene --size 24x20 --threads 2"
@@ -17,125 +18,115 @@
 
 static char out[65536];
 
-/* Runs `timeout --preserve-status -s SIG SECONDS restir ARGS`, stdout+stderr into out;
- * returns the exit status of restir (-1 if it did not exit). */
-static int run_interrupted(const char *sig, double seconds, const char *args)
+/* A render stopped by a signal: `render SMALL ARGS -o STEM.pfm` (STEM in the scratch
+ * directory; ARGS may name that path once, by %s) gets SIG after SECONDS. */
+typedef struct {
+    const char *rule; /* the test it belongs to */
+    const char *stem, *args, *sig;
+    double seconds;
+    const char *said[3]; /* every one in the message (%s: the stem's path; NULL: no more) */
+    const char *files[3]; /* STEM + each, removed first; then all there (keep) or none */
+    int keep;
+} stopped_render;
+
+/* The stopped renders of the rules below, in the order each rule runs them. pt: 1.5 s, a
+ * pass must be complete before the signal (since issue 27 a signal cancels the pass in
+ * progress), and under ASan on a loaded machine the first one took over 0.6 s. */
+static const stopped_render stopped[] = {
+    {"pt", "rule-int", "--method pt --spp 100000000 --quiet --no-png --checkpoint %s.ckpt", "INT", 1.5,
+     {"interrupted by SIGINT", " spp", "%s.ckpt"}, {".pfm", ".ckpt"}, 1},
+    {"pt", "rule-int", "--method pt --spp 100000000 --quiet --no-png --checkpoint %s.ckpt", "TERM", 1.5,
+     {"interrupted by SIGTERM"}, {".pfm", ".ckpt"}, 1},
+    {"restir", "rule-restir-int", "--method restir --frames 100000000 --quiet", "TERM", 0.6,
+     {"interrupted by SIGTERM", "frame(s)"}, {".pfm", ".png"}, 1},
+    {"restir", "rule-seq-int", "--method restir --sequence 0..99999999 --quiet --no-png", "INT", 0.6,
+     {"interrupted by SIGINT", "frame(s)"}, {".0000.pfm"}, 1},
+    {"runs", "rule-runs-int", "--method pt --spp 100000000 --runs 3 --quiet --no-png", "INT", 0.6,
+     {"after 0 finished run(s)", "nothing written"}, {".mean.pfm", ".moments.json"}, 0},
+    {"runs", "rule-runs-int", "--method pt --spp 1 --runs 1000000 --quiet --no-png", "TERM", 1.0,
+     {"runs finished so far"}, {".mean.pfm"}, 1},
+};
+
+/* The render of c must exit with the signal's status 128 + n (SIGINT 130, SIGTERM 143), say
+ * what c says and leave c's files or not; a test failure otherwise. */
+static int expect_stopped(const stopped_render *c)
 {
-    char cmd[8192];
-    const char *capture = test_tmp_path("cli-rules-signal.txt");
-    FILE *f;
-    size_t n = 0;
-    int status;
-    snprintf(cmd, sizeof cmd, "timeout --preserve-status -s %s %g %s %s >'%s' 2>&1 </dev/null", sig, seconds,
-             RESTIR_BIN, args, capture);
-    status = system(cmd);
-    f = fopen(capture, "rb");
-    if (f) {
-        n = fread(out, 1, sizeof out - 1, f);
-        fclose(f);
+    char stem[1024], fmt[4096], args[8192], file[1100];
+    int want = strcmp(c->sig, "INT") ? 143 : 130, status, i;
+    snprintf(stem, sizeof stem, "%s", test_tmp_path(c->stem));
+    for (i = 0; i < 3 && c->files[i]; ++i) {
+        snprintf(file, sizeof file, "%s%s", stem, c->files[i]);
+        remove(file);
     }
-    out[n] = '\0';
-    return status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    snprintf(fmt, sizeof fmt, "render %s %s -o %%s.pfm", SMALL, c->args);
+    if (strstr(c->args, "%s")) snprintf(args, sizeof args, fmt, stem, stem);
+    else snprintf(args, sizeof args, fmt, stem);
+    status = test_cli_signal(out, sizeof out, c->sig, c->seconds, args);
+    if (status != want) {
+        test_fail(__FILE__, __LINE__, "%s: status %d, expected %d: %s", args, status, want, out);
+        return -1;
+    }
+    for (i = 0; i < 3 && c->said[i]; ++i) {
+        snprintf(file, sizeof file, c->said[i], stem); /* %s: the stem's path */
+        if (!strstr(out, file)) {
+            test_fail(__FILE__, __LINE__, "%s: no '%s' in the message: %s", args, file, out);
+            return -1;
+        }
+    }
+    for (i = 0; i < 3 && c->files[i]; ++i) {
+        snprintf(file, sizeof file, "%s%s", stem, c->files[i]);
+        if (test_file_exists(file) != c->keep) {
+            test_fail(__FILE__, __LINE__, "%s: %s %s", args, file, c->keep ? "missing" : "written");
+            return -1;
+        }
+    }
+    return 0;
 }
 
-/* run_interrupted, which must exit with the signal's status 128 + n (SIGINT 130, SIGTERM
- * 143); a test failure otherwise. */
-static int expect_interrupted(const char *sig, double seconds, const char *args)
+/* Every stopped render of `rule`, in order, until one fails. */
+static int expect_rule(const char *rule)
 {
-    int want = strcmp(sig, "INT") ? 143 : 130, status = run_interrupted(sig, seconds, args);
-    if (status == want) return 0;
-    test_fail(__FILE__, __LINE__, "status %d, expected %d: %s", status, want, out);
-    return -1;
-}
-
-static void remove_files(const char *a, const char *b, const char *c)
-{
-    remove(a);
-    if (b) remove(b);
-    if (c) remove(c);
+    size_t i;
+    for (i = 0; i < sizeof stopped / sizeof stopped[0]; ++i)
+        if (!strcmp(stopped[i].rule, rule) && expect_stopped(&stopped[i])) return -1;
+    return 0;
 }
 
 /* SIGINT stops `pt` between passes: checkpoint and partial image kept, exit 130, stderr
  * says how many samples; SIGTERM gives 143. */
 TEST(cli_rule_pt_interrupted_exit_130_143)
 {
-    char args[4096], pfm[1024], ck[1024];
-    snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-int.pfm"));
-    snprintf(ck, sizeof ck, "%s", test_tmp_path("rule-int.ckpt"));
-    remove_files(pfm, ck, NULL);
-    snprintf(args, sizeof args, "render " SMALL " --method pt --spp 100000000 --quiet --no-png --checkpoint %s -o %s",
-             ck, pfm);
-    /* 1.5 s: a pass must be complete before the signal (since issue 27 a signal cancels the
-     * pass in progress), and under ASan on a loaded machine the first one took over 0.6 s */
-    if (expect_interrupted("INT", 1.5, args)) return;
-    CHECKF(strstr(out, "interrupted by SIGINT") && strstr(out, " spp") && strstr(out, ck), "message: %s", out);
-    CHECK(test_file_exists(pfm) && test_file_exists(ck));
-    remove_files(pfm, ck, NULL);
-    if (expect_interrupted("TERM", 1.5, args)) return;
-    CHECKF(strstr(out, "interrupted by SIGTERM"), "message: %s", out);
-    CHECK(test_file_exists(pfm) && test_file_exists(ck));
+    expect_rule("pt");
 }
 
 /* restir follows the same rule: the mean of the frames so far (offline), or the frames
  * written so far (--sequence), and 143 / 130. */
 TEST(cli_rule_restir_interrupted_exit_143)
 {
-    char args[4096], pfm[1024], png[1024], frame0[1024];
-    snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-restir-int.pfm"));
-    snprintf(png, sizeof png, "%s", test_tmp_path("rule-restir-int.png"));
-    remove_files(pfm, png, NULL);
-    snprintf(args, sizeof args, "render " SMALL " --method restir --frames 100000000 --quiet -o %s", pfm);
-    if (expect_interrupted("TERM", 0.6, args)) return;
-    CHECKF(strstr(out, "interrupted by SIGTERM") && strstr(out, "frame(s)"), "message: %s", out);
-    CHECK(test_file_exists(pfm) && test_file_exists(png));
-    snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-seq-int.pfm"));
-    snprintf(frame0, sizeof frame0, "%s", test_tmp_path("rule-seq-int.0000.pfm"));
-    remove(frame0);
-    snprintf(args, sizeof args, "render " SMALL " --method restir --sequence 0..99999999 --quiet --no-png -o %s", pfm);
-    if (expect_interrupted("INT", 0.6, args)) return;
-    CHECKF(strstr(out, "interrupted by SIGINT") && strstr(out, "frame(s)"), "message: %s", out);
-    CHECK(test_file_exists(frame0));
+    expect_rule("restir");
 }
 
 /* --runs follows it too: a run cut short is dropped (it would mix two estimators); with
  * fewer than 2 finished runs nothing is written, with more the file set holds them. */
 TEST(cli_rule_runs_interrupted_keeps_finished_runs)
 {
-    char args[4096], pfm[1024], mean[1024], json[1024];
-    FILE *f;
+    const char *json, *r;
+    char *text;
     long runs = -1;
-    snprintf(pfm, sizeof pfm, "%s", test_tmp_path("rule-runs-int.pfm"));
-    snprintf(mean, sizeof mean, "%s", test_tmp_path("rule-runs-int.mean.pfm"));
-    snprintf(json, sizeof json, "%s", test_tmp_path("rule-runs-int.moments.json"));
-    remove_files(mean, json, NULL);
-    snprintf(args, sizeof args, "render " SMALL " --method pt --spp 100000000 --runs 3 --quiet --no-png -o %s", pfm);
-    if (expect_interrupted("INT", 0.6, args)) return;
-    CHECKF(strstr(out, "after 0 finished run(s)") && strstr(out, "nothing written"), "message: %s", out);
-    CHECK(!test_file_exists(mean) && !test_file_exists(json));
-    snprintf(args, sizeof args, "render " SMALL " --method pt --spp 1 --runs 1000000 --quiet --no-png -o %s", pfm);
-    if (expect_interrupted("TERM", 1.0, args)) return;
-    CHECKF(strstr(out, "runs finished so far"), "message: %s", out);
-    CHECK(test_file_exists(mean));
-    f = fopen(json, "rb");
-    CHECKF(f != NULL, "%s missing", json);
-    if (f) {
-        char text[4096];
-        size_t n = fread(text, 1, sizeof text - 1, f);
-        const char *r;
-        text[n] = '\0';
-        fclose(f);
-        r = strstr(text, "\"runs\":");
-        if (r) runs = strtol(r + 7, NULL, 10);
-    }
+    if (expect_rule("runs")) return;
+    json = test_tmp_path("rule-runs-int.moments.json");
+    text = test_read_text(json);
+    CHECKF(text != NULL, "%s missing", json);
+    r = strstr(text, "\"runs\":");
+    if (r) runs = strtol(r + 7, NULL, 10);
+    free(text);
     CHECKF(runs >= 2 && runs < 1000000, "runs in the sidecar: %ld", runs);
 }
 
 /* An option of another method is an error with a hint, before anything is written. */
 TEST(cli_rule_options_of_another_method_refused)
 {
-    static const struct {
-        const char *args, *expect;
-    } cases[] = {
+    static const bad_input cases[] = {
         {"--method restir --spp 4", "--spp applies to --method pt, not --method restir (restir averages --frames"},
         {"--method pt --spatial-passes 1", "--spatial-passes applies to --method restir, not --method pt"},
         {"--method pt --preset gris-offline", "--preset applies to --method restir"},
@@ -148,9 +139,9 @@ TEST(cli_rule_options_of_another_method_refused)
     for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         int status;
         remove(pfm);
-        status = test_cli(out, sizeof out, "render " SCENE " %s -o %s", cases[i].args, pfm);
-        CHECKF(status == 2 && strstr(out, cases[i].expect), "%s: status %d, %s", cases[i].args, status, out);
-        CHECKF(!test_file_exists(pfm), "%s left %s", cases[i].args, pfm);
+        status = test_cli(out, sizeof out, "render " SCENE " %s -o %s", cases[i].input, pfm);
+        CHECKF(status == 2 && strstr(out, cases[i].expect), "%s: status %d, %s", cases[i].input, status, out);
+        CHECKF(!test_file_exists(pfm), "%s left %s", cases[i].input, pfm);
     }
     /* the shared rows stay valid for restir */
     CHECKF(test_cli(out, sizeof out, "render " SMALL " --method restir --max-depth 3 --time-limit 0.01 --quiet -o %s", pfm) == 0,

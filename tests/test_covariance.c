@@ -31,36 +31,67 @@ static void set_grey(image *img, int x, int y, double v)
     p[0] = p[1] = p[2] = (float)v;
 }
 
+/* The covariance of pixel (x, y) with its neighbour (x + dx, y + dy). */
+typedef double (*pair_cov)(const void *user, int x, int y, int dx, int dy);
+
+/* The metric's averaging, with the estimator's border clipping: the mean over the w x h
+ * pixels of the mean of cov over the neighbours in the (2r+1)^2 box around each (without
+ * the pixel itself when exclude); map (may be NULL) receives the per-pixel box means. */
+static double box_average(int w, int h, int r, int exclude, pair_cov cov, const void *user, double *map)
+{
+    int x, y, dx, dy;
+    double total = 0.0;
+    for (y = 0; y < h; ++y)
+        for (x = 0; x < w; ++x) {
+            double box = 0.0;
+            long n = 0;
+            for (dy = -r; dy <= r; ++dy)
+                for (dx = -r; dx <= r; ++dx) {
+                    if (x + dx < 0 || x + dx >= w || y + dy < 0 || y + dy >= h) continue;
+                    if (exclude && !dx && !dy) continue;
+                    box += cov(user, x, y, dx, dy);
+                    n++;
+                }
+            total += box / n;
+            if (map) map[y * w + x] = box / n;
+        }
+    return total / (w * h);
+}
+
+/* K luminance images and their per-pixel mean. */
+typedef struct {
+    const double *lum, *mean;
+    int k_count, w, h;
+} lum_runs;
+
+/* Mutations Eq. 21: the sample covariance over the K images. */
+static double sample_cov(const void *user, int x, int y, int dx, int dy)
+{
+    const lum_runs *q = user;
+    int i = y * q->w + x, j = (y + dy) * q->w + x + dx, k;
+    size_t n = (size_t)q->w * (size_t)q->h;
+    double cov = 0.0;
+    for (k = 0; k < q->k_count; ++k)
+        cov += (q->lum[(size_t)k * n + i] - q->mean[i]) * (q->lum[(size_t)k * n + j] - q->mean[j]);
+    return cov / (q->k_count - 1);
+}
+
 /* Eq. 21 straight from the definition, box-averaged and image-averaged. */
 static void brute_force(const double *lum, int k_count, int w, int h, int radius, int exclude, double *per_radius,
                         double *map)
 {
-    int r, x, y, dx, dy, k;
+    int r, x, k;
     double *mean = calloc((size_t)w * h, sizeof *mean);
+    lum_runs q;
     for (k = 0; k < k_count; ++k)
         for (x = 0; x < w * h; ++x) mean[x] += lum[(size_t)k * w * h + x] / k_count;
-    for (r = 0; r <= radius; ++r) {
-        double total = 0.0;
-        for (y = 0; y < h; ++y)
-            for (x = 0; x < w; ++x) {
-                double box = 0.0;
-                long n = 0;
-                for (dy = -r; dy <= r; ++dy)
-                    for (dx = -r; dx <= r; ++dx) {
-                        int i = y * w + x, j = (y + dy) * w + x + dx;
-                        double cov = 0.0;
-                        if (x + dx < 0 || x + dx >= w || y + dy < 0 || y + dy >= h) continue;
-                        if (exclude && dx == 0 && dy == 0) continue;
-                        for (k = 0; k < k_count; ++k)
-                            cov += (lum[(size_t)k * w * h + i] - mean[i]) * (lum[(size_t)k * w * h + j] - mean[j]);
-                        box += cov / (k_count - 1); /* Mutations Eq. 21 */
-                        n++;
-                    }
-                total += box / n;
-                if (r == radius) map[y * w + x] = box / n;
-            }
-        per_radius[r] = total / (w * h);
-    }
+    q.lum = lum;
+    q.mean = mean;
+    q.k_count = k_count;
+    q.w = w;
+    q.h = h;
+    for (r = 0; r <= radius; ++r)
+        per_radius[r] = box_average(w, h, r, exclude, sample_cov, &q, r == radius ? map : NULL);
     free(mean);
 }
 
@@ -143,24 +174,22 @@ static double kernel_autocorrelation(int dx, int dy)
 
 /* The expected metric for stationary noise with covariance function cov(dx, dy), with
  * the same border clipping and averaging as the estimator. */
+typedef struct {
+    double (*cov)(int dx, int dy);
+} stationary;
+
+static double stationary_cov(const void *user, int x, int y, int dx, int dy)
+{
+    (void)x;
+    (void)y;
+    return ((const stationary *)user)->cov(dx, dy);
+}
+
 static double expected_metric(int w, int h, int r, int exclude, double (*cov)(int, int))
 {
-    int x, y, dx, dy;
-    double total = 0.0;
-    for (y = 0; y < h; ++y)
-        for (x = 0; x < w; ++x) {
-            double box = 0.0;
-            long n = 0;
-            for (dy = -r; dy <= r; ++dy)
-                for (dx = -r; dx <= r; ++dx) {
-                    if (x + dx < 0 || x + dx >= w || y + dy < 0 || y + dy >= h) continue;
-                    if (exclude && !dx && !dy) continue;
-                    box += cov(dx, dy);
-                    n++;
-                }
-            total += box / n;
-        }
-    return total / (w * h);
+    stationary st;
+    st.cov = cov;
+    return box_average(w, h, r, exclude, stationary_cov, &st, NULL);
 }
 
 static double white_cov(int dx, int dy) { return dx == 0 && dy == 0 ? 1.0 : 0.0; }

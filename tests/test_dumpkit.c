@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "../tools/dumpkit/restir_dump.h"
+#include "dumpkit_sample.h"
 #include "restir/oracle/stage_dump.h"
 #include "restir/restir/reservoir_dump.h"
 #include "test.h"
@@ -133,4 +134,139 @@ TEST(dumpkit_python_round_trip)
              "python3 tools/dumpkit/restir_dump.py show %s/short.resv >/dev/null 2>&1",
              dir, test_tmpdir(), test_tmpdir(), test_tmpdir());
     CHECKF(system(cmd) != 0, "the Python kit read a truncated file");
+}
+
+/* The size in bytes of an HLSL field type of restir_dump.hlsl (0: unknown). */
+static int hlsl_size(const char *type)
+{
+    if (!strcmp(type, "float") || !strcmp(type, "uint")) return 4;
+    if (!strcmp(type, "float2")) return 8;
+    if (!strcmp(type, "float3")) return 12;
+    if (!strcmp(type, "uint4")) return 16;
+    return 0;
+}
+
+/* No HLSL compiler is installed: the "@ OFFSET" comments of RestirGpuRecord in
+ * tools/dumpkit/restir_dump.hlsl are checked against offsetof() of the C mirror
+ * restir_gpu_record, and the fields must tile its 144 bytes without gaps. */
+TEST(dumpkit_hlsl_offsets_match_c)
+{
+    static const struct {
+        const char *name;
+        size_t offset;
+    } c_fields[] = {
+        {"wsum", offsetof(restir_gpu_record, wsum)}, {"W", offsetof(restir_gpu_record, W)},
+        {"confidence", offsetof(restir_gpu_record, confidence)}, {"n_invalid", offsetof(restir_gpu_record, n_invalid)},
+        {"seed", offsetof(restir_gpu_record, seed)}, {"pixel", offsetof(restir_gpu_record, pixel)},
+        {"sample", offsetof(restir_gpu_record, sample)},
+        {"packed_d_tech_k_npss", offsetof(restir_gpu_record, packed_d_tech_k_npss)},
+        {"packed_lobe", offsetof(restir_gpu_record, packed_lobe)}, {"rc_triangle", offsetof(restir_gpu_record, rc_triangle)},
+        {"rc_bary", offsetof(restir_gpu_record, rc_bary)}, {"rc_position", offsetof(restir_gpu_record, rc_position)},
+        {"rc_normal", offsetof(restir_gpu_record, rc_normal)}, {"rc_flags", offsetof(restir_gpu_record, rc_flags)},
+        {"rc_wo", offsetof(restir_gpu_record, rc_wo)}, {"rc_pdf_prev", offsetof(restir_gpu_record, rc_pdf_prev)},
+        {"rc_geom", offsetof(restir_gpu_record, rc_geom)}, {"rc_pdf", offsetof(restir_gpu_record, rc_pdf)},
+        {"rc_radiance", offsetof(restir_gpu_record, rc_radiance)}, {"light_pdf", offsetof(restir_gpu_record, light_pdf)},
+        {"F", offsetof(restir_gpu_record, F)}, {"target", offsetof(restir_gpu_record, target)},
+    };
+    const size_t n_fields = sizeof c_fields / sizeof c_fields[0];
+    char line[512], type[32], name[64];
+    FILE *fp = fopen("tools/dumpkit/restir_dump.hlsl", "r");
+    int in_struct = 0, seen = 0, next = 0;
+    size_t i;
+    CHECKF(fp != NULL, "tools/dumpkit/restir_dump.hlsl: cannot open (run from the repository root)");
+    if (!fp) return;
+    while (fgets(line, sizeof line, fp)) {
+        const char *at = strstr(line, "// @ ");
+        int offset;
+        if (strstr(line, "struct RestirGpuRecord")) in_struct = 1;
+        if (!in_struct) continue;
+        if (strstr(line, "};")) break;
+        if (!at || sscanf(line, " %31s %63[A-Za-z0-9_];", type, name) != 2 || sscanf(at, "// @ %d", &offset) != 1)
+            continue;
+        for (i = 0; i < n_fields && strcmp(c_fields[i].name, name); ++i) {}
+        CHECKF(i < n_fields, "HLSL field %s has no C counterpart in restir_gpu_record", name);
+        if (i < n_fields)
+            CHECKF((size_t)offset == c_fields[i].offset, "%s: HLSL says @ %d, offsetof in C is %lu", name, offset,
+                   (unsigned long)c_fields[i].offset);
+        CHECKF(offset == next && hlsl_size(type) > 0, "%s %s @ %d: expected @ %d (fields must tile the record)", type,
+               name, offset, next);
+        next = offset + hlsl_size(type);
+        seen++;
+    }
+    fclose(fp);
+    CHECKF((size_t)seen == n_fields && next == 144 && sizeof(restir_gpu_record) == 144,
+           "%d HLSL fields ending at byte %d; the C mirror has %lu fields in %lu bytes", seen, next,
+           (unsigned long)n_fields, (unsigned long)sizeof(restir_gpu_record));
+}
+
+/* A GPU record (binary32, packed bytes) converted on the host is a .resv record the oracle
+ * decodes field for field. */
+TEST(dumpkit_gpu_record_converts)
+{
+    restir_gpu_record g;
+    restir_resv_record rec;
+    reservoir back;
+    real pss[PATH_MAX_PSS];
+    unsigned char buf[RESERVOIR_DUMP_RECORD_PSS];
+    rerror e;
+    dumpkit_sample_gpu_record(&g);
+    restir_gpu_record_to_resv(&g, &rec);
+    if (!little_endian()) return;
+    memcpy(buf, &rec, sizeof rec);
+    reservoir_record_decode(buf, 0, &back, pss);
+    CHECK(back.wsum == (real)0.75 && back.W == (real)3 && back.confidence == (real)5 && back.y.seed == 11 &&
+          back.y.pixel == 222 && back.y.sample == 3);
+    CHECK(back.y.length == 4 && back.y.technique == PATH_TECH_BSDF && back.y.rc_k == 3 && back.y.lobe[0] == PATH_LOBE_NONE &&
+          back.y.lobe[1] == 1 && back.y.lobe[2] == 2 && back.y.lobe[3] == 0 && back.y.lobe[4] == PATH_LOBE_NONE);
+    CHECK(back.y.rc_triangle == 77 && back.y.rc_position.z == -1.5f && back.y.rc_pdf_prev == (real)0.5 && back.y.rc_geom == (real)0.25 &&
+          back.y.F.r == (real)0.125 && back.y.target == (real)0.25);
+    CHECKF(path_sample_check(&back.y, "converted record", &e) == 0, "%s", e.msg);
+}
+
+/* The CUDA view (tools/dumpkit/restir_dump.cuh) compiled by nvcc reads a record the oracle
+ * encoded and writes one the oracle decodes (no GPU needed; skipped without nvcc; long:
+ * nvcc takes seconds). */
+TEST_LONG(dumpkit_cuda_round_trip)
+{
+    static char out[8192];
+    char cmd[4000], in_path[1100], out_path[1100], exe[1100];
+    const char *nvcc = system("/usr/local/cuda/bin/nvcc --version >/dev/null 2>&1") == 0 ? "/usr/local/cuda/bin/nvcc"
+                       : system("nvcc --version >/dev/null 2>&1") == 0                   ? "nvcc"
+                                                                                        : NULL;
+    unsigned char buf[RESERVOIR_DUMP_RECORD_PSS];
+    reservoir r, back;
+    real pss[PATH_MAX_PSS], pss_back[PATH_MAX_PSS];
+    FILE *fp;
+    if (!nvcc) {
+        printf("    (skipped: no nvcc)\n");
+        return;
+    }
+    snprintf(exe, sizeof exe, "%s/dumpkit_cuda", test_tmpdir());
+    snprintf(in_path, sizeof in_path, "%s/cuda_in.rec", test_tmpdir());
+    snprintf(out_path, sizeof out_path, "%s/cuda_out.rec", test_tmpdir());
+    snprintf(cmd, sizeof cmd, "%s -std=c++14 -o %s tests/dumpkit_cuda_roundtrip.cu > %s.log 2>&1", nvcc, exe, exe);
+    CHECKF(system(cmd) == 0, "nvcc failed: %s (log %s.log)", cmd, exe);
+    if (test_has_failed()) return;
+    filled_reservoir(&r, pss);
+    reservoir_record_encode(&r, 0, buf);
+    fp = fopen(in_path, "wb");
+    CHECK(fp && fwrite(buf, 1, RESERVOIR_DUMP_RECORD_BASE, fp) == RESERVOIR_DUMP_RECORD_BASE);
+    if (fp) fclose(fp);
+    snprintf(cmd, sizeof cmd, "%s %s %s", exe, in_path, out_path);
+    fp = popen(cmd, "r");
+    out[0] = '\0';
+    if (fp) {
+        size_t n = fread(out, 1, sizeof out - 1, fp);
+        out[n] = '\0';
+        CHECKF(pclose(fp) == 0, "%s failed:\n%s", cmd, out);
+    }
+    CHECKF(strstr(out, "seed 7 pixel 1234 sample 56 length 3 technique 1 rc_k 2 lobe1 1 rc_triangle 99 confidence 21"),
+           "the CUDA struct read other values:\n%s", out);
+    fp = fopen(out_path, "rb");
+    CHECK(fp && fread(buf, 1, RESERVOIR_DUMP_RECORD_BASE, fp) == RESERVOIR_DUMP_RECORD_BASE);
+    if (fp) fclose(fp);
+    reservoir_record_decode(buf, 0, &back, pss_back);
+    CHECK(back.W == (real)3 && back.y.seed == 11 && back.y.pixel == 222 && back.y.length == 4 &&
+          back.y.technique == PATH_TECH_BSDF && back.y.rc_k == 3 && back.y.lobe[2] == 2 && back.y.rc_triangle == 77 &&
+          back.y.rc_position.z == -1.5f && back.y.target == (real)0.25);
 }

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/oracle/stage_dump.h"
+#include "dump_util.h"
 #include "test.h"
 
 static char out[262144];
@@ -26,41 +27,20 @@ static char out[262144];
         }                                                             \
     } while (0)
 
-static const char *dc_dir(const char *name)
-{
-    static char buf[4][1100];
-    static int slot;
-    char *b = buf[slot++ % 4];
-    snprintf(b, 1100, "%s/dchan_%s", test_tmpdir(), name);
-    return b;
-}
-
-static int fresh_copy(const char *src, const char *dst)
-{
-    char cmd[4000];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && cp -r '%s' '%s'", dst, src, dst);
-    return system(cmd);
-}
+static const char *dc_dir(const char *name) { return dump_scratch("dchan_", name); }
 
 /* Rewrites dump `path` in place with every F rotated in colour (see the top; luminance(F)
  * unchanged up to rounding, so p̂ and luminance(F) W stay). */
-static void rotate_colour(const char *path, double d)
+static void rotate_record(void *user, long i, reservoir *rs)
 {
-    reservoir *rs;
-    reservoir_dump_info info;
-    rerror e;
-    long i;
-    CHECKF(reservoir_dump_read(path, &rs, &info, &e) == 0, "%s", e.msg);
-    if (test_has_failed()) return;
-    for (i = 0; i < (long)(info.width * info.height); ++i) {
-        double r = (double)rs[i].y.F.r, g = (double)rs[i].y.F.g;
-        double dr = d * fmin(r, g * 0.7152 / 0.2126); /* G stays >= 0 (the reader refuses F < 0) */
-        rs[i].y.F.r = (real)(r + dr);
-        rs[i].y.F.g = (real)(g - 0.2126 * dr / 0.7152);
-    }
-    CHECKF(reservoir_dump_write(path, rs, &info, &e) == 0, "%s", e.msg);
-    free(rs);
+    double d = *(const double *)user, r = (double)rs->y.F.r, g = (double)rs->y.F.g;
+    double dr = d * fmin(r, g * 0.7152 / 0.2126); /* G stays >= 0 (the reader refuses F < 0) */
+    (void)i;
+    rs->y.F.r = (real)(r + dr);
+    rs->y.F.g = (real)(g - 0.2126 * dr / 0.7152);
 }
+
+static void rotate_colour(const char *path, double d) { dump_edit(path, path, rotate_record, &d); }
 
 /* The luminance z (unpaired "(z ...)" of the row's first line, or "lum" of the paired list)
  * and the three channel z of the row of `frame`, `stage` in diff-dump's text. */
@@ -103,7 +83,7 @@ TEST(evidence_diff_dump_stat_per_channel)
     /* the same estimator with another seed: every channel agrees */
     CHECKF(test_cli(out, sizeof out, "diff-dump %s %s --stat", dc_dir("A"), dc_dir("B")) == 0, "%s", out);
     /* unpaired: B's frame 1 spatial1 rotated by d = 0.5 */
-    CHECK(fresh_copy(dc_dir("B"), dc_dir("Bp")) == 0);
+    CHECK(dump_copy(dc_dir("B"), dc_dir("Bp")) != NULL);
     stage_dump_path(path, sizeof path, dc_dir("Bp"), 1, "spatial1", "resv");
     rotate_colour(path, 0.5);
     CHECKF(test_cli(out, sizeof out, "diff-dump %s %s --stat", dc_dir("A"), dc_dir("Bp")) == 1, "%s", out);
@@ -112,7 +92,7 @@ TEST(evidence_diff_dump_stat_per_channel)
     dc_note("unpaired, d = 0.5: luminance z %+.2f, R %+.2f G %+.2f B %+.2f", lum, z[0], z[1], z[2]);
     CHECKF(fabs(lum) < 4 && fabs(z[0]) > 6, "luminance z %+.2f (must pass), R z %+.2f (must be found)", lum, z[0]);
     /* paired: A's own frame 0 temporal rotated by d = 0.003 */
-    CHECK(fresh_copy(dc_dir("A"), dc_dir("Ap")) == 0);
+    CHECK(dump_copy(dc_dir("A"), dc_dir("Ap")) != NULL);
     stage_dump_path(path, sizeof path, dc_dir("Ap"), 0, "temporal", "resv");
     rotate_colour(path, 0.003);
     CHECKF(test_cli(out, sizeof out, "diff-dump %s %s --stat", dc_dir("A"), dc_dir("Ap")) == 0,

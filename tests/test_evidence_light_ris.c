@@ -16,36 +16,10 @@
 #include "restir/scene/lights.h"
 #include "restir/render/light_ris.h"
 #include "restir/frame/options.h"
+#include "pt_util.h"
 #include "restir_util.h"
 #include "test.h"
 #include "restir/scene/scene_trace.h"
-
-/* One sample of the direct light at x_1 = v (key: the path), NEE + BSDF with MIS. */
-static rgb direct_sample(const path_context *c, const path_vertex *v, const rng_key *key)
-{
-    rgb L = rgb_gray(0);
-    nee_sample nee;
-    bsdf_bounce b;
-    bsdf_sample_record rec;
-    if (vertex_sample_light(c, v, key, 1, &nee))
-        L = rgb_add(L, rgb_scale(nee.contribution, path_mis_weight_nee(c, nee.pdf_light, nee.pdf_bsdf)));
-    if (vertex_sample_bsdf(v, key, 1, &b, &rec)) {
-        ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
-        surface_hit h;
-        if (b.pdf_all < 0) b.pdf_all = path_bounce_pdf_all(v, &rec);
-        if (scene_intersect(c->scene, &r, &h)) {
-            path_vertex hv;
-            rgb Le;
-            path_vertex_make(&hv, c->scene, &h, v3_from_f(r.dir));
-            Le = path_vertex_emitted(c, &hv);
-            if (!rgb_is_black(Le)) {
-                real w = path_mis_weight_bsdf_hit(c, &b, path_light_pdf_hit(c, v, &hv, *key, 1));
-                L = rgb_add(L, rgb_scale(rgb_mul(b.weight, Le), w));
-            }
-        }
-    }
-    return L;
-}
 
 /* Shading points: primary hits of a few pixels of many-lights (glossy floor, pillars,
  * copper) at 32 x 32. For each (N, tiles): `batches` batches of `per_batch` samples per
@@ -57,18 +31,13 @@ static void integrate(int n, int tiles, int batches, int per_batch, bench_paired
     light_set lights;
     restir_context ca, cb;
     restir_options o;
-    rerror e;
     path_vertex v[4];
-    int nv = 0, i, k, j;
+    uint32_t point_id[4];
+    int nv = 0, i;
     snprintf(name, name_size, "light RIS N %d%s vs plain NEE, MIS at 4 shading points of many-lights", n,
              tiles ? " tiles" : "");
     bench_paired_init(p, name);
-    if (rt_load_scene("scenes/many-lights.scene", 32, &s)) return;
-    if (lights_build(&lights, &s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&s);
-        return;
-    }
+    if (rt_load_scene_lights("scenes/many-lights.scene", 32, &s, &lights)) return;
     restir_options_default(&o);
     restir_context_for(&cb, &s, &lights, &o);
     o.light_ris.candidates = n;
@@ -77,23 +46,8 @@ static void integrate(int n, int tiles, int batches, int per_batch, bench_paired
     for (i = 0; i < 4; ++i)
         if (rt_primary_vertex(&s, px[i][0], px[i][1], &v[nv])) ++nv;
     CHECKF(nv >= 3, "only %d shading points", nv);
-    for (k = 0; k < batches; ++k) {
-        double a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
-        for (j = 0; j < per_batch; ++j) {
-            uint32_t sample = (uint32_t)(k * per_batch + j);
-            for (i = 0; i < nv; ++i) {
-                rng_key key = rng_key_make(test_seed() * 7u + 3u, (uint32_t)(px[i][1] * 32 + px[i][0]), sample);
-                rgb la = direct_sample(&ca.path, &v[i], &key), lb = direct_sample(&cb.path, &v[i], &key);
-                a[0] += la.r, a[1] += la.g, a[2] += la.b;
-                b[0] += lb.r, b[1] += lb.g, b[2] += lb.b;
-            }
-        }
-        for (i = 0; i < 3; ++i) {
-            a[i] /= (double)per_batch * nv;
-            b[i] /= (double)per_batch * nv;
-        }
-        bench_paired_add(p, a, b);
-    }
+    for (i = 0; i < nv; ++i) point_id[i] = (uint32_t)(px[i][1] * 32 + px[i][0]);
+    test_direct_mis_paired_batches(p, &ca.path, &cb.path, v, point_id, nv, test_seed() * 7u + 3u, batches, per_batch);
     bench_paired_finish(p);
     lights_free(&lights);
     scene_free(&s);
@@ -109,14 +63,6 @@ static void matrix(const int *counts, int nc, int batches, int per_batch, int wi
             integrate(counts[i], tiles, batches, per_batch, &p, name, sizeof name);
             if (!test_has_failed()) bench_paired_expect_consistent(&p, BENCH_Z_CONSISTENT);
         }
-}
-
-/* make test: N = 2, where the next bounce's count is 1 (the largest relative change), no
- * tiles (the exact test below covers tiles and every count). */
-TEST(evidence_light_ris_mis_pdf_single_points)
-{
-    static const int counts[] = {2};
-    matrix(counts, 1, 32, 3072, 0);
 }
 
 /* 10^6 samples per configuration (64 x 4096 at each of the 4 points), every candidate count 1..64. */
@@ -184,17 +130,11 @@ TEST(evidence_light_ris_pdf_hit_by_definition_exact)
     static const int counts[] = {1, 2, 3, 4, 8, 16, 32, 64};
     scene s;
     light_set lights;
-    rerror e;
     double tol = sizeof(real) == 4 ? 1e-4 : 1e-9, worst = 0;
     long checked = 0;
     int p, ci, tiles, k;
     uint32_t i;
-    if (rt_load_scene("scenes/many-lights.scene", 32, &s)) return;
-    if (lights_build(&lights, &s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&s);
-        return;
-    }
+    if (rt_load_scene_lights("scenes/many-lights.scene", 32, &s, &lights)) return;
     for (p = 0; p < 4 && !test_has_failed(); ++p) {
         path_vertex v;
         if (!rt_primary_vertex(&s, px[p][0], px[p][1], &v)) continue;

@@ -22,42 +22,6 @@
 #include "test.h"
 #include "restir/frame/options.h"
 
-/* A frame's reservoirs and the context to mutate them (shift, max depth). */
-typedef struct {
-    scene s;
-    restir_result res;
-    light_set lights;
-    restir_context c;
-} mfix;
-
-static int mfix_open(mfix *f, const char *path, int res, int shift, int max_depth, uint32_t seed)
-{
-    restir_options o;
-    rerror e;
-    memset(f, 0, sizeof *f);
-    if (rt_load_scene(path, res, &f->s)) return -1;
-    restir_options_default(&o);
-    o.shift = shift;
-    o.max_depth = max_depth;
-    o.keep_reservoirs = 1;
-    o.seed = seed;
-    o.threads = 2;
-    if (restir_render(&f->s, &o, &f->res, &e) || lights_build(&f->lights, &f->s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&f->s);
-        return -1;
-    }
-    restir_context_for(&f->c, &f->s, &f->lights, &o);
-    return 0;
-}
-
-static void mfix_close(mfix *f)
-{
-    lights_free(&f->lights);
-    restir_result_free(&f->res);
-    scene_free(&f->s);
-}
-
 /* ---- rc_retrace_suffix with mutated numbers -------------------------------------------------- */
 
 /* scenes/shadow.scene (a moving box; the suffix re-trace runs for every temporal reuse),
@@ -68,9 +32,9 @@ static void mfix_close(mfix *f)
  * placed the light point with the replay identity's original numbers. */
 TEST(evidence_retrace_keeps_mutated_nee_numbers)
 {
-    mfix f;
+    rt_frame f;
     int x, y, checked = 0, moved = 0;
-    if (mfix_open(&f, "scenes/shadow.scene", 24, RESTIR_SHIFT_RECONNECTION, 3, test_seed())) return;
+    if (rt_frame_open(&f, "scenes/shadow.scene", 24, RESTIR_SHIFT_RECONNECTION, 3, test_seed())) return;
     for (y = 0; y < f.s.height && !test_has_failed(); ++y)
         for (x = 0; x < f.s.width && !test_has_failed(); ++x) {
             const path_sample *py = &f.res.reservoirs[y * f.s.width + x].y;
@@ -102,7 +66,7 @@ TEST(evidence_retrace_keeps_mutated_nee_numbers)
                    "%.6g (the NEE numbers of pss[] were not used)",
                    x, y, dw, (double)z.light_pdf, (double)back.light_pdf);
         }
-    mfix_close(&f);
+    rt_frame_close(&f);
     if (getenv("RESTIR_TEST_VERBOSE")) fprintf(stderr, "  %d mutated NEE samples re-traced, %d moved\n", checked, moved);
     CHECKF(checked >= 30, "only %d mutated NEE samples with k = d-1", checked);
 }
@@ -149,9 +113,9 @@ static int one_iteration(const restir_context *c, const path_vertex *v, const re
 static void acceptance_case(const char *path, int strategy, long *decisions, long *mismatches, double *sum_a,
                             double *sum_var, long *accepted)
 {
-    mfix f;
+    rt_frame f;
     int x, y, key_i;
-    if (mfix_open(&f, path, 16, RESTIR_SHIFT_HYBRID, 4, test_seed())) return;
+    if (rt_frame_open(&f, path, 16, RESTIR_SHIFT_HYBRID, 4, test_seed())) return;
     for (y = 0; y < f.s.height; ++y)
         for (x = 0; x < f.s.width; ++x) {
             const reservoir *r0 = &f.res.reservoirs[y * f.s.width + x];
@@ -174,7 +138,7 @@ static void acceptance_case(const char *path, int strategy, long *decisions, lon
                 *sum_var += a * (1 - a);
             }
         }
-    mfix_close(&f);
+    rt_frame_close(&f);
 }
 
 TEST(evidence_mutate_acceptance_at_call_site_exact)
@@ -210,40 +174,18 @@ TEST(evidence_mutate_acceptance_at_call_site_exact)
 static void mutate_paired(const char *path, int res, int runs, int strategy, bench_paired *p, char *name, size_t n)
 {
     scene s;
-    bench_sequence_config on, off;
+    restir_options o;
     snprintf(name, n, "mutations %s x20 vs none, %s", mutate_strategy_names[strategy], path ? path : "two-tone");
     bench_paired_init(p, name);
     if (path ? rt_load_scene(path, res, &s) : rt_make_two_tone(&s, res)) return;
-    restir_options_default(&on.o);
-    on.s = off.s = &s;
-    on.frame = off.frame = 4;
-    on.o.shift = RESTIR_SHIFT_HYBRID;
-    on.o.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
-    on.o.candidates = 2;
-    on.o.max_depth = 4;
-    on.o.threads = 2;
+    rt_mutation_options(&o);
     if (!path) {
-        on.o.roughness_threshold = 0.5;
-        on.o.paths = RESTIR_PATHS_INDIRECT;
+        o.roughness_threshold = 0.5;
+        o.paths = RESTIR_PATHS_INDIRECT;
     }
-    on.o.mutation.count = 20;
-    on.o.mutation.strategy = strategy;
-    on.o.mutation.stages = MUTATE_AFTER_TEMPORAL;
-    off.o = on.o;
-    off.o.mutation.count = 0;
-    bench_paired_run(p, runs, test_seed() * 40503u + 7u + 1000u * (uint32_t)strategy, bench_sequence_run, &on, bench_sequence_run, &off);
+    o.mutation.strategy = strategy;
+    rt_mutation_paired(&s, &o, runs, test_seed() * 40503u + 7u + 1000u * (uint32_t)strategy, p);
     scene_free(&s);
-}
-
-/* pp on cornell-glossy (all light), 16², K = 32, per channel. mh-no-target-ratio shifts the
- * colour here (red up, blue down: z about -5.7 in blue at seed 1; the luminance of F W stays
- * exact), caught exactly by the call-site test above. */
-TEST(evidence_mutate_paired_per_channel)
-{
-    bench_paired p;
-    char name[160];
-    mutate_paired("scenes/cornell-glossy.scene", 16, 32, MUTATE_PP, &p, name, sizeof name);
-    if (!test_has_failed()) bench_paired_expect_consistent(&p, BENCH_Z_CONSISTENT);
 }
 
 /* Every strategy on cornell-glossy, glass and the two-tone scene. */

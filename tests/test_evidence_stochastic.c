@@ -19,19 +19,6 @@
 #include "test.h"
 #include "restir/frame/options.h"
 
-typedef struct {
-    const scene *s;
-    restir_options o;
-} sto_config;
-
-static int run_sto(void *user, uint32_t seed, double mean[3])
-{
-    sto_config *c = user;
-    restir_options o = c->o;
-    o.seed = seed;
-    return bench_restir_mean(c->s, &o, mean);
-}
-
 /* The stochastic pairwise step (an algorithm, not a MIS family: spatial_options.h). */
 #define STOCHASTIC_STEP (-1)
 
@@ -61,13 +48,14 @@ static void sto_options(restir_options *o, int mis, int n, int nc, int scaling_o
 static void sto_paired(int res, int runs, int max_depth, int n, int nc, int cells, bench_paired *p, const char *name)
 {
     scene s;
-    sto_config a, b;
+    bench_sequence_config a, b;
     if (rt_load_scene("scenes/shadow.scene", res, &s)) return;
     a.s = b.s = &s;
+    a.frame = b.frame = BENCH_OFFLINE;
     sto_options(&a.o, STOCHASTIC_STEP, n, nc, 0, cells, max_depth);
     sto_options(&b.o, MIS_PAIRWISE_DEFENSIVE, n, nc, 0, cells, max_depth);
     bench_paired_init(p, name);
-    bench_paired_run(p, runs, test_seed() * 2654435761u + 977u + (uint32_t)(n * 10 + nc), run_sto, &a, run_sto, &b);
+    bench_paired_run(p, runs, test_seed() * 2654435761u + 977u + (uint32_t)(n * 10 + nc), bench_sequence_run, &a, bench_sequence_run, &b);
     scene_free(&s);
 }
 

@@ -402,21 +402,7 @@ TEST_LONG(extremes_furnace_long)
 
 /* ---- M-caps through the real-time pipeline --------------------------------------------- */
 
-typedef struct {
-    double mean;
-    long nonfinite;
-} last_frame;
-
-static int keep_last(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
-{
-    last_frame *l = user;
-    (void)frame;
-    (void)st;
-    (void)e;
-    l->nonfinite = 0;
-    l->mean = image_mean(img, &l->nonfinite);
-    return 0;
-}
+enum { MAX_FRAMES = 32 };
 
 /* A still furnace over `frames` frames: the confidence of the temporal input grows to
  * min(mcap, frames) x the current one; the last frame must still average L_D. */
@@ -425,30 +411,24 @@ static void mcap_case(double mcap, int frames, int runs)
     scene s;
     extreme_result r;
     restir_options o;
-    restir_sequence seq;
+    image img[MAX_FRAMES];
     double x[MAX_RUNS];
     char name[64];
-    int k;
+    int k, f;
+    CHECK(frames <= MAX_FRAMES);
     if (furnace(&s, 8, 1)) return;
     restir_base(&o, 4);
     o.temporal.mcap = mcap;
     o.temporal.enabled = 1;
-    memset(&seq, 0, sizeof seq);
-    seq.first = 0;
-    seq.last = frames - 1;
     r.nonfinite = 0;
     for (k = 0; k < runs; ++k) {
-        last_frame l;
-        restir_stats total;
-        rerror e;
         o.seed = test_seed() * 15485863u + (uint32_t)k;
-        if (restir_render_sequence(&s, &o, &seq, keep_last, &l, &total, &e)) {
-            test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
+        if (rt_sequence_images(&s, &o, 0, frames - 1, img)) {
             scene_free(&s);
             return;
         }
-        x[k] = l.mean;
-        r.nonfinite += l.nonfinite;
+        x[k] = image_mean(&img[frames - 1], &r.nonfinite); /* the last frame */
+        for (f = 0; f < frames; ++f) image_free(&img[f]);
     }
     runs_summary(x, runs, &r);
     r.ref = furnace_reference(4);

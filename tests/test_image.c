@@ -5,6 +5,7 @@
 #include <string.h>
 #include "restir/core/checksum.h"
 #include "restir/core/image.h"
+#include "pt_util.h"
 #include "test.h"
 #include "restir/core/pfm.h"
 #include "restir/core/png.h"
@@ -136,15 +137,6 @@ TEST(pfm_read_big_endian_and_greyscale)
     image_free(&img);
 }
 
-static void sum_channels(const image *img, double sums[3])
-{
-    int x, y, c;
-    sums[0] = sums[1] = sums[2] = 0;
-    for (y = 0; y < img->height; ++y)
-        for (x = 0; x < img->width; ++x)
-            for (c = 0; c < 3; ++c) sums[c] += image_pixel(img, x, y)[c];
-}
-
 /* Real files from OpenImageIO-images and Pillow (../shared/data/pfm; README there).
  * Expected values were read independently with Python's struct module. */
 TEST(pfm_read_real_files)
@@ -166,7 +158,7 @@ TEST(pfm_read_real_files)
     CHECK(image_pixel(&img, 0, 0)[1] == 0.0005244798958301544f);
     CHECK(image_pixel(&img, 32, 31)[2] == 0.019046438857913017f); /* the maximum */
     CHECK(image_pixel(&img, 5, 7)[2] == 4.379277383361409e-18f);
-    sum_channels(&img, s);
+    test_image_sums(&img, s);
     CHECK_NEAR(s[0], 8.534689271589741, 1e-9);
     CHECK_NEAR(s[2], 3.8055140988271887, 1e-9);
     image_free(&img);
@@ -175,7 +167,7 @@ TEST(pfm_read_real_files)
     CHECK(img.width == 240 && img.height == 240 && channels == 3);
     CHECK(image_pixel(&img, 119, 120)[1] == 1.378121256828308f);
     CHECK(image_pixel(&img, 60, 0)[0] == 0.0001040587667375803f);
-    sum_channels(&img, s);
+    test_image_sums(&img, s);
     CHECK_NEAR(s[0], 2441.592633983891, 1e-7);
     image_free(&img);
 
@@ -184,7 +176,7 @@ TEST(pfm_read_real_files)
     CHECK(img.width == 240 && img.height == 240 && channels == 3);
     CHECK(image_pixel(&img, 60, 0)[0] == 0.018210284411907196f);
     CHECK(image_pixel(&img, 118, 40)[0] == 1.0f && image_pixel(&img, 118, 40)[1] == 0.6235294342041016f);
-    sum_channels(&img, s);
+    test_image_sums(&img, s);
     CHECK_NEAR(s[0], 20126.17039936947, 1e-7);
     CHECK_NEAR(s[1], 9762.094406356553, 1e-7);
     CHECK_NEAR(s[2], 3544.0646725980914, 1e-7);
@@ -195,7 +187,7 @@ TEST(pfm_read_real_files)
     CHECK(img.width == 128 && img.height == 128 && channels == 1);
     CHECK(image_pixel(&img, 0, 0)[0] == 26.0f && image_pixel(&img, 127, 0)[1] == 113.0f);
     CHECK(image_pixel(&img, 127, 127)[2] == 158.0f && image_pixel(&img, 73, 8)[0] == 255.0f);
-    sum_channels(&img, s);
+    test_image_sums(&img, s);
     CHECK(s[0] == 1387784.0 && s[1] == s[0] && s[2] == s[0]);
     CHECKF(pfm_read(SHARED_PFM "/pillow/hopper_be.pfm", &be, &channels, &e) == 0, "%s", e.msg);
     CHECK(channels == 1);

@@ -62,13 +62,7 @@ typedef struct {
 
 static int bench_open(sky_bench *b, int shift)
 {
-    rerror e;
-    if (rt_load_scene("scenes/courtyard.scene", 32, &b->s)) return -1;
-    if (lights_build(&b->lights, &b->s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&b->s);
-        return -1;
-    }
+    if (rt_load_scene_lights("scenes/courtyard.scene", 32, &b->s, &b->lights)) return -1;
     rt_context(&b->c, &b->s, &b->lights, shift);
     return 0;
 }

@@ -21,23 +21,34 @@ static void options(pt_options *o, int depth, uint32_t spp)
     o->threads = 2;
 }
 
+/* Side a (K runs of the path tracer with the options a; the side is freed here) against ref
+ * at level 1e-3 in 8 x 8 blocks, paired or not: the margin, and with RESTIR_TEST_VERBOSE the
+ * numbers, reported as `what`. 0 on success (*c then holds the verdict's numbers). */
+static int compare_pt(const scene *s, const pt_options *a, int runs, const check_side *ref, int paired,
+                      const char *what, check_result *c)
+{
+    check_side sa;
+    int status;
+    if (rt_pt_side_options(s, a, runs, 8, &sa)) return -1;
+    status = rt_compare_sides(&sa, ref, 1e-3, 8, paired, c);
+    check_side_free(&sa);
+    if (status) return status;
+    check_result_free(c);
+    test_margin(fabs(rt_mean_z(c)) > fabs(c->worst.z) ? rt_mean_z(c) : c->worst.z);
+    if (getenv("RESTIR_TEST_VERBOSE"))
+        fprintf(stderr, "  %s%s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
+                paired ? " (paired)" : "", rt_mean_z(c), c->lum_a.mean, c->lum_b.mean, c->rejected, c->tests,
+                c->worst.z);
+    return 0;
+}
+
 /* The ablation a against the correct light RIS side ref rendered with the SAME numbers (a's
  * seed; 16 runs each): paired (check_compare_paired, run k against run k), so only the
  * changed MIS weight of the BSDF hits differs between the sides. Must be rejected. */
 static void ablation_paired(const scene *s, const check_side *ref, const pt_options *a, const char *what)
 {
-    check_side sa;
     check_result c;
-    int status;
-    if (rt_pt_side_options(s, a, 16, 8, &sa)) return;
-    status = rt_compare_sides(&sa, ref, 1e-3, 8, 1, &c);
-    check_side_free(&sa);
-    if (status) return;
-    check_result_free(&c);
-    test_margin(fabs(rt_mean_z(&c)) > fabs(c.worst.z) ? rt_mean_z(&c) : c.worst.z);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s (paired): mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n",
-                what, rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+    if (compare_pt(s, a, 16, ref, 1, what, &c)) return;
     CHECKF(c.different, "%s not detected (paired): mean z %.2f, worst block z %.2f", what, rt_mean_z(&c), c.worst.z);
 }
 
@@ -57,19 +68,9 @@ static void compare_with(const scene *s, const check_side *ref, const pt_options
                          const char *what)
 {
     pt_options a_seeded = *a;
-    check_side sa;
     check_result c;
-    int status;
     a_seeded.seed = test_seed() * 131u + 7;
-    if (rt_pt_side_options(s, &a_seeded, 8, 8, &sa)) return;
-    status = rt_compare_sides(&sa, ref, 1e-3, 8, 0, &c);
-    check_side_free(&sa);
-    if (status) return;
-    check_result_free(&c);
-    test_margin(fabs(rt_mean_z(&c)) > fabs(c.worst.z) ? rt_mean_z(&c) : c.worst.z);
-    if (getenv("RESTIR_TEST_VERBOSE"))
-        fprintf(stderr, "  %s: mean z %.2f (lum %.6g vs %.6g), %ld/%ld blocks rejected, worst block z %.2f\n", what,
-                rt_mean_z(&c), c.lum_a.mean, c.lum_b.mean, c.rejected, c.tests, c.worst.z);
+    if (compare_pt(s, &a_seeded, 8, ref, 0, what, &c)) return;
     if (expect_different)
         CHECKF(c.different, "%s not detected: mean p = %.3g (lum %.5g vs %.5g), worst block z %.2f", what,
                c.global.p, c.lum_a.mean, c.lum_b.mean, c.worst.z);
@@ -191,6 +192,23 @@ TEST(light_tiles_are_addressed)
     scene_free(&s);
 }
 
+/* Light RIS with n candidates (the options o otherwise), then the same with light tiles,
+ * against the plain sampler on s. 0 if both agree with it (a test failure otherwise). */
+static int ris_against_plain(const scene *s, pt_options *o, int n)
+{
+    check_side plain;
+    char what[64];
+    if (plain_side(s, o, &plain)) return -1;
+    o->light_ris.candidates = n;
+    snprintf(what, sizeof what, "light RIS N = %d", n);
+    compare_with(s, &plain, o, 0, what);
+    o->light_ris.tiles = 1;
+    snprintf(what, sizeof what, "light RIS N = %d with tiles", n);
+    if (!test_has_failed()) compare_with(s, &plain, o, 0, what);
+    check_side_free(&plain);
+    return test_has_failed() ? -1 : 0;
+}
+
 /* Light RIS (N = 32 at x1, the paper's count) against the plain sampler on the
  * many-lights hall: direct and one-bounce light (d <= 3), where the NEE/BSDF MIS weights
  * carry p̃ on both sides. Then the same with light tiles; the ablation is compared with the
@@ -199,20 +217,14 @@ TEST(light_ris_unbiased_many_lights)
 {
     scene s;
     pt_options o;
-    check_side plain;
+    check_side ris;
     if (rt_load_scene("scenes/many-lights.scene", 24, &s)) return;
     options(&o, 3, 16);
-    if (plain_side(&s, &o, &plain) == 0) {
-        check_side ris;
-        o.light_ris.candidates = 32;
-        compare_with(&s, &plain, &o, 0, "light RIS N = 32");
-        o.light_ris.tiles = 1;
-        if (!test_has_failed()) compare_with(&s, &plain, &o, 0, "light RIS N = 32 with tiles");
-        check_side_free(&plain);
+    if (ris_against_plain(&s, &o, 32) == 0) {
         o.light_ris.tiles = 0;
         o.seed = test_seed() * 131u + 9;
         o.spp = 8; /* 16 runs of 8: a paired z saturates near 5 with 8 runs (7 dof) */
-        if (!test_has_failed() && rt_pt_side_options(&s, &o, 16, 8, &ris) == 0) {
+        if (rt_pt_side_options(&s, &o, 16, 8, &ris) == 0) {
             o.ablations = PT_ABLATE_LIGHT_RIS_PDF;
             ablation_paired(&s, &ris, &o, "ablation light-ris-pdf vs light RIS");
             check_side_free(&ris);
@@ -226,16 +238,9 @@ TEST(light_ris_unbiased_cornell_glossy)
 {
     scene s;
     pt_options o;
-    check_side plain;
     if (rt_load_scene("scenes/cornell-glossy.scene", 24, &s)) return;
     options(&o, 5, 16);
-    if (plain_side(&s, &o, &plain) == 0) {
-        o.light_ris.candidates = 8;
-        compare_with(&s, &plain, &o, 0, "light RIS N = 8");
-        o.light_ris.tiles = 1;
-        if (!test_has_failed()) compare_with(&s, &plain, &o, 0, "light RIS N = 8 with tiles");
-        check_side_free(&plain);
-    }
+    ris_against_plain(&s, &o, 8);
     scene_free(&s);
 }
 

@@ -10,7 +10,9 @@
 #include "restir/scene/light_shapes.h"
 #include "restir/scene/scene.h"
 #include "restir/scene/scene_trace.h"
+#include "scene_text_util.h"
 #include "test.h"
+#include "text_util.h"
 
 #define PI_D 3.14159265358979323846
 
@@ -18,10 +20,8 @@ static const char *floor_obj = "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nf 1 3 2\
 
 static int load_lights(scene *s, const char *scene_text, rerror *e)
 {
-    char path[1024];
     test_write_file("lit-floor.obj", floor_obj);
-    snprintf(path, sizeof path, "%s", test_write_file("lights.scene", scene_text));
-    return scene_load(s, path, e);
+    return scene_from_text(s, "lights.scene", scene_text, e);
 }
 
 /* Per channel: sum over the triangles of material `name` of pi Ke area (one-sided
@@ -114,9 +114,7 @@ TEST(light_quad_and_disk_area_and_side)
 
 TEST(light_errors_have_file_and_line)
 {
-    static const struct {
-        const char *text, *message;
-    } cases[] = {
+    static const bad_input cases[] = {
         {"mesh lit-floor.obj\nlight\n", "lights.scene:2: light: missing shape"},
         {"mesh lit-floor.obj\nlight cube 0 0 0 1 1 1 1\n", "lights.scene:2: light: unknown shape 'cube'"},
         {"mesh lit-floor.obj\nlight sphere 0 0 0 1 1 1\n", "lights.scene:2: light sphere: expected 7 numbers"},
@@ -139,12 +137,12 @@ TEST(light_errors_have_file_and_line)
     for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         scene s;
         rerror e;
-        int failed = load_lights(&s, cases[i].text ? cases[i].text : many, &e) != 0;
+        int failed = load_lights(&s, cases[i].input ? cases[i].input : many, &e) != 0;
         if (!failed) scene_free(&s);
         if (!failed) free(many);
         CHECKF(failed, "case %zu loaded", i);
-        if (!strstr(e.msg, cases[i].message)) free(many);
-        CHECKF(strstr(e.msg, cases[i].message) != NULL, "case %zu: '%s' lacks '%s'", i, e.msg, cases[i].message);
+        if (!strstr(e.msg, cases[i].expect)) free(many);
+        CHECKF(strstr(e.msg, cases[i].expect) != NULL, "case %zu: '%s' lacks '%s'", i, e.msg, cases[i].expect);
     }
     free(many);
 }

@@ -100,6 +100,20 @@ const char *test_tmp_path(const char *name)
     return p;
 }
 
+#define KEPT_PATHS 64
+static char kept[KEPT_PATHS][1024];
+static int n_kept;
+
+const char *test_tmp_keep(const char *name)
+{
+    if (n_kept == KEPT_PATHS) {
+        test_fail(__FILE__, __LINE__, "more than %d test_tmp_keep paths in one test", KEPT_PATHS);
+        n_kept = KEPT_PATHS - 1;
+    }
+    snprintf(kept[n_kept], sizeof kept[0], "%s/%s", RESTIR_TMP, name);
+    return kept[n_kept++];
+}
+
 int test_files_equal(const char *a, const char *b)
 {
     FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
@@ -150,18 +164,15 @@ char *test_read_text(const char *path)
     return buf;
 }
 
-int test_cli(char *out, size_t out_size, const char *fmt, ...)
+/* Runs `WRAPPER build/restir ARGS` (WRAPPER may be empty), stdout+stderr into out. */
+static int run_restir(char *out, size_t out_size, const char *wrapper, const char *args)
 {
-    char args[4096], cmd[8192];
+    char cmd[8192];
     const char *capture = test_tmp_path("cli-output.txt");
     char capture_copy[1024];
-    va_list ap;
     int status;
-    va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
-    va_end(ap);
     snprintf(capture_copy, sizeof capture_copy, "%s", capture);
-    snprintf(cmd, sizeof cmd, "%s %s >'%s' 2>&1 </dev/null", RESTIR_BIN, args, capture_copy);
+    snprintf(cmd, sizeof cmd, "%s%s %s >'%s' 2>&1 </dev/null", wrapper, RESTIR_BIN, args, capture_copy);
     status = system(cmd);
     if (out && out_size) {
         FILE *f = fopen(capture_copy, "rb");
@@ -174,6 +185,23 @@ int test_cli(char *out, size_t out_size, const char *fmt, ...)
     }
     if (status == -1 || !WIFEXITED(status)) return -1;
     return WEXITSTATUS(status);
+}
+
+int test_cli(char *out, size_t out_size, const char *fmt, ...)
+{
+    char args[4096];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(args, sizeof args, fmt, ap);
+    va_end(ap);
+    return run_restir(out, out_size, "", args);
+}
+
+int test_cli_signal(char *out, size_t out_size, const char *sig, double seconds, const char *args)
+{
+    char wrapper[128];
+    snprintf(wrapper, sizeof wrapper, "timeout --preserve-status -s %s %g ", sig, seconds);
+    return run_restir(out, out_size, wrapper, args);
 }
 
 static double wall_seconds(void)
@@ -226,6 +254,7 @@ int main(int argc, char **argv)
         current_failed = 0;
         current_margin = -1;
         current_message[0] = '\0';
+        n_kept = 0;
         t0 = wall_seconds();
         t->fn();
         if (current_failed) {

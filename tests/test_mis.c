@@ -51,6 +51,18 @@ static void case_wire(mis_case *t)
     t->in.ptarget = t->p;
 }
 
+/* A case by hand: m domains, the first n_canonical canonical, confidences c, every "p̂
+ * from i" 0 (the caller sets the ones it needs). */
+static void hand_case(mis_case *t, int m, int n_canonical, const real *c)
+{
+    int i;
+    memset(t, 0, sizeof *t);
+    t->m = m;
+    t->n_canonical = n_canonical;
+    for (i = 0; i < m; ++i) t->c[i] = c[i];
+    case_wire(t);
+}
+
 /* Random case: about 30% failed shifts (zero "p̂ from i"), 15% zero canonical targets,
  * 10% zero confidences, targets spread over four orders of magnitude. Canonical rows are
  * one shared p̂(y_j) (identity shift, same target). */
@@ -72,6 +84,22 @@ static void random_case(test_rng *r, mis_case *t, int allow_zero_confidence)
     case_wire(t);
 }
 
+/* One property over random cases: trial 0..trials-1 of test `id` (its own RNG addresses),
+ * each case drawn by random_case and given to check (with the RNG, for more numbers), until
+ * a check fails. */
+typedef void (*case_check)(test_rng *r, mis_case *t, int trial);
+
+static void each_random_case(uint32_t id, int trials, int allow_zero_confidence, case_check check)
+{
+    int trial;
+    for (trial = 0; trial < trials && !test_has_failed(); ++trial) {
+        test_rng r = test_rng_make(id, (uint32_t)trial);
+        mis_case t;
+        random_case(&r, &t, allow_zero_confidence);
+        check(&r, &t, trial);
+    }
+}
+
 static const mis_family proper_families[3] = {MIS_TALBOT, MIS_PAIRWISE_UNIFORM, MIS_PAIRWISE_DEFENSIVE};
 
 /* GRIS Eq. 20 / Stochastic MIS Eq. 8: for every proper family and every sample point y_j,
@@ -80,52 +108,47 @@ static const mis_family proper_families[3] = {MIS_TALBOT, MIS_PAIRWISE_UNIFORM, 
  * sum over the domains that CAN produce y_j is 1 too (the sum Eq. 20 really asks for);
  * this needs some canonical confidence (c_R > 0), otherwise the canonical fallback holds.
  * Points with all-zero targets get the documented canonical convention. */
-TEST(mis_partition_of_unity_random)
+static void partition_of_unity_random(test_rng *r, mis_case *t, int trial)
 {
-    int trial, f, i, j;
-    for (trial = 0; trial < 3000; ++trial) {
-        test_rng r = test_rng_make(1, (uint32_t)trial);
-        mis_case t;
-        random_case(&r, &t, 1);
-        for (f = 0; f < 3; ++f) {
-            for (j = 0; j < t.m; ++j) {
-                real m[MAX_M], sum = 0, sum_generating = 0, p_hat = t.p[j], c_R = 0;
-                for (i = 0; i < t.n_canonical; ++i) c_R += t.c[i];
-                mis_weights_at(proper_families[f], &t.in, j, m, NULL);
-                for (i = 0; i < t.m; ++i) {
-                    real q = t.p[i * t.m + j];
-                    CHECKF(m[i] >= 0 && m[i] <= 1 + TOL, "%s trial %d: m_%d(y_%d) = %g",
+    int f, i, j;
+    (void)r;
+    for (f = 0; f < 3; ++f) {
+        for (j = 0; j < t->m; ++j) {
+            real m[MAX_M], sum = 0, sum_generating = 0, p_hat = t->p[j], c_R = 0;
+            for (i = 0; i < t->n_canonical; ++i) c_R += t->c[i];
+            mis_weights_at(proper_families[f], &t->in, j, m, NULL);
+            for (i = 0; i < t->m; ++i) {
+                real q = t->p[i * t->m + j];
+                CHECKF(m[i] >= 0 && m[i] <= 1 + TOL, "%s trial %d: m_%d(y_%d) = %g",
+                       mis_family_name(proper_families[f]), trial, i, j, (double)m[i]);
+                sum += m[i];
+                if (q > 0) sum_generating += m[i];
+                if (p_hat > 0 && c_R > 0 && (q == 0 || t->c[i] == 0))
+                    CHECKF(m[i] == 0, "%s trial %d: domain %d cannot produce y_%d but m = %g",
                            mis_family_name(proper_families[f]), trial, i, j, (double)m[i]);
-                    sum += m[i];
-                    if (q > 0) sum_generating += m[i];
-                    if (p_hat > 0 && c_R > 0 && (q == 0 || t.c[i] == 0))
-                        CHECKF(m[i] == 0, "%s trial %d: domain %d cannot produce y_%d but m = %g",
-                               mis_family_name(proper_families[f]), trial, i, j, (double)m[i]);
-                }
-                CHECKF(fabs(sum - 1) <= TOL, "%s trial %d (M=%d R=%d) at y_%d: sum m = %.17g",
-                       mis_family_name(proper_families[f]), trial, t.m, t.n_canonical, j, (double)sum);
-                if (p_hat > 0)
-                    CHECKF(fabs(sum_generating - 1) <= TOL, "%s trial %d: sum over producing domains %.17g",
-                           mis_family_name(proper_families[f]), trial, (double)sum_generating);
             }
+            CHECKF(fabs(sum - 1) <= TOL, "%s trial %d (M=%d R=%d) at y_%d: sum m = %.17g",
+                   mis_family_name(proper_families[f]), trial, t->m, t->n_canonical, j, (double)sum);
+            if (p_hat > 0)
+                CHECKF(fabs(sum_generating - 1) <= TOL, "%s trial %d: sum over producing domains %.17g",
+                       mis_family_name(proper_families[f]), trial, (double)sum_generating);
         }
     }
+}
+
+TEST(mis_partition_of_unity_random)
+{
+    each_random_case(1, 3000, 1, partition_of_unity_random);
 }
 
 /* The all-zero convention: a point no domain's target reaches (outside supp p̂) gets its
  * whole weight on the canonical domains, split by confidence, for every family. */
 TEST(mis_all_zero_targets_convention)
 {
+    static const real c[4] = {1, 3, 2, 5};
     mis_case t;
     int f, i;
-    memset(&t, 0, sizeof t);
-    t.m = 4;
-    t.n_canonical = 2;
-    t.c[0] = 1;
-    t.c[1] = 3;
-    t.c[2] = 2;
-    t.c[3] = 5;
-    case_wire(&t);
+    hand_case(&t, 4, 2, c);
     for (f = 0; f < 3; ++f) {
         real m[4];
         mis_weights_at(proper_families[f], &t.in, 2, m, NULL);
@@ -152,17 +175,12 @@ TEST(mis_constant_is_not_a_partition_where_supports_differ)
 {
     int trial, i, j, seen_deficit = 0;
     mis_case t;
+    static const real c[3] = {1, 2, 3};
     /* a hand example first: domain 2 cannot produce y_0 */
-    memset(&t, 0, sizeof t);
-    t.m = 3;
-    t.n_canonical = 1;
-    t.c[0] = 1;
-    t.c[1] = 2;
-    t.c[2] = 3;
+    hand_case(&t, 3, 1, c);
     t.p[0 * 3 + 0] = 0.7;
     t.p[1 * 3 + 0] = 0.4;
     t.p[2 * 3 + 0] = 0; /* failed shift of y_0 into domain 2 */
-    case_wire(&t);
     {
         real m0 = mis_constant(&t.in, 0, 0, NULL), m1 = mis_constant(&t.in, 1, 0, NULL);
         CHECK_NEAR(m0 + m1, 0.5, TOL); /* (1 + 2) / 6: half of y_0's weight is lost */
@@ -221,22 +239,22 @@ TEST(mis_talbot_equal_targets_gives_confidence_shares)
 /* Pairwise MIS approximates the Talbot denominator sum_k c_k q_k by c_S q_i (pair i stands
  * in for all non-canonical domains, docs §3.3). So when every non-canonical "p̂ from k"
  * equals the same q, the uniform variant IS the Talbot weight, for any p̂ and confidences. */
+static void pairwise_uniform_equals_talbot_when_neighbors_agree(test_rng *r, mis_case *t, int trial)
+{
+    int i, j, k;
+    for (j = 0; j < t->m; ++j) {
+        real q = urand(r) < 0.2 ? 0 : (real)0.01 + urand(r);
+        for (k = t->n_canonical; k < t->m; ++k) t->p[k * t->m + j] = q;
+    }
+    for (j = 0; j < t->m; ++j)
+        for (i = 0; i < t->m; ++i)
+            CHECKF(fabs(mis_pairwise_uniform(&t->in, i, j, NULL) - mis_talbot(&t->in, i, j, NULL)) <= TOL,
+                   "trial %d i %d j %d", trial, i, j);
+}
+
 TEST(mis_pairwise_uniform_equals_talbot_when_neighbors_agree)
 {
-    int trial, i, j, k;
-    for (trial = 0; trial < 1000; ++trial) {
-        test_rng r = test_rng_make(4, (uint32_t)trial);
-        mis_case t;
-        random_case(&r, &t, 0);
-        for (j = 0; j < t.m; ++j) {
-            real q = urand(&r) < 0.2 ? 0 : (real)0.01 + urand(&r);
-            for (k = t.n_canonical; k < t.m; ++k) t.p[k * t.m + j] = q;
-        }
-        for (j = 0; j < t.m; ++j)
-            for (i = 0; i < t.m; ++i)
-                CHECKF(fabs(mis_pairwise_uniform(&t.in, i, j, NULL) - mis_talbot(&t.in, i, j, NULL)) <= TOL,
-                       "trial %d i %d j %d", trial, i, j);
-    }
+    each_random_case(4, 1000, 0, pairwise_uniform_equals_talbot_when_neighbors_agree);
 }
 
 /* ---- the papers' formulas, transcribed literally for unit confidences ---- */
@@ -266,59 +284,61 @@ static real paper_eq37_38(const mis_case *t, int i, int y, int defensive)
 
 /* With c_i = 1 the confidence-weighted families are exactly GRIS Eqs. 36, 37 and 38 (any
  * |R|), checked where the paper's formulas are defined (positive targets). */
-TEST(mis_unit_confidences_match_gris_eqs_36_37_38)
+static void unit_confidences_match_gris_eqs_36_37_38(test_rng *r, mis_case *t, int trial)
 {
-    int trial, i, j, k;
-    for (trial = 0; trial < 1500; ++trial) {
-        test_rng r = test_rng_make(5, (uint32_t)trial);
-        mis_case t;
-        random_case(&r, &t, 0);
-        if (t.m == t.n_canonical) continue; /* Eq. 37 needs a non-canonical domain */
-        for (i = 0; i < t.m; ++i) t.c[i] = 1;
-        for (k = 0; k < t.m * t.m; ++k) t.p[k] = (real)0.01 + urand(&r); /* positive */
-        for (j = 0; j < t.m; ++j) {
-            real pj = t.p[j];
-            for (i = 0; i < t.n_canonical; ++i) t.p[i * t.m + j] = pj;
-        }
-        for (j = 0; j < t.m; ++j) {
-            for (i = 0; i < t.m; ++i) {
-                CHECK_NEAR(mis_talbot(&t.in, i, j, NULL), paper_eq36(&t, i, j), TOL);
-                CHECK_NEAR(mis_pairwise_uniform(&t.in, i, j, NULL), paper_eq37_38(&t, i, j, 0), TOL);
-                CHECK_NEAR(mis_pairwise_defensive(&t.in, i, j, NULL), paper_eq37_38(&t, i, j, 1), TOL);
-            }
+    int i, j, k;
+    (void)trial;
+    if (t->m == t->n_canonical) return; /* Eq. 37 needs a non-canonical domain */
+    for (i = 0; i < t->m; ++i) t->c[i] = 1;
+    for (k = 0; k < t->m * t->m; ++k) t->p[k] = (real)0.01 + urand(r); /* positive */
+    for (j = 0; j < t->m; ++j) {
+        real pj = t->p[j];
+        for (i = 0; i < t->n_canonical; ++i) t->p[i * t->m + j] = pj;
+    }
+    for (j = 0; j < t->m; ++j) {
+        for (i = 0; i < t->m; ++i) {
+            CHECK_NEAR(mis_talbot(&t->in, i, j, NULL), paper_eq36(t, i, j), TOL);
+            CHECK_NEAR(mis_pairwise_uniform(&t->in, i, j, NULL), paper_eq37_38(t, i, j, 0), TOL);
+            CHECK_NEAR(mis_pairwise_defensive(&t->in, i, j, NULL), paper_eq37_38(t, i, j, 1), TOL);
         }
     }
 }
 
+TEST(mis_unit_confidences_match_gris_eqs_36_37_38)
+{
+    each_random_case(5, 1500, 0, unit_confidences_match_gris_eqs_36_37_38);
+}
+
 /* Stochastic MIS Eqs. 11a/11b/12 (one canonical domain c = 0, confidences c_i),
  * transcribed literally, equal mis_pairwise_defensive. */
-TEST(mis_defensive_matches_stochastic_mis_eq_11)
+static void defensive_matches_stochastic_mis_eq_11(test_rng *r, mis_case *t, int trial)
 {
-    int trial, i, j, k;
-    for (trial = 0; trial < 1000; ++trial) {
-        test_rng r = test_rng_make(6, (uint32_t)trial);
-        mis_case t;
-        random_case(&r, &t, 0);
-        t.n_canonical = 1;
-        case_wire(&t);
-        for (k = 0; k < t.m * t.m; ++k) t.p[k] = (real)0.01 + urand(&r);
-        for (j = 0; j < t.m; ++j) {
-            real cS = 0, cc = t.c[0], p_hat = t.p[j];
-            for (k = 1; k < t.m; ++k) cS += t.c[k]; /* Eq. 12 */
-            for (i = 0; i < t.m; ++i) {
-                real expected;
-                if (i > 0) { /* Eq. 11a */
-                    real q = t.p[i * t.m + j];
-                    expected = cS / (cS + cc) * t.c[i] * q / (cS * q + cc * p_hat);
-                } else { /* Eq. 11b */
-                    expected = cc / (cS + cc);
-                    for (k = 1; k < t.m; ++k)
-                        expected += t.c[k] / (cS + cc) * cc * p_hat / (cS * t.p[k * t.m + j] + cc * p_hat);
-                }
-                CHECK_NEAR(mis_pairwise_defensive(&t.in, i, j, NULL), expected, TOL);
+    int i, j, k;
+    (void)trial;
+    t->n_canonical = 1;
+    case_wire(t);
+    for (k = 0; k < t->m * t->m; ++k) t->p[k] = (real)0.01 + urand(r);
+    for (j = 0; j < t->m; ++j) {
+        real cS = 0, cc = t->c[0], p_hat = t->p[j];
+        for (k = 1; k < t->m; ++k) cS += t->c[k]; /* Eq. 12 */
+        for (i = 0; i < t->m; ++i) {
+            real expected;
+            if (i > 0) { /* Eq. 11a */
+                real q = t->p[i * t->m + j];
+                expected = cS / (cS + cc) * t->c[i] * q / (cS * q + cc * p_hat);
+            } else { /* Eq. 11b */
+                expected = cc / (cS + cc);
+                for (k = 1; k < t->m; ++k)
+                    expected += t->c[k] / (cS + cc) * cc * p_hat / (cS * t->p[k * t->m + j] + cc * p_hat);
             }
+            CHECK_NEAR(mis_pairwise_defensive(&t->in, i, j, NULL), expected, TOL);
         }
     }
+}
+
+TEST(mis_defensive_matches_stochastic_mis_eq_11)
+{
+    each_random_case(6, 1000, 0, defensive_matches_stochastic_mis_eq_11);
 }
 
 /* M = 2 (one canonical, one neighbour): Talbot, uniform pairwise and the two-domain merge
@@ -382,34 +402,35 @@ TEST(mis_two_domains_closed_forms)
  * so a candidate's resampling weight w_i = m_i p̂ W_i J_i <= (c_i/c_R) p̂_i(X_i) W_i stays
  * bounded whatever its Jacobian. The defensive variant also keeps the canonical weight
  * >= c_r / C and a neighbour's <= c_i / C ("always higher for canonical samples"). */
-TEST(mis_weight_bound_gris_eq_39)
+static void weight_bound_gris_eq_39(test_rng *r, mis_case *t, int trial)
 {
-    int trial, f, i, j;
-    for (trial = 0; trial < 2000; ++trial) {
-        test_rng r = test_rng_make(8, (uint32_t)trial);
-        mis_case t;
-        real c_R = 0, C = 0;
-        random_case(&r, &t, 0);
-        for (i = 0; i < t.m; ++i) {
-            C += t.c[i];
-            if (i < t.n_canonical) c_R += t.c[i];
-        }
-        for (j = 0; j < t.m; ++j) {
-            real p_hat = t.p[j];
-            if (p_hat == 0) continue;
-            for (f = 0; f < 3; ++f) {
-                for (i = 0; i < t.m; ++i) {
-                    real m = mis_weight(proper_families[f], &t.in, i, j, NULL), q = t.p[i * t.m + j];
-                    CHECKF(m * p_hat <= t.c[i] / c_R * q * (1 + TOL) + TOL * q, "%s trial %d i %d j %d",
-                           mis_family_name(proper_families[f]), trial, i, j);
-                    if (proper_families[f] == MIS_PAIRWISE_DEFENSIVE) {
-                        if (i < t.n_canonical) CHECK(m >= t.c[i] / C - TOL);
-                        else CHECK(m <= t.c[i] / C + TOL);
-                    }
+    int f, i, j;
+    real c_R = 0, C = 0;
+    (void)r;
+    for (i = 0; i < t->m; ++i) {
+        C += t->c[i];
+        if (i < t->n_canonical) c_R += t->c[i];
+    }
+    for (j = 0; j < t->m; ++j) {
+        real p_hat = t->p[j];
+        if (p_hat == 0) continue;
+        for (f = 0; f < 3; ++f) {
+            for (i = 0; i < t->m; ++i) {
+                real m = mis_weight(proper_families[f], &t->in, i, j, NULL), q = t->p[i * t->m + j];
+                CHECKF(m * p_hat <= t->c[i] / c_R * q * (1 + TOL) + TOL * q, "%s trial %d i %d j %d",
+                       mis_family_name(proper_families[f]), trial, i, j);
+                if (proper_families[f] == MIS_PAIRWISE_DEFENSIVE) {
+                    if (i < t->n_canonical) CHECK(m >= t->c[i] / C - TOL);
+                    else CHECK(m <= t->c[i] / C + TOL);
                 }
             }
         }
     }
+}
+
+TEST(mis_weight_bound_gris_eq_39)
+{
+    each_random_case(8, 2000, 0, weight_bound_gris_eq_39);
 }
 
 /* Shift evaluations per GRIS step: counted reads of entries that need a shift, summed over

@@ -106,50 +106,15 @@ TEST(mutate_toy_unbiased_without_burn_in)
 
 /* ---- the kernel round trip ------------------------------------------------------------------ */
 
-/* A frame's reservoirs on a small scene, with the context to mutate them. */
-typedef struct {
-    scene s;
-    restir_result res;
-    light_set lights;
-    restir_context c;
-} frame_fixture;
-
-static int fixture_open(frame_fixture *f, const char *path, int res, int shift, uint32_t seed)
-{
-    restir_options o;
-    rerror e;
-    memset(f, 0, sizeof *f);
-    if (rt_load_scene(path, res, &f->s)) return -1;
-    restir_options_default(&o);
-    o.shift = shift;
-    o.max_depth = 6;
-    o.keep_reservoirs = 1;
-    o.seed = seed;
-    if (restir_render(&f->s, &o, &f->res, &e) || lights_build(&f->lights, &f->s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&f->s);
-        return -1;
-    }
-    rt_context(&f->c, &f->s, &f->lights, shift);
-    return 0;
-}
-
-static void fixture_close(frame_fixture *f)
-{
-    lights_free(&f->lights);
-    restir_result_free(&f->res);
-    scene_free(&f->s);
-}
-
 static real mirror_of(real xi) { return xi < (real)0.5 ? xi + (real)0.5 : xi - (real)0.5; }
 
 /* For reservoirs of a real frame: z = propose(y, xi); the mirrored numbers propose y again
  * from z (same p̂, same x_k), and ratio(y->z) ratio(z->y) = 1. */
 static void round_trip(const char *path, int shift, int strategy, int *checked, double *worst)
 {
-    frame_fixture f;
+    rt_frame f;
     int x, y;
-    if (fixture_open(&f, path, 16, shift, test_seed())) return;
+    if (rt_frame_open(&f, path, 16, shift, 6, test_seed())) return;
     for (y = 0; y < f.s.height && !test_has_failed(); ++y)
         for (x = 0; x < f.s.width && !test_has_failed(); ++x) {
             const path_sample *py = &f.res.reservoirs[y * f.s.width + x].y;
@@ -185,7 +150,7 @@ static void round_trip(const char *path, int shift, int strategy, int *checked, 
             CHECKF(back.rc_k == py->rc_k, "%s %s (%d,%d): the mirrored mutation has k = %d, not %d", path,
                    mutate_strategy_names[strategy], x, y, back.rc_k, py->rc_k);
         }
-    fixture_close(&f);
+    rt_frame_close(&f);
 }
 
 TEST(mutate_kernel_round_trip)
@@ -533,10 +498,10 @@ static int rv_map(const restir_context *c, const path_vertex *y1, const path_sam
  * each determined vertex multiplied in (its number is drawn uniformly in the lobe interval). */
 static void eq20_fd(const char *path, int *checked, double *worst)
 {
-    frame_fixture f;
+    rt_frame f;
     int x, y;
     const double h = 2e-4;
-    if (fixture_open(&f, path, 16, RESTIR_SHIFT_HYBRID, test_seed() + 3)) return;
+    if (rt_frame_open(&f, path, 16, RESTIR_SHIFT_HYBRID, 6, test_seed() + 3)) return;
     for (y = 0; y < f.s.height && !test_has_failed(); ++y)
         for (x = 0; x < f.s.width && !test_has_failed(); ++x) {
             const path_sample *py = &f.res.reservoirs[y * f.s.width + x].y;
@@ -580,7 +545,7 @@ static void eq20_fd(const char *path, int *checked, double *worst)
             if (rel > *worst) *worst = rel;
             CHECKF(rel < 0.02, "%s (%d,%d): Eq. 20 ratio %g, finite-difference |db'/db| %g", path, x, y, (double)ratio, fd);
         }
-    fixture_close(&f);
+    rt_frame_close(&f);
 }
 
 TEST(mutate_eq20_finite_difference)

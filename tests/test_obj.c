@@ -11,29 +11,16 @@
 #include "restir/scene/scene_builder.h"
 #include "restir/scene/text.h"
 #include "restir/scene/triangulate.h"
+#include "scene_text_util.h"
 #include "test.h"
 #include "restir/scene/mtl.h"
 
 /* Writes the file and loads it; returns scene_load's status (e filled on failure). */
-static int load_text(scene *s, const char *name, const char *text, rerror *e)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "%s", test_write_file(name, text));
-    return scene_load(s, path, e);
-}
+static int load_text(scene *s, const char *name, const char *text, rerror *e) { return scene_from_text(s, name, text, e); }
 
 static int tri_is(const scene *s, size_t i, uint32_t a, uint32_t b, uint32_t c)
 {
     return s->triangles[i].v[0] == a && s->triangles[i].v[1] == b && s->triangles[i].v[2] == c;
-}
-
-/* 1 if msg starts with "<tmpdir>/<name>:<line>: " and contains `what`. */
-static int error_at(const char *msg, const char *name, long line, const char *what)
-{
-    char prefix[1200];
-    if (line > 0) snprintf(prefix, sizeof prefix, "%s:%ld: ", test_tmp_path(name), line);
-    else snprintf(prefix, sizeof prefix, "%s: ", test_tmp_path(name));
-    return !strncmp(msg, prefix, strlen(prefix)) && strstr(msg, what) != NULL && !strchr(msg, '\n');
 }
 
 static const char *unit_square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
@@ -349,14 +336,6 @@ TEST(obj_object_ids)
     scene_free(&s);
 }
 
-static const material *find_material(const scene *s, const char *name)
-{
-    size_t i;
-    for (i = 0; i < s->material_count; ++i)
-        if (!strcmp(s->materials[i].name, name)) return &s->materials[i];
-    return NULL;
-}
-
 /* mtllib with two files, an escaped space, a whole-line name with spaces; usemtl names
  * with spaces; faces before any usemtl use "default"; an undefined name warns. */
 TEST(obj_usemtl_and_mtllib)
@@ -405,7 +384,7 @@ TEST(mtl_mapping_rules)
         "newmtl metal\nKd 0.9 0.6 0.2\nPm 1\nPr 0.25\n"
         "newmtl pbrplastic\nKd 0.2 0.3 0.4\nPm 0.2\nPr 0.6\n"
         "newmtl blackspec\nKd 0 0 0\nKs 0.5 0.5 0.5\nNs 0\n"
-        "newmtl lamp\nKd 0 0 0\nKe 17 12 4\nKa 20 20 20\nmap_Kd -o 1 2 3 tex.png\n";
+        "newmtl lamp\nKd 0 0 0\nKe 17 12 4\nKa 20 20 20\nmap_Ka -o 1 2 3 tex.png\nmap_bump -bm 2 bump.png\n";
     test_write_file("mapping.mtl", mtl);
     CHECKF(!load_text(&s, "mapping.obj", "mtllib mapping.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", &e), "%s", e.msg);
     CHECK((m = find_material(&s, "matte")) && m->type == MAT_LAMBERT && m->diffuse.g == (real)0.4);
@@ -451,15 +430,11 @@ TEST(obj_error_missing_and_unreadable_file)
     CHECKF(error_at(e.msg, "a-directory.obj", 0, "cannot"), "%s", e.msg);
 }
 
-typedef struct {
-    const char *text;
-    long line;
-    const char *what;
-} bad_obj;
+static int load_bad_obj(scene *s, const char *text, rerror *e) { return scene_from_text(s, "bad.obj", text, e); }
 
 TEST(obj_errors_have_file_and_line)
 {
-    static const bad_obj cases[] = {
+    static const bad_line cases[] = {
         {"v 0 0 0\nv 1 0 0\nv 3.1+e2 0 0\n", 3, "malformed number '3.1+e2'"},
         {"v 0 0 0\nv 1 0 0\nv 1..2 0 0\n", 3, "malformed number"},
         {"v 0 0 0\nv 1 0\n", 2, "at least 3 numbers"},
@@ -483,13 +458,7 @@ TEST(obj_errors_have_file_and_line)
         {"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", 0, "no triangles"},
         {"# nothing\n", 0, "no triangles"},
     };
-    size_t i;
-    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
-        rerror e;
-        CHECKF(load_text(&s, "bad.obj", cases[i].text, &e) != 0, "case %zu loaded", i);
-        CHECKF(error_at(e.msg, "bad.obj", cases[i].line, cases[i].what), "case %zu: %s", i, e.msg);
-    }
+    expect_bad_lines(cases, sizeof cases / sizeof cases[0], "bad.obj", load_bad_obj);
 }
 
 TEST(obj_encodings)
@@ -538,15 +507,16 @@ TEST(obj_missing_mtllib_can_be_allowed)
     scene_free(&s);
 }
 
-typedef struct {
-    const char *mtl;
-    long line;
-    const char *what;
-} bad_mtl;
+/* The text as bad.mtl, loaded through an OBJ that uses it. */
+static int load_bad_mtl(scene *s, const char *text, rerror *e)
+{
+    test_write_file("bad.mtl", text);
+    return load_text(s, "usesbad.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", e);
+}
 
 TEST(mtl_errors_have_file_and_line)
 {
-    static const bad_mtl cases[] = {
+    static const bad_line cases[] = {
         {"newmtl a\nKd 0.5 0.5\n", 2, "Kd: expected 1 or 3 numbers"},
         {"newmtl a\nKd 1.5 0.5 0.5\n", 2, "outside [0, 1]"},
         {"newmtl a\nKe -1 0 0\n", 2, "outside"},
@@ -558,15 +528,7 @@ TEST(mtl_errors_have_file_and_line)
         {"newmtl a\nKd spectral file.rfl\n", 2, "only RGB"},
         {"newmtl a\nshininess 4\n", 2, "unknown MTL statement 'shininess'"},
     };
-    size_t i;
-    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        scene s;
-        rerror e;
-        test_write_file("bad.mtl", cases[i].mtl);
-        CHECKF(load_text(&s, "usesbad.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", &e) != 0,
-               "case %zu loaded", i);
-        CHECKF(error_at(e.msg, "bad.mtl", cases[i].line, cases[i].what), "case %zu: %s", i, e.msg);
-    }
+    expect_bad_lines(cases, sizeof cases / sizeof cases[0], "bad.mtl", load_bad_mtl);
 }
 
 TEST(text_number_grammar)

@@ -12,6 +12,7 @@
 #include "restir/core/pfm.h"
 #include "restir/oracle/dump_diff.h"
 #include "restir/oracle/stage_dump.h"
+#include "dump_util.h"
 #include "test.h"
 
 static char out[262144];
@@ -20,37 +21,16 @@ static char out[262144];
                     "--sequence 0..2 --quiet --no-png --threads 2"
 #define DIFF_W 40
 
-static const char *diff_dir(const char *name)
-{
-    static char buf[4][1100];
-    static int slot;
-    char *b = buf[slot++ % 4];
-    snprintf(b, 1100, "%s/diff_%s", test_tmpdir(), name);
-    return b;
-}
+static const char *diff_dir(const char *name) { return dump_scratch("diff_", name); }
 
 /* The reference run, every stage dumped (once per test run). */
-static const char *reference(void)
-{
-    static int done;
-    static char dir[1100];
-    if (!done) {
-        snprintf(dir, sizeof dir, "%s", diff_dir("A"));
-        done = test_cli(out, sizeof out, "render " DIFF_COMMON " -o %s/da.pfm --dump-dir %s", test_tmpdir(), dir) == 0
-                   ? 1
-                   : -1;
-    }
-    if (done < 0) test_fail(__FILE__, __LINE__, "the reference run failed: %s", out);
-    return dir;
-}
+static const char *reference(void) { return dump_once(DIFF_COMMON, test_tmp_path("da.pfm"), diff_dir("A")); }
 
 /* A fresh copy of the reference dump called name. */
 static const char *copy_of_reference(const char *name)
 {
-    char cmd[4000];
-    const char *a = reference(), *d = diff_dir(name);
-    snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", d, a, d);
-    if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
+    const char *d = diff_dir(name);
+    dump_copy(reference(), d);
     return d;
 }
 
@@ -91,30 +71,28 @@ static void apply_edit(reservoir *r, enum edit what)
 /* Applies `what` to record p of dir/frame/stage (p = -1: every record; p = -2: the first
  * record with a reconnection vertex); returns the record edited (p = -1: the count), -1 on
  * failure. */
+typedef struct {
+    long p; /* the record to edit; -1: every record; -2: the first with a reconnection vertex */
+    enum edit what;
+} record_edit;
+
+static void edit_one(void *user, long i, reservoir *r)
+{
+    record_edit *t = user;
+    if (t->p == -2 && r->y.rc_k != PATH_RC_NONE) t->p = i;
+    if (t->p == -1 || i == t->p) apply_edit(r, t->what);
+}
+
 static long edit_record(const char *dir, int frame, const char *stage, long p, enum edit what)
 {
     char path[1200];
-    reservoir *rs;
-    reservoir_dump_info info;
-    rerror e;
-    long i, n;
+    record_edit t;
+    long n;
+    t.p = p;
+    t.what = what;
     stage_dump_path(path, sizeof path, dir, (uint32_t)frame, stage, "resv");
-    if (reservoir_dump_read(path, &rs, &info, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        return -1;
-    }
-    n = (long)info.width * (long)info.height;
-    if (p == -2)
-        for (p = 0; p < n && rs[p].y.rc_k == PATH_RC_NONE; ++p) continue;
-    for (i = 0; i < n; ++i)
-        if (p < 0 || i == p) apply_edit(&rs[i], what);
-    if (p < 0) p = n;
-    if (reservoir_dump_write(path, rs, &info, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        p = -1;
-    }
-    free(rs);
-    return p;
+    n = dump_edit(path, path, edit_one, &t);
+    return n < 0 ? -1 : t.p < 0 ? n : t.p;
 }
 
 /* W = +inf or c = +inf in one pixel of B is a difference, whatever the tolerances. */
@@ -139,38 +117,38 @@ TEST(oracle_diff_nonfinite_is_a_difference)
  * is truncated or holds another frame's file: exit 2, never 0. */
 TEST(oracle_diff_incomplete_input_is_an_error)
 {
+    /* Each case damages a fresh copy of the reference by a shell command run inside it and
+     * diffs the copy as A and/or as B against the reference. */
+    static const struct {
+        const char *name, *damage;
+        int as_a, as_b;
+        const char *expect; /* in the message; NULL: exit 2 is the whole check */
+    } cases[] = {
+        {"manifest_only", "find . -mindepth 1 -maxdepth 1 ! -name manifest.json -exec rm -rf {} +", 1, 0, "missing"},
+        {"no_frame", "rm -rf frame_0001", 1, 1, NULL},
+        /* a run cut short: its manifest says 2 of 3 frames (what an interrupted run leaves) */
+        {"cut", "sed -i 's/\"written\": 3/\"written\": 2/' manifest.json && rm -rf frame_0002", 1, 0, "cut short"},
+        /* B: a stage missing, a truncated file, another frame's file */
+        {"no_stage", "rm frame_0002/spatial2.resv", 0, 1, NULL},
+        {"short", "truncate -s -100 frame_0001/temporal.resv", 0, 1, NULL},
+        {"swapped", "cp frame_0000/temporal.resv frame_0001/temporal.resv", 0, 1, "holds frame 0, stage 'temporal'"},
+    };
     const char *a = reference(), *d;
     char cmd[4000];
-    d = diff_dir("manifest_only");
-    snprintf(cmd, sizeof cmd, "rm -rf %s && mkdir -p %s && cp %s/manifest.json %s/", d, d, a, d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", d, a) == 2, "%s", out);
-    CHECKF(strstr(out, "missing") != NULL, "%s", out);
-    d = copy_of_reference("no_frame");
-    snprintf(cmd, sizeof cmd, "rm -rf %s/frame_0001", d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", d, a) == 2, "A without frame 1:\n%s", out);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", a, d) == 2, "B without frame 1:\n%s", out);
-    /* a run cut short: its manifest says 2 of 3 frames (what an interrupted run leaves) */
-    d = copy_of_reference("cut");
-    snprintf(cmd, sizeof cmd, "sed -i 's/\"written\": 3/\"written\": 2/' %s/manifest.json && rm -rf %s/frame_0002", d, d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", d, a) == 2, "%s", out);
-    CHECKF(strstr(out, "cut short") != NULL, "%s", out);
-    /* B: a stage missing, a truncated file, another frame's file */
-    d = copy_of_reference("no_stage");
-    snprintf(cmd, sizeof cmd, "rm %s/frame_0002/spatial2.resv", d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", a, d) == 2, "%s", out);
-    d = copy_of_reference("short");
-    snprintf(cmd, sizeof cmd, "truncate -s -100 %s/frame_0001/temporal.resv", d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", a, d) == 2, "%s", out);
-    d = copy_of_reference("swapped");
-    snprintf(cmd, sizeof cmd, "cp %s/frame_0000/temporal.resv %s/frame_0001/temporal.resv", d, d);
-    CHECK(system(cmd) == 0);
-    CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", a, d) == 2, "%s", out);
-    CHECKF(strstr(out, "holds frame 0, stage 'temporal'") != NULL, "%s", out);
+    size_t i;
+    int b;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        d = copy_of_reference(cases[i].name);
+        snprintf(cmd, sizeof cmd, "cd '%s' && %s", d, cases[i].damage);
+        CHECKF(system(cmd) == 0, "%s failed", cmd);
+        for (b = 0; b < 2; ++b) {
+            if (!(b ? cases[i].as_b : cases[i].as_a)) continue;
+            CHECKF(test_cli(out, sizeof out, "diff-dump %s %s", b ? a : d, b ? d : a) == 2, "%s as %s:\n%s",
+                   cases[i].name, b ? "B" : "A", out);
+            CHECKF(!cases[i].expect || strstr(out, cases[i].expect), "%s as %s: no '%s' in\n%s", cases[i].name,
+                   b ? "B" : "A", cases[i].expect, out);
+        }
+    }
 }
 
 /* Every documented field is compared: one pixel's reconnection field or F changed alone is

@@ -9,6 +9,7 @@
 #include <string.h>
 #include "restir/oracle/dump_diff.h"
 #include "restir/oracle/stage_dump.h"
+#include "dump_util.h"
 #include "test.h"
 
 static char out[262144];
@@ -18,53 +19,15 @@ static char out[262144];
                    "--sequence 0..2 --quiet --no-png --threads 2"
 static const char *const kit_stages[] = {"initial", "temporal", "spatial1", "spatial2"};
 
-static const char *kit_dir(const char *name)
-{
-    static char buf[4][1100];
-    static int slot;
-    char *b = buf[slot++ % 4];
-    snprintf(b, 1100, "%s/%s", test_tmpdir(), name);
-    return b;
-}
+static const char *kit_dir(const char *name) { return dump_scratch("", name); }
 
 /* The reference run: every stage dumped into kit/A, frames kit/a.NNNN.pfm (once per run). */
-static const char *reference_dump(void)
-{
-    static int done;
-    static char dir[1100];
-    if (!done) {
-        snprintf(dir, sizeof dir, "%s", kit_dir("A"));
-        done = test_cli(out, sizeof out, "render " KIT_COMMON " -o %s/a.pfm --dump-dir %s", test_tmpdir(), dir) == 0
-                   ? 1
-                   : -1;
-    }
-    if (done < 0) test_fail(__FILE__, __LINE__, "the reference run failed: %s", out);
-    return dir;
-}
-
-/* dst becomes a fresh copy of the dump directory src: `cp -r src dst` into an existing dst
- * (a reused build directory) would nest src inside it and leave dst's old dumps in place,
- * stale files that the test would then diff (false alarms and false passes). */
-static int fresh_copy(const char *src, const char *dst)
-{
-    char cmd[4000];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && cp -r '%s' '%s'", dst, src, dst);
-    return system(cmd);
-}
+static const char *reference_dump(void) { return dump_once(KIT_COMMON, test_tmp_path("a.pfm"), kit_dir("A")); }
 
 /* Copies src to dst, multiplying W of pixel p (record p; p < 0: every pixel) by `scale`. */
 static void copy_scaling_w(const char *src, const char *dst, long p, double scale)
 {
-    reservoir *rs;
-    reservoir_dump_info info;
-    rerror e;
-    long i;
-    CHECKF(reservoir_dump_read(src, &rs, &info, &e) == 0, "%s", e.msg);
-    if (test_has_failed()) return;
-    for (i = 0; i < (long)(info.width * info.height); ++i)
-        if (p < 0 || i == p) rs[i].W *= (real)scale;
-    CHECKF(reservoir_dump_write(dst, rs, &info, &e) == 0, "%s", e.msg);
-    free(rs);
+    dump_scale_w(src, dst, p, scale, 0);
 }
 
 TEST(oracle_dump_layout_and_manifest)
@@ -122,7 +85,7 @@ TEST(oracle_restart_bit_identical_from_every_stage)
                kit_stages[i], out);
     }
     /* planted: pixel (10, 7)'s initial W x 4 in frame 1 -> the restarted frame 1 differs */
-    CHECK(fresh_copy(a, kit_dir("Wplant")) == 0);
+    CHECK(dump_copy(a, kit_dir("Wplant")) != NULL);
     stage_dump_path(fa, sizeof fa, a, 1, "initial", "resv");
     stage_dump_path(fb, sizeof fb, kit_dir("Wplant"), 1, "initial", "resv");
     copy_scaling_w(fa, fb, 7 * 40 + 10, 4.0);
@@ -153,11 +116,11 @@ TEST(oracle_diff_dump_finds_planted_w)
     char src[1200], dst[1200];
     /* a stale P from an earlier run: frame 2's spatial2 dump with every W doubled; the fresh
      * copy must replace it (with `cp -r A P` it stayed and a second row differed) */
-    CHECK(fresh_copy(a, kit_dir("P")) == 0);
+    CHECK(dump_copy(a, kit_dir("P")) != NULL);
     stage_dump_path(src, sizeof src, a, 2, "spatial2", "resv");
     stage_dump_path(dst, sizeof dst, kit_dir("P"), 2, "spatial2", "resv");
     copy_scaling_w(src, dst, -1, 2.0);
-    CHECK(fresh_copy(a, kit_dir("P")) == 0);
+    CHECK(dump_copy(a, kit_dir("P")) != NULL);
     stage_dump_path(src, sizeof src, a, 1, "spatial1", "resv");
     stage_dump_path(dst, sizeof dst, kit_dir("P"), 1, "spatial1", "resv");
     copy_scaling_w(src, dst, 11 * 40 + 23, 1.5);

@@ -6,8 +6,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/oracle/region_input.h"
 #include "restir/oracle/stage_dump.h"
+#include "dump_util.h"
 #include "test.h"
+#include "text_util.h"
 
 static char out[262144];
 
@@ -24,78 +27,32 @@ static char out[262144];
 #endif
 static int near(double a, double b) { return fabs(a - b) <= HAND_TOL * fmax(fabs(a), fabs(b)) + 1e-300; }
 
-static const char *replay_dir(const char *name)
-{
-    static char buf[4][1100];
-    static int slot;
-    char *b = buf[slot++ % 4];
-    snprintf(b, 1100, "%s/replay_%s", test_tmpdir(), name);
-    return b;
-}
+static const char *replay_dir(const char *name) { return dump_scratch("replay_", name); }
 
 /* A dump made once per test process with `args` (key: its directory name; a directory left
  * by an earlier process, maybe by another build, is replaced). */
 static const char *dump_of(const char *name, const char *args)
 {
-    static char made[32][64];
-    static int n_made;
-    const char *dir = replay_dir(name);
-    char cmd[1400];
-    int i;
-    for (i = 0; i < n_made; ++i)
-        if (!strcmp(made[i], name)) return dir;
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
-    if (test_cli(out, sizeof out, "render %s -o %s/%s.pfm --dump-dir %s", args, test_tmpdir(), name, dir) != 0)
-        test_fail(__FILE__, __LINE__, "the reference run failed: %s", out);
-    else if (n_made < 32)
-        snprintf(made[n_made++], sizeof made[0], "%s", name);
-    return dir;
+    char pfm[1100];
+    snprintf(pfm, sizeof pfm, "%s/%s.pfm", test_tmpdir(), name);
+    return dump_once(args, pfm, replay_dir(name));
 }
 
 static const char *reference(void) { return dump_of("A", REPLAY_COMMON); }
 
 static const char *copy_of(const char *from, const char *name)
 {
-    char cmd[4000];
     const char *d = replay_dir(name);
-    snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", d, from, d);
-    if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
+    dump_copy(from, d);
     return d;
 }
 
 /* Multiplies W (and wsum) of record p of dir/frame/stage by `scale` (p < 0: every record). */
-static int scale_w(const char *dir, int frame, const char *stage, long p, double scale)
+static void scale_w(const char *dir, int frame, const char *stage, long p, double scale)
 {
     char path[1200];
-    reservoir *rs;
-    reservoir_dump_info info;
-    rerror e;
-    long i, n;
     stage_dump_path(path, sizeof path, dir, (uint32_t)frame, stage, "resv");
-    if (reservoir_dump_read(path, &rs, &info, &e)) return test_fail(__FILE__, __LINE__, "%s", e.msg), -1;
-    n = (long)info.width * (long)info.height;
-    for (i = 0; i < n; ++i)
-        if (p < 0 || i == p) {
-            rs[i].W *= (real)scale;
-            rs[i].wsum *= (real)scale;
-        }
-    if (reservoir_dump_write(path, rs, &info, &e)) test_fail(__FILE__, __LINE__, "%s", e.msg);
-    free(rs);
-    return 0;
-}
-
-/* The number after "key": at or after *from (advanced past it); NAN if absent. */
-static double json_after(const char **from, const char *key)
-{
-    char pattern[64];
-    const char *p;
-    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
-    p = strstr(*from, pattern);
-    if (!p) return NAN;
-    p += strlen(pattern);
-    *from = p;
-    return strtod(p, NULL);
+    dump_scale_w(path, path, p, scale, 1);
 }
 
 typedef struct {
@@ -388,24 +345,31 @@ static const struct {
                       "--sequence 0..1 --quiet --no-png", "temporal", "21,15", "inspect-temporal"},
     {"tour-stochastic", TOUR_SEQ " --neighbors 4 --mis stochastic-pairwise", "spatial1", "16,12", "inspect-stochastic"},
     {"tour-paired", TOUR_SEQ " --pairing paired --mis pairwise-defensive", "spatial1", "16,12", "inspect-paired"},
-    {"tour-mutation", TOUR_SEQ " --neighbors 4 --mutations 2", "temporal", "16,12", "inspect-mutation"},
+    {"tour-mutation", TOUR_SEQ " --neighbors 4 --mutations 2", "mutate-temporal", "8,14", "inspect-mutation"},
 };
 
-/* Mutations Eq. 23 by hand along the printed chain: W after an accepted iteration is the W
- * before it times p̂(x)/p̂(z); a rejected one keeps W; the step's output W starts the chain. */
+/* Mutations Alg. 3 by hand along the printed chain: the acceptance a = p̂(z)/p̂(x) times the
+ * kernel ratio T(z->x)/T(x->z) (Eqs. 14, 19, 20); accepted iff u < a; W after an accepted
+ * iteration is the W before it times p̂(x)/p̂(z) (Eq. 23), a rejected one keeps W. The chain
+ * starts from the step's output ("out") or, for a mutation stage, from its input ("in"). */
 static void check_chain(const char *json)
 {
     const char *p = strstr(json, "\"iterations\": [");
-    const char *step = strstr(json, "\"out\": ");
+    const char *step = strstr(json, "\"in\": {") ? strstr(json, "\"in\": {") : strstr(json, "\"out\": ");
     double W, prev;
     int n = 0;
     CHECKF(p && step, "no mutation chain: %s", json);
     if (!p || !step) return;
     prev = json_after(&step, "W");
     while ((p = strstr(p, "\"outcome\": \"")) != NULL) {
-        int accepted = !strncmp(p + 12, "accepted", 8);
-        double tx = json_after(&p, "target_x"), tz = json_after(&p, "target_z");
+        int accepted = !strncmp(p + 12, "accepted", 8), rejected = !strncmp(p + 12, "rejected", 8);
+        double tx = json_after(&p, "target_x"), tz = json_after(&p, "target_z"), ratio = json_after(&p, "ratio");
+        double a = json_after(&p, "a"), u = json_after(&p, "u");
         W = json_after(&p, "W");
+        if (accepted || rejected) {
+            CHECKF(near(a, tz / tx * ratio), "iteration %d: a %.17g, p^(z)/p^(x) T ratio %.17g", n, a, tz / tx * ratio);
+            CHECKF(accepted == (u < a), "iteration %d: u %.17g, a %.17g, %s", n, u, a, accepted ? "accepted" : "rejected");
+        }
         CHECKF(accepted ? near(W, prev * tx / tz) : W == prev, "iteration %d: W %.17g from %.17g (p^ %.17g -> %.17g)",
                n, W, prev, tx, tz);
         prev = W;
@@ -454,7 +418,7 @@ TEST(tour_sequence_steps_match_inspect)
         status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage %s --pixel %s --json", dir,
                           tour_examples[i].stage, tour_examples[i].pixel);
         CHECKF(status == 0 && strstr(out, "\"differs\": []"), "%s: exit %d\n%s", tour_examples[i].name, status, out);
-        check_sums(out, tour_examples[i].name);
+        if (strncmp(tour_examples[i].stage, "mutate-", 7)) check_sums(out, tour_examples[i].name);
         if (strstr(tour_examples[i].args, "--mutations")) check_chain(out);
         status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 1 --stage %s --pixel %s", dir,
                           tour_examples[i].stage, tour_examples[i].pixel);
@@ -518,4 +482,177 @@ TEST(oracle_diagnose_region_dump)
     CHECKF(status == 0 && strstr(out, "\"most_likely\": [\"--ablate neighbor-rng\"]") &&
                strstr(out, "\"departs\": {\"frame\": 0, \"stage\": \"spatial1\""),
            "exit %d\n%s", status, out);
+}
+
+/* ---- region dumps as inputs (docs/oracle.md §6 "From a region dump") ------------------- */
+
+/* inspect --from-dump and replay on a `--dump-region ... --dump-halo N` dump give the
+ * whole-image dump's output bit for bit for pixels whose every input was dumped, and refuse
+ * (exit 2, naming the pixel and the missing input) a pixel at the rectangle's edge. */
+#define REGION_COMMON "scenes/pillars.scene --method restir --preset gris-realtime --spatial-passes 2 --size 40x28 " \
+                      "--radius 6 --sequence 0..2 --quiet --no-png --threads 2"
+#define REGION_ARGS "--dump-region 14,10,10,8 --dump-halo 7" /* files: 7,3,24,22 */
+
+static char other[262144];
+
+/* s with every occurrence of word removed (the dump's directory in printed file names). */
+static void strip(char *s, const char *word)
+{
+    size_t n = strlen(word);
+    char *p;
+    while ((p = strstr(s, word)) != NULL) memmove(p, p + n, strlen(p + n) + 1);
+}
+
+/* The bytes of dir/frame_0002/NAME after the header of `skip` bytes (size in *size), NULL if
+ * unreadable. */
+static unsigned char *file_bytes(const char *dir, const char *name, long skip, long *size)
+{
+    char path[1200];
+    unsigned char *buf;
+    FILE *fp;
+    snprintf(path, sizeof path, "%s/frame_0002/%s", dir, name);
+    if (!(fp = fopen(path, "rb"))) return NULL;
+    fseek(fp, 0, SEEK_END);
+    *size = ftell(fp) - skip;
+    fseek(fp, skip, SEEK_SET);
+    buf = malloc((size_t)*size);
+    if (buf && fread(buf, 1, (size_t)*size, fp) != (size_t)*size) {
+        free(buf);
+        buf = NULL;
+    }
+    fclose(fp);
+    return buf;
+}
+
+static unsigned char *records(const char *dir, const char *stage, long *size)
+{
+    char name[64];
+    snprintf(name, sizeof name, "%s.resv", stage);
+    return file_bytes(dir, name, 64, size);
+}
+
+/* inspect of one pixel on the region dump prints what it prints on the whole-image dump
+ * (the file names aside), at every reuse stage of frame 2, history included. */
+TEST(oracle_region_dump_inspect_equals_whole)
+{
+    const char *whole = dump_of("region_whole", REGION_COMMON), *region = dump_of("region_rect", REGION_COMMON " " REGION_ARGS);
+    const char *stages[] = {"temporal", "spatial1", "spatial2"};
+    int s, a, b;
+    for (s = 0; s < 3; ++s) {
+        a = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage %s --pixel 18,13 --json", whole,
+                     stages[s]);
+        b = test_cli(other, sizeof other, "inspect --from-dump %s --frame 2 --stage %s --pixel 18,13 --json", region,
+                     stages[s]);
+        CHECKF(a == 0 && b == 0 && strstr(other, "\"differs\": []"), "%s: exit %d / %d\n%s", stages[s], a, b, other);
+        strip(out, whole);
+        strip(other, region);
+        CHECKF(!strcmp(out, other), "%s: the region dump's inspect differs:\n%s\n---\n%s", stages[s], out, other);
+    }
+}
+
+/* The G-buffer of a halo dump is the grown rectangle's (7,3,24,22), row for row. */
+static void check_halo_gbuffer(const char *whole, const char *region)
+{
+    long na = 0, nb = 0, y;
+    unsigned char *a = file_bytes(whole, "gbuffer.gbuf", 32, &na), *b = file_bytes(region, "gbuffer.gbuf", 32, &nb);
+    CHECKF(a && b && na == 40 * 28 * 108 && nb == 24 * 22 * 108, "G-buffer sizes %ld, %ld", na, nb);
+    for (y = 0; a && b && nb == 24 * 22 * 108 && na == 40 * 28 * 108 && y < 22; ++y)
+        CHECKF(!memcmp(b + y * 24 * 108, a + ((3 + y) * 40 + 7) * 108, 24 * 108), "G-buffer row %ld", 3 + y);
+    free(a);
+    free(b);
+}
+
+/* replay of the region's core writes records byte-identical to the whole-image dump's. */
+TEST(oracle_region_dump_replay_equals_whole)
+{
+    const char *whole = dump_of("region_whole", REGION_COMMON), *region = dump_of("region_rect", REGION_COMMON " " REGION_ARGS);
+    const char *stages[] = {"temporal", "spatial2"};
+    int s, status;
+    check_halo_gbuffer(whole, region);
+    for (s = 0; s < 2; ++s) {
+        const char *o = replay_dir(stages[s]);
+        unsigned char *got, *want;
+        long n_got = 0, n_want = 0, y;
+        char cmd[1200];
+        snprintf(cmd, sizeof cmd, "rm -rf %s", o);
+        if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
+        status = test_cli(out, sizeof out, "replay %s --frame 2 --stage %s --dump-dir %s", region, stages[s], o);
+        CHECKF(status == 0 && strstr(out, "region 14,10,10,8"), "%s: exit %d\n%s", stages[s], status, out);
+        got = records(o, stages[s], &n_got);
+        want = records(whole, stages[s], &n_want);
+        CHECKF(got && want && n_got == 80 * 216 && n_want == 40 * 28 * 216, "%s: sizes %ld, %ld", stages[s], n_got,
+               n_want);
+        for (y = 0; got && want && n_got == 80 * 216 && y < 8; ++y)
+            CHECKF(!memcmp(got + y * 10 * 216, want + ((10 + y) * 40 + 14) * 216, 10 * 216),
+                   "%s: row %ld of the core differs from the whole-image dump", stages[s], 10 + y);
+        free(got);
+        free(want);
+    }
+}
+
+/* A pixel whose stage reads outside the dumped rectangle is refused, naming the pixel and
+ * the missing input; so is a pixel outside the rectangle, and a replay of the whole
+ * rectangle (its edge pixels' neighbours were not dumped) leaves nothing behind. */
+TEST(oracle_region_dump_refuses_edge_pixels)
+{
+    const char *region = dump_of("region_rect", REGION_COMMON " " REGION_ARGS), *o = replay_dir("edge");
+    char cmd[1200];
+    FILE *fp;
+    int status;
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage spatial1 --pixel 10,6", region);
+    CHECKF(status == 2 && strstr(out, "pixel (10, 6): missing input") && strstr(out, "previous stage's reservoir at pixel (4, 0)"),
+           "exit %d\n%s", status, out);
+    status = test_cli(out, sizeof out, "inspect --from-dump %s --frame 2 --stage spatial2 --pixel 2,2", region);
+    CHECKF(status == 2 && strstr(out, "not all in the dumped rectangle"), "exit %d\n%s", status, out);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", o);
+    if (system(cmd) != 0) test_fail(__FILE__, __LINE__, "%s failed", cmd);
+    status = test_cli(out, sizeof out, "replay %s --frame 2 --stage spatial1 --dump-dir %s --region 7,3,24,22", region, o);
+    CHECKF(status == 2 && strstr(out, "stage spatial1, pixel (") && strstr(out, "missing input"), "exit %d\n%s", status, out);
+    fp = fopen(o, "r");
+    CHECKF(!fp, "%s was left behind", o);
+    if (fp) fclose(fp);
+}
+
+/* The read rule of docs/oracle.md §6 on hand-made texels: the temporal source is floor(s +
+ * mv) (with --dedup the 17 x 17 window around it), nothing without a primary hit or when x1
+ * was not visible, unbounded for a disoccluded pixel under dual motion vectors; a spatial
+ * pass reads the box of floor(radius + 0.5) (disk) or floor(radius) (box). */
+TEST(oracle_region_reads_by_hand)
+{
+    restir_options o;
+    region_reach rr;
+    region_read reads[2];
+    gbuffer_texel t;
+    rerror e;
+    restir_options_default(&o);
+    o.spatial.radius = 6.4;
+    CHECKF(region_reach_for(&rr, &o, &e) == 0 && rr.spatial == 6, "disk reach %d", rr.spatial);
+    memset(&t, 0, sizeof t);
+    t.valid = t.prev_valid = 1;
+    t.pixel[0] = 10.5f;
+    t.pixel[1] = 20.5f;
+    t.motion[0] = -3.7f; /* floor(6.8) = 6 */
+    t.motion[1] = 2.6f;  /* floor(23.1) = 23 */
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 1, reads) == 2 && reads[0].box.x0 == 10 &&
+          reads[0].box.y1 == 20 && !strcmp(reads[1].what, "history") && reads[1].box.x0 == 6 && reads[1].box.x1 == 6 &&
+          reads[1].box.y0 == 23 && reads[1].box.y1 == 23);
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 0, reads) == 1); /* first frame: no history */
+    rr.dedup = 1;
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 1, reads) == 2 && reads[1].box.x0 == 0 &&
+          reads[1].box.x1 == 14 && reads[1].box.y0 == 15 && reads[1].box.y1 == 29); /* clipped to the image */
+    CHECK(region_pixel_reads(&rr, "spatial2", 40, 30, 10, 20, &t, 1, reads) == 1 && reads[0].box.x0 == 4 &&
+          reads[0].box.x1 == 16 && reads[0].box.y0 == 14 && reads[0].box.y1 == 26);
+    CHECK(region_pixel_reads(&rr, "mutate-spatial", 40, 30, 10, 20, &t, 1, reads) == 1 && reads[0].box.x0 == 10 &&
+          reads[0].box.x1 == 10);
+    CHECK(region_pixel_reads(&rr, "boiling", 40, 30, 10, 20, &t, 1, reads) == 1 && reads[0].box.x0 == 0 &&
+          reads[0].box.x1 == 15 && reads[0].box.y0 == 16 && reads[0].box.y1 == 29);
+    t.prev_valid = 0;
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 1, reads) == 1);
+    rr.dual = 1;
+    CHECK(region_pixel_reads(&rr, "temporal", 40, 30, 10, 20, &t, 1, reads) == -1);
+    t.valid = 0;
+    CHECK(region_pixel_reads(&rr, "spatial1", 40, 30, 10, 20, &t, 1, reads) == 0);
+    o.spatial.pattern = NEIGHBOR_BOX;
+    o.spatial.radius = 3.9;
+    CHECK(region_reach_for(&rr, &o, &e) == 0 && rr.spatial == 3);
 }

@@ -160,25 +160,14 @@ TEST(paper_gaussian_perturb_is_normal)
 TEST(paper_gaussian_mutations_paired_per_channel)
 {
     scene s;
-    bench_sequence_config on, off;
+    restir_options o;
     bench_paired p;
     bench_paired_init(&p, "gaussian pp mutations x20 vs none, cornell-glossy");
     if (rt_load_scene("scenes/cornell-glossy.scene", 16, &s)) return;
-    restir_options_default(&on.o);
-    on.s = off.s = &s;
-    on.frame = off.frame = 4;
-    on.o.shift = RESTIR_SHIFT_HYBRID;
-    on.o.spatial.mis = MIS_PAIRWISE_DEFENSIVE;
-    on.o.candidates = 2;
-    on.o.max_depth = 4;
-    on.o.threads = 2;
-    on.o.mutation.count = 20;
-    on.o.mutation.strategy = MUTATE_PP;
-    on.o.mutation.kernel = MUTATE_KERNEL_GAUSSIAN;
-    on.o.mutation.stages = MUTATE_AFTER_TEMPORAL;
-    off.o = on.o;
-    off.o.mutation.count = 0;
-    bench_paired_run(&p, 32, test_seed() * 40503u + 7u + 5000u, bench_sequence_run, &on, bench_sequence_run, &off);
+    rt_mutation_options(&o);
+    o.mutation.strategy = MUTATE_PP;
+    o.mutation.kernel = MUTATE_KERNEL_GAUSSIAN;
+    rt_mutation_paired(&s, &o, 32, test_seed() * 40503u + 7u + 5000u, &p);
     scene_free(&s);
     if (!test_has_failed()) bench_paired_expect_consistent(&p, BENCH_Z_CONSISTENT);
 }

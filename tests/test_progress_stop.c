@@ -48,23 +48,10 @@ TEST(progress_lines_when_stderr_is_a_log)
 /* `timeout --preserve-status -s INT 0.5 restir ARGS`: the status, the output, the seconds. */
 static int interrupt_after(const char *args, double *seconds)
 {
-    char cmd[8192];
-    const char *capture = test_tmp_path("stop-latency.txt");
-    FILE *f;
-    size_t n = 0;
     double t0 = now_seconds();
-    int status;
-    snprintf(cmd, sizeof cmd, "timeout --preserve-status -s INT 0.5 %s %s >'%s' 2>&1 </dev/null", RESTIR_BIN, args,
-             capture);
-    status = system(cmd);
-    *seconds = now_seconds() - t0;
-    f = fopen(capture, "rb");
-    if (f) {
-        n = fread(out, 1, sizeof out - 1, f);
-        fclose(f);
-    }
-    out[n] = '\0';
-    return status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    int status = test_cli_signal(out, sizeof out, "INT", 0.5, args);
+    *seconds = now_seconds() - t0; /* with the reading of the (short) output */
+    return status;
 }
 
 /* Each method stops within a generous bound of the signal (a tile, not a frame: one

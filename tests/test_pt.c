@@ -45,12 +45,8 @@ static int make_glossy_box_at(scene *s, int res, real dx, real dy)
     red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.6, (real)0.06, (real)0.05), rgb_gray(0));
     green = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.14, (real)0.45, (real)0.09), rgb_gray(0));
     light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(17, 12, 4));
-    plastic = test_scene_material(s, MAT_PLASTIC, rgb_make((real)0.2, (real)0.3, (real)0.7), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_gray(1);
-    test_scene_last_material(s)->roughness = (real)0.3;
-    metal = test_scene_material(s, MAT_CONDUCTOR, rgb_gray(0), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_make((real)0.95, (real)0.64, (real)0.54);
-    test_scene_last_material(s)->roughness = (real)0.25;
+    plastic = test_scene_glossy(s, MAT_PLASTIC, rgb_make((real)0.2, (real)0.3, (real)0.7), rgb_gray(1), (real)0.3);
+    metal = test_scene_glossy(s, MAT_CONDUCTOR, rgb_gray(0), rgb_make((real)0.95, (real)0.64, (real)0.54), (real)0.25);
     glass = test_scene_material(s, MAT_DIELECTRIC, rgb_gray(0), rgb_gray(0));
     test_scene_last_material(s)->specular = rgb_gray(1);
     /* Walls (inward): floor, ceiling, back, left red, right green. */
@@ -213,19 +209,70 @@ static void check_rejected(const scene *s, enum pt_strategy a, unsigned abl, enu
            pt_strategy_names[a], pt_strategy_names[b], depth, c.global.p, c.worst.z);
 }
 
-/* MIS, NEE-only and BSDF-only estimate the same image: full transport (path length up to 5,
- * through the glass cube's Dirac lobes too) and direct lighting alone (d <= 2). */
-TEST(pt_strategies_agree_glossy_box)
+/* The strategy comparisons of the tests below, one row each, in the order a test runs
+ * them (until one fails): strategy a with `ablation` against strategy b, spp samples per
+ * pixel in K = 8 runs, paths of at most `depth` segments; "different" expected exactly when
+ * a is ablated. */
+typedef struct {
+    const char *test; /* the rows a test runs */
+    enum pt_strategy a;
+    unsigned ablation;
+    enum pt_strategy b;
+    uint32_t spp;
+    int depth;
+} strategy_pair;
+
+static const strategy_pair strategy_pairs[] = {
+    /* MIS, NEE-only and BSDF-only estimate the same image: full transport (path length up
+     * to 5, through the glass cube's Dirac lobes too) and direct lighting alone (d <= 2) */
+    {"box", PT_STRATEGY_MIS, 0, PT_STRATEGY_NEE, 256, 5},
+    {"box", PT_STRATEGY_MIS, 0, PT_STRATEGY_BSDF, 256, 5},
+    {"box", PT_STRATEGY_NEE, 0, PT_STRATEGY_BSDF, 256, 5},
+    {"box", PT_STRATEGY_MIS, 0, PT_STRATEGY_NEE, 256, 2},
+    {"box", PT_STRATEGY_MIS, 0, PT_STRATEGY_BSDF, 256, 2},
+    /* the same comparison rejects the deliberately broken estimators (see the test) */
+    {"box-ablated", PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_NEE, 256, 2},
+    {"box-ablated", PT_STRATEGY_NEE, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_MIS, 256, 2},
+    {"box-ablated", PT_STRATEGY_MIS, PT_ABLATE_MIS_SUM, PT_STRATEGY_NEE, 256, 2},
+    {"box-ablated", PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_MIS, 256, 5},
+    /* the rough plastic floor under a large light */
+    {"plastic", PT_STRATEGY_MIS, 0, PT_STRATEGY_NEE, 128, 2},
+    {"plastic", PT_STRATEGY_MIS, 0, PT_STRATEGY_BSDF, 128, 2},
+    {"plastic", PT_STRATEGY_MIS, 0, PT_STRATEGY_NEE, 128, 4},
+    {"plastic", PT_STRATEGY_MIS, PT_ABLATE_MIS_LOBE, PT_STRATEGY_NEE, 128, 2},
+    /* the shipped Cornell scenes */
+    {"cornell", PT_STRATEGY_MIS, 0, PT_STRATEGY_NEE, 256, 5},
+    {"cornell", PT_STRATEGY_MIS, 0, PT_STRATEGY_BSDF, 256, 5},
+    {"cornell", PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_NEE, 256, 2},
+    {"cornell", PT_STRATEGY_MIS, PT_ABLATE_MIS_SUM, PT_STRATEGY_NEE, 256, 2},
+};
+
+/* Every row of `test` on the prepared scene s, until one fails; frees s. */
+static void compare_rows(scene *s, const char *test)
+{
+    size_t i;
+    for (i = 0; i < sizeof strategy_pairs / sizeof strategy_pairs[0] && !test_has_failed(); ++i) {
+        const strategy_pair *p = &strategy_pairs[i];
+        if (strcmp(p->test, test)) continue;
+        if (p->ablation) check_rejected(s, p->a, p->ablation, p->b, p->spp, p->depth);
+        else check_equal(s, p->a, p->b, p->spp, p->depth);
+    }
+    scene_free(s);
+}
+
+/* The rows of `test` on the scene make(s, 24) builds. */
+static void compare_on(int (*make)(scene *s, int res), const char *test)
 {
     scene s;
-    CHECK(make_glossy_box(&s, 24) == 0);
+    CHECK(make(&s, 24) == 0);
     if (test_scene_prepare(&s)) return;
-    check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 256, 5);
-    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_BSDF, 256, 5);
-    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_NEE, PT_STRATEGY_BSDF, 256, 5);
-    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 256, 2);
-    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_BSDF, 256, 2);
-    scene_free(&s);
+    compare_rows(&s, test);
+}
+
+/* MIS, NEE-only and BSDF-only estimate the same image. */
+TEST(pt_strategies_agree_glossy_box)
+{
+    compare_on(make_glossy_box, "box");
 }
 
 /* The same comparison rejects the deliberately broken estimators. Both ablations act on
@@ -234,14 +281,7 @@ TEST(pt_strategies_agree_glossy_box)
  * direct light where the balance and power heuristics disagree most. */
 TEST(pt_strategies_reject_ablations_glossy_box)
 {
-    scene s;
-    CHECK(make_glossy_box(&s, 24) == 0);
-    if (test_scene_prepare(&s)) return;
-    check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_NEE, 256, 2);
-    if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_NEE, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_MIS, 256, 2);
-    if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_MIS_SUM, PT_STRATEGY_NEE, 256, 2);
-    if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_MIS, 256, 5);
-    scene_free(&s);
+    compare_on(make_glossy_box, "box-ablated");
 }
 
 /* With the symmetric camera, the pixel centres of the image diagonals see points exactly
@@ -296,9 +336,7 @@ static int make_plastic_under_light(scene *s, int res)
 {
     uint32_t floor_m, light_m;
     if (test_scene_begin(s, 4, 2)) return -1;
-    floor_m = test_scene_material(s, MAT_PLASTIC, rgb_make((real)0.1, (real)0.15, (real)0.3), rgb_gray(0));
-    test_scene_last_material(s)->specular = rgb_gray(1);
-    test_scene_last_material(s)->roughness = (real)0.9;
+    floor_m = test_scene_glossy(s, MAT_PLASTIC, rgb_make((real)0.1, (real)0.15, (real)0.3), rgb_gray(1), (real)0.9);
     light_m = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(1, (real)0.8, (real)0.6));
     test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), floor_m);
     test_scene_quad(s, v3f(-0.5f, 0.4f, -0.5f), v3f(1, 0, 0), v3f(0, 0, 1), light_m);
@@ -308,14 +346,7 @@ static int make_plastic_under_light(scene *s, int res)
 
 TEST(pt_multi_lobe_mis_uses_all_lobe_pdf)
 {
-    scene s;
-    CHECK(make_plastic_under_light(&s, 24) == 0);
-    if (test_scene_prepare(&s)) return;
-    check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 128, 2);
-    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_BSDF, 128, 2);
-    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 128, 4);
-    if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_MIS_LOBE, PT_STRATEGY_NEE, 128, 2);
-    scene_free(&s);
+    compare_on(make_plastic_under_light, "plastic");
 }
 
 static int load_scene(const char *path, int res, scene *s)
@@ -334,11 +365,7 @@ static void cornell_equality(const char *path)
 {
     scene s;
     if (load_scene(path, 32, &s)) return;
-    check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_NEE, 256, 5);
-    if (!test_has_failed()) check_equal(&s, PT_STRATEGY_MIS, PT_STRATEGY_BSDF, 256, 5);
-    if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_LIGHT_PDF, PT_STRATEGY_NEE, 256, 2);
-    if (!test_has_failed()) check_rejected(&s, PT_STRATEGY_MIS, PT_ABLATE_MIS_SUM, PT_STRATEGY_NEE, 256, 2);
-    scene_free(&s);
+    compare_rows(&s, "cornell");
 }
 
 TEST(pt_cornell_strategies_agree) { cornell_equality("scenes/cornell.scene"); }

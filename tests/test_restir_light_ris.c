@@ -248,14 +248,8 @@ static void light_ris_invertibility(int shift, int tiles, long *nee_kd, long *ne
     scene s;
     light_set ls;
     restir_context c;
-    rerror e;
     int a;
-    if (rt_load_scene("scenes/many-lights.scene", 16, &s)) return;
-    if (lights_build(&ls, &s, &e)) {
-        test_fail(__FILE__, __LINE__, "%s", e.msg);
-        scene_free(&s);
-        return;
-    }
+    if (rt_load_scene_lights("scenes/many-lights.scene", 16, &s, &ls)) return;
     rt_context(&c, &s, &ls, shift);
     c.path.light_ris = getenv("LR_PLAIN") ? 0 : 32;
     c.path.light_tiles = tiles && !getenv("LR_PLAIN");

@@ -224,43 +224,12 @@ TEST(restir_pair_mis_detected)
  * per-pixel step, and identical for 1 and 2 threads. */
 #define PAIR_SEQ_FRAMES 3
 
-typedef struct {
-    float *px[PAIR_SEQ_FRAMES];
-    size_t n;
-} seq_frames;
-
-static int keep_frame(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
-{
-    seq_frames *f = user;
-    (void)st;
-    (void)e;
-    if (frame >= 0 && frame < PAIR_SEQ_FRAMES) {
-        f->n = sizeof(float) * 3 * (size_t)img->width * (size_t)img->height;
-        f->px[frame] = malloc(f->n);
-        if (f->px[frame]) memcpy(f->px[frame], img->px, f->n);
-    }
-    return 0;
-}
-
-static int run_sequence(const scene *s, const restir_options *o, seq_frames *f)
-{
-    restir_sequence seq;
-    restir_stats total;
-    rerror e;
-    memset(&seq, 0, sizeof seq);
-    memset(f, 0, sizeof *f);
-    seq.first = 0;
-    seq.last = PAIR_SEQ_FRAMES - 1;
-    if (restir_render_sequence(s, o, &seq, keep_frame, f, &total, &e) == 0) return 0;
-    test_fail(__FILE__, __LINE__, "restir_render_sequence: %s", e.msg);
-    return -1;
-}
 
 TEST(restir_pair_step_sequence_identical)
 {
     scene s;
     restir_options o;
-    seq_frames f[3];
+    image f[3][PAIR_SEQ_FRAMES];
     int v, k, ok = 0;
     if (rt_load_scene("scenes/cornell-glossy.scene", 20, &s)) return;
     restir_options_default(&o);
@@ -275,17 +244,17 @@ TEST(restir_pair_step_sequence_identical)
         restir_options ov = o;
         ov.no_pair_step = v == 2;
         ov.threads = v == 1 ? 1 : 2;
-        ok += run_sequence(&s, &ov, &f[v]) == 0;
+        ok += rt_sequence_images(&s, &ov, 0, PAIR_SEQ_FRAMES - 1, f[v]) == 0;
     }
     if (ok == 3)
         for (k = 0; k < PAIR_SEQ_FRAMES; ++k) {
-            CHECKF(f[0].px[k] && f[1].px[k] && f[2].px[k], "frame %d missing", k);
-            if (!f[0].px[k] || !f[1].px[k] || !f[2].px[k]) break;
-            CHECKF(memcmp(f[0].px[k], f[1].px[k], f[0].n) == 0, "frame %d: the pair step differs for 1 and 2 threads", k);
-            CHECKF(memcmp(f[0].px[k], f[2].px[k], f[0].n) == 0, "frame %d: the pair step differs from the per-pixel step",
-                   k);
+            size_t n = sizeof(float) * 3 * (size_t)f[0][k].width * (size_t)f[0][k].height;
+            CHECKF(f[0][k].px && f[1][k].px && f[2][k].px, "frame %d missing", k);
+            if (!f[0][k].px || !f[1][k].px || !f[2][k].px) break;
+            CHECKF(memcmp(f[0][k].px, f[1][k].px, n) == 0, "frame %d: the pair step differs for 1 and 2 threads", k);
+            CHECKF(memcmp(f[0][k].px, f[2][k].px, n) == 0, "frame %d: the pair step differs from the per-pixel step", k);
         }
-    for (v = 0; v < 3; ++v)
-        for (k = 0; k < PAIR_SEQ_FRAMES; ++k) free(f[v].px[k]);
+    for (v = 0; v < 3; ++v) /* rt_sequence_images zeroed every entry */
+        for (k = 0; k < PAIR_SEQ_FRAMES; ++k) image_free(&f[v][k]);
     scene_free(&s);
 }

@@ -65,45 +65,52 @@ static int pt_reference(const scene *s, check_side *pt, int light_ris)
     return rt_pt_side_options(s, &ref, RUNS, BLOCK, pt);
 }
 
-static void unpaired(const scene *s, const check_side *pt, const restir_options *o, const char *what, int biased)
+/* The three shifts every comparison below runs. */
+static const int sky_shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
+
+/* The courtyard (RES x RES) and its path-traced reference (plain NEE). 0 on success (a test
+ * failure is recorded and nothing is left allocated otherwise). */
+static int open_courtyard(scene *s, check_side *pt)
 {
-    check_side a;
-    check_options opt;
+    if (rt_load_scene("scenes/courtyard.scene", RES, s)) return -1;
+    if (pt_reference(s, pt, 0) == 0) return 0;
+    scene_free(s);
+    return -1;
+}
+
+/* Side a (freed here) against b, check_compare (paired 0) or check_compare_paired, reported
+ * as `what`. */
+static void compare_report(check_side *a, const check_side *b, int paired, const char *what, int biased)
+{
     check_result c;
-    rerror e;
-    int status;
-    if (rt_restir_side(s, o, RUNS, BLOCK, &a)) return;
-    check_options_default(&opt);
-    opt.alpha = ALPHA;
-    opt.block_size = BLOCK;
-    status = check_compare(&a, pt, &opt, &c, &e);
-    check_side_free(&a);
-    CHECKF(status == 0, "check_compare: %s", e.msg);
+    int status = rt_compare_sides(a, b, ALPHA, BLOCK, paired, &c);
+    check_side_free(a);
     if (status) return;
     report(what, &c, biased);
     check_result_free(&c);
+}
+
+static void unpaired(const scene *s, const check_side *pt, const restir_options *o, const char *what, int biased)
+{
+    check_side a;
+    if (rt_restir_side(s, o, RUNS, BLOCK, &a) == 0) compare_report(&a, pt, 0, what, biased);
 }
 
 /* Every shift x {Talbot, pairwise-defensive}, 2 spatial passes, against the path tracer; and
  * stochastic pairwise MIS (Stochastic MIS, one pick) with the hybrid shift. */
 TEST(restir_sky_unpaired_every_shift)
 {
-    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
     static const int families[] = {MIS_TALBOT, MIS_PAIRWISE_DEFENSIVE};
     scene s;
     check_side pt;
     int i, j;
-    if (rt_load_scene("scenes/courtyard.scene", RES, &s)) return;
-    if (pt_reference(&s, &pt, 0)) {
-        scene_free(&s);
-        return;
-    }
+    if (open_courtyard(&s, &pt)) return;
     for (i = 0; i < 3 && !test_has_failed(); ++i)
         for (j = 0; j < 2 && !test_has_failed(); ++j) {
             restir_options o;
             char what[128];
-            sky_options(&o, shifts[i], families[j], 2, (uint32_t)(3 * i + j));
-            snprintf(what, sizeof what, "courtyard shift %s mis %s", restir_shift_names[shifts[i]],
+            sky_options(&o, sky_shifts[i], families[j], 2, (uint32_t)(3 * i + j));
+            snprintf(what, sizeof what, "courtyard shift %s mis %s", restir_shift_names[sky_shifts[i]],
                      restir_mis_names[families[j]]);
             unpaired(&s, &pt, &o, what, 0);
         }
@@ -123,11 +130,7 @@ TEST(restir_sky_light_ris_tiles)
     scene s;
     check_side pt;
     restir_options o;
-    if (rt_load_scene("scenes/courtyard.scene", RES, &s)) return;
-    if (pt_reference(&s, &pt, 0)) {
-        scene_free(&s);
-        return;
-    }
+    if (open_courtyard(&s, &pt)) return;
     sky_options(&o, RESTIR_SHIFT_HYBRID, MIS_PAIRWISE_DEFENSIVE, 1, 41);
     o.light_ris.candidates = 8;
     o.light_ris.tiles = 1;
@@ -143,7 +146,6 @@ TEST(restir_sky_light_ris_tiles)
  * initial samples cancel, so the spatial reuse alone is tested, per block and channel. */
 TEST(restir_sky_paired_every_shift)
 {
-    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
     static const int families[] = {MIS_PAIRWISE_UNIFORM, MIS_TALBOT};
     scene s;
     int i;
@@ -151,12 +153,8 @@ TEST(restir_sky_paired_every_shift)
     for (i = 0; i < 3 && !test_has_failed(); ++i) {
         restir_options oa, ob;
         check_side a, base;
-        check_options opt;
-        check_result c;
-        rerror e;
         char what[128];
-        int status;
-        sky_options(&oa, shifts[i], families[i % 2], 2, 60u + (uint32_t)i);
+        sky_options(&oa, sky_shifts[i], families[i % 2], 2, 60u + (uint32_t)i);
         ob = oa;
         ob.spatial_passes = 0;
         if (rt_restir_side(&s, &oa, RUNS, BLOCK, &a)) break;
@@ -164,94 +162,40 @@ TEST(restir_sky_paired_every_shift)
             check_side_free(&a);
             break;
         }
-        check_options_default(&opt);
-        opt.alpha = ALPHA;
-        opt.block_size = BLOCK;
-        status = check_compare_paired(&a, &base, &opt, &c, &e);
-        check_side_free(&a);
-        check_side_free(&base);
-        CHECKF(status == 0, "check_compare_paired: %s", e.msg);
-        if (status) break;
-        snprintf(what, sizeof what, "courtyard paired 2 vs 0 passes shift %s mis %s", restir_shift_names[shifts[i]],
+        snprintf(what, sizeof what, "courtyard paired 2 vs 0 passes shift %s mis %s", restir_shift_names[sky_shifts[i]],
                  restir_mis_names[families[i % 2]]);
-        report(what, &c, 0);
-        check_result_free(&c);
+        compare_report(&a, &base, 1, what, 0);
+        check_side_free(&base);
     }
     scene_free(&s);
 }
 
 /* ---- temporal reuse (still camera): frame 3 of K sequences against the path tracer ---- */
 
-typedef struct {
-    int frame;
-    check_side side;
-} one_frame;
-
-static int collect(void *user, int frame, const image *img, const restir_stats *st, rerror *e)
-{
-    one_frame *q = user;
-    (void)st;
-    return frame == q->frame ? check_side_add_run(&q->side, img, "run", e) : 0;
-}
-
 TEST(restir_sky_temporal)
 {
-    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
     scene s;
     check_side pt;
     int i;
-    if (rt_load_scene("scenes/courtyard.scene", RES, &s)) return;
-    if (pt_reference(&s, &pt, 0)) {
-        scene_free(&s);
-        return;
-    }
+    if (open_courtyard(&s, &pt)) return;
     for (i = 0; i < 5 && !test_has_failed(); ++i) {
         restir_options o;
-        restir_sequence seq;
-        one_frame q;
-        check_options opt;
-        check_result c;
-        rerror e;
+        rt_frame_sides q;
         char what[128];
-        int k, status = 0;
-        sky_options(&o, i < 3 ? shifts[i] : i == 3 ? RESTIR_SHIFT_RECONNECTION : RESTIR_SHIFT_HYBRID,
+        sky_options(&o, i < 3 ? sky_shifts[i] : i == 3 ? RESTIR_SHIFT_RECONNECTION : RESTIR_SHIFT_HYBRID,
                     MIS_PAIRWISE_DEFENSIVE, 1, 80u + (uint32_t)i);
         o.temporal.mis = i == 1 ? MIS_PAIRWISE_DEFENSIVE : MIS_TALBOT;
         if (i >= 3) { /* MCMC mutations after temporal reuse (Mutations Algorithm 3): rv, pp */
             o.mutation.count = 2;
             o.mutation.strategy = i == 3 ? MUTATE_RV : MUTATE_PP;
         }
-        memset(&seq, 0, sizeof seq);
-        seq.first = 0;
-        seq.last = 3;
-        q.frame = 3;
-        if (check_side_begin_runs(&q.side, s.width, s.height, BLOCK, &e)) {
-            test_fail(__FILE__, __LINE__, "%s", e.msg);
-            break;
-        }
-        for (k = 0; k < RUNS && !status; ++k) {
-            restir_options ok = o;
-            restir_stats total;
-            ok.seed = o.seed + 7919u * (uint32_t)k;
-            status = restir_render_sequence(&s, &ok, &seq, collect, &q, &total, &e);
-        }
-        if (status || check_side_end_runs(&q.side, &e)) {
-            test_fail(__FILE__, __LINE__, "sequence: %s", e.msg);
-            check_side_free(&q.side);
-            break;
-        }
-        check_options_default(&opt);
-        opt.alpha = ALPHA;
-        opt.block_size = BLOCK;
-        status = check_compare(&q.side, &pt, &opt, &c, &e);
-        check_side_free(&q.side);
-        CHECKF(status == 0, "check_compare: %s", e.msg);
-        if (status) break;
+        q.times[0] = 3; /* frame 3 of K sequences 0..3 */
+        q.nt = 1;
+        if (rt_frame_sides_run(&s, &o, RUNS, BLOCK, &q)) break;
         snprintf(what, sizeof what, "courtyard temporal frame 3 shift %s temporal %s mutations %d %s",
                  restir_shift_names[o.shift], restir_mis_names[o.temporal.mis], o.mutation.count,
                  mutate_strategy_names[o.mutation.strategy]);
-        report(what, &c, 0);
-        check_result_free(&c);
+        compare_report(&q.side[0], &pt, 0, what, 0); /* frees the side */
     }
     check_side_free(&pt);
     scene_free(&s);

@@ -280,11 +280,10 @@ TEST_LONG(restir_stochastic_pillars_sequence_long)
  * write nothing. */
 TEST(restir_stochastic_cli)
 {
-    char out[16384], json[1024], pfm[1024], bad[1024];
+    const char *json = test_tmp_keep("stochastic-cli.json"), *pfm = test_tmp_keep("stochastic-cli.pfm");
+    const char *bad = test_tmp_keep("stochastic-cli-bad.pfm");
+    char out[16384];
     int status;
-    snprintf(json, sizeof json, "%s", test_tmp_path("stochastic-cli.json"));
-    snprintf(pfm, sizeof pfm, "%s", test_tmp_path("stochastic-cli.pfm"));
-    snprintf(bad, sizeof bad, "%s", test_tmp_path("stochastic-cli-bad.pfm"));
     status = test_cli(out, sizeof out,
                       "render scenes/cornell.scene --method restir --size 16x16 --spatial-passes 1 --mis "
                       "stochastic-pairwise --stochastic-n 3 --stochastic-nc 2 --no-confidence-scaling --reuse-cells "

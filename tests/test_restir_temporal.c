@@ -22,6 +22,7 @@
 #include "restir/frame/pipeline.h"
 #include "restir_util.h"
 #include "test.h"
+#include "text_util.h"
 #include "restir/frame/options.h"
 
 #define ALPHA 1e-3
@@ -329,9 +330,7 @@ TEST(restir_temporal_cli_sequence_files_stats_threads)
 /* Bad sequence options: one line, exit 2, no frame written. */
 TEST(restir_temporal_cli_bad_input_exit_2)
 {
-    static const struct {
-        const char *args, *expect;
-    } cases[] = {
+    static const bad_input cases[] = {
         {"--sequence 2..9", "outside the keyframes"},
         {"--sequence 3..1", "--sequence"},
         {"--sequence x", "--sequence"},
@@ -348,14 +347,14 @@ TEST(restir_temporal_cli_bad_input_exit_2)
     for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         int status, fr;
         snprintf(prefix, sizeof prefix, "%s", test_tmp_path("bad-seq"));
-        status = test_cli(out, sizeof out, "render %s --method restir %s -o %s.pfm --quiet", scene_path, cases[i].args,
+        status = test_cli(out, sizeof out, "render %s --method restir %s -o %s.pfm --quiet", scene_path, cases[i].input,
                           prefix);
-        CHECKF(status == 2, "%s: exit %d: %s", cases[i].args, status, out);
-        CHECKF(strstr(out, cases[i].expect) != NULL, "%s: message '%s'", cases[i].args, out);
-        CHECKF(strchr(out, '\n') == out + strlen(out) - 1, "%s: not one line: %s", cases[i].args, out);
+        CHECKF(status == 2, "%s: exit %d: %s", cases[i].input, status, out);
+        CHECKF(strstr(out, cases[i].expect) != NULL, "%s: message '%s'", cases[i].input, out);
+        CHECKF(strchr(out, '\n') == out + strlen(out) - 1, "%s: not one line: %s", cases[i].input, out);
         for (fr = 0; fr < 10; ++fr) {
             snprintf(f0, sizeof f0, "%s.%04d.pfm", prefix, fr);
-            CHECKF(!test_file_exists(f0), "%s: %s written", cases[i].args, f0);
+            CHECKF(!test_file_exists(f0), "%s: %s written", cases[i].input, f0);
         }
         CHECK(!test_file_exists(prefix));
     }

@@ -10,6 +10,7 @@
 #include "restir/scene/generate_rooms.h"
 #include "restir/core/image.h"
 #include "restir/render/pt.h"
+#include "mesh_util.h"
 #include "test.h"
 #include "restir/core/pfm.h"
 #include "restir/scene/scene_trace.h"
@@ -40,56 +41,6 @@ static long object_id(const scene *s, const char *name)
 }
 
 static int is_emitter(const scene *s, size_t t) { return !rgb_is_black(s->materials[s->triangles[t].material].emission); }
-
-/* ---- closed solids ---------------------------------------------------------------- */
-
-typedef struct {
-    uint32_t a, b;
-} directed_edge;
-
-static int compare_edges(const void *x, const void *y)
-{
-    const directed_edge *p = x, *q = y;
-    if (p->a != q->a) return p->a < q->a ? -1 : 1;
-    return p->b < q->b ? -1 : p->b > q->b;
-}
-
-/* Object `o` is a closed, consistently oriented surface (every directed edge once, its
- * reverse once) enclosing positive signed volume (faces outward). Returns a message or
- * NULL. */
-static const char *check_closed_outward(const scene *s, uint32_t o, double *volume)
-{
-    directed_edge *edges = malloc(3 * s->triangle_count * sizeof *edges);
-    size_t n = 0, t, i;
-    const char *problem = NULL;
-    *volume = 0;
-    for (t = 0; t < s->triangle_count; ++t) {
-        int k;
-        vec3 a, b, c;
-        if (s->triangles[t].object != o) continue;
-        a = v3_from_f(tri_corner(s, t, 0));
-        b = v3_from_f(tri_corner(s, t, 1));
-        c = v3_from_f(tri_corner(s, t, 2));
-        *volume += v3_dot(a, v3_cross(b, c)) / 6;
-        for (k = 0; k < 3; ++k) {
-            edges[n].a = s->triangles[t].v[k];
-            edges[n].b = s->triangles[t].v[(k + 1) % 3];
-            n++;
-        }
-    }
-    qsort(edges, n, sizeof *edges, compare_edges);
-    for (i = 0; i < n && !problem; ++i) {
-        directed_edge rev;
-        if (i > 0 && !compare_edges(&edges[i - 1], &edges[i])) problem = "a directed edge is used twice";
-        rev.a = edges[i].b;
-        rev.b = edges[i].a;
-        if (!bsearch(&rev, edges, n, sizeof *edges, compare_edges)) problem = "an edge has no opposite (hole)";
-    }
-    if (!problem && n == 0) problem = "no triangles";
-    if (!problem && !(*volume > 0)) problem = "faces point inward (negative volume)";
-    free(edges);
-    return problem;
-}
 
 /* ---- coplanar overlaps ------------------------------------------------------------ */
 
@@ -429,10 +380,13 @@ TEST(scenes_generated_mtl_round_trips_material_types)
 
 TEST(scenes_cli_generate)
 {
-    const char *obj = test_tmp_path("gen/ajar20.obj");
+    /* a copy: test_tmp_path's buffers rotate (test_cli takes one), and the later
+     * `generate corridor -o %s` once wrote its OBJ as cli-output.txt */
+    char obj[4200];
     char scene_path[4200], mtl[4200];
     scene s;
     rerror e;
+    snprintf(obj, sizeof obj, "%s", test_tmp_path("gen/ajar20.obj"));
     snprintf(scene_path, sizeof scene_path, "%.*s.scene", (int)(strlen(obj) - 4), obj);
     snprintf(mtl, sizeof mtl, "%.*s.mtl", (int)(strlen(obj) - 4), obj);
     CHECKF(test_cli(out, sizeof out, "generate ajar --door-angle 20 -o %s", obj) == 0, "%s", out);

@@ -528,3 +528,14 @@ TEST(shift_failure_names_complete)
     CHECK(restir_shift_names[RESTIR_SHIFT_COUNT] == NULL && restir_ablation_names[RESTIR_ABLATION_COUNT] == NULL);
     CHECK(!strcmp(shift_failure_names[SHIFT_FAIL_RC_PREV], "rc_prev") && !strcmp(shift_failure_names[SHIFT_FAIL_ZERO], "zero"));
 }
+
+/* Textured surfaces and cut-outs (scenes/textured-room.scene, docs/materials.md "Textures"):
+ * the identity shift reproduces F exactly only if a reconnection vertex re-evaluates its
+ * textured BSDF from its own stored triangle and barycentrics; every shift stays invertible
+ * with the alpha test in all of its rays. */
+TEST(shift_identity_textured_room)
+{
+    int shift;
+    for (shift = 0; shift < RESTIR_SHIFT_COUNT && !test_has_failed(); ++shift)
+        invertibility("scenes/textured-room.scene", shift, 3000);
+}

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "test.h"
+#include "text_util.h"
 
 static char out[65536];
 
@@ -35,19 +36,6 @@ TEST(readme_commands_run)
 
 /* The worked example of docs/tour.md (the command is also in the README). */
 #define TOUR_ARGS "inspect scenes/cornell.scene --size 64x64 --pixel 20,40 --neighbor 23,40"
-
-/* The number after "key": at or after *from (advanced past it); NAN if absent. */
-static double json_after(const char **from, const char *key)
-{
-    char pattern[64];
-    const char *p;
-    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
-    p = strstr(*from, pattern);
-    if (!p) return NAN;
-    p += strlen(pattern);
-    *from = p;
-    return strtod(p, NULL);
-}
 
 /* The printed numbers are the estimator's reals to 17 digits: the hand computation in double
  * agrees to rounding (binary32 build: to its rounding). */

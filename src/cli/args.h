@@ -35,6 +35,14 @@ typedef struct {
     int *seen;                  /* optional: set to 1 when given */
 } cli_option;
 
+/* The two rows of --progress auto|none|bar|lines and --progress-every SECONDS that render
+ * has, for the other long-running commands (check, compare --covariance, merge, bench):
+ * mode is an int (enum progress_mode, progress.h), every a double (0: the default 5 s). */
+#define CLI_PROGRESS_ROWS(mode, every)                                                                                  \
+    {"--progress", OPT_CHOICE, (mode), "auto (default: a bar on a terminal, plain lines with the ETA otherwise), none, bar or lines", \
+     progress_mode_names, 0, 0, NULL},                                                                                  \
+    {"--progress-every", OPT_REAL, (every), "seconds between two progress lines (default 5)", NULL, 0.01, 3600, NULL}
+
 /* Parses argv[1..argc-1]. Non-option arguments go to positional[] (up to max_positional).
  * Returns 0, 1 if --help was printed, or 2 after printing "restir CMD: what is wrong". */
 int cli_parse(const char *command, int argc, char **argv, const cli_option *options, const char **positional,

@@ -24,6 +24,7 @@
 #include "restir/scene/generate_rooms.h"
 #include "args.h"
 #include "scene_args.h"
+#include "stop.h"
 
 #define SHARED_BUNNY "../shared/data/common-3d-test-models/stanford-bunny.obj"
 
@@ -36,7 +37,28 @@ typedef struct {
     int has_repeats;
     int light_ris, light_tiles;                       /* bench restir: light RIS (Enhanced 6.1) */
     int textures;                                     /* bench pairing-sigma: textures per pass count */
+    int progress;                                     /* --progress (enum progress_mode) */
+    double progress_every;                            /* --progress-every */
 } bench_args;
+
+/* Progress of a bench run: the total of `bench all` is not known before it runs (the
+ * animated scenes are found on the way), so there is no bar and no ETA: a line as a
+ * benchmark starts, with the time so far (every step on a terminal, in a log at most
+ * one per --progress-every seconds); SIGINT / SIGTERM (stop.h) stop it at the
+ * next benchmark boundary: the JSON array is closed over the complete entries. */
+static progress bench_progress;
+static int bench_steps;
+
+/* 0 to run the next benchmark (after its progress line), or 128 + the stop signal. */
+static int bench_step(const char *what, const char *name)
+{
+    if (stop_signal()) return 128 + stop_signal();
+    ++bench_steps;
+    if (progress_line_due(&bench_progress))
+        fprintf(stderr, "bench: step %d: %s on %s, %.1f s elapsed\n", bench_steps, what, name,
+                now_seconds() - bench_progress.start_seconds);
+    return 0;
+}
 
 /* A benchmark over one prepared scene; `name` labels it in the JSON. */
 typedef int (*scene_bench)(const scene *s, const char *name, const bench_args *a, int *first);
@@ -87,6 +109,7 @@ static int on_generated(int subdivisions, scene_bench fn, const bench_args *a, i
     rerror e;
     int status;
     memset(&s, 0, sizeof s);
+    if ((status = bench_step(fn == bench_rays_on ? "rays" : "benchmark", "generated:displaced_sphere")) != 0) return status;
     if (generate_displaced_sphere(&s, subdivisions, &e) || scene_prepare(&s, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         scene_free(&s);
@@ -104,6 +127,7 @@ static int on_file(const char *path, scene_bench fn, const bench_args *a, int *f
     scene_overrides none;
     int status;
     memset(&none, 0, sizeof none);
+    if ((status = bench_step(fn == bench_rays_on ? "rays" : "benchmark", path)) != 0) return status;
     status = load_scene_for_command("bench", path, &none, &s, NULL, NULL);
     if (status) return status;
     status = fn(&s, path, a, first);
@@ -206,6 +230,7 @@ static int bench_animation_generated(int subdivisions, const bench_args *a, int 
     k[1].frame = 16;
     k[1].angle_degrees = 180;
     k[1].translate = v3((real)0.2, 0, 0);
+    if ((status = bench_step("animation", "generated:displaced_sphere(animated)")) != 0) return status;
     if (generate_displaced_sphere(&s, subdivisions, &e) || scene_add_object_animation(&s, 0, v3(0, 0, 0), k, 2, &e) ||
         scene_prepare(&s, &e)) {
         fprintf(stderr, "%s\n", e.msg);
@@ -407,6 +432,7 @@ int cmd_bench(int argc, char **argv)
              restir_shading_names, 0, 0, NULL},
             {"--light-ris", OPT_INT, &a.light_ris, "bench restir: NEE by light RIS with N candidates at x1 (Enhanced 6.1); also times the light selection", NULL, 0, LIGHT_RIS_MAX, NULL},
             {"--light-tiles", OPT_FLAG, &a.light_tiles, "bench restir, with --light-ris: candidates from light tiles", NULL, 0, 0, NULL},
+            CLI_PROGRESS_ROWS(&a.progress, &a.progress_every),
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
         status = cli_parse("bench", argc, argv, options, positional, 2, &count);
@@ -431,6 +457,9 @@ int cmd_bench(int argc, char **argv)
                         "`realtime [SCENE]`, `stochastic [SCENE]`, `mutations [SCENE]`, `scaling [SCENE]`, `pairing-sigma` or `all`\n");
         return 2;
     }
+    progress_set_mode((enum progress_mode)a.progress, a.progress_every);
+    progress_begin(&bench_progress, "bench", 0);
+    stop_signals_install();
     printf("[\n");
     if (!strcmp(positional[0], "all")) status = bench_all(&a, &first);
     else if (!strcmp(positional[0], "restir"))
@@ -450,5 +479,11 @@ int cmd_bench(int argc, char **argv)
     else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);
     else status = on_file(positional[1], bench_rays_on, &a, &first);
     printf("\n]\n");
+    stop_signals_restore();
+    progress_end(&bench_progress);
+    if (status == 0 && stop_signal()) status = 128 + stop_signal(); /* during the last step: all complete */
+    if (status > 128 && stop_signal())
+        fprintf(stderr, "restir bench: interrupted by %s after %d step(s): the JSON on stdout holds their complete "
+                        "entries only\n", stop_signal_name(), bench_steps);
     return status;
 }

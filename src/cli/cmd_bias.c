@@ -17,6 +17,7 @@
 #include "restir/metrics/bias_runs.h"
 #include "restir/metrics/moments.h"
 #include "restir/metrics/stats.h"
+#include "outputs_ready.h"
 
 static const char usage[] =
     "usage: restir compare --bias RUN.pfm... (--ref REF.pfm | --ref-moments PREFIX) [options]\n"
@@ -64,9 +65,35 @@ static int parse_int(const char *val, int lo, int hi, int *out)
     return 0;
 }
 
+/* Before reading any image: the runs are distinct files (one file twice is not two
+ * independent renders) and --json is writable and none of the inputs. */
+static int check_files(const bias_args *a)
+{
+    char mean[4200], var[4200], meta[4200];
+    named_file out, *ins = calloc((size_t)a->file_count + 5, sizeof *ins);
+    int i, n = a->file_count, status;
+    if (!ins) return usage_error("out of memory", "");
+    for (i = 0; i < n; ++i) ins[i].path = a->files[i], ins[i].role = "a run";
+    status = inputs_distinct("compare --bias", ins, n);
+    ins[n].path = a->ref, ins[n++].role = "--ref";
+    ins[n].path = a->mask, ins[n++].role = "--mask";
+    if (a->ref_moments) {
+        snprintf(mean, sizeof mean, "%s.mean.pfm", a->ref_moments);
+        snprintf(var, sizeof var, "%s.var.pfm", a->ref_moments);
+        snprintf(meta, sizeof meta, "%s.moments.json", a->ref_moments);
+        ins[n].path = mean, ins[n++].role = "a file of --ref-moments";
+        ins[n].path = var, ins[n++].role = "a file of --ref-moments";
+        ins[n].path = meta, ins[n++].role = "a file of --ref-moments";
+    }
+    out.path = a->json, out.role = "--json";
+    if (!status) status = outputs_ready("compare --bias", &out, 1, ins, n);
+    free(ins);
+    return status;
+}
+
 static int parse_args(int argc, char **argv, bias_args *a, int *done)
 {
-    int i;
+    int i, range_given = 0;
     *done = 0;
     memset(a, 0, sizeof *a);
     a->block = 4;
@@ -106,6 +133,7 @@ static int parse_args(int argc, char **argv, bias_args *a, int *done)
                 return usage_error("--resamples must be an integer in 10..100000, not ", val);
         } else if (!strcmp(opt, "--mask-range")) {
             char *end;
+            range_given = 1;
             a->lo = strtod(val, &end);
             if (end == val || *end != ',' || (a->hi = strtod(end + 1, &end), *end) || !(a->lo <= a->hi))
                 return usage_error("--mask-range must be LO,HI with LO <= HI, not ", val);
@@ -114,7 +142,8 @@ static int parse_args(int argc, char **argv, bias_args *a, int *done)
     }
     if (a->file_count < 2 || a->file_count > 65535) return usage_error("needs 2..65535 runs (independent renders)", "");
     if (!a->ref == !a->ref_moments) return usage_error("needs one of --ref REF.pfm or --ref-moments PREFIX", "");
-    return 0;
+    if (range_given && !a->mask) return usage_error("--mask-range needs --mask M.pfm (without a mask it has no effect)", "");
+    return check_files(a);
 }
 
 static double lum_at(const image *img, long i)
@@ -207,6 +236,18 @@ static void reference_noise(const moments_file *mf, const bias_args *a, const im
     }
 }
 
+/* -1 with "PATH: pixel (x, y) is not finite" if img holds a NaN or Inf (a NaN run made
+ * every result NaN), else 0. */
+static int image_unfinite(const char *path, const image *img, rerror *e)
+{
+    size_t i, n = 3 * (size_t)img->width * (size_t)img->height;
+    for (i = 0; i < n; ++i)
+        if (!isfinite(img->px[i]))
+            return rerror_set(e, "%s: pixel (%ld, %ld) is not finite", path, (long)(i / 3) % img->width,
+                              (long)(i / 3) / img->width);
+    return 0;
+}
+
 static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
 {
     image ref, mask, img;
@@ -228,7 +269,8 @@ static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
     } else if (image_read(a->ref, &ref, NULL, e)) {
         return -1;
     }
-    if (a->mask && image_read(a->mask, &mask, NULL, e)) goto done;
+    if (image_unfinite(a->ref ? a->ref : a->ref_moments, &ref, e)) goto done;
+    if (a->mask && (image_read(a->mask, &mask, NULL, e) || image_unfinite(a->mask, &mask, e))) goto done;
     if (a->mask && (mask.width != ref.width || mask.height != ref.height)) {
         rerror_set(e, "%s: %dx%d, the reference is %dx%d", a->mask, mask.width, mask.height, ref.width, ref.height);
         goto done;
@@ -245,6 +287,10 @@ static int run(const bias_args *a, bias_result *r, double *nmse, rerror *e)
     block_means(&ref, a, a->mask ? &mask : NULL, bw, ref_b, weight);
     for (k = 0; k < a->file_count; ++k) {
         if (image_read(a->files[k], &img, NULL, e)) goto done;
+        if (image_unfinite(a->files[k], &img, e)) {
+            image_free(&img);
+            goto done;
+        }
         if (img.width != ref.width || img.height != ref.height) {
             rerror_set(e, "%s: %dx%d, the reference is %dx%d", a->files[k], img.width, img.height, ref.width, ref.height);
             image_free(&img);
@@ -293,6 +339,24 @@ static int write_json(const char *path, const bias_result *r, int block, double 
     return atomic_file_commit(&f, e);
 }
 
+/* Exit 0 only with finite numbers: no reference block in the mask range (a black
+ * reference: the default range starts at 0.5) or a zero reference mean gave "rel_bias -nan"
+ * and a JSON file with -nan tokens, exit 0. */
+static int result_unfit(const bias_args *a, const bias_result *r, double nm, double nh, rerror *e)
+{
+    if (r->blocks == 0)
+        return rerror_set(e, "restir compare --bias: no block to measure: none has a nonzero reference and a "
+                             "luminance of %s in --mask-range %g,%g", a->mask ? a->mask : a->ref ? a->ref : a->ref_moments,
+                          a->lo, a->hi);
+    if (!isfinite(r->rel_bias.value) || !isfinite(r->rel_bias.lo) || !isfinite(r->rel_bias.hi) ||
+        !isfinite(r->mean_abs_rel.value) || !isfinite(r->corrected) || !isfinite(r->noise_floor) || !isfinite(nm) ||
+        !isfinite(nh))
+        return rerror_set(e, "restir compare --bias: a result is not finite (rel_bias %g [%g, %g], nmse %g +- %g): the "
+                             "reference's mean over the measured blocks is zero or the runs overflow",
+                          r->rel_bias.value, r->rel_bias.lo, r->rel_bias.hi, nm, nh);
+    return 0;
+}
+
 int cmd_compare_bias(int argc, char **argv)
 {
     bias_args a;
@@ -310,6 +374,7 @@ int cmd_compare_bias(int argc, char **argv)
     }
     status = run(&a, &r, nmse, &e);
     if (!status) mean_t(nmse, a.file_count, a.level, &nm, &nh);
+    if (!status && (status = result_unfit(&a, &r, nm, nh, &e)) != 0) status = -1;
     if (status || (a.json && write_json(a.json, &r, a.block, a.level, a.ref_moments != NULL, nm, nh, &e))) {
         fprintf(stderr, "%s\n", e.msg);
         free(a.files);

@@ -13,12 +13,14 @@
 #include "restir/core/image_io.h"
 #include "restir/core/json_text.h"
 #include "restir/core/png.h"
+#include "restir/core/progress.h"
 #include "restir/core/upside_down.h"
 #include "restir/metrics/check.h"
 #include "restir/metrics/moments.h"
 #include "restir/metrics/output_set.h"
 #include "args.h"
 #include "collide.h"
+#include "outputs_ready.h"
 
 #define MAX_INPUTS 4096
 
@@ -43,6 +45,8 @@ typedef struct {
     side_args a, b;
     check_options opt;
     int require_equivalence, quiet, paired, no_skew_correction, correction;
+    int progress;          /* --progress (enum progress_mode) */
+    double progress_every; /* --progress-every */
     const char *json, *z_map, *block_z_map;
     double scale_a; /* --scale-a (0: not given) */
 } check_args;
@@ -89,7 +93,8 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
             {"--block-z-map", OPT_STRING, &a->block_z_map, "the same per block (one pixel per block)", NULL, 0, 0, NULL},
             {"--no-skew-correction", OPT_FLAG, &a->no_skew_correction, "plain Welch block tests (default: discount the tail opposite the pooled skewness of the per-run block means, Hall 1992)", NULL, 0, 0, NULL},
             {"--scale-a", OPT_REAL, &a->scale_a, "multiply side A by S (a planted relative bias S - 1, to measure power)", NULL, 1e-300, 1e6, NULL},
-            {"--quiet", OPT_FLAG, &a->quiet, "print only the verdict line", NULL, 0, 0, NULL},
+            {"--quiet", OPT_FLAG, &a->quiet, "print only the verdict line (and no progress)", NULL, 0, 0, NULL},
+            CLI_PROGRESS_ROWS(&a->progress, &a->progress_every),
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
         status = cli_parse("check", argc, argv, options, positional, 0, &count);
@@ -118,13 +123,20 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
 
 /* ---- loading a side ---- */
 
+/* Reading the runs is what takes long (K images of 1080p: 24 MB each): progress counts
+ * them over both sides. */
+static progress load_progress;
+static long runs_read, runs_total;
+
 static int load_runs(check_side *side, const side_args *s, int block, rerror *e)
 {
     int i;
     for (i = 0; i < s->runs.count; ++i) {
         image img;
         int status;
+        progress_update(&load_progress, runs_read, runs_total);
         if (image_read(s->runs.items[i], &img, NULL, e)) return -1;
+        ++runs_read;
         if (i == 0 && check_side_begin_runs(side, img.width, img.height, block, e)) {
             image_free(&img);
             return -1;
@@ -147,9 +159,11 @@ static int load_reference(check_side *side, const side_args *s, rerror *e)
     n = (size_t)ref.width * (size_t)ref.height * 3;
     for (i = 0; i < n; ++i)
         if (!isfinite(ref.px[i])) {
+            /* the message first: image_free zeroes the width (it divided by zero: SIGFPE) */
+            rerror_at(e, s->ref, 0, "pixel (%ld, %ld) is not finite", (long)(i / 3) % ref.width,
+                      (long)(i / 3) / ref.width);
             image_free(&ref);
-            return rerror_at(e, s->ref, 0, "pixel (%ld, %ld) is not finite", (long)(i / 3) % ref.width,
-                             (long)(i / 3) / ref.width);
+            return -1;
         }
     if (!s->ref_var) return check_side_exact(side, &ref, e);
     memset(&f, 0, sizeof f);
@@ -562,20 +576,25 @@ static int check_map_names(const check_args *args)
     return 0;
 }
 
-/* --json, --z-map and --block-z-map must not overwrite each other or an input image. */
+/* --json, --z-map and --block-z-map can be written and must not overwrite each other or an
+ * input image; no input is given twice. */
 static int check_collisions(const check_args *args)
 {
     static const char *const moments_files[] = {".mean.pfm", ".var.pfm", ".mean.exr", ".var.exr", ".moments.json",
                                                 ".blocks.bin"};
     named_file outs[3], ins[2 * MAX_INPUTS + 16];
     char names[12][4200];
-    int n = 0, side, i, m = 0;
+    int n = 0, side, i, m = 0, runs;
     outs[0].path = args->json, outs[0].role = "--json";
     outs[1].path = args->z_map, outs[1].role = "--z-map";
     outs[2].path = args->block_z_map, outs[2].role = "--block-z-map";
-    for (side = 0; side < 2; ++side) {
+    for (side = 0; side < 2; ++side) { /* the runs first: they must be distinct files */
         const side_args *s = side ? &args->b : &args->a;
         for (i = 0; i < s->runs.count; ++i) ins[n].path = s->runs.items[i], ins[n++].role = side ? "--b" : "--a";
+    }
+    runs = n;
+    for (side = 0; side < 2; ++side) {
+        const side_args *s = side ? &args->b : &args->a;
         ins[n].path = s->ref, ins[n++].role = "--ref";
         ins[n].path = s->ref_var, ins[n++].role = "--ref-var";
         for (i = 0; s->moments && i < 6; ++i, ++m) { /* PREFIX or PREFIX.moments.json */
@@ -585,7 +604,9 @@ static int check_collisions(const check_args *args)
             ins[n].path = names[m], ins[n++].role = side ? "a file of --b-moments" : "a file of --a-moments";
         }
     }
-    return outputs_distinct("check", outs, 3, ins, n, NULL);
+    /* the runs of both sides are distinct files: one file twice is not two independent runs */
+    if (inputs_distinct("check", ins, runs)) return 2;
+    return outputs_ready("check", outs, 3, ins, n);
 }
 
 int cmd_check(int argc, char **argv)
@@ -599,7 +620,14 @@ int cmd_check(int argc, char **argv)
     if (check_map_names(&args) || check_collisions(&args)) return 2;
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
-    if (load_side(&a, &args.a, args.opt.block_size, &e) || load_side(&b, &args.b, args.opt.block_size, &e) ||
+    progress_set_mode((enum progress_mode)args.progress, args.progress_every);
+    progress_begin(&load_progress, "check: reading runs", args.quiet);
+    runs_total = args.a.runs.count + args.b.runs.count;
+    progress_expect(&load_progress, runs_total);
+    status = load_side(&a, &args.a, args.opt.block_size, &e) || load_side(&b, &args.b, args.opt.block_size, &e);
+    if (!status) progress_update(&load_progress, runs_total, runs_total);
+    progress_end(&load_progress);
+    if (status ||
         ((a.width != b.width || a.height != b.height) &&
          rerror_at(&e, side_file(&args.b), 0, "image is %d x %d but side A (%s) is %d x %d", b.width, b.height,
                    side_file(&args.a), a.width, a.height)) ||
@@ -621,6 +649,7 @@ int cmd_check(int argc, char **argv)
                 fprintf(stderr, "restir check: warning: %s\n", msg);
     }
     if (write_outputs(&args, &a, &b, &r, status, &e)) {
+        message_unstaged(e.msg);
         fprintf(stderr, "%s\n", e.msg);
         status = 2;
     } else {

@@ -20,6 +20,7 @@
 #include "restir/metrics/flip.h"
 #include "restir/metrics/metrics.h"
 #include "args.h"
+#include "outputs_ready.h"
 
 /* What the option table cannot say (printed after it by --help). */
 static const char help_notes[] =
@@ -103,6 +104,9 @@ static int parse_args(int argc, char **argv, compare_options *o)
     o->test_path = positional[0];
     o->ref_path = positional[1];
     if (metric && (o->metric = metric_from_name(metric)) < 0) return usage_error("unknown metric '%s'", metric);
+    if (metric && !o->map_path) /* it chooses the map only: alone it was ignored (every metric is printed) */
+        return usage_error("--metric %s chooses the --error-map's metric; without --error-map every metric is printed",
+                           metric);
     if (crop) {
         if (parse_crop(crop, &o->crop)) return usage_error("--crop '%s' is not x,y,w,h", crop);
         o->has_crop = 1;
@@ -110,7 +114,12 @@ static int parse_args(int argc, char **argv, compare_options *o)
     if (!(o->flip.ppd > 0)) return usage_error("%s", "--ppd: expected a positive number");
     if (o->map_path && o->metric == METRIC_REL_BIAS)
         return usage_error("%s", "rel_bias is one number per image: it has no error map");
-    return 0;
+    {
+        /* before any work: writable, not each other, not an input (outputs_ready.h) */
+        const named_file outs[] = {{o->json_path, "--json"}, {o->map_path, "--error-map"}};
+        const named_file ins[] = {{o->test_path, "TEST"}, {o->ref_path, "REF"}};
+        return outputs_ready("compare", outs, 2, ins, 2);
+    }
 }
 
 /* Copies the rectangle r of src into a new image. */

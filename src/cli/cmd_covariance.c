@@ -11,9 +11,11 @@
 #include "restir/core/image.h"
 #include "restir/core/image_io.h"
 #include "restir/core/json_text.h"
+#include "restir/core/progress.h"
 #include "restir/metrics/covariance.h"
 #include "restir/metrics/output_set.h"
 #include "args.h"
+#include "outputs_ready.h"
 
 /* What the option table cannot say (printed after it by --help). */
 static const char help_notes[] =
@@ -26,12 +28,31 @@ typedef struct {
     int file_count;
     int radius, exclude_center, covariance;
     const char *curve, *map, *json;
+    int progress;          /* --progress (enum progress_mode) */
+    double progress_every; /* --progress-every */
 } covariance_args;
 
 static int usage_error(const char *what, const char *arg)
 {
     fprintf(stderr, "restir compare --covariance: %s%s\n(restir compare --covariance --help for usage)\n", what, arg);
     return 2;
+}
+
+/* Before reading any image: the runs are distinct files (one file twice is not two
+ * independent renders) and the outputs are writable, distinct and not a run. */
+static int check_files(const covariance_args *a)
+{
+    named_file outs[3], *ins = calloc((size_t)a->file_count, sizeof *ins);
+    int i, status;
+    if (!ins) return usage_error("out of memory", "");
+    for (i = 0; i < a->file_count; ++i) ins[i].path = a->files[i], ins[i].role = "a run";
+    outs[0].path = a->curve, outs[0].role = "--curve";
+    outs[1].path = a->map, outs[1].role = "--map";
+    outs[2].path = a->json, outs[2].role = "--json";
+    status = inputs_distinct("compare --covariance", ins, a->file_count);
+    if (!status) status = outputs_ready("compare --covariance", outs, 3, ins, a->file_count);
+    free(ins);
+    return status;
 }
 
 static int parse_args(int argc, char **argv, covariance_args *a, int *done)
@@ -50,6 +71,7 @@ static int parse_args(int argc, char **argv, covariance_args *a, int *done)
             {"--curve", OPT_STRING, &a->curve, "OUT.csv: the value for every radius 0..R (CSV radius,covariance; plot with restir plot)", NULL, 0, 0, NULL},
             {"--map", OPT_STRING, &a->map, "OUT.pfm or OUT.exr: per-pixel box covariance at radius R", NULL, 0, 0, NULL},
             {"--json", OPT_STRING, &a->json, "OUT.json: machine-readable result", NULL, 0, 0, NULL},
+            CLI_PROGRESS_ROWS(&a->progress, &a->progress_every),
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
         status = cli_parse("compare --covariance", argc, argv, options, a->files, argc, &a->file_count);
@@ -67,24 +89,40 @@ static int parse_args(int argc, char **argv, covariance_args *a, int *done)
         rerror e;
         if (image_output_check(a->map, &e)) return usage_error("--map ", e.msg);
     }
-    return 0;
+    return check_files(a);
 }
 
+/* Each image is read and its box products added (K images of 1080p at radius 8: seconds
+ * each): progress counts the images. */
 static int accumulate(const covariance_args *a, covariance_accum *c, rerror *e)
 {
+    progress p;
     int i;
+    progress_set_mode((enum progress_mode)a->progress, a->progress_every);
+    progress_begin(&p, "compare --covariance", 0);
+    progress_expect(&p, a->file_count);
     for (i = 0; i < a->file_count; ++i) {
         image img;
         int status;
-        if (image_read(a->files[i], &img, NULL, e)) return -1;
+        progress_update(&p, i, a->file_count);
+        if (image_read(a->files[i], &img, NULL, e)) {
+            progress_end(&p);
+            return -1;
+        }
         if (i == 0 && covariance_init(c, img.width, img.height, a->radius, a->exclude_center, e)) {
             image_free(&img);
+            progress_end(&p);
             return -1;
         }
         status = covariance_add(c, &img, a->files[i], e);
         image_free(&img);
-        if (status) return -1;
+        if (status) {
+            progress_end(&p);
+            return -1;
+        }
     }
+    progress_update(&p, a->file_count, a->file_count);
+    progress_end(&p);
     return 0;
 }
 
@@ -158,8 +196,10 @@ int cmd_compare_covariance(int argc, char **argv)
                write_outputs(&args, &c, v, &map, &e)) {
         status = 2;
     }
-    if (status)
+    if (status) {
+        message_unstaged(e.msg);
         fprintf(stderr, "%s\n", e.msg);
+    }
     else
         printf("covariance (Mutations Eq. 21, luminance, %s centre): %ld images, %d x %d, radius %d: %.6g\n",
                args.exclude_center ? "without" : "with", c.images, c.width, c.height, args.radius, v[args.radius]);

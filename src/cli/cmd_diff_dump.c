@@ -19,6 +19,7 @@
 #include "restir/oracle/dump_diff.h"
 #include "restir/oracle/stage_dump.h"
 #include "args.h"
+#include "collide.h"
 #include "diff_dump_runs.h"
 
 typedef struct {
@@ -389,10 +390,29 @@ static int check_sides(const diff_args *a, const dump_side *sa, const dump_side 
     return 0;
 }
 
-static int make_dir(const char *dir, rerror *e)
+/* --images DIR: never inside either dump (its files would sit among the stage files the
+ * next diff reads), created if missing. */
+static int make_images_dir(const diff_args *a, rerror *e)
 {
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST) return rerror_set(e, "%s: cannot create directory: %s", dir, strerror(errno));
+    struct stat st;
+    if (path_within(a->images, a->a) || path_within(a->images, a->b))
+        return rerror_set(e, "--images %s lies inside dump %s: choose a directory outside both dumps", a->images,
+                          path_within(a->images, a->a) ? a->a : a->b);
+    if (mkdir(a->images, 0777) != 0 && errno != EEXIST)
+        return rerror_set(e, "%s: cannot create directory: %s", a->images, strerror(errno));
+    if (stat(a->images, &st) != 0 || !S_ISDIR(st.st_mode))
+        return rerror_set(e, "%s: not a directory (--images names the directory the images go to)", a->images);
     return 0;
+}
+
+/* An exit 2 after images were written says what it kept (issue 27: exit != 0 leaves nothing
+ * or says exactly what it kept). */
+static int failed_after_images(const diff_args *a)
+{
+    if (a->images)
+        fprintf(stderr, "restir diff-dump: stopped by the error below; the images of the rows before it are kept in %s\n",
+                a->images);
+    return 2;
 }
 
 /* The tolerances from the options (--max-rel-w/-target/-confidence, then --max-rel, --ignore). */
@@ -417,7 +437,7 @@ static int run(const diff_args *a, rerror *e)
     int i, all_pass = 1, first_row = 1, reported = 0, rows = 0;
     long f;
     if (tolerances(a, &t, e) || load_side(a->a, 1, NULL, &sa, e) || load_side(a->b, 0, &sa, &sb, e) ||
-        check_sides(a, &sa, &sb, e) || (a->images && make_dir(a->images, e)))
+        check_sides(a, &sa, &sb, e) || (a->images && make_images_dir(a, e)))
         return 2;
     if (a->json) {
         printf("{\"a\": ");
@@ -438,7 +458,7 @@ static int run(const diff_args *a, rerror *e)
             int pass = diff_stage(a, &sa, &sb, f, sa.m.order[i], &t, &first_row, &reported, e);
             if (pass < 0) {
                 if (a->json) printf("\n]}\n");
-                return 2;
+                return failed_after_images(a);
             }
             if (pass == 2) continue;
             rows++;

@@ -1,4 +1,4 @@
-/* restir generate ajar|glass|corridor|sphere|pillars|shadow|ajar-swing|ajar-swing-still|many-lights|atrium -o OUT.obj: writes a generated scene as OUT.obj,
+/* restir generate ajar|glass|corridor|sphere|pillars|shadow|ajar-swing|ajar-swing-still|many-lights|many-lights-sky|atrium -o OUT.obj: writes a generated scene as OUT.obj,
  * OUT.mtl and OUT.scene (docs/scenes.md). */
 #include "cmd_generate.h"
 
@@ -9,6 +9,7 @@
 #include "restir/scene/generate_atrium.h"
 #include "restir/scene/generate_rooms.h"
 #include "args.h"
+#include "outputs_ready.h"
 
 typedef struct {
     const char *output;
@@ -18,11 +19,11 @@ typedef struct {
     int angle_seen, subdivisions_seen;
 } generate_args;
 
-#define GENERATE_KINDS_TEXT "ajar, glass, corridor, sphere, pillars, shadow, ajar-swing, ajar-swing-still, many-lights, atrium"
+#define GENERATE_KINDS_TEXT "ajar, glass, corridor, sphere, pillars, shadow, ajar-swing, ajar-swing-still, many-lights, many-lights-sky, atrium"
 
 static int known_kind(const char *kind)
 {
-    static const char *const kinds[] = {"ajar", "glass", "corridor", "sphere", "pillars", "shadow", "ajar-swing", "ajar-swing-still", "many-lights", "atrium"};
+    static const char *const kinds[] = {"ajar", "glass", "corridor", "sphere", "pillars", "shadow", "ajar-swing", "ajar-swing-still", "many-lights", "many-lights-sky", "atrium"};
     size_t i;
     for (i = 0; i < sizeof kinds / sizeof *kinds; ++i)
         if (!strcmp(kind, kinds[i])) return 1;
@@ -37,6 +38,12 @@ static void scene_path_for(const char *obj_path, char *out, size_t size)
         snprintf(out, size, "%.*s.scene", (int)(len - 4), obj_path);
     else
         snprintf(out, size, "%s.scene", obj_path);
+}
+
+/* OUT.obj -> OUT.mtl, as generate_write_obj names it. */
+static void mtl_path_for(const char *obj_path, char *out, size_t size)
+{
+    snprintf(out, size, "%.*s.mtl", (int)(strlen(obj_path) - 4), obj_path);
 }
 
 static const char *base_name(const char *path)
@@ -88,6 +95,12 @@ static void describe(const char *kind, const generate_args *a, char *out, size_t
                  "pillars, a glossy floor and a copper block; light RIS for NEE (Enhanced 6.1, docs/scenes.md). Metres.\n"
                  "Written by: restir generate many-lights -o %s",
                  base_name(a->output));
+    else if (!strcmp(kind, "many-lights-sky"))
+        snprintf(out, size,
+                 "Many lights under the sky: the many-lights hall without its ceiling slab (the ceiling lights hang in\n"
+                 "place) under a constant dusk sky and a low sun; the environment as one more light (docs/scenes.md). Metres.\n"
+                 "Written by: restir generate many-lights-sky -o %s",
+                 base_name(a->output));
     else if (!strcmp(kind, "atrium"))
         snprintf(out, size,
                  "Atrium: a generated Sponza-like interior (no Sponza in ../shared/data): a courtyard between two-storey\n"
@@ -110,6 +123,7 @@ static int generate_kind(const char *kind, const generate_args *a, scene *s, rer
     if (!strcmp(kind, "ajar-swing-still")) return generate_ajar_swing(s, 1, e);
     if (!strcmp(kind, "corridor")) return generate_corridor(s, e);
     if (!strcmp(kind, "many-lights")) return generate_many_lights(s, e);
+    if (!strcmp(kind, "many-lights-sky")) return generate_many_lights_sky(s, e);
     if (!strcmp(kind, "atrium")) return generate_atrium(s, e);
     return generate_displaced_sphere(s, a->subdivisions, e);
 }
@@ -118,7 +132,8 @@ int cmd_generate(int argc, char **argv)
 {
     generate_args a;
     const char *positional[2];
-    char scene_path[4200], comment[1024];
+    char scene_path[4200], mtl_path[4200], comment[1024];
+    file_before before[3];
     int count, status;
     scene s;
     rerror e;
@@ -129,7 +144,10 @@ int cmd_generate(int argc, char **argv)
         const cli_option options[] = {
             {"-o", OPT_STRING, &a.output, "output OBJ; the MTL and the scene file go next to it (.mtl, .scene)", NULL, 0, 0, NULL},
             {"--door-angle", OPT_REAL, &a.door_angle, "ajar: door opening angle in degrees, 0..90 (default 10; 0 = closed)", NULL, 0, AJAR_MAX_DOOR_ANGLE, &a.angle_seen},
-            {"--subdivisions", OPT_INT, &a.subdivisions, "sphere: grid size per cube face (default 92: 100k triangles)", NULL, 1, 8192, &a.subdivisions_seen},
+            /* at most 2000 (48M triangles, about 3 GB of memory and a 2 GB OBJ), as bench
+             * --generated: 8192 (805M triangles) would need about 50 GB and write 34 GB (extrapolated
+             * from 300: 67 MB resident, a 45 MB OBJ) */
+            {"--subdivisions", OPT_INT, &a.subdivisions, "sphere: grid size per cube face, 1..2000 (default 92: 100k triangles)", NULL, 1, 2000, &a.subdivisions_seen},
             {"--no-scene", OPT_FLAG, &a.no_scene, "write only the OBJ and MTL", NULL, 0, 0, NULL},
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
@@ -152,15 +170,35 @@ int cmd_generate(int argc, char **argv)
         fprintf(stderr, "restir generate: --door-angle is for ajar, --subdivisions for sphere\n");
         return 2;
     }
+    if (strlen(a.output) < 5 || strcmp(a.output + strlen(a.output) - 4, ".obj")) {
+        /* a scene file is read by its extension: OUT.scene holding OBJ text would not load */
+        fprintf(stderr, "restir generate: -o %s: the output is an OBJ file and its name must end in .obj (the .mtl "
+                        "and .scene go next to it)\n", a.output);
+        return 2;
+    }
+    scene_path_for(a.output, scene_path, sizeof scene_path);
+    mtl_path_for(a.output, mtl_path, sizeof mtl_path);
+    {
+        const named_file outs[] = {{a.output, "-o"}, {mtl_path, "the MTL"}, {a.no_scene ? NULL : scene_path, "the scene file"}};
+        if (outputs_ready("generate", outs, 3, NULL, 0)) return 2;
+    }
     if (generate_kind(positional[0], &a, &s, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
     describe(positional[0], &a, comment, sizeof comment);
-    scene_path_for(a.output, scene_path, sizeof scene_path);
+    file_before_note(&before[0], a.output);
+    file_before_note(&before[1], mtl_path);
+    file_before_note(&before[2], scene_path);
     status = generate_write_obj(&s, a.output, &e);
     if (!status && !a.no_scene) status = generate_write_scene_file(&s, scene_path, base_name(a.output), comment, &e);
-    if (status) fprintf(stderr, "%s\n", e.msg);
+    if (status) {
+        /* exit 2 leaves nothing: the OBJ or MTL committed before the failure goes too */
+        int removed = file_remove_if_written(&before[0], a.output) + file_remove_if_written(&before[1], mtl_path) +
+                      file_remove_if_written(&before[2], scene_path);
+        fprintf(stderr, "%s\n", e.msg);
+        if (removed) fprintf(stderr, "restir generate: removed the %d file(s) this call wrote before the error\n", removed);
+    }
     scene_free(&s);
     return status ? 2 : 0;
 }

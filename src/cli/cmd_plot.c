@@ -1,6 +1,7 @@
 /* restir plot DATA.csv -o FIG.svg: line plots of CSV tables (docs/statistics.md, "plot"). */
 #include "cmd_plot.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,6 +9,7 @@
 #include "restir/metrics/plot_csv.h"
 #include "restir/metrics/plot_svg.h"
 #include "args.h"
+#include "outputs_ready.h"
 
 /* What the option table cannot say (printed after it by --help). */
 static const char help_notes[] =
@@ -34,6 +36,35 @@ static int apply_scales(const int given[4], plot_options *o)
     if (chosen >= 0) {
         o->x_scale = x[chosen];
         o->y_scale = y[chosen];
+    }
+    return 0;
+}
+
+/* A linear axis maps [min, max] of the finite values to pixels: a span beyond the double
+ * range (1e308 and -1e308) would draw every point at NaN, so it is an input error, and so
+ * are spans the tick loop cannot step through (below). A log axis is always drawable. */
+static int spans_finite(const plot_table *t, const plot_options *o, const char *input)
+{
+    int c, r;
+    for (c = 0; c < 2; ++c) {
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        int first = c ? 1 : 0, end = c ? t->columns : 1;
+        if ((c ? o->y_scale : o->x_scale) != PLOT_LINEAR) continue;
+        for (; first < end; ++first)
+            for (r = 0; r < t->rows; ++r) {
+                double v = t->values[(size_t)first * t->rows + r];
+                if (!isfinite(v)) continue;
+                if (v < lo) lo = v;
+                if (v > hi) hi = v;
+            }
+        /* ticks step by a 1-2-5 fraction of the span from a rounded end: near the double
+         * limit the rounded end overflows, and a span below the values' rounding unit
+         * leaves the tick loop adding nothing (both hung the plot) */
+        if (hi >= lo && (fabs(lo) > 1e300 || fabs(hi) > 1e300 || (hi > lo && hi - lo < 1e-12 * fmax(fabs(lo), fabs(hi))))) {
+            fprintf(stderr, "%s: the %s values span %.17g .. %.17g: a linear axis cannot draw them (|value| <= 1e300 "
+                            "and a span >= 1e-12 of it; use a log axis, or scale the data)\n", input, c ? "y" : "x", lo, hi);
+            return 2;
+        }
     }
     return 0;
 }
@@ -73,8 +104,16 @@ int cmd_plot(int argc, char **argv)
     if (apply_scales(scale, &o)) return 2;
     if (count == 1) input = positional[0];
     if (!input || !output) return usage_error("needs DATA.csv and -o FIG.svg", "");
+    {
+        const named_file out = {output, "-o"}, in = {input, "DATA.csv"};
+        if (outputs_ready("plot", &out, 1, &in, 1)) return 2;
+    }
     if (plot_csv_read(input, &t, &e)) {
         fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    if (spans_finite(&t, &o, input)) {
+        plot_table_free(&t);
         return 2;
     }
     if (!o.xlabel) o.xlabel = t.names[0];

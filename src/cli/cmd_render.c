@@ -235,6 +235,10 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
     }
     status = render_one(a, s, a->seed, out, &img, t);
     if (status) return status;
+    if (!stop_signal() && pt_time_limit_empty(a, t)) {
+        image_free(&img);
+        return 2;
+    }
     if (stop_signal() && (a->method == METHOD_RESTIR ? t->restir.frames == 0 : a->method == METHOD_PT && t->pt.state.spp == 0)) {
         /* stopped at a tile boundary before anything was complete: no image to write */
         fprintf(stderr, "restir render: interrupted by %s before the first %s was complete: nothing written\n",

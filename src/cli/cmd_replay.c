@@ -10,6 +10,7 @@
 #include "restir/core/json_text.h"
 #include "restir/core/rng.h"
 #include "restir/oracle/dump_diff.h"
+#include "restir/oracle/region_input.h"
 #include "restir/oracle/stage_dump.h"
 #include "restir/restir/mis.h"
 #include "restir/restir/mutate.h"
@@ -36,7 +37,7 @@ void replay_args_free(replay_args *l)
 
 /* Options of the recorded command that a replay replaces (with a value, then flags). */
 static const char *const dropped_valued[] = {"-o", "--png", "--sequence", "--dump-dir", "--dump-stages",
-                                             "--dump-region", "--from-dump", "--from-stage", "--stats", "--runs",
+                                             "--dump-region", "--dump-halo", "--from-dump", "--from-stage", "--stats", "--runs",
                                              "--checkpoint", "--checkpoint-every", "--resume", "--progress",
                                              "--progress-every", NULL};
 static const char *const dropped_ablate[] = {"--ablate", NULL};
@@ -107,6 +108,11 @@ typedef struct {
     stage_manifest m;
     char prev[STAGE_NAME_SIZE]; /* the stage before S in DIR's stage order ("" if S is first) */
     int history;                /* S is temporal and F is not DIR's first frame */
+    /* a region dump (manifest "region"): its files expanded into a temporary whole-image
+       dump (region_input.h) that the render restarts from; rin.check: the pixels replayed */
+    int region;
+    region_input_plan rin;
+    char tmp[64];
 } replay_plan;
 
 static int file_exists(const char *path)
@@ -162,11 +168,56 @@ static int plan_command(const replay_plan *p, const char *out_prefix, const char
     snprintf(frames, sizeof frames, "%ld..%ld", p->frame, p->frame);
     status |= replay_args_push(l, "--sequence") | replay_args_push(l, frames) | replay_args_push(l, "-o") | replay_args_push(l, out_prefix);
     status |= replay_args_push(l, "--no-png") | replay_args_push(l, "--quiet");
-    if (p->prev[0]) status |= replay_args_push(l, "--from-dump") | replay_args_push(l, p->dir) | replay_args_push(l, "--from-stage") | replay_args_push(l, p->prev);
+    if (p->prev[0]) status |= replay_args_push(l, "--from-dump") | replay_args_push(l, p->region ? p->tmp : p->dir) | replay_args_push(l, "--from-stage") | replay_args_push(l, p->prev);
     if (p->history) status |= replay_args_push(l, "--history-from-dump");
     if (dump_dir) status |= replay_args_push(l, "--dump-dir") | replay_args_push(l, dump_dir) | replay_args_push(l, "--dump-stages") | replay_args_push(l, p->stage);
+    if (dump_dir && p->region) { /* only the replayed pixels: the others' inputs are not all in the dump */
+        char rect[128];
+        snprintf(rect, sizeof rect, "%ld,%ld,%ld,%ld", p->rin.check.x, p->rin.check.y, p->rin.check.width,
+                 p->rin.check.height);
+        status |= replay_args_push(l, "--dump-region") | replay_args_push(l, rect);
+    }
     if (status) return rerror_set(e, "replay: the command line is too long");
     return 0;
+}
+
+/* A region dump as input (docs/oracle.md §6): the pixels of `check` (inside the dumped
+ * rectangle) are replayed; the stage before S and frame F-1's final state are expanded into
+ * a temporary whole-image dump with empty records outside the rectangle, and the render's
+ * listener refuses a checked pixel whose stage reads outside it (region_input.h). */
+static int plan_region(replay_plan *p, const stage_region *check, rerror *e)
+{
+    const stage_region *r = &p->m.region;
+    const char *tmpdir = getenv("TMPDIR");
+    if (check->x < r->x || check->y < r->y || check->x + check->width > r->x + r->width ||
+        check->y + check->height > r->y + r->height)
+        return rerror_set(e, "%s/manifest.json: pixels %ld,%ld,%ld,%ld are not all in the dumped rectangle "
+                             "%ld,%ld,%ld,%ld (missing input: their own records)", p->dir, check->x, check->y,
+                          check->width, check->height, r->x, r->y, r->width, r->height);
+    if (!p->prev[0]) return 0; /* the first stage reads nothing of the dump */
+    snprintf(p->tmp, sizeof p->tmp, "%.40s/restir-region-XXXXXX", tmpdir && *tmpdir && strlen(tmpdir) < 40 ? tmpdir : "/tmp");
+    if (!mkdtemp(p->tmp)) return rerror_set(e, "%s: cannot create a temporary directory", p->tmp);
+    p->region = 1;
+    p->rin.dir = p->dir;
+    p->rin.tmp = p->tmp;
+    p->rin.stage = p->stage;
+    p->rin.prev = p->prev;
+    p->rin.m = &p->m;
+    p->rin.frame = p->frame;
+    p->rin.history = p->history;
+    p->rin.check = *check;
+    if (region_input_dir_make(&p->rin, e)) {
+        region_input_dir_remove(&p->rin);
+        p->region = 0;
+        return -1;
+    }
+    return 0;
+}
+
+static void plan_done(replay_plan *p)
+{
+    if (p->region) region_input_dir_remove(&p->rin);
+    p->region = 0;
 }
 
 static void remove_frame_image(const char *prefix, long frame)
@@ -178,11 +229,26 @@ static void remove_frame_image(const char *prefix, long frame)
 
 /* ---- restir replay ------------------------------------------------------------------------ */
 
+/* The replayed pixels of a region dump: --region, else the halo's core, else the rectangle. */
+static int replay_region(replay_plan *p, const char *text, rerror *e)
+{
+    stage_region check;
+    if (!p->m.region.width) {
+        if (text) return rerror_set(e, "--region: %s is not a region dump (its manifest has no \"region\")", p->dir);
+        return 0;
+    }
+    if (text) {
+        if (stage_region_parse(text, &check, e)) return -1;
+    } else
+        check = p->m.core.width ? p->m.core : p->m.region;
+    return plan_region(p, &check, e);
+}
+
 int cmd_replay(int argc, char **argv)
 {
     replay_plan p;
     replay_args l;
-    const char *positional[1], *stage = NULL, *out = NULL, *options_from = NULL;
+    const char *positional[1], *stage = NULL, *out = NULL, *options_from = NULL, *region = NULL;
     long frame = -1;
     int count, status, frame_i = -1;
     char prefix[4200];
@@ -192,6 +258,7 @@ int cmd_replay(int argc, char **argv)
         {"--stage", OPT_STRING, &stage, "the stage S to recompute (a name of DIR's stage order)", NULL, 0, 0, NULL},
         {"--dump-dir", OPT_STRING, &out, "write S's output of frame F here (a stage dump: manifest, S.resv, G-buffer)", NULL, 0, 0, NULL},
         {"--options-from", OPT_STRING, &options_from, "take the render command line (scene, options) from this dump's manifest instead of DIR's (a GPU build's dump: the oracle's dump of the same run)", NULL, 0, 0, NULL},
+        {"--region", OPT_STRING, &region, "DIR is a region dump: replay the pixels of X,Y,W,H (default: the manifest's halo core, else the whole dumped rectangle); refused (exit 2) if a pixel's stage reads outside the dumped rectangle", NULL, 0, 0, NULL},
         {NULL, 0, NULL, NULL, NULL, 0, 0, NULL},
     };
     status = cli_parse("replay", argc, argv, options, positional, 1, &count);
@@ -212,13 +279,15 @@ int cmd_replay(int argc, char **argv)
     p.frame = frame;
     p.options_dir = options_from;
     snprintf(prefix, sizeof prefix, "%s/replay.pfm", out);
-    if (plan_replay(&p, &e) || plan_command(&p, prefix, out, &l, &e)) {
+    if (plan_replay(&p, &e) || replay_region(&p, region, &e) || plan_command(&p, prefix, out, &l, &e)) {
         fprintf(stderr, "restir replay: %s\n", e.msg);
         replay_args_free(&l);
+        plan_done(&p);
         return 2;
     }
     status = cmd_render(l.argc, l.argv);
     replay_args_free(&l);
+    plan_done(&p);
     snprintf(prefix, sizeof prefix, "%s/replay", out);
     remove_frame_image(prefix, frame); /* the shaded frame is not what a replay is for */
     if (status) return status;
@@ -507,15 +576,18 @@ static void print_mutation(FILE *f, const pixel_trace *m, int json)
     fprintf(f, "\n");
 }
 
-/* The dump's own stage-S record of pixel p (0: the file is absent). */
-static int dump_record(const replay_plan *p, long pixel, char *path, size_t size, reservoir *rec, rerror *e)
+/* The dump's own record of pixel p in stage `stage` of frame F (0: the file is absent). */
+static int dump_record(const replay_plan *p, const char *stage, long pixel, char *path, size_t size, reservoir *rec,
+                       rerror *e)
 {
     reservoir *rs;
     reservoir_dump_info info;
-    stage_dump_path(path, size, p->dir, (uint32_t)p->frame, p->stage, "resv");
+    stage_dump_path(path, size, p->dir, (uint32_t)p->frame, stage, "resv");
     if (!file_exists(path)) return 0;
     if (reservoir_dump_read(path, &rs, &info, e)) return -1;
-    if ((long)info.width * (long)info.height <= pixel) {
+    if (p->m.region.width) /* a region dump: the record's index within the rectangle */
+        pixel = (pixel / p->m.width - p->m.region.y) * p->m.region.width + pixel % p->m.width - p->m.region.x;
+    if (pixel < 0 || (long)info.width * (long)info.height <= pixel) {
         free(rs);
         return rerror_set(e, "%s: %ux%u records, no pixel %ld", path, info.width, info.height, pixel);
     }
@@ -529,24 +601,29 @@ static int dump_record(const replay_plan *p, long pixel, char *path, size_t size
  * stage's output against the dump's record. */
 static int inspect_mutation_stage(const replay_plan *p, const trace_catch *c, long pixel, int json, const long *xy)
 {
-    char file[4200];
-    reservoir rec;
+    char file[4200], in_file[4200];
+    reservoir rec, in;
     field_diff diffs[16];
     rerror e;
-    int have, nd = 0, i;
+    int have, have_in, nd = 0, i;
     if (!c->have_mutation || !c->have_final) {
         printf("frame %ld, stage %s, pixel (%ld, %ld): no chain ran here (no primary hit)\n", p->frame, p->stage, xy[0],
                xy[1]);
         return 0;
     }
-    have = dump_record(p, pixel, file, sizeof file, &rec, &e);
-    if (have < 0) {
+    reservoir_init(&in);
+    have = dump_record(p, p->stage, pixel, file, sizeof file, &rec, &e);
+    /* the chain's start: the stage's input, the dump's record of the stage before it */
+    have_in = have < 0 ? -1 : dump_record(p, p->prev, pixel, in_file, sizeof in_file, &in, &e);
+    if (have < 0 || have_in < 0) {
         fprintf(stderr, "restir inspect: %s\n", e.msg);
         return 2;
     }
     if (have) nd = record_diffs(&rec, &c->final, diffs);
     if (json) {
-        printf("{");
+        printf("{\"in\": {\"file\": ");
+        json_put_string(stdout, in_file);
+        printf(", \"W\": %.17g, \"target\": %.17g}, ", (double)in.W, (double)in.y.target);
         print_mutation(stdout, &c->mutation, 1);
         printf("\"W\": %.17g, \"confidence\": %.17g, \"dump_record\": %d, \"differs\": [", (double)c->final.W,
                (double)c->final.confidence, have);
@@ -555,6 +632,9 @@ static int inspect_mutation_stage(const replay_plan *p, const trace_catch *c, lo
         return 0;
     }
     printf("frame %ld, stage %s, pixel (%ld, %ld)\n", p->frame, p->stage, xy[0], xy[1]);
+    printf("input (%s): W %.17g, p^ %.17g, sample ", in_file, (double)in.W, (double)in.y.target);
+    print_id(stdout, &in.y, 0);
+    printf("\n");
     print_mutation(stdout, &c->mutation, 0);
     printf("output: W %.17g, confidence %.17g, sample ", (double)c->final.W, (double)c->final.confidence);
     print_id(stdout, &c->final.y, 0);
@@ -627,8 +707,19 @@ int cmd_inspect_from_dump(int argc, char **argv)
                 p.m.width, p.m.height);
         return 2;
     }
+    if (p.m.region.width) { /* a region dump: this pixel's inputs must all be in it */
+        stage_region one;
+        one.x = xy[0];
+        one.y = xy[1];
+        one.width = one.height = 1;
+        if (plan_region(&p, &one, &e)) {
+            fprintf(stderr, "restir inspect: pixel (%ld, %ld): %s\n", xy[0], xy[1], e.msg);
+            return 2;
+        }
+    }
     if (!mkdtemp(tmpdir)) {
         fprintf(stderr, "restir inspect: cannot create a temporary directory in /tmp\n");
+        plan_done(&p);
         return 2;
     }
     snprintf(prefix, sizeof prefix, "%s/frame.pfm", tmpdir);
@@ -636,6 +727,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
         fprintf(stderr, "restir inspect: %s\n", e.msg);
         replay_args_free(&l);
         rmdir(tmpdir);
+        plan_done(&p);
         return 2;
     }
     memset(&c, 0, sizeof c);
@@ -648,6 +740,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
     status = cmd_render(l.argc, l.argv);
     render_trace = NULL;
     replay_args_free(&l);
+    plan_done(&p);
     snprintf(prefix, sizeof prefix, "%s/frame", tmpdir);
     remove_frame_image(prefix, p.frame);
     rmdir(tmpdir);
@@ -658,7 +751,7 @@ int cmd_inspect_from_dump(int argc, char **argv)
                "an empty reservoir\n", p.frame, stage, xy[0], xy[1]);
         return 0;
     }
-    have = dump_record(&p, req.pixel, file, sizeof file, &rec, &e);
+    have = dump_record(&p, p.stage, req.pixel, file, sizeof file, &rec, &e);
     if (have < 0) {
         fprintf(stderr, "restir inspect: %s\n", e.msg);
         return 2;

@@ -51,40 +51,59 @@ static int format_is_safe(const char *f)
     return conversions == 2;
 }
 
+/* Appends v to *x (grown here); 2 after a message when memory runs out. */
+static int push_number(double v, double **x, long *n, long *cap)
+{
+    if (*n == *cap) {
+        double *grown = realloc(*x, (size_t)(*cap ? 2 * *cap : 64) * sizeof *grown);
+        if (!grown) {
+            fprintf(stderr, "restir stats: out of memory\n");
+            return 2;
+        }
+        *x = grown;
+        *cap = *cap ? 2 * *cap : 64;
+    }
+    (*x)[(*n)++] = v;
+    return 0;
+}
+
 /* Every number of `in` (named `name` in messages) into *x (grown here); 2 after a message on
- * a word that is not a finite number. */
+ * a word that is not a finite number. Read word by word, so a line of any length is read
+ * whole (a fixed line buffer once split a number at its edge: a false mean, exit 0). */
 static int read_numbers(FILE *in, const char *name, double **x, long *n)
 {
-    char line[4096];
-    long cap = 0, line_no = 0;
+    char word[128];
+    long cap = 0, line_no = 1;
+    size_t len = 0;
+    int c;
     *x = NULL;
     *n = 0;
-    while (fgets(line, sizeof line, in)) {
-        char *p = line, *end;
-        ++line_no;
-        for (;;) {
+    do {
+        c = getc(in);
+        if (c != EOF && !isspace(c)) {
+            if (len + 1 < sizeof word) word[len] = (char)c;
+            ++len;
+            continue;
+        }
+        if (len > 0) {
+            char *end;
             double v;
-            while (isspace((unsigned char)*p)) ++p;
-            if (!*p) break;
-            errno = 0;
-            v = strtod(p, &end);
-            if (end == p || (*end && !isspace((unsigned char)*end)) || !isfinite(v)) {
-                size_t len = strcspn(p, " \t\r\n");
-                fprintf(stderr, "restir stats: %s:%ld: '%.*s' is not a finite number\n", name, line_no, (int)len, p);
+            int whole = len < sizeof word;
+            word[whole ? len : sizeof word - 1] = '\0';
+            v = strtod(word, &end);
+            if (!whole || end == word || *end || !isfinite(v)) {
+                fprintf(stderr, "restir stats: %s:%ld: '%s%s' is not a finite number\n", name, line_no, word,
+                        whole ? "" : "...");
                 return 2;
             }
-            if (*n == cap) {
-                double *grown = realloc(*x, (size_t)(cap ? 2 * cap : 64) * sizeof *grown);
-                if (!grown) {
-                    fprintf(stderr, "restir stats: out of memory\n");
-                    return 2;
-                }
-                *x = grown;
-                cap = cap ? 2 * cap : 64;
-            }
-            (*x)[(*n)++] = v;
-            p = end;
+            if (push_number(v, x, n, &cap)) return 2;
+            len = 0;
         }
+        if (c == '\n') ++line_no;
+    } while (c != EOF);
+    if (ferror(in)) {
+        fprintf(stderr, "restir stats: %s: cannot read: %s\n", name, strerror(errno));
+        return 2;
     }
     return 0;
 }
@@ -114,6 +133,12 @@ static int mean_ci(const char *path, double level, const char *format)
     stats_mean_var(x, n, &mean, &var);
     free(x);
     stats_mean_ci(stats_estimate_from_samples(mean, var, (double)n), level, &lo, &hi);
+    if (!isfinite(mean) || !isfinite(hi - lo)) {
+        /* finite inputs whose sum or spread overflows (1e308 1e308 -1e308): no answer to print */
+        fprintf(stderr, "restir stats mean-ci: %s: the mean or its interval overflows the double range (mean %g, "
+                        "half-width %g): scale the numbers\n", path ? path : "stdin", mean, 0.5 * (hi - lo));
+        return 2;
+    }
     printf(format, mean, 0.5 * (hi - lo));
     putchar('\n');
     return 0;

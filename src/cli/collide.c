@@ -39,6 +39,44 @@ int same_file(const char *a, const char *b)
     return !strcmp(ra, rb);
 }
 
+/* The path with its longest existing ancestor resolved (symlinks, "..") and the rest as
+ * written: "d/x/../m.json" with no d yet -> "/cwd/d/x/../m.json". Enough to see one path
+ * below another when neither exists yet (render's --dump-dir is made later). */
+static void resolved_loosely(const char *path, char *out, size_t size)
+{
+    char head[PATH_MAX], real[PATH_MAX];
+    size_t cut;
+    snprintf(head, sizeof head, "%s", path);
+    for (;;) {
+        char *slash = strrchr(head, '/');
+        if (realpath(head, real)) break;
+        if (!slash) {
+            if (!realpath(".", real)) real[0] = '\0';
+            snprintf(out, size, "%s/%s", real, path);
+            return;
+        }
+        if (slash == head) { /* "/x": the root exists */
+            snprintf(out, size, "%s", path);
+            return;
+        }
+        *slash = '\0';
+    }
+    cut = strlen(head);
+    snprintf(out, size, "%s%s", strcmp(real, "/") ? real : "", path + cut);
+}
+
+int path_within(const char *path, const char *dir)
+{
+    char rp[2 * PATH_MAX], rd[2 * PATH_MAX];
+    size_t n;
+    if (same_file(path, dir)) return 1;
+    resolved_loosely(dir, rd, sizeof rd);
+    resolved_loosely(path, rp, sizeof rp);
+    n = strlen(rd);
+    while (n > 1 && rd[n - 1] == '/') rd[--n] = '\0';
+    return !strncmp(rp, rd, n) && (rp[n] == '/' || rp[n] == '\0');
+}
+
 static int given(const named_file *f) { return f->path && f->path[0]; }
 
 int outputs_distinct(const char *command, const named_file *outs, int n_out, const named_file *ins, int n_in,

@@ -14,6 +14,10 @@ typedef struct {
  * same resolved directory and the same last component (neither need exist). */
 int same_file(const char *a, const char *b);
 
+/* 1 if path names dir itself or a file anywhere below it (resolved as in same_file; the
+ * path need not exist). */
+int path_within(const char *path, const char *dir);
+
 /* Checks that no two of outs[] name the same file and that no output names one of
  * ins[]; exit status 2 after printing "restir CMD: ROLE PATH is also ROLE", else 0.
  * allow_in_out: an input that may also be an output (render's --resume FILE

@@ -1,4 +1,5 @@
 /* restir: dispatch `restir <command> [options]` to the command's own parser. */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 #include "restir/cli/cli.h"
@@ -78,6 +79,18 @@ static int cmd_help(int argc, char **argv)
     return c->run(2, sub_argv);
 }
 
+/* Standard output is a promised output too (compare's table, bench's JSON, stats, help):
+ * a full disk or a closed pipe found only at exit must not end in status 0. */
+static int finish(const char *command, int status)
+{
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        int err = errno;
+        fprintf(stderr, "restir %s: writing standard output failed: %s\n", command, err ? strerror(err) : "I/O error");
+        if (status == 0) status = 2;
+    }
+    return status;
+}
+
 int main(int argc, char **argv)
 {
     const cli_command *c;
@@ -93,11 +106,11 @@ int main(int argc, char **argv)
                "double"
 #endif
         );
-        return 0;
+        return finish("--version", 0);
     }
     if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
         print_usage(stdout);
-        return 0;
+        return finish("--help", 0);
     }
     c = find_command(argv[1]);
     if (!c) {
@@ -105,5 +118,5 @@ int main(int argc, char **argv)
         print_usage(stderr);
         return 2;
     }
-    return c->run(argc - 1, argv + 1);
+    return finish(c->name, c->run(argc - 1, argv + 1));
 }

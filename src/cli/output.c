@@ -1,4 +1,5 @@
 /* Output file naming and writing for the render command. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "output.h"
 #include "restir/core/image_io.h"
 
@@ -11,6 +12,10 @@
 #include "restir/restir/duplication.h"
 #include <sys/stat.h>
 #include <unistd.h>
+
+#ifndef PATH_MAX
+#define PATH_MAX 4096
+#endif
 
 void default_output_path(char *buf, size_t size, const char *scene_path, const char *suffix)
 {
@@ -46,6 +51,15 @@ static void directory_of(const char *path, char *dir, size_t size)
     else snprintf(dir, size, "%.*s", (int)(slash - path), path);
 }
 
+/* 1 if dir resolves to /dev or /proc (or below): their entries are devices and links
+ * that an atomic rename would replace for every process. */
+static int system_directory(const char *dir)
+{
+    char real[PATH_MAX];
+    if (!realpath(dir, real)) return 0;
+    return !strcmp(real, "/dev") || !strncmp(real, "/dev/", 5) || !strcmp(real, "/proc") || !strncmp(real, "/proc/", 6);
+}
+
 int output_path_check(const char *path, rerror *e)
 {
     char dir[4096], parent[4096];
@@ -55,9 +69,18 @@ int output_path_check(const char *path, rerror *e)
     if (strlen(path) >= sizeof dir - 32) return rerror_set(e, "%s: path too long", path);
     if (path[strlen(path) - 1] == '/' || (stat(path, &st) == 0 && S_ISDIR(st.st_mode)))
         return rerror_set(e, "%s: is a directory, not an output file", path);
+    /* Outputs are written to a temporary file and renamed over the path (atomic_file.c):
+     * over /dev/full, /dev/null or a FIFO that would replace the device node itself (as
+     * root) instead of writing into it, so only a regular file (or none) is accepted. */
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+        return rerror_set(e, "%s: is not a regular file (a device, FIFO or socket): outputs are written to a temporary "
+                             "file renamed into place, which would replace it", path);
     directory_of(path, dir, sizeof dir);
     if (stat(dir, &st) == 0) {
         if (!S_ISDIR(st.st_mode)) return rerror_set(e, "%s: %s is not a directory", path, dir);
+        if (system_directory(dir))
+            return rerror_set(e, "%s: is in %s, not a place for output files (the rename into place would replace a "
+                                 "device or a link such as /dev/stdout)", path, dir);
         if (access(dir, W_OK | X_OK) != 0) return rerror_set(e, "%s: directory %s is not writable", path, dir);
         return 0;
     }

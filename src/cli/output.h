@@ -11,7 +11,8 @@ void default_output_path(char *buf, size_t size, const char *scene_path, const c
 void output_prefix(char *buf, size_t size, const char *pfm_path);
 /* The PNG preview path next to a .pfm path ("x.pfm" -> "x.png"). */
 void preview_path(char *buf, size_t size, const char *pfm_path);
-/* 0 if a file can be written at path before anything is rendered: not a directory, and
+/* 0 if a file can be written at path before anything is rendered: not a directory nor
+ * another existing non-regular file (a device, a FIFO), not in /dev or /proc, and
  * its directory exists and is writable (or is one missing level below a writable one,
  * created on writing); -1 with `path: what is wrong` in *e. */
 int output_path_check(const char *path, rerror *e);

@@ -47,6 +47,7 @@ typedef struct {
     restir_sequence seq;
     /* the golden-oracle kit (stage_dump.h): --dump-dir, --dump-stages, --from-dump, --from-stage */
     const char *dump_stages, *from_stage, *dump_region;
+    int dump_halo; /* --dump-halo N (pixels around --dump-region) */
     stage_io sio;
     frame_stage_hook hook; /* sio as the frame's stage listener */
     int history_from_dump; /* --history-from-dump: frame A-1's final state from --from-dump (render_replay.h) */

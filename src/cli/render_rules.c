@@ -7,6 +7,8 @@
 #include <string.h>
 #include "restir/core/image_io.h"
 #include "collide.h"
+#include "render_outputs.h"
+#include "signal_cleanup.h"
 #include "output.h"
 #include "render_replay.h"
 #include "stop.h"
@@ -24,7 +26,8 @@ static int ablation_index(const char *const *names, const char *name)
 static int apply_stage_options(render_args *a)
 {
     rerror e;
-    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage || a->dump_region || a->history_from_dump;
+    int any = a->sio.dump_dir || a->dump_stages || a->sio.from_dir || a->from_stage || a->dump_region || a->dump_halo ||
+              a->history_from_dump;
     if (!any) return 0;
     if (!a->sequence) {
         fprintf(stderr, "restir render: --dump-dir, --dump-stages, --from-dump and --from-stage need --sequence A..B\n");
@@ -38,6 +41,11 @@ static int apply_stage_options(render_args *a)
         fprintf(stderr, "restir render: %s\n", a->sio.dump_dir ? e.msg : "--dump-region needs --dump-dir DIR");
         return 2;
     }
+    if (a->dump_halo > 0 && !a->dump_region) {
+        fprintf(stderr, "restir render: --dump-halo needs --dump-region X,Y,W,H\n");
+        return 2;
+    }
+    a->sio.halo = a->dump_halo;
     if (!a->sio.from_dir != !a->from_stage) {
         fprintf(stderr, "restir render: --from-dump DIR and --from-stage S go together\n");
         return 2;
@@ -169,6 +177,33 @@ int check_method_options(const render_args *a, const cli_option *options, const 
                 return 2;
             }
     }
+    if (a->sequence) { /* each was ignored (exit 0): a sequence renders exactly its frames A..B */
+        static const char *const stills[] = {"--frame", "--first-frame", "--frames"};
+        for (h = 0; h < 3; ++h)
+            if (cli_given(options, given, stills[h])) {
+                fprintf(stderr, "restir render: %s is for a still image; --sequence A..B renders frames A to B (one "
+                                "pose each, one frame each)\n", stills[h]);
+                return 2;
+            }
+    }
+    if (a->runs > 0 && cli_given(options, given, "--progressive")) { /* was ignored: no run writes -o */
+        fprintf(stderr, "restir render: --progressive rewrites -o during one render; --runs K writes PREFIX.mean.pfm "
+                        "etc. once the K runs are done\n");
+        return 2;
+    }
+    if (a->sequence && cli_given(options, given, "--png")) { /* was ignored: no such file, exit 0 */
+        fprintf(stderr, "restir render: --png names one preview; --sequence A..B writes one per frame next to its PFM, "
+                        "PREFIX.NNNN.png (-o PREFIX.pfm; --no-png for none)\n");
+        return 2;
+    }
+    if (a->runs > 0 && !a->sequence && (cli_given(options, given, "--checkpoint") || cli_given(options, given, "--resume"))) {
+        /* K runs are K renders with seeds S..S+K-1: one checkpoint file cannot hold them, and
+         * one resumed state has one seed (it failed as "a different seed" for run 2) */
+        fprintf(stderr, "restir render: --runs K with %s: the K runs have K seeds and one checkpoint holds one run "
+                        "(checkpoint runs one by one with --seed S, then restir merge; or rerun --runs)\n",
+                cli_given(options, given, "--checkpoint") ? "--checkpoint" : "--resume");
+        return 2;
+    }
     if (cli_given(options, given, "--sample-offset") && cli_given(options, given, "--resume")) {
         fprintf(stderr, "restir render: --sample-offset and --resume: a resumed run continues the checkpoint's own "
                         "sample range (for a disjoint range start a fresh run and use restir merge)\n");
@@ -181,24 +216,6 @@ int check_method_options(const render_args *a, const cli_option *options, const 
         return 2;
     }
     return 0;
-}
-
-/* No output may overwrite another output or an input (collide.h); --resume FILE
- * --checkpoint FILE continues one checkpoint in place. --runs writes PREFIX.* instead of
- * -o (the sidecar files are distinct by construction). */
-static int check_output_collisions(const render_args *a, const char *out, const char *png)
-{
-    char mean[4200], prefix[4096];
-    named_file outs[4], ins[2];
-    output_prefix(prefix, sizeof prefix, out);
-    snprintf(mean, sizeof mean, "%s.mean.%s", prefix, image_output_ext(out));
-    outs[0].path = a->runs > 0 ? mean : a->sequence ? NULL : out, outs[0].role = "-o";
-    outs[1].path = png, outs[1].role = "the PNG preview";
-    outs[2].path = a->stats, outs[2].role = "--stats";
-    outs[3].path = a->pt.o.checkpoint_path, outs[3].role = "--checkpoint";
-    ins[0].path = a->sio.scene_path, ins[0].role = "the scene";
-    ins[1].path = a->pt.o.resume_path, ins[1].role = "--resume";
-    return outputs_distinct("render", outs, 4, ins, 2, a->pt.o.resume_path);
 }
 
 /* Every file the command will write, checked before anything is rendered. */
@@ -231,7 +248,9 @@ int check_output_paths(const render_args *a, const char *out, const char *png)
         fprintf(stderr, "restir render: --png %s is the PFM's own path\n", png);
         return 2;
     }
-    return check_output_collisions(a, out, png);
+    if (render_outputs_distinct(a, out, png)) return 2;
+    for (i = 0; i < count; ++i) cleanup_register(paths[i]); /* the second signal's cleanup (stop.c) */
+    return 0;
 }
 
 /* --aov duplicates|age (issue 12): reservoirs exist only with --method restir (checked by

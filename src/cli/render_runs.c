@@ -23,6 +23,16 @@ static void write_runs_config(FILE *fp, const void *ctx, const char *indent)
     }
 }
 
+/* --time-limit that ends before the first pass of the path tracer is complete left a
+ * black image of 0 spp, written with exit 0 (issue 27's audit): an error, nothing written. */
+int pt_time_limit_empty(const render_args *a, const render_timings *t)
+{
+    if (a->method != METHOD_PT || t->pt.state.spp > 0) return 0;
+    fprintf(stderr, "restir render: --time-limit %g s ended before the first pass was complete (0 spp): nothing "
+                    "written (give more time or a smaller image)\n", a->pt.o.time_limit);
+    return 1;
+}
+
 /* --runs K: K renders with seeds seed, seed+1, ..., seed+K-1 (independent, since every
  * random number's address contains the seed), reduced to per-pixel mean and sample
  * variance, plus the per-run image and block means that keep `restir check` exact when
@@ -56,6 +66,11 @@ int render_runs(const render_args *a, const scene *s, const char *out, image *im
         image run;
         status = render_one(a, s, a->seed + (uint32_t)k, NULL, &run, t);
         if (status) break;
+        if (!stop_signal() && pt_time_limit_empty(a, t)) { /* a run of 0 spp is no run */
+            image_free(&run);
+            status = 2;
+            break;
+        }
         /* A run cut short by SIGINT/SIGTERM has fewer samples than the others: adding it
          * would mix two estimators in one mean and variance, so it is dropped. */
         if (!stop_signal()) {

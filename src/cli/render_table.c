@@ -55,6 +55,7 @@ int render_table_build(cli_option *options, render_args *a, method_rows *methods
             {"--dump-dir", OPT_STRING, &a->sio.dump_dir, "with --sequence: write DIR/manifest.json and per frame the G-buffer and the reservoirs after each stage (docs/oracle.md)", NULL, 0, 0, NULL},
             {"--dump-stages", OPT_STRING, &a->dump_stages, "with --dump-dir: only these stages, e.g. initial,temporal,spatial1 (default: all)", NULL, 0, 0, NULL},
             {"--dump-region", OPT_STRING, &a->dump_region, "with --dump-dir: dump only the pixels of the rectangle X,Y,W,H (docs/oracle.md)", NULL, 0, 0, NULL},
+            {"--dump-halo", OPT_INT, &a->dump_halo, "with --dump-region: also dump N pixels around it (clipped to the image), so that restir replay and inspect --from-dump can recompute the rectangle's stages from the dump (docs/oracle.md section 6)", NULL, 0, 4096, NULL},
             {"--from-dump", OPT_STRING, &a->sio.from_dir, "with --sequence: restart from this stage dump (needs --from-stage)", NULL, 0, 0, NULL},
             {"--from-stage", OPT_STRING, &a->from_stage, "with --from-dump: replace stage S's output of every frame by the dumped one; later stages run on it", NULL, 0, 0, NULL},
             {"--history-from-dump", OPT_FLAG, &a->history_from_dump, "with --from-dump: the previous frame's final reservoirs come from the dump (frame A-1's last stage), not from this run (docs/oracle.md)", NULL, 0, 0, NULL},

@@ -14,7 +14,7 @@ int scene_override_options(cli_option *rows, scene_overrides *o)
         {"--up", OPT_VEC3, o->up, "camera up vector", NULL, 0, 0, &o->has_up},
         {"--fov", OPT_REAL, &o->fov, "vertical field of view in degrees", NULL, 0.001, 179.999, &o->has_fov},
         {"--size", OPT_SIZE, o->size, "image size, e.g. 512x512", NULL, 0, 0, &o->has_size},
-        {"--allow-missing-mtl", OPT_FLAG, &o->allow_missing_mtl, "a missing material library is a warning (default: an error)", NULL, 0, 0, NULL},
+        {"--allow-missing-mtl", OPT_FLAG, &o->allow_missing_mtl, "a missing material library or map file is a warning (default: an error)", NULL, 0, 0, NULL},
     };
     int i, n = (int)(sizeof defs / sizeof defs[0]);
     for (i = 0; i < n; ++i) rows[i] = defs[i];

@@ -11,7 +11,7 @@ typedef struct {
     double fov;
     int size[2];
     int has_eye, has_target, has_up, has_fov, has_size;
-    int allow_missing_mtl; /* a missing material library is a warning, not an error */
+    int allow_missing_mtl; /* a missing material library or map file is a warning, not an error */
     int quiet;             /* do not print load warnings */
 } scene_overrides;
 

@@ -4,6 +4,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "signal_cleanup.h"
 
 volatile sig_atomic_t stop_requested;
 static struct sigaction old_int, old_term;
@@ -26,9 +27,10 @@ static double monotonic_seconds(void)
  * STOP_REPEAT_SECONDS of the first is the same request, not a second one. */
 static void on_stop_signal(int sig)
 {
-    static const char msg[] = "restir render: second signal: exiting at once, nothing more written\n";
+    static const char msg[] = "restir: second signal: exiting at once, nothing more written\n";
     if (stop_requested) {
         if (monotonic_seconds() - first_signal_seconds < STOP_REPEAT_SECONDS) return;
+        cleanup_remove_temps(); /* the file being written: no PATH.tmp.PID left */
         {
             ssize_t ignored = write(2, msg, sizeof msg - 1);
             (void)ignored;

@@ -92,6 +92,15 @@ void progress_update(progress *p, long done, long total)
     p->printed++;
 }
 
+int progress_line_due(progress *p)
+{
+    double t = now_seconds();
+    if (!p->enabled || (p->lines && t - p->last_draw_seconds < line_every)) return 0;
+    p->last_draw_seconds = t;
+    p->printed++;
+    return 1;
+}
+
 void progress_end(progress *p)
 {
     if (p->enabled && p->lines) threads_set_tick(NULL, NULL);

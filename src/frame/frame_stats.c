@@ -146,7 +146,11 @@ void restir_stats_write_json(FILE *out, const restir_stats *st, const char *inde
 {
     const initial_stats *in = &st->initial;
     const spatial_stats *sp = &st->spatial;
-    double px = in->pixels > 0 ? (double)in->pixels : 1;
+    /* per surface pixel and frame: a spatial pass steps every surface pixel once, and unlike
+     * the initial count this holds after a restart that read the initial stage from a dump */
+    double px = st->passes > 0 && sp->pixels > 0 ? (double)sp->pixels / st->passes
+                : in->pixels > 0                 ? (double)in->pixels
+                                                 : 1;
     int i;
     fprintf(out, "{\n%s  \"frames\": %llu,\n", indent, (unsigned long long)st->frames);
     fprintf(out, "%s  \"milliseconds\": {\"gbuffer\": %.3f, \"initial\": %.3f, \"spatial\": [", indent, st->ms_gbuffer,

@@ -12,6 +12,7 @@
 #include "restir/core/json_text.h"
 #include "restir/core/le_bytes.h"
 #include "restir/frame/options.h"
+#include "restir/oracle/region_input.h"
 
 void stage_dump_path(char *buf, size_t size, const char *dir, uint32_t frame, const char *name, const char *ext)
 {
@@ -105,6 +106,11 @@ int stage_io_begin(stage_io *io, int first, int last, rerror *e)
         if (stage_manifest_read(io->from_dir, &m, e) || refuse_region_restart(io, &m, e)) return -1;
         for (i = 0; i < m.n_order; ++i) strcpy(io->from_order[i], m.order[i]);
         io->n_from_order = m.n_order;
+        /* written by restir replay / inspect for a region dump (region_input.h) */
+        io->in_dumped = m.in_dumped;
+        io->in_check = m.in_check;
+        strcpy(io->in_stage, m.in_stage);
+        io->in_history = (int)m.in_history;
     }
     if (io->dump_dir) {
         struct stat st;
@@ -252,12 +258,25 @@ static int restart_load(stage_io *io, const char *name, reservoir *rs, int width
     return 0;
 }
 
-/* The region must lie inside the image (known from the first stage). */
+/* The region must lie inside the image (known from the first stage). --dump-halo grows it
+ * once, clipped to the image; the rectangle asked for is kept as the core. */
 static int region_check(stage_io *io, int width, int height)
 {
-    const stage_region *r = &io->region;
+    stage_region *r = &io->region;
     if (!r->width) return 0;
-    if (r->x + r->width <= width && r->y + r->height <= height) return 0;
+    if (r->x + r->width <= width && r->y + r->height <= height) {
+        if (io->halo > 0 && !io->core.width) {
+            long x0 = r->x - io->halo < 0 ? 0 : r->x - io->halo, y0 = r->y - io->halo < 0 ? 0 : r->y - io->halo;
+            long x1 = r->x + r->width + io->halo > width ? width : r->x + r->width + io->halo;
+            long y1 = r->y + r->height + io->halo > height ? height : r->y + r->height + io->halo;
+            io->core = *r;
+            r->x = x0;
+            r->y = y0;
+            r->width = x1 - x0;
+            r->height = y1 - y0;
+        }
+        return 0;
+    }
     rerror_set(&io->err, "--dump-region %ld,%ld,%ld,%ld does not lie inside the %dx%d image", r->x, r->y, r->width,
                r->height, width, height);
     io->failed = 1;
@@ -316,12 +335,14 @@ void stage_io_reservoirs(stage_io *io, const char *name, reservoir *rs, int widt
 void stage_io_gbuffer(stage_io *io, const gbuffer *g)
 {
     char path[4200];
+    if (io && !io->failed) region_input_gbuffer(io, g); /* a region dump as input: the reads' texels */
     if (!io || io->failed || !io->dump_dir) return;
     stage_dump_path(path, sizeof path, io->dump_dir, io->frame, "gbuffer", "gbuf");
     if (io->region.width) {
         gbuffer sub;
-        long i, n = io->region.width * io->region.height;
-        if (region_check(io, g->width, g->height)) return;
+        long i, n;
+        if (region_check(io, g->width, g->height)) return; /* grows the region by --dump-halo */
+        n = io->region.width * io->region.height;
         sub.width = (int)io->region.width;
         sub.height = (int)io->region.height;
         sub.texels = rmalloc((size_t)n, sizeof *sub.texels, &io->err);
@@ -357,7 +378,7 @@ static int file_crc(const char *path, uint32_t *crc, long *bytes)
     return 0;
 }
 
-static void put_name_list(FILE *fp, char names[][STAGE_NAME_SIZE], int n)
+void stage_names_put(FILE *fp, char names[][STAGE_NAME_SIZE], int n)
 {
     int i;
     fputc('[', fp);
@@ -394,10 +415,10 @@ static int write_manifest(stage_io *io, const restir_options *o, rerror *e)
     }
     fprintf(f.fp, "],\n");
     fprintf(f.fp, "  \"stage_order\": ");
-    put_name_list(f.fp, io->order, io->n_order);
+    stage_names_put(f.fp, io->order, io->n_order);
     fprintf(f.fp, ",\n  \"dumped_stages\": ");
-    if (io->n_want) put_name_list(f.fp, io->want, io->n_want);
-    else put_name_list(f.fp, io->order, io->n_order);
+    if (io->n_want) stage_names_put(f.fp, io->want, io->n_want);
+    else stage_names_put(f.fp, io->order, io->n_order);
     fprintf(f.fp, ",\n  \"restart\": ");
     if (io->from_dir) {
         fprintf(f.fp, "{\"from_dump\": ");
@@ -410,6 +431,9 @@ static int write_manifest(stage_io *io, const restir_options *o, rerror *e)
     if (io->region.width) /* absent: the whole image (so whole-image manifests keep their bytes) */
         fprintf(f.fp, ",\n  \"region\": {\"x\": %ld, \"y\": %ld, \"width\": %ld, \"height\": %ld}", io->region.x,
                 io->region.y, io->region.width, io->region.height);
+    if (io->region.width && io->core.width) /* --dump-halo: absent without one */
+        fprintf(f.fp, ",\n  \"halo\": {\"pixels\": %ld, \"core\": {\"x\": %ld, \"y\": %ld, \"width\": %ld, \"height\": %ld}}",
+                io->halo, io->core.x, io->core.y, io->core.width, io->core.height);
     fprintf(f.fp, ",\n  \"files\": \"frame_NNNN/STAGE.resv, frame_NNNN/gbuffer.gbuf\",\n  \"options\": ");
     restir_options_write_json(f.fp, o, "  ");
     fprintf(f.fp, "\n}\n");
@@ -441,8 +465,11 @@ int stage_io_frame_end(stage_io *io, const void *restir_opts, rerror *e)
     if (!io) return 0;
     if (io->failed) {
         *e = io->err;
+        free(io->in_texels);
+        io->in_texels = NULL;
         return -1;
     }
+    if (region_input_check(io, (const restir_options *)restir_opts, e)) return -1;
     order_text(io, stages, sizeof stages);
     if (io->frames_done == 0) {
         for (i = 0; io->dump_dir && i < io->n_want; ++i)
@@ -530,9 +557,15 @@ static int read_inspect_option(json_reader *r, stage_manifest *m, const char *ke
     return 0;
 }
 
-/* An object's members: frames {first, last}, scene {path}, image {width, height} or the
- * options inspect needs; other keys skipped. */
-static int read_object(json_reader *r, stage_manifest *m, const char *outer)
+/* An object's members: frames {first, last}, scene {path}, image {width, height}, halo
+ * {pixels, core}, region_input {dumped, check, stage, history} or the options inspect
+ * needs; other keys skipped. */
+static int read_object(json_reader *r, stage_manifest *m, const char *outer, stage_region *rect);
+
+/* {"x", "y", "width", "height"} into *out (other keys skipped). */
+static int read_rect(json_reader *r, stage_manifest *m, stage_region *out) { return read_object(r, m, "rect", out); }
+
+static int read_object(json_reader *r, stage_manifest *m, const char *outer, stage_region *rect)
 {
     if (json_expect(r, '{')) return -1;
     if (json_peek(r) == '}') return json_expect(r, '}');
@@ -543,15 +576,22 @@ static int read_object(json_reader *r, stage_manifest *m, const char *outer)
         if (!strcmp(outer, "frames") && !strcmp(key, "first")) status = read_long(r, &m->first);
         else if (!strcmp(outer, "frames") && !strcmp(key, "last")) status = read_long(r, &m->last);
         else if (!strcmp(outer, "frames") && !strcmp(key, "written")) status = read_long(r, &m->written);
-        else if (!strcmp(outer, "region") && !strcmp(key, "x")) status = read_long(r, &m->region.x);
-        else if (!strcmp(outer, "region") && !strcmp(key, "y")) status = read_long(r, &m->region.y);
-        else if (!strcmp(outer, "region") && !strcmp(key, "width")) status = read_long(r, &m->region.width);
-        else if (!strcmp(outer, "region") && !strcmp(key, "height")) status = read_long(r, &m->region.height);
+        else if (!strcmp(outer, "rect") && !strcmp(key, "x")) status = read_long(r, &rect->x);
+        else if (!strcmp(outer, "rect") && !strcmp(key, "y")) status = read_long(r, &rect->y);
+        else if (!strcmp(outer, "rect") && !strcmp(key, "width")) status = read_long(r, &rect->width);
+        else if (!strcmp(outer, "rect") && !strcmp(key, "height")) status = read_long(r, &rect->height);
         else if (!strcmp(outer, "scene") && !strcmp(key, "path") && json_peek(r) == '"')
             status = json_read_string(r, m->scene, sizeof m->scene);
         else if (!strcmp(outer, "image") && !strcmp(key, "width")) status = read_long(r, &m->width);
         else if (!strcmp(outer, "image") && !strcmp(key, "height")) status = read_long(r, &m->height);
         else if (!strcmp(outer, "options")) status = read_inspect_option(r, m, key);
+        else if (!strcmp(outer, "halo") && !strcmp(key, "pixels")) status = read_long(r, &m->halo);
+        else if (!strcmp(outer, "halo") && !strcmp(key, "core")) status = read_rect(r, m, &m->core);
+        else if (!strcmp(outer, "region_input") && !strcmp(key, "dumped")) status = read_rect(r, m, &m->in_dumped);
+        else if (!strcmp(outer, "region_input") && !strcmp(key, "check")) status = read_rect(r, m, &m->in_check);
+        else if (!strcmp(outer, "region_input") && !strcmp(key, "stage"))
+            status = json_read_string(r, m->in_stage, sizeof m->in_stage);
+        else if (!strcmp(outer, "region_input") && !strcmp(key, "history")) status = read_long(r, &m->in_history);
         else status = json_skip_value(r);
         if (status) return -1;
         if (json_peek(r) != ',') break;
@@ -578,9 +618,10 @@ int stage_manifest_read(const char *dir, stage_manifest *m, rerror *e)
         else if (!strcmp(key, "stage_order")) status = read_order(&r, m);
         else if (!strcmp(key, "seed")) status = read_long(&r, &m->seed);
         else if (!strcmp(key, "dumped_stages")) status = read_names(&r, m->dumped, &m->n_dumped);
-        else if (!strcmp(key, "region") && json_peek(&r) == '{') status = read_object(&r, m, key);
-        else if (!strcmp(key, "frames") || !strcmp(key, "scene") || !strcmp(key, "image") || !strcmp(key, "options"))
-            status = read_object(&r, m, key);
+        else if (!strcmp(key, "region") && json_peek(&r) == '{') status = read_rect(&r, m, &m->region);
+        else if (!strcmp(key, "frames") || !strcmp(key, "scene") || !strcmp(key, "image") || !strcmp(key, "options") ||
+                 ((!strcmp(key, "halo") || !strcmp(key, "region_input")) && json_peek(&r) == '{'))
+            status = read_object(&r, m, key, NULL);
         else status = json_skip_value(&r);
         if (status) goto fail;
         if (json_peek(&r) != ',') break;

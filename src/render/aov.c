@@ -3,6 +3,7 @@
 
 #include <string.h>
 #include "restir/core/rng.h"
+#include "restir/scene/surface_maps.h"
 
 const char *const aov_names[] = {"normal", "albedo", "depth", "object", "motion", NULL};
 
@@ -34,6 +35,10 @@ static rgb texel_value(const gbuffer_texel *t, const scene *s, enum aov_kind kin
         return rgb_make((real)0.5 + (real)0.5 * t->hit.ns.x, (real)0.5 + (real)0.5 * t->hit.ns.y,
                         (real)0.5 + (real)0.5 * t->hit.ns.z);
     case AOV_ALBEDO:
+        if (material_has_bsdf_maps(&s->materials[t->hit.material])) { /* map_Kd at the hit */
+            material m = scene_material_at(s, t->hit.triangle, t->hit.b1, t->hit.b2);
+            return material_albedo(&m);
+        }
         return material_albedo(&s->materials[t->hit.material]);
     case AOV_DEPTH:
         return rgb_gray(t->depth);

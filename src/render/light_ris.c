@@ -2,6 +2,7 @@
 #include "restir/render/light_ris.h"
 #include "restir/scene/scene_trace.h"
 #include "restir/scene/sky.h"
+#include "restir/scene/surface_maps.h"
 
 int light_ris_count(const path_context *c, uint32_t vertex_index)
 {
@@ -85,6 +86,11 @@ static int ris_emission(const path_context *c, uint32_t tri, vec3 y, rgb *ke)
     }
     if (tri >= c->lights->triangle_count || (l = c->lights->light_of_triangle[tri]) == LIGHT_NONE) return 0;
     *ke = c->lights->lights[l].emission;
+    if (c->lights->maps) { /* map_Ke: the emission at y's own barycentrics */
+        float b1, b2;
+        scene_barycentrics(c->scene, tri, y, &b1, &b2);
+        *ke = light_emission_at(c->lights, l, b1, b2);
+    }
     return 1;
 }
 

@@ -167,6 +167,32 @@ static void fingerprint_sky(fnv *f, const scene_sky *k)
     fnv_rgb(f, k->sun_radiance);
 }
 
+/* Image maps: which map each material uses, every UV and every texel. */
+static void fingerprint_maps(fnv *f, const scene *s)
+{
+    size_t i, n;
+    for (i = 0; i < s->material_count; ++i) {
+        const material *m = &s->materials[i];
+        fnv_u64(f, m->map_kd);
+        fnv_u64(f, m->map_roughness);
+        fnv_u64(f, m->map_alpha);
+        fnv_u64(f, m->map_ke);
+        fnv_u64(f, (uint64_t)m->map_kd_is_f0);
+        fnv_u64(f, (uint64_t)m->roughness_from_ns);
+        fnv_f64(f, (double)m->roughness_map_scale);
+    }
+    for (i = 0; i < s->triangle_count; ++i)
+        for (n = 0; n < 3; ++n) fnv_u64(f, (uint64_t)(int64_t)s->triangles[i].t[n]);
+    fnv_bytes(f, (const unsigned char *)s->texcoords, s->texcoord_count * sizeof *s->texcoords);
+    for (i = 0; i < s->texture_count; ++i) {
+        const scene_texture *t = &s->textures[i];
+        fnv_u64(f, (uint64_t)t->width);
+        fnv_u64(f, (uint64_t)t->height);
+        fnv_u64(f, (uint64_t)t->kind);
+        fnv_bytes(f, (const unsigned char *)t->px, (size_t)t->width * (size_t)t->height * (size_t)t->channels * sizeof *t->px);
+    }
+}
+
 static void fingerprint_scene(fnv *f, const scene *s, int frame)
 {
     size_t i;
@@ -198,6 +224,7 @@ static void fingerprint_scene(fnv *f, const scene *s, int frame)
     fnv_u64(f, (uint64_t)s->width);
     fnv_u64(f, (uint64_t)s->height);
     if (s->sky) fingerprint_sky(f, s->sky); /* scenes without a sky keep their fingerprint */
+    if (s->texture_count) fingerprint_maps(f, s); /* untextured scenes keep their fingerprint */
 }
 
 uint64_t pt_fingerprint(const scene *s, const pt_options *o)

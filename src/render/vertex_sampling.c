@@ -5,6 +5,7 @@
 #include "restir/render/light_ris.h"
 #include "restir/scene/scene_trace.h"
 #include "restir/scene/sky.h"
+#include "restir/scene/surface_maps.h"
 
 #include <math.h>
 #include <string.h>
@@ -19,7 +20,7 @@ void path_vertex_make(path_vertex *v, const scene *s, const surface_hit *h, vec3
     v->wo = v3_normalize(v3_neg(ray_dir)); /* float ray directions are unit only to ~1e-7 */
     v->frame = shading_frame_make(v->ns);
     v->wo_local = shading_frame_to_local(&v->frame, v->wo);
-    v->b = bsdf_from_material(&s->materials[h->material]);
+    v->b = scene_bsdf_at(s, h); /* textured: looked up at this hit's own triangle and barycentrics */
     /* P(l|wo), once: NEE, lobe selection, sampling and the all-lobe pdf all need it. */
     bsdf_lobe_probabilities(&v->b, v->wo_local, v->lobe_p);
     /* NEE can only reach the non-Dirac lobes; skip it where there are none. */
@@ -51,7 +52,8 @@ rgb path_vertex_emitted(const path_context *c, const path_vertex *v)
      * what NEE can sample (lights_build drops zero-area emitters). */
     if (tri >= c->lights->triangle_count || c->lights->light_of_triangle[tri] == LIGHT_NONE)
         return tri == LIGHT_TRIANGLE_DISTANT ? light_distant_radiance(c->lights, v->position) : rgb_gray(0);
-    return light_emitted(c->lights->lights[c->lights->light_of_triangle[tri]].emission, v->ng, v->wo);
+    return light_emitted(light_emission_at(c->lights, c->lights->light_of_triangle[tri], v->hit.b1, v->hit.b2), v->ng,
+                         v->wo);
 }
 
 /* Shading normals may disagree with the true surface about which side a direction is

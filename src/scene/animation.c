@@ -431,6 +431,18 @@ static int copy_array(void **dst, const void *src, size_t count, size_t elem, re
     return 0;
 }
 
+/* Deep copies of the image maps (scene_free frees each). */
+static int copy_textures(scene *dst, const scene *src, rerror *e)
+{
+    size_t i;
+    if (!src->texture_count) return 0;
+    dst->textures = rmalloc(src->texture_count, sizeof *dst->textures, e);
+    if (!dst->textures) return -1;
+    for (i = 0; i < src->texture_count; ++i, ++dst->texture_count)
+        if (texture_copy(&dst->textures[i], &src->textures[i], e)) return -1;
+    return 0;
+}
+
 static int copy_strings(char ***dst, char *const *src, size_t count, rerror *e)
 {
     size_t i;
@@ -481,6 +493,9 @@ int scene_clone(scene *dst, const scene *src, rerror *e)
     memcpy(dst, src, sizeof *dst);
     dst->positions = NULL;
     dst->normals = NULL;
+    dst->texcoords = NULL;
+    dst->textures = NULL;
+    dst->texture_count = 0;
     dst->triangles = NULL;
     dst->materials = NULL;
     dst->object_names = NULL;
@@ -495,6 +510,7 @@ int scene_clone(scene *dst, const scene *src, rerror *e)
     if (copy_array((void **)&dst->positions, src->positions, src->position_count, sizeof(vec3f), e) ||
         copy_array((void **)&dst->face_normals, src->face_normals, src->triangle_count, sizeof(vec3f), e) ||
         copy_array((void **)&dst->normals, src->normals, src->normal_count, sizeof(vec3f), e) ||
+        copy_array((void **)&dst->texcoords, src->texcoords, src->texcoord_count, sizeof *src->texcoords, e) ||
         copy_array((void **)&dst->triangles, src->triangles, src->triangle_count, sizeof(triangle), e) ||
         copy_array((void **)&dst->materials, src->materials, src->material_count, sizeof(material), e) ||
         copy_array((void **)&dst->keyframes, src->keyframes, src->keyframe_count, sizeof(camera_keyframe), e))
@@ -503,6 +519,7 @@ int scene_clone(scene *dst, const scene *src, rerror *e)
     if (copy_strings(&dst->object_names, src->object_names, src->object_count, e)) goto fail;
     dst->warning_count = src->warning_count;
     if (copy_strings(&dst->warnings, src->warnings, src->warning_count, e)) goto fail;
+    if (copy_textures(dst, src, e)) goto fail;
     if (copy_animation(dst, src->animation, e)) goto fail;
     if (sky_clone(&dst->sky, src->sky, e)) goto fail;
     dst->accel = *b;

@@ -1004,13 +1004,41 @@ static HOT_INLINE void push_sorted(const bvh *b, stack_entry *stack, int base, i
     prefetch_node(b, node);
 }
 
-/* Any hit in the leaf of `count` triangles from block `first`. */
-static HOT_INLINE int leaf_occludes(const ray_setup *s, const bvh *b, uint32_t first, uint32_t count)
+/* The caller's hit filter (bvh_intersect_filtered): NULL in the unfiltered queries, where
+ * the always-inlined code below then compiles to exactly what it was without filters. */
+typedef struct {
+    bvh_hit_filter accept;
+    const void *ctx;
+} hit_filter;
+
+/* 1 if lane k of a block's hits passes the filter (barycentrics as the query reports them). */
+static int filter_keeps(const hit_filter *f, const bvh_leaf_block *q, const lane_hits *lh, int k)
+{
+    return f->accept(f->ctx, q->tri[k], lh->v[k] / lh->det[k], lh->w[k] / lh->det[k]);
+}
+
+/* 1 if some lane of `mask` passes the filter (kept out of line: only cut-out scenes call it). */
+#ifdef __GNUC__
+__attribute__((noinline))
+#endif
+static int any_lane_kept(const hit_filter *f, const bvh_leaf_block *q, const lane_hits *lh, unsigned mask)
+{
+    int k;
+    for (k = 0; k < BVH_LANES; ++k)
+        if (((mask >> k) & 1u) && filter_keeps(f, q, lh, k)) return 1;
+    return 0;
+}
+
+/* Any hit in the leaf of `count` triangles from block `first` that the filter keeps. */
+static HOT_INLINE int leaf_occludes(const ray_setup *s, const bvh *b, uint32_t first, uint32_t count,
+                                    const hit_filter *f)
 {
     uint32_t block, end;
     for (block = first, end = first + (count + BVH_LANES - 1) / BVH_LANES; block < end; ++block) {
         lane_hits lh;
-        if (watertight_lanes(s, &b->blocks[block], &lh)) return 1;
+        unsigned mask = watertight_lanes(s, &b->blocks[block], &lh);
+        /* f is a constant NULL in the unfiltered query: then this is `if (mask) return 1`. */
+        if (mask && (!f || any_lane_kept(f, &b->blocks[block], &lh, mask))) return 1;
     }
     return 0;
 }
@@ -1019,7 +1047,7 @@ static HOT_INLINE int leaf_occludes(const ray_setup *s, const bvh *b, uint32_t f
  * (an occluder ends the query without a push and a pop; docs/performance.md: shadow rays
  * 7-17% faster), the inner ones pushed. Returns 1 if a leaf child occludes. */
 static HOT_INLINE int push_children_any_hit(const ray_setup *s, const bvh *b, const bvh_wide_node *n,
-                                            stack_entry *stack, int *top)
+                                            stack_entry *stack, int *top, const hit_filter *f)
 {
     float entry[BVH_WIDTH];
     unsigned mask = wide_overlaps(s, n, s->tmax, entry);
@@ -1028,7 +1056,7 @@ static HOT_INLINE int push_children_any_hit(const ray_setup *s, const bvh *b, co
         if (!enters(n, mask, k)) continue;
         if (n->count[k] == 0)
             push_sorted(b, stack, base, top, n->child[k], entry[k]);
-        else if (leaf_occludes(s, b, n->child[k], n->count[k]))
+        else if (leaf_occludes(s, b, n->child[k], n->count[k], f))
             return 1;
     }
     return 0;
@@ -1041,8 +1069,10 @@ typedef struct {
     uint32_t tri;
 } closest_hit;
 
-/* Tests the leaf of `count` triangles from block `first` against the closest hit c. */
-static HOT_INLINE void leaf_closest(const ray_setup *s, const bvh *b, uint32_t first, uint32_t count, closest_hit *c)
+/* Tests the leaf of `count` triangles from block `first` against the closest hit c
+ * (hits the filter f rejects do not count). */
+static HOT_INLINE void leaf_closest(const ray_setup *s, const bvh *b, uint32_t first, uint32_t count, closest_hit *c,
+                                    const hit_filter *f)
 {
     uint32_t block, end;
     for (block = first, end = first + (count + BVH_LANES - 1) / BVH_LANES; block < end; ++block) {
@@ -1056,6 +1086,7 @@ static HOT_INLINE void leaf_closest(const ray_setup *s, const bvh *b, uint32_t f
             /* Closest t; among exactly equal t the lowest triangle index, so that the
              * answer does not depend on the tree (nor on the lane or visiting order). */
             if (!c->found || t < c->t || (t == c->t && tri < c->tri)) {
+                if (f && !filter_keeps(f, &b->blocks[block], &lh, k)) continue;
                 c->found = 1;
                 c->t = t;
                 c->b1 = lh.v[k] / lh.det[k];
@@ -1069,7 +1100,7 @@ static HOT_INLINE void leaf_closest(const ray_setup *s, const bvh *b, uint32_t f
 /* push_children for closest-hit queries, with the leaf children tested where found
  * (as push_children_any_hit). */
 static HOT_INLINE void push_children_closest(const ray_setup *s, const bvh *b, const bvh_wide_node *n,
-                                             stack_entry *stack, int *top, closest_hit *c)
+                                             stack_entry *stack, int *top, closest_hit *c, const hit_filter *f)
 {
     float entry[BVH_WIDTH];
     unsigned mask = wide_overlaps(s, n, c->t, entry);
@@ -1079,13 +1110,13 @@ static HOT_INLINE void push_children_closest(const ray_setup *s, const bvh *b, c
         if (n->count[k] == 0)
             push_sorted(b, stack, base, top, n->child[k], entry[k]);
         else
-            leaf_closest(s, b, n->child[k], n->count[k], c);
+            leaf_closest(s, b, n->child[k], n->count[k], c, f);
     }
 }
 
 /* The queries. Inlined into the public functions below, once as compiled for the
  * build's target and, where available, once more for AVX2 (runtime dispatch). */
-static HOT_INLINE int intersect_query(const bvh *b, const ray *r, bvh_hit *h)
+static HOT_INLINE int intersect_query(const bvh *b, const ray *r, bvh_hit *h, const hit_filter *f)
 {
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
@@ -1106,7 +1137,7 @@ static HOT_INLINE int intersect_query(const bvh *b, const ray *r, bvh_hit *h)
         stack_entry at = stack[--top];
         /* Culled: the ray can only enter this box beyond the closest hit so far. */
         if (at.tnear > c.t) continue;
-        push_children_closest(&s, b, &b->wide[at.node], stack, &top, &c);
+        push_children_closest(&s, b, &b->wide[at.node], stack, &top, &c, f);
     }
     if (!c.found) return 0;
     h->t = c.t;
@@ -1116,7 +1147,7 @@ static HOT_INLINE int intersect_query(const bvh *b, const ray *r, bvh_hit *h)
     return 1;
 }
 
-static HOT_INLINE int occluded_query(const bvh *b, const ray *r)
+static HOT_INLINE int occluded_query(const bvh *b, const ray *r, const hit_filter *f)
 {
     ray_setup s;
     stack_entry stack[BVH_STACK_SIZE];
@@ -1129,7 +1160,7 @@ static HOT_INLINE int occluded_query(const bvh *b, const ray *r)
     stack[top++].tnear = s.tmin;
     /* Only wide nodes are ever on this stack: leaf children are tested where found. */
     while (top > 0)
-        if (push_children_any_hit(&s, b, &b->wide[stack[--top].node], stack, &top)) return 1;
+        if (push_children_any_hit(&s, b, &b->wide[stack[--top].node], stack, &top, f)) return 1;
     return 0;
 }
 
@@ -1145,12 +1176,23 @@ static HOT_INLINE int occluded_query(const bvh *b, const ray *r)
 #define BVH_AVX2_DISPATCH 1
 __attribute__((target("avx2"))) static int intersect_avx2(const bvh *b, const ray *r, bvh_hit *h)
 {
-    return intersect_query(b, r, h);
+    return intersect_query(b, r, h, NULL);
 }
 
 __attribute__((target("avx2"))) static int occluded_avx2(const bvh *b, const ray *r)
 {
-    return occluded_query(b, r);
+    return occluded_query(b, r, NULL);
+}
+
+__attribute__((target("avx2"))) static int intersect_filtered_avx2(const bvh *b, const ray *r, bvh_hit *h,
+                                                                     const hit_filter *f)
+{
+    return intersect_query(b, r, h, f);
+}
+
+__attribute__((target("avx2"))) static int occluded_filtered_avx2(const bvh *b, const ray *r, const hit_filter *f)
+{
+    return occluded_query(b, r, f);
 }
 #endif
 
@@ -1169,7 +1211,7 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h)
 #ifdef BVH_AVX2_DISPATCH
     if (b->simd) return intersect_avx2(b, r, h);
 #endif
-    return intersect_query(b, r, h);
+    return intersect_query(b, r, h, NULL);
 }
 
 int bvh_occluded(const bvh *b, const ray *r)
@@ -1177,7 +1219,31 @@ int bvh_occluded(const bvh *b, const ray *r)
 #ifdef BVH_AVX2_DISPATCH
     if (b->simd) return occluded_avx2(b, r);
 #endif
-    return occluded_query(b, r);
+    return occluded_query(b, r, NULL);
+}
+
+/* The filtered queries are separate functions, so that the unfiltered ones above stay
+ * exactly the code they were (docs/performance.md: A/B of the alpha test). */
+int bvh_intersect_filtered(const bvh *b, const ray *r, bvh_hit *h, bvh_hit_filter accept, const void *ctx)
+{
+    hit_filter f;
+    f.accept = accept;
+    f.ctx = ctx;
+#ifdef BVH_AVX2_DISPATCH
+    if (b->simd) return intersect_filtered_avx2(b, r, h, &f);
+#endif
+    return intersect_query(b, r, h, &f);
+}
+
+int bvh_occluded_filtered(const bvh *b, const ray *r, bvh_hit_filter accept, const void *ctx)
+{
+    hit_filter f;
+    f.accept = accept;
+    f.ctx = ctx;
+#ifdef BVH_AVX2_DISPATCH
+    if (b->simd) return occluded_filtered_avx2(b, r, &f);
+#endif
+    return occluded_query(b, r, &f);
 }
 
 /* ------------------------------------------------------------------------------- */

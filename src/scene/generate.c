@@ -61,6 +61,7 @@ static triangle make_triangle(uint32_t a, uint32_t b, uint32_t c, uint32_t mater
     triangle t;
     t.v[0] = a, t.v[1] = b, t.v[2] = c;
     t.n[0] = t.n[1] = t.n[2] = -1;
+    t.t[0] = t.t[1] = t.t[2] = -1;
     t.material = material;
     t.object = object;
     return t;

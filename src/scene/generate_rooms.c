@@ -15,6 +15,7 @@
 #include "restir/core/rng.h"
 #include "restir/scene/animation.h"
 #include "restir/scene/scene_builder.h"
+#include "restir/scene/sky.h"
 #include "restir/scene/triangulate.h"
 
 /* ------------------------------------------------------------------------------- */
@@ -506,7 +507,15 @@ static void write_scene_text(FILE *f, const scene *s, const char *mesh_name, con
         write_pose(f, head, &s->keyframes[i].pose);
     }
     write_animation(f, s);
-    fprintf(f, "size %d %d\n\n", s->width, s->height);
+    fprintf(f, "size %d %d\n", s->width, s->height);
+    if (s->sky && s->sky->has_env && !s->sky->env_is_map)
+        fprintf(f, "environment constant %.9g %.9g %.9g\n", (double)s->sky->env_constant.r,
+                (double)s->sky->env_constant.g, (double)s->sky->env_constant.b);
+    if (s->sky && s->sky->has_sun)
+        fprintf(f, "sun %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", (double)s->sky->sun_direction.x,
+                (double)s->sky->sun_direction.y, (double)s->sky->sun_direction.z, (double)s->sky->sun_angle_degrees,
+                (double)s->sky->sun_radiance.r, (double)s->sky->sun_radiance.g, (double)s->sky->sun_radiance.b);
+    fprintf(f, "\n");
     for (i = 0; i < s->material_count; ++i) {
         const material *m = &s->materials[i];
         fprintf(f,
@@ -610,19 +619,22 @@ static void many_lights_emitters(mesh_writer *m)
     }
 }
 
-int generate_many_lights(scene *s, rerror *e)
+/* The hall, with its ceiling slab or open to the sky. */
+static int many_lights_hall(scene *s, int open, rerror *e)
 {
     const double t = 0.2;
     mesh_writer m;
     int i;
-    if (mesh_writer_begin(&m, s, "generated:many-lights", e)) return -1;
+    if (mesh_writer_begin(&m, s, open ? "generated:many-lights-sky" : "generated:many-lights", e)) return -1;
     many_lights_materials(&m);
     /* The shell: slabs reach 2t beyond the interior, walls t beyond along z and into the
      * slabs, the end walls into the side walls (no coplanar overlapping faces). */
     mesh_use(&m, "floor", "floor");
     mesh_box(&m, -2 * t, -t, -2 * t, ML_W + 2 * t, 0, ML_D + 2 * t);
-    mesh_use(&m, "wall", "ceiling");
-    mesh_box(&m, -2 * t, ML_H, -2 * t, ML_W + 2 * t, ML_H + t, ML_D + 2 * t);
+    if (!open) {
+        mesh_use(&m, "wall", "ceiling");
+        mesh_box(&m, -2 * t, ML_H, -2 * t, ML_W + 2 * t, ML_H + t, ML_D + 2 * t);
+    }
     mesh_use(&m, "wall", "walls");
     mesh_box(&m, -t, -0.5 * t, -1.5 * t, 0, ML_H + 0.5 * t, ML_D + 1.5 * t);
     mesh_box(&m, ML_W, -0.5 * t, -1.5 * t, ML_W + t, ML_H + 0.5 * t, ML_D + 1.5 * t);
@@ -638,4 +650,23 @@ int generate_many_lights(scene *s, rerror *e)
     many_lights_emitters(&m);
     mesh_set_camera(s, 4.0, 1.7, 0.6, 4.0, 1.3, 20.0, 60);
     return mesh_writer_end(&m);
+}
+
+int generate_many_lights(scene *s, rerror *e) { return many_lights_hall(s, 0, e); }
+
+int generate_many_lights_sky(scene *s, rerror *e)
+{
+    if (many_lights_hall(s, 1, e)) return -1;
+    s->sky = rmalloc(1, sizeof *s->sky, e);
+    if (!s->sky) return -1;
+    sky_init(s->sky);
+    /* Dusk: a dim blue sky and a low warm sun along the hall, so the thousand lights still
+     * matter (sky irradiance pi * 0.06 = 0.19 on the floor, sun ~0.13 at normal incidence). */
+    s->sky->has_env = 1;
+    s->sky->env_constant = rgb_make((real)0.04, (real)0.055, (real)0.09);
+    s->sky->has_sun = 1;
+    s->sky->sun_direction = v3_normalize(v3((real)0.2, (real)0.35, (real)0.9));
+    s->sky->sun_angle_degrees = 1.5;
+    s->sky->sun_radiance = rgb_make(60, 45, 30);
+    return sky_prepare(s->sky, e);
 }

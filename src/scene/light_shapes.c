@@ -80,6 +80,7 @@ static int add_triangle(shape_out *o, uint32_t a, uint32_t b, uint32_t c, rerror
     t.v[1] = b;
     t.v[2] = c;
     t.n[0] = t.n[1] = t.n[2] = -1;
+    t.t[0] = t.t[1] = t.t[2] = -1;
     t.material = o->material;
     t.object = o->object;
     return builder_add_triangle(o->b, &t, e);

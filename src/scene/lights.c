@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/scene/sky.h"
+#include "restir/scene/surface_maps.h"
 
 /* ---- Vose's alias method ------------------------------------------------------- */
 
@@ -159,6 +160,7 @@ int lights_build(light_set *ls, const scene *s, rerror *e)
     size_t i;
     memset(ls, 0, sizeof *ls);
     ls->sky = s->sky;
+    ls->maps = scene_has_emission_maps(s) ? s : NULL;
     ls->triangle_count = s->triangle_count;
     ls->light_of_triangle = rmalloc(s->triangle_count ? s->triangle_count : 1, sizeof *ls->light_of_triangle, e);
     ls->lights = rmalloc(s->triangle_count ? s->triangle_count : 1, sizeof *ls->lights, e);
@@ -225,6 +227,12 @@ real light_pdf_distant(const light_set *ls, vec3 w)
 
 rgb light_distant_radiance(const light_set *ls, vec3 w) { return ls->sky ? sky_radiance(ls->sky, w) : rgb_gray(0); }
 
+rgb light_emission_at(const light_set *ls, uint32_t l, float b1, float b2)
+{
+    const light *x = &ls->lights[l];
+    return ls->maps ? scene_emission_at(ls->maps, x->triangle, b1, b2, x->emission) : x->emission;
+}
+
 int light_sample_point(const light_set *ls, const real u[4], light_sample *out)
 {
     const light *l;
@@ -244,7 +252,7 @@ int light_sample_point(const light_set *ls, const real u[4], light_sample *out)
     out->position = v3f_from(p);
     out->normal = l->normal;
     out->barycentric = b;
-    out->emission = l->emission;
+    out->emission = ls->maps ? light_emission_at(ls, out->light, (float)b.y, (float)b2) : l->emission;
     out->pdf_area = ls->select.pmf[out->light] / l->area;
     return 1;
 }

@@ -37,6 +37,7 @@ void mesh_face(mesh_writer *m, uint32_t a, uint32_t b, uint32_t c)
     if (m->failed) return;
     t.v[0] = a, t.v[1] = b, t.v[2] = c;
     t.n[0] = t.n[1] = t.n[2] = -1;
+    t.t[0] = t.t[1] = t.t[2] = -1;
     t.material = m->material;
     t.object = m->object;
     if (builder_add_triangle(&m->b, &t, m->e)) m->failed = 1;

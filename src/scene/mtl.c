@@ -6,6 +6,7 @@
 #include <string.h>
 #include "restir/scene/scene_builder.h"
 #include "restir/scene/text.h"
+#include "restir/scene/texture.h"
 
 typedef struct {
     scene_builder *b;
@@ -15,11 +16,13 @@ typedef struct {
     char name[MATERIAL_NAME_MAX];
     long name_line;
     mtl_record r;
+    char dir[4096];    /* the library's directory: map file names are relative to it */
 } mtl_parser;
 
 /* Statements we accept and skip: ambient colour (Ka; no ambient term in a path tracer),
  * transmission filter (Tf, Kt), sharpness, the PBR extension keys we do not model
- * (sheen, clearcoat, anisotropy) and every texture or reflection map. */
+ * (sheen, clearcoat, anisotropy), bump/normal/displacement/reflection maps and every
+ * map_ other than the five read (map_Kd, map_Ke, map_Pr, map_Ns, map_d). */
 static const char *const ignored_keys[] = {"Ka", "Tf", "Kt", "Km", "sharpness", "Ps", "Pc", "Pcr", "aniso", "anisor",
                                            "bump", "disp", "decal", "refl", "norm", NULL};
 
@@ -53,7 +56,9 @@ real roughness_from_phong_exponent(double ns)
 
 static int is_transparent_illum(int illum) { return illum == 4 || illum == 6 || illum == 7 || illum == 9; }
 
-material mtl_to_material(const char *name, const mtl_record *r, int *dissolve_ignored)
+/* The mapping without maps (rules 1-7 of docs/scene-format.md); *uses_glossy: the
+ * roughness is `glossy` (set from Pr or Ns). */
+static material lobed_material(const char *name, const mtl_record *r, int *uses_glossy, int *dissolve_ignored)
 {
     material m = material_default(name);
     rgb kd = r->has_kd ? r->kd : m.diffuse, ks = r->has_ks ? r->ks : rgb_gray(0);
@@ -63,12 +68,15 @@ material mtl_to_material(const char *name, const mtl_record *r, int *dissolve_ig
     real glossy = r->has_pr ? (real)r->pr : (r->has_ns ? roughness_from_phong_exponent(r->ns) : (real)0.5);
     real coat_ior = r->has_ni && r->ni > 1 ? (real)r->ni : (real)1.5;
 
+    *uses_glossy = 0;
     m.diffuse = kd;
     m.emission = r->has_ke ? r->ke : rgb_gray(0);
     if (r->has_pm && r->pm > 0.5) { /* 1. PBR metal: the base colour Kd is F0 */
         m.type = MAT_CONDUCTOR;
         m.specular = kd;
         m.roughness = glossy;
+        m.map_kd_is_f0 = 1;
+        *uses_glossy = 1;
     } else if (!r->has_pm && r->has_illum && (r->illum == 3 || r->illum == 5)) { /* 2. mirror */
         m.type = MAT_CONDUCTOR;
         m.specular = ks;
@@ -85,16 +93,44 @@ material mtl_to_material(const char *name, const mtl_record *r, int *dissolve_ig
         m.specular = rgb_max(ks) > 0 ? ks : rgb_gray(1);
         m.roughness = glossy;
         m.ior = coat_ior;
+        *uses_glossy = 1;
     } else if (rgb_max(ks) > 0) { /* 6. classic highlight */
         m.type = rgb_max(kd) > 0 ? MAT_PLASTIC : MAT_CONDUCTOR;
         m.specular = ks;
         m.roughness = glossy;
         m.ior = coat_ior;
+        *uses_glossy = 1;
     } else { /* 7. */
         m.type = MAT_LAMBERT;
     }
     if (m.type != MAT_PLASTIC && m.type != MAT_DIELECTRIC && m.type != MAT_ROUGH_DIELECTRIC) m.ior = (real)1.5;
     *dissolve_ignored = dissolve < 1 && m.type != MAT_DIELECTRIC && m.type != MAT_ROUGH_DIELECTRIC;
+    return m;
+}
+
+material mtl_to_material(const char *name, const mtl_record *given, int *dissolve_ignored)
+{
+    mtl_record q = *given;
+    material m;
+    int uses_glossy;
+    /* A map multiplies its scalar (MTL specification); a map given without its scalar
+     * multiplies 1 (Ns: 1000, the top of the exporters' 0..1000 range). */
+    if (q.map_kd && !q.has_kd) q.kd = rgb_gray(1), q.has_kd = 1;
+    if (q.map_ke && !q.has_ke) q.ke = rgb_gray(1), q.has_ke = 1;
+    if (q.map_pr && !q.has_pr) q.pr = 1, q.has_pr = 1;
+    if (q.map_ns && !q.has_ns) q.ns = 1000, q.has_ns = 1;
+    m = lobed_material(name, &q, &uses_glossy, dissolve_ignored);
+    m.map_kd = q.map_kd;
+    m.map_ke = q.map_ke;
+    m.map_alpha = q.map_d;
+    if (q.map_pr && m.type != MAT_LAMBERT && m.type != MAT_DIELECTRIC) { /* wherever Pr sets r */
+        m.map_roughness = q.map_pr;
+        m.roughness_map_scale = (real)q.pr;
+    } else if (q.map_ns && uses_glossy && !given->has_pr) { /* wherever Ns sets r */
+        m.map_roughness = q.map_ns;
+        m.roughness_from_ns = 1;
+        m.roughness_map_scale = (real)q.ns;
+    }
     return m;
 }
 
@@ -149,7 +185,11 @@ static int define_current(mtl_parser *p, rerror *e)
                             p->name)
                    ? rerror_set(e, "out of memory")
                    : 0;
+    if (p->r.map_d && p->r.has_ke && rgb_max(p->r.ke) > 0)
+        return rerror_at(e, p->path, p->name_line,
+                         "material '%s': map_d (cut-out) on an emitting material is not supported", p->name);
     b->s->materials[index] = mtl_to_material(p->name, &p->r, &dissolve_ignored);
+    if (p->r.map_d) b->s->has_cutouts = 1;
     b->material_origin[index] = MATERIAL_FROM_MTL;
     if (dissolve_ignored &&
         builder_warn(b, p->path, p->name_line,
@@ -173,13 +213,56 @@ static int start_material(mtl_parser *p, char *rest, rerror *e)
     return 0;
 }
 
+/* "map_X file": the file name is the rest of the line (it may contain spaces), relative
+ * to the library's directory. Options (-o, -s, -clamp, -bm, ...) are refused: the lookup
+ * is the one documented reference (unscaled UVs, repeat wrap). */
+static int map_statement(mtl_parser *p, const char *key, char *rest, enum texture_kind kind, uint32_t *map,
+                         rerror *e)
+{
+    const char *name = text_rest(rest);
+    char path[4096];
+    if (!p->open) return rerror_at(e, p->path, p->text.line, "'%s' before the first newmtl", key);
+    if (!*name) return rerror_at(e, p->path, p->text.line, "%s: missing file name", key);
+    if (name[0] == '-')
+        return rerror_at(e, p->path, p->text.line, "%s: option '%.20s' is not supported (docs/materials.md, Textures)",
+                         key, name);
+    if (text_join_path(path, sizeof path, p->dir, name))
+        return rerror_at(e, p->path, p->text.line, "%s: path too long", key);
+    if (builder_texture(p->b, path, kind, map, e)) {
+        char what[sizeof e->msg];
+        memcpy(what, e->msg, sizeof what);
+        /* As a missing mtllib: an error unless the caller allows missing material files. */
+        if (p->b->options.allow_missing_mtl)
+            return builder_warn(p->b, p->path, p->text.line, "%s: %s (the map is ignored)", key, what)
+                       ? rerror_set(e, "out of memory")
+                       : 0;
+        return rerror_at(e, p->path, p->text.line, "%s: %s", key, what);
+    }
+    return 0;
+}
+
+/* The five maps read; 1 if key is one of them (the statement is then handled). */
+static int read_map(mtl_parser *p, const char *key, char *rest, int *status, rerror *e)
+{
+    mtl_record *r = &p->r;
+    if (ci_equal(key, "map_Kd")) *status = map_statement(p, "map_Kd", rest, TEXTURE_COLOUR, &r->map_kd, e);
+    else if (ci_equal(key, "map_Ke")) *status = map_statement(p, "map_Ke", rest, TEXTURE_COLOUR, &r->map_ke, e);
+    else if (ci_equal(key, "map_Pr")) *status = map_statement(p, "map_Pr", rest, TEXTURE_SCALAR, &r->map_pr, e);
+    else if (ci_equal(key, "map_Ns")) *status = map_statement(p, "map_Ns", rest, TEXTURE_SCALAR, &r->map_ns, e);
+    else if (ci_equal(key, "map_d")) *status = map_statement(p, "map_d", rest, TEXTURE_ALPHA, &r->map_d, e);
+    else return 0;
+    return 1;
+}
+
 static int read_statement(mtl_parser *p, char *line, rerror *e)
 {
     char *rest = line, *key = text_next_token(&rest);
     mtl_record *r = &p->r;
     double v;
     if (!key) return 0;
+    int status;
     if (ci_equal(key, "newmtl")) return start_material(p, rest, e);
+    if (read_map(p, key, rest, &status, e)) return status;
     if (is_ignored_key(key)) return 0;
     if (!p->open) {
         if (ci_equal(key, "Kd") || ci_equal(key, "Ks") || ci_equal(key, "Ke") || ci_equal(key, "Ns") ||
@@ -223,6 +306,7 @@ int mtl_load(scene_builder *b, const char *path, rerror *e)
     memset(&p, 0, sizeof p);
     p.b = b;
     p.path = path;
+    text_directory_of(path, p.dir, sizeof p.dir);
     if (text_open(&p.text, path, e)) return -1;
     while (!status && (line = text_next_line(&p.text)) != NULL) status = read_statement(&p, line, e);
     if (!status) status = define_current(&p, e);

@@ -20,7 +20,7 @@ typedef struct {
     text_reader text;
     const char *path;
     char dir[4096];
-    size_t position_base, normal_base, texcoord_count;
+    size_t position_base, normal_base, texcoord_base;
 
     char *object_name;       /* current o/g name (owned), "default" before any */
     int object_resolved;     /* object_id is valid for object_name */
@@ -31,9 +31,11 @@ typedef struct {
     int material_resolved;
     uint32_t material_id;
 
-    /* One face: position index, normal index (-1 = none) and position per corner. */
+    /* One face: position index, normal and texture coordinate index (-1 = none) and
+     * position per corner. */
     uint32_t *face_position;
     int32_t *face_normal;
+    int32_t *face_texcoord;
     vec3f *face_corner;
     uint32_t *face_triangles;
     size_t face_capacity;
@@ -117,10 +119,10 @@ static int read_normal(obj_parser *o, char *rest, rerror *e)
 
 static int read_texcoord(obj_parser *o, char *rest, rerror *e)
 {
-    float uvw[3];
-    if (parse_numbers(o, rest, "vt", 1, 3, uvw, 0, e)) return -1;
-    o->texcoord_count++;
-    return 0;
+    float uvw[3] = {0, 0, 0};
+    /* u [v [w]]: v defaults to 0 (OBJ specification); w (3-D textures) is not used. */
+    if (parse_numbers(o, rest, "vt", 1, 3, uvw, 2, e)) return -1;
+    return builder_add_texcoord(o->b, uvw[0], uvw[1], e) ? at_line(o, e) : 0;
 }
 
 /* OBJ index (1-based, or negative = relative to the last defined element) -> 0-based
@@ -154,13 +156,15 @@ static int parse_index(obj_parser *o, const char **p, const char *token, long *i
 }
 
 /* One face corner: v, v/vt, v//vn or v/vt/vn. */
-static int read_face_vertex(obj_parser *o, const char *token, uint32_t *position, int32_t *normal, rerror *e)
+static int read_face_vertex(obj_parser *o, const char *token, uint32_t *position, int32_t *normal,
+                            int32_t *texcoord, rerror *e)
 {
     scene *s = o->b->s;
     const char *p = token;
     long index;
     size_t resolved;
     *normal = -1;
+    *texcoord = -1;
     if (parse_index(o, &p, token, &index, e) ||
         resolve_index(o, index, s->position_count - o->position_base, "vertex", &resolved, e))
         return -1;
@@ -169,8 +173,9 @@ static int read_face_vertex(obj_parser *o, const char *token, uint32_t *position
         p++;
         if (*p != '/') {
             if (parse_index(o, &p, token, &index, e) ||
-                resolve_index(o, index, o->texcoord_count, "texture coordinate", &resolved, e))
+                resolve_index(o, index, s->texcoord_count - o->texcoord_base, "texture coordinate", &resolved, e))
                 return -1;
+            *texcoord = (int32_t)(o->texcoord_base + resolved);
         }
         if (*p == '/') {
             p++;
@@ -214,13 +219,14 @@ static int current_ids(obj_parser *o, uint32_t *material, uint32_t *object, rerr
 /* Room for n corners in the per-face scratch arrays (doubling). */
 static int face_reserve(obj_parser *o, size_t n, rerror *e)
 {
-    size_t cap = o->face_capacity ? o->face_capacity : 16, c1, c2, c3, c4;
+    size_t cap = o->face_capacity ? o->face_capacity : 16, c1, c2, c3, c4, c5;
     if (n <= o->face_capacity) return 0;
     while (cap < n) cap *= 2;
-    c1 = c2 = c3 = o->face_capacity;
+    c1 = c2 = c3 = c5 = o->face_capacity;
     c4 = 3 * o->face_capacity;
     if (builder_reserve((void **)&o->face_position, &c1, cap, sizeof *o->face_position, e) ||
         builder_reserve((void **)&o->face_normal, &c2, cap, sizeof *o->face_normal, e) ||
+        builder_reserve((void **)&o->face_texcoord, &c5, cap, sizeof *o->face_texcoord, e) ||
         builder_reserve((void **)&o->face_corner, &c3, cap, sizeof *o->face_corner, e) ||
         builder_reserve((void **)&o->face_triangles, &c4, 3 * cap, sizeof *o->face_triangles, e))
         return -1;
@@ -228,13 +234,14 @@ static int face_reserve(obj_parser *o, size_t n, rerror *e)
     return 0;
 }
 
-/* A triangle of face corners i, j, k; its shading normals only if all three have one. */
+/* A triangle of face corners i, j, k; its shading normals only if all three have one, and
+ * likewise its texture coordinates. */
 static int emit_triangle(obj_parser *o, size_t i, size_t j, size_t k, uint32_t material, uint32_t object, rerror *e)
 {
     scene *s = o->b->s;
     triangle t;
     size_t c[3];
-    int m, has_normals = 1;
+    int m, has_normals = 1, has_texcoords = 1;
     c[0] = i;
     c[1] = j;
     c[2] = k;
@@ -242,6 +249,8 @@ static int emit_triangle(obj_parser *o, size_t i, size_t j, size_t k, uint32_t m
         int32_t n = o->face_normal[c[m]];
         t.v[m] = o->face_position[c[m]];
         t.n[m] = n;
+        t.t[m] = o->face_texcoord[c[m]];
+        if (t.t[m] < 0) has_texcoords = 0;
         if (n < 0) has_normals = 0;
         else if (s->normals[n].x == 0 && s->normals[n].y == 0 && s->normals[n].z == 0) {
             if (!o->zero_normal_triangles++) o->first_zero_normal_line = o->text.line;
@@ -249,6 +258,7 @@ static int emit_triangle(obj_parser *o, size_t i, size_t j, size_t k, uint32_t m
         }
     }
     if (!has_normals) t.n[0] = t.n[1] = t.n[2] = -1;
+    if (!has_texcoords) t.t[0] = t.t[1] = t.t[2] = -1;
     t.material = material;
     t.object = object;
     return builder_add_triangle(o->b, &t, e) ? at_line(o, e) : 0;
@@ -264,7 +274,7 @@ static int read_face(obj_parser *o, char *rest, rerror *e)
         if (n == OBJ_MAX_FACE_CORNERS)
             return rerror_at(e, o->path, o->text.line, "face with more than %d corners", OBJ_MAX_FACE_CORNERS);
         if (face_reserve(o, n + 1, e)) return at_line(o, e);
-        if (read_face_vertex(o, tok, &o->face_position[n], &o->face_normal[n], e)) return -1;
+        if (read_face_vertex(o, tok, &o->face_position[n], &o->face_normal[n], &o->face_texcoord[n], e)) return -1;
         n++;
     }
     if (n < 3) return rerror_at(e, o->path, o->text.line, "face with %zu vertices (at least 3 are needed)", n);
@@ -385,6 +395,7 @@ static void parser_free(obj_parser *o)
     free(o->object_name);
     free(o->face_position);
     free(o->face_normal);
+    free(o->face_texcoord);
     free(o->face_corner);
     free(o->face_triangles);
     triangulator_free(&o->triangulator);
@@ -401,6 +412,7 @@ int obj_load(scene_builder *b, const char *path, rerror *e)
     text_directory_of(path, o.dir, sizeof o.dir);
     o.position_base = b->s->position_count;
     o.normal_base = b->s->normal_count;
+    o.texcoord_base = b->s->texcoord_count;
     snprintf(o.material_name, sizeof o.material_name, "default");
     if (text_open(&o.text, path, e)) return -1;
     if (set_object(&o, no_name, e)) status = -1;

@@ -42,10 +42,22 @@ static int settle_materials(scene_builder *b, rerror *e)
     return 0;
 }
 
+/* A cut-out emitter (map_d and Ke > 0; an MTL refuses it, a scene file's `material ... ke`
+ * could still make one): NEE would sample its cut-away points, which no ray can hit. */
+static int refuse_cutout_emitters(const scene *s, rerror *e)
+{
+    size_t i;
+    for (i = 0; i < s->material_count; ++i)
+        if (s->materials[i].map_alpha && !rgb_is_black(s->materials[i].emission))
+            return rerror_at(e, s->path, 0, "material '%s': map_d (cut-out) on an emitting material is not supported",
+                             s->materials[i].name);
+    return 0;
+}
+
 static int finish(scene_builder *b, rerror *e)
 {
     scene *s = b->s;
-    if (settle_materials(b, e)) return -1;
+    if (settle_materials(b, e) || refuse_cutout_emitters(s, e)) return -1;
     if (!s->triangle_count)
         return rerror_at(e, s->path, 0, "the scene has no triangles (%zu vertices%s)", s->position_count,
                          b->degenerate_triangles ? ", only degenerate faces" : "");
@@ -92,6 +104,9 @@ void scene_free(scene *s)
     size_t i;
     free(s->positions);
     free(s->normals);
+    free(s->texcoords);
+    for (i = 0; i < s->texture_count; ++i) texture_free(&s->textures[i]);
+    free(s->textures);
     free(s->triangles);
     free(s->materials);
     for (i = 0; i < s->object_count; ++i) free(s->object_names[i]);

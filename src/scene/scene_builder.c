@@ -162,6 +162,36 @@ int builder_add_normal(scene_builder *b, vec3f n, rerror *e)
     return 0;
 }
 
+int builder_add_texcoord(scene_builder *b, float u, float v, rerror *e)
+{
+    scene *s = b->s;
+    if (s->texcoord_count >= INT32_MAX) return rerror_set(e, "more than 2^31 - 1 texture coordinates");
+    if (s->texcoord_count == b->texcoord_capacity &&
+        builder_reserve((void **)&s->texcoords, &b->texcoord_capacity, s->texcoord_count + 1, sizeof *s->texcoords, e))
+        return -1;
+    s->texcoords[s->texcoord_count][0] = u;
+    s->texcoords[s->texcoord_count][1] = v;
+    s->texcoord_count++;
+    return 0;
+}
+
+int builder_texture(scene_builder *b, const char *path, enum texture_kind kind, uint32_t *map, rerror *e)
+{
+    scene *s = b->s;
+    size_t i;
+    for (i = 0; i < s->texture_count; ++i)
+        if (s->textures[i].kind == kind && !strcmp(s->textures[i].path, path)) {
+            *map = (uint32_t)i + 1;
+            return 0;
+        }
+    if (s->texture_count == b->texture_capacity &&
+        builder_reserve((void **)&s->textures, &b->texture_capacity, s->texture_count + 1, sizeof *s->textures, e))
+        return -1;
+    if (texture_load(&s->textures[s->texture_count], path, kind, e)) return -1;
+    *map = (uint32_t)++s->texture_count;
+    return 0;
+}
+
 int builder_add_triangle(scene_builder *b, const triangle *t, rerror *e)
 {
     scene *s = b->s;

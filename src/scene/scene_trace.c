@@ -6,6 +6,7 @@
 #include "restir/scene/scene_trace.h"
 
 #include "restir/scene/scene.h"
+#include "restir/scene/surface_maps.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -87,12 +88,31 @@ static vec3f shading_normal(const scene *s, const triangle *t, float b1, float b
     return v3f_scale(n, 1.0f / len);
 }
 
+/* The alpha test of every ray query (docs/materials.md, "Cut-outs"): the one place where
+ * a hit on a cut-away point is rejected. Scenes without map_d never call it. */
+static int alpha_keeps(const void *ctx, uint32_t tri, float b1, float b2)
+{
+    return scene_alpha_keeps((const scene *)ctx, tri, b1, b2);
+}
+
+static int closest_hit(const scene *s, const ray *r, bvh_hit *bh)
+{
+    if (s->has_cutouts) return bvh_intersect_filtered(&s->accel, r, bh, alpha_keeps, s);
+    return bvh_intersect(&s->accel, r, bh);
+}
+
+int scene_occluded(const scene *s, const ray *r)
+{
+    if (s->has_cutouts) return bvh_occluded_filtered(&s->accel, r, alpha_keeps, s);
+    return bvh_occluded(&s->accel, r);
+}
+
 int scene_intersect(const scene *s, const ray *r, surface_hit *h)
 {
     bvh_hit bh;
     const triangle *t;
     vec3f a, b, c;
-    if (!bvh_intersect(&s->accel, r, &bh)) return 0;
+    if (!closest_hit(s, r, &bh)) return 0;
     t = &s->triangles[bh.tri];
     a = s->positions[t->v[0]];
     b = s->positions[t->v[1]];
@@ -206,7 +226,7 @@ int scene_visible(const scene *s, vec3f from, vec3f ng_from, vec3f to, const vec
 {
     ray r = scene_visibility_ray(from, ng_from, to, ng_to);
     /* Coincident points (zero direction, empty range): bvh_occluded returns 0. */
-    return !bvh_occluded(&s->accel, &r);
+    return !scene_occluded(s, &r);
 }
 
 ray scene_spawn_ray(vec3f p, vec3f ng, vec3f dir, vec3f wo)

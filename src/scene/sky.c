@@ -5,8 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include "restir/core/image.h"
-#include "restir/core/image_io.h"
+#include "restir/core/pfm.h"
 #include "restir/scene/bvh.h"
+#include "restir/scene/scene_trace.h"
+#include "restir/core/image_io.h"
 
 void sky_init(scene_sky *k)
 {
@@ -94,13 +96,25 @@ int sky_set_map(scene_sky *k, int width, int height, const float *rgb_texels, re
     return 0;
 }
 
+static int has_extension(const char *path, const char *ext)
+{
+    size_t n = strlen(path), m = strlen(ext), i;
+    if (n < m) return 0;
+    for (i = 0; i < m; ++i) {
+        char c = path[n - m + i];
+        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+        if (c != ext[i]) return 0;
+    }
+    return 1;
+}
+
 int sky_load_map(scene_sky *k, const char *path, real scale, rerror *e)
 {
     image img;
     int status;
-    /* By extension (image_io.h): PFM, OpenEXR, or PNG (sRGB-decoded); anything else is
-     * refused rather than read as PFM, as a scene file names its map explicitly. */
-    if (!image_path_is(path, "pfm") && !image_path_is(path, "exr") && !image_path_is(path, "png"))
+    /* Radiance maps: PFM and EXR (linear); a PNG is taken as an sRGB-encoded picture
+     * (image_read's rule). Rows top first. */
+    if (!has_extension(path, ".pfm") && !has_extension(path, ".exr") && !has_extension(path, ".png"))
         return rerror_set(e, "%s: environment maps are read from .pfm, .exr or .png files", path);
     if (image_read(path, &img, NULL, e)) return -1;
     status = sky_set_map(k, img.width, img.height, img.px, scale, e);
@@ -300,5 +314,5 @@ int sky_visible(const scene *s, vec3f p, vec3f ng, vec3 w)
     r.dir = d;
     r.tmin = 0;
     r.tmax = INFINITY;
-    return !bvh_occluded(&s->accel, &r);
+    return !scene_occluded(s, &r);
 }

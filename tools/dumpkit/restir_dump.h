@@ -1,9 +1,10 @@
 /* The restir stage-dump records as C structs, for a GPU build that writes its passes in our
  * format (docs/formats.md "Reservoir dump", "G-buffer dump"; docs/oracle.md §1 step 4).
  * Standalone: <stdint.h> only, no part of the restir library. Compiles warning-free as C99
- * (gcc, clang: -Wall -Wextra -Wpedantic) and as C++11 (g++), so CUDA code can include it too
- * (not compiled with nvcc here). HLSL has no 8-bit types and doubles are an optional GPU
- * feature: write the bytes of this layout through a ByteAddressBuffer instead.
+ * (gcc, clang: -Wall -Wextra -Wpedantic) and as C++11 (g++); CUDA code includes it through
+ * restir_dump.cuh (compiled by nvcc in tests/test_dumpkit.c when nvcc is present). HLSL has
+ * no 8-bit types and doubles are an optional GPU feature: a shader writes restir_gpu_record
+ * (below; restir_dump.hlsl) and the host converts it.
  *
  * The structs mirror the bytes of the files exactly: every field sits at its natural
  * alignment, so there is no padding, and the compile-time checks below fail on an ABI that
@@ -109,11 +110,85 @@ typedef struct {
     uint32_t prev_valid;  /* 104: 1 if x1 was visible in the previous frame */
 } restir_gbuf_texel;
 
+/* ---- what a shader writes: restir_gpu_record (restir_dump.hlsl, restir_dump.cuh) ---------
+ * A GPU pass cannot write the .resv record directly from HLSL (no 8-bit types; doubles are
+ * an optional feature), so it writes this record of 36 little-endian 32-bit words, 144
+ * bytes: every real as binary32, the four byte fields of offsets 44..47 packed into one
+ * word and lobe[16] into four, in the byte order of the .resv record (byte j of word w is
+ * byte 4w + j). The host converts each record with restir_gpu_record_to_resv (binary32 ->
+ * binary64 is exact), then writes the .resv header and records. restir_dump.hlsl declares
+ * the same layout; tests/test_dumpkit.c checks its offsets against this struct. */
+typedef struct {
+    float wsum;             /*   0 */
+    float W;                /*   4 */
+    float confidence;       /*   8 */
+    uint32_t n_invalid;     /*  12 */
+    uint32_t seed;          /*  16 */
+    uint32_t pixel;         /*  20 */
+    uint32_t sample;        /*  24 */
+    uint32_t packed_d_tech_k_npss; /* 28: length | technique << 8 | rc_k << 16 | n_pss << 24 */
+    uint32_t packed_lobe[4];       /* 32: lobe[4i + j] in byte j of word i */
+    uint32_t rc_triangle;   /*  48 */
+    float rc_bary[2];       /*  52 */
+    float rc_position[3];   /*  60 */
+    float rc_normal[3];     /*  72 */
+    uint32_t rc_flags;      /*  84 */
+    float rc_wo[3];         /*  88 */
+    float rc_pdf_prev;      /* 100 */
+    float rc_geom;          /* 104 */
+    float rc_pdf;           /* 108 */
+    float rc_radiance[3];   /* 112 */
+    float light_pdf;        /* 124 */
+    float F[3];             /* 128 */
+    float target;           /* 140 */
+} restir_gpu_record;
+
+#ifdef __CUDACC__
+#define RESTIR_DUMPKIT_HD __host__ __device__
+#else
+#define RESTIR_DUMPKIT_HD
+#endif
+
+/* The .resv record of a GPU record (every binary32 converted exactly; reserved = 0). */
+static RESTIR_DUMPKIT_HD inline void restir_gpu_record_to_resv(const restir_gpu_record *g, restir_resv_record *r)
+{
+    int i;
+    r->wsum = g->wsum;
+    r->W = g->W;
+    r->confidence = g->confidence;
+    r->n_invalid = g->n_invalid;
+    r->reserved = 0;
+    r->seed = g->seed;
+    r->pixel = g->pixel;
+    r->sample = g->sample;
+    r->length = (uint8_t)(g->packed_d_tech_k_npss & 0xFFu);
+    r->technique = (uint8_t)((g->packed_d_tech_k_npss >> 8) & 0xFFu);
+    r->rc_k = (uint8_t)((g->packed_d_tech_k_npss >> 16) & 0xFFu);
+    r->n_pss = (uint8_t)(g->packed_d_tech_k_npss >> 24);
+    for (i = 0; i < 16; ++i) r->lobe[i] = (uint8_t)((g->packed_lobe[i / 4] >> (8 * (i % 4))) & 0xFFu);
+    r->rc_triangle = g->rc_triangle;
+    for (i = 0; i < 2; ++i) r->rc_bary[i] = g->rc_bary[i];
+    for (i = 0; i < 3; ++i) {
+        r->rc_position[i] = g->rc_position[i];
+        r->rc_normal[i] = g->rc_normal[i];
+        r->rc_wo[i] = g->rc_wo[i];
+        r->rc_radiance[i] = g->rc_radiance[i];
+        r->F[i] = g->F[i];
+    }
+    r->rc_flags = g->rc_flags;
+    r->rc_pdf_prev = g->rc_pdf_prev;
+    r->rc_geom = g->rc_geom;
+    r->rc_pdf = g->rc_pdf;
+    r->light_pdf = g->light_pdf;
+    r->target = g->target;
+}
+
 /* Compile-time layout checks (a negative array size fails the build). */
 typedef char restir_dumpkit_check_header[sizeof(restir_resv_header) == 64 ? 1 : -1];
 typedef char restir_dumpkit_check_record[sizeof(restir_resv_record) == 216 ? 1 : -1];
 typedef char restir_dumpkit_check_pss[sizeof(restir_resv_pss) == 360 ? 1 : -1];
 typedef char restir_dumpkit_check_gbuf_header[sizeof(restir_gbuf_header) == 32 ? 1 : -1];
 typedef char restir_dumpkit_check_gbuf_texel[sizeof(restir_gbuf_texel) == 108 ? 1 : -1];
+typedef char restir_dumpkit_check_gpu_record[sizeof(restir_gpu_record) == 144 ? 1 : -1];
 
 #endif

@@ -34,6 +34,10 @@ void progress_update(progress *p, long done, long total); /* rate-limited redraw
 /* The total to report before the first update (the heartbeat's "0/N"). */
 void progress_expect(progress *p, long total);
 void progress_end(progress *p);
+/* For a run without a known total (`restir bench all`): 1 if a free-form line is due now
+ * (enabled, and --progress-every seconds since the last line or the begin; always on a
+ * terminal), and then counts it as drawn. */
+int progress_line_due(progress *p);
 
 /* Monotonic wall-clock seconds. */
 double now_seconds(void);

@@ -71,6 +71,17 @@ typedef struct stage_io_s {
        zero Jacobian source term), checked against the shift at the frame's end */
     long rc_missing, rc_nonempty;
     char rc_missing_path[4200];
+    /* --dump-halo N: the files hold `region` grown by N pixels on each side (clipped to the
+       image); `core` is the rectangle asked for (region_input.h, docs/oracle.md §6) */
+    long halo;
+    stage_region core;
+    /* a region dump as the input of one stage (restir replay / inspect --from-dump, from the
+       restart dump's manifest "region_input"; region_input.h): the pixels of in_check must
+       read only pixels of in_dumped in stage in_stage (in_history: with frame F-1's state) */
+    stage_region in_dumped, in_check;
+    char in_stage[STAGE_NAME_SIZE];
+    int in_history, in_image_w, in_image_h;
+    void *in_texels; /* gbuffer_texel[in_check]: kept from the frame's G-buffer until its end */
 } stage_io;
 
 /* *hook calls io's functions below at the frame's stage boundaries (frame/stage_hook.h);
@@ -91,6 +102,11 @@ typedef struct {
     char dumped[STAGE_MAX][STAGE_NAME_SIZE]; /* "dumped_stages" */
     int n_dumped;                           /* -1: the key is absent (then every stage is dumped) */
     stage_region region;                    /* "region" (width 0: absent or null: the whole image) */
+    long halo;                              /* "halo" {"pixels"} (0 if absent) */
+    stage_region core;                      /* "halo" {"core"}: the rectangle asked for (width 0: absent) */
+    stage_region in_dumped, in_check;       /* "region_input" {"dumped", "check"} (width 0: absent) */
+    char in_stage[STAGE_NAME_SIZE];         /* "region_input" {"stage"} */
+    long in_history;                        /* "region_input" {"history"} */
 } stage_manifest;
 
 /* 1 if the manifest lists stage `name` as dumped (every stage when "dumped_stages" is absent). */
@@ -122,6 +138,9 @@ void stage_io_gbuffer(stage_io *io, const gbuffer *g);
 /* G-buffer dump files (docs/formats.md). */
 int gbuffer_dump_write(const char *path, const gbuffer *g, uint32_t frame, rerror *e);
 int gbuffer_dump_read(const char *path, gbuffer *g, uint32_t *frame, rerror *e);
+
+/* A JSON array of the n stage names (a manifest's stage_order, dumped_stages). */
+void stage_names_put(FILE *fp, char names[][STAGE_NAME_SIZE], int n);
 
 /* Path of DIR/frame_NNNN/NAME.EXT into buf. */
 void stage_dump_path(char *buf, size_t size, const char *dir, uint32_t frame, const char *name, const char *ext);

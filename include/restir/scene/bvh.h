@@ -91,6 +91,14 @@ int bvh_intersect(const bvh *b, const ray *r, bvh_hit *h);
 /* Any hit with t in (r->tmin, r->tmax). Returns 1 if occluded. */
 int bvh_occluded(const bvh *b, const ray *r);
 
+/* A hit filter: 1 keeps the hit of triangle `tri` at barycentrics (b1, b2), 0 makes the
+ * queries below act as if that triangle were not there at that point (alpha cut-outs). */
+typedef int (*bvh_hit_filter)(const void *ctx, uint32_t tri, float b1, float b2);
+/* bvh_intersect and bvh_occluded counting only the hits `accept` keeps. The closest kept
+ * hit; among kept hits at exactly equal t the lowest triangle index, as without a filter. */
+int bvh_intersect_filtered(const bvh *b, const ray *r, bvh_hit *h, bvh_hit_filter accept, const void *ctx);
+int bvh_occluded_filtered(const bvh *b, const ray *r, bvh_hit_filter accept, const void *ctx);
+
 /* Watertight ray/triangle test (Woop, Benthin, Wald 2013). 1 on a hit in range.
  * Degenerate triangles (zero area, non-finite vertices) are never hit; the BVH leaves
  * them out, so bvh_intersect == the loop over all triangles with this test. */

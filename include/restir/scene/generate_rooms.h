@@ -58,10 +58,15 @@ int generate_corridor(scene *s, rerror *e);
  * 8 x 4 x 20 m hall with pillars, a glossy floor and a copper block (light RIS, Enhanced
  * §6.1). Metres. */
 int generate_many_lights(scene *s, rerror *e);
+/* The same hall open to the sky (docs/scenes.md): no ceiling slab (the ceiling lights hang
+ * in place), a constant dusk sky and a low sun (scene.sky set): many lights plus the
+ * environment as one more light of light RIS and tiles. Metres. */
+int generate_many_lights_sky(scene *s, rerror *e);
 
 /* Writes a scene file for s (atomically): `comment` (may be NULL, may hold several lines)
  * as # lines, `mesh MESH_NAME`, the camera (or its keyframes), the object animation, the size and one `material` line per
- * material with every field, so the scene file alone states the materials. */
+ * material with every field, so the scene file alone states the materials; a constant
+ * environment and a sun when s has them (a map is not written). */
 int generate_write_scene_file(const scene *s, const char *scene_path, const char *mesh_name, const char *comment,
                               rerror *e);
 

@@ -63,6 +63,10 @@ typedef struct {
      * without power), with power R^2 ∫ luminance(L) dω (R: the scene's bounding-sphere
      * radius; the power per π a disc of radius R intercepts). */
     const struct scene_sky *sky; /* NULL: no distant light */
+    /* The scene, when some emitter has map_Ke: the emission of a light point is then Ke
+     * times the map at its UV (light_emission_at); NULL: every light emits its Ke. The
+     * selection table keeps P(l) ∝ lum(Ke) area (any P(l) > 0 where emission is stays exact). */
+    const scene *maps;
     uint32_t env_entry, sun_entry;
 } light_set;
 
@@ -88,6 +92,10 @@ typedef struct {
 /* Samples a light point from four uniform numbers: u[0] column, u[1] alias coin,
  * u[2], u[3] the point on the triangle. Returns 0 if the set is empty. */
 int light_sample_point(const light_set *ls, const real u[4], light_sample *out);
+
+/* The radiance Ke of light l (an index into ls->lights) at barycentrics (b1, b2) of its
+ * triangle: Ke, or Ke times its map_Ke there. */
+rgb light_emission_at(const light_set *ls, uint32_t l, float b1, float b2);
 
 /* Inverse of the point step: the (u[2], u[3]) that produce barycentrics b. */
 vec2 light_sample_point_inverse(vec2 barycentric);

@@ -11,12 +11,15 @@ typedef struct {
     double ns, ni, d, tr, pr, pm;
     int illum;
     int has_kd, has_ks, has_ke, has_ns, has_ni, has_d, has_tr, has_pr, has_pm, has_illum;
+    /* Image maps, loaded into the scene as they are read: 1 + index into scene.textures, 0 = none. */
+    uint32_t map_kd, map_ke, map_pr, map_ns, map_d;
 } mtl_record;
 
 /* Loads an MTL library into b (mtl.c); skips a library loaded before (same path). */
 int mtl_load(scene_builder *b, const char *path, rerror *e);
 
-/* The documented MTL -> material mapping (docs/scene-format.md, "MTL mapping").
+/* The documented MTL -> material mapping (docs/scene-format.md, "MTL mapping"; maps:
+ * docs/materials.md, "Textures").
  * *dissolve_ignored is set when d < 1 or Tr > 0 was given but did not make the material
  * a dielectric. */
 material mtl_to_material(const char *name, const mtl_record *r, int *dissolve_ignored);

@@ -10,6 +10,7 @@
 #include "restir/core/error.h"
 #include "restir/core/vec.h"
 #include "restir/scene/bvh.h"
+#include "restir/scene/texture.h"
 
 enum material_type {
     MAT_LAMBERT = 0,         /* diffuse Kd */
@@ -33,11 +34,21 @@ typedef struct {
     rgb emission;   /* Ke: radiance emitted from the front face */
     real roughness; /* linear (perceptual) roughness r in [0,1]; GGX alpha = r*r */
     real ior;       /* Ni: index of refraction (dielectric, plastic coat) */
+    /* Image maps (docs/materials.md, "Textures"): 1 + an index into scene.textures, 0 = none
+     * (so a zeroed material is untextured). */
+    uint32_t map_kd;          /* multiplies Kd (or Ks where the base colour is F0: map_kd_is_f0) */
+    uint32_t map_roughness;   /* map_Pr (r = roughness_map_scale * t) or map_Ns (see roughness_from_ns) */
+    uint32_t map_alpha;       /* map_d: a cut-out, the surface is absent where alpha < 0.5 */
+    uint32_t map_ke;          /* multiplies Ke */
+    int map_kd_is_f0;         /* the PBR metal rule: the base colour map tints Ks */
+    int roughness_from_ns;    /* map_roughness is map_Ns: r = roughness_from_phong_exponent(scale * t) */
+    real roughness_map_scale; /* Pr or Ns multiplying the map's value */
 } material;
 
 typedef struct {
     uint32_t v[3];     /* indices into scene.positions (front face: counter-clockwise) */
     int32_t n[3];      /* indices into scene.normals, or -1 (then the face normal is used) */
+    int32_t t[3];      /* indices into scene.texcoords, or -1 (then the UV is (0, 0)) */
     uint32_t material; /* index into scene.materials */
     uint32_t object;   /* index into scene.object_names */
 } triangle;
@@ -59,6 +70,8 @@ typedef struct {
     size_t position_count;
     vec3f *normals;
     size_t normal_count;
+    float (*texcoords)[2]; /* OBJ vt: (u, v) */
+    size_t texcoord_count;
     triangle *triangles;
     size_t triangle_count;
     material *materials;
@@ -74,6 +87,12 @@ typedef struct {
 
     /* Rigid per-object animation and the rest pose (restir/scene/animation.h); NULL: static. */
     struct scene_animation *animation;
+
+    /* The image maps materials refer to (restir/scene/texture.h). has_cutouts: some
+     * material has map_d, so ray queries run the alpha test (scene_trace.c). */
+    scene_texture *textures;
+    size_t texture_count;
+    int has_cutouts;
 
     /* Distant lights: environment and sun (restir/scene/sky.h); NULL: none. */
     struct scene_sky *sky;
@@ -94,7 +113,8 @@ typedef struct {
 int scene_load(scene *s, const char *path, rerror *e);
 
 typedef struct {
-    int allow_missing_mtl; /* a material library that cannot be opened is a warning, not an error */
+    int allow_missing_mtl; /* a material library, or a map file of one (map_Kd ...), that cannot be
+                            * opened or decoded is a warning (the map is then ignored), not an error */
 } scene_load_options;
 
 /* scene_load with options (NULL = defaults, which is what scene_load uses). */

@@ -18,7 +18,7 @@ enum material_origin {
 
 typedef struct {
     scene *s;
-    size_t position_capacity, normal_capacity, triangle_capacity;
+    size_t position_capacity, normal_capacity, texcoord_capacity, triangle_capacity, texture_capacity;
     size_t material_capacity, object_capacity, warning_capacity;
     name_table material_names, object_names, libraries;
     unsigned char *material_origin;  /* per material: enum material_origin */
@@ -50,6 +50,10 @@ int builder_object(scene_builder *b, const char *name, uint32_t *index, rerror *
 
 int builder_add_position(scene_builder *b, vec3f p, rerror *e);
 int builder_add_normal(scene_builder *b, vec3f n, rerror *e);
+int builder_add_texcoord(scene_builder *b, float u, float v, rerror *e);
+/* The map (1 + index into s->textures) of the image at path read as `kind`; an image
+ * already loaded as that kind is shared. Errors "path: what". */
+int builder_texture(scene_builder *b, const char *path, enum texture_kind kind, uint32_t *map, rerror *e);
 /* Appends the triangle unless its geometric normal (v1-v0)x(v2-v0), computed in double,
  * is zero (collinear or repeated corners), which only counts it as dropped. */
 int builder_add_triangle(scene_builder *b, const triangle *t, rerror *e);

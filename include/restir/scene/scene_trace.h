@@ -6,12 +6,17 @@
 
 #include "restir/scene/scene.h"
 
-/* Closest hit along a ray; returns 1 and fills *h if something is hit. */
+/* Every query below honours alpha cut-outs (map_d): a hit where the interpolated alpha is
+ * below SCENE_ALPHA_CUTOFF (surface_maps.h) is no hit, for every kind of ray alike.
+ * Closest hit along a ray; returns 1 and fills *h if something is hit. */
 int scene_intersect(const scene *s, const ray *r, surface_hit *h);
 /* The surface point of triangle `tri` at barycentrics (b1, b2), exactly as scene_intersect
  * reports a hit there (t = 0): shift mappings rebuild a stored vertex from its triangle
  * and barycentrics. Returns 0 if tri is out of range. */
 int scene_surface_point(const scene *s, uint32_t tri, float b1, float b2, surface_hit *h);
+/* 1 if anything the ray hits in (tmin, tmax) is kept by the alpha test (bvh_occluded with
+ * cut-outs): what every shadow and visibility ray uses. */
+int scene_occluded(const scene *s, const ray *r);
 /* 1 if the segment from a point on surface `from` (normal ng_from) to point `to`
  * (normal ng_to, or NULL for a non-surface point) is unoccluded. Origins are offset
  * robustly and scale-invariantly on both ends. */

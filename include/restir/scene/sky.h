@@ -65,7 +65,8 @@ int sky_clone(scene_sky **dst, const scene_sky *src, rerror *e);
 /* The environment map from any float RGB image (row 0 = top), times `scale`: PFM today,
  * EXR when the images branch lands. Texels must be finite and >= 0. */
 int sky_set_map(scene_sky *k, int width, int height, const float *rgb_texels, real scale, rerror *e);
-/* Reads the map file by its extension (.pfm; other formats are reported as unsupported). */
+/* Reads the map file by its extension: .pfm, .exr (linear radiance) or .png (sRGB-decoded,
+ * image_read's rule); other extensions are reported as unsupported. */
 int sky_load_map(scene_sky *k, const char *path, real scale, rerror *e);
 /* Builds the derived fields. Call after the description is complete. */
 int sky_prepare(scene_sky *k, rerror *e);
