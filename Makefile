@@ -39,8 +39,12 @@ endif
 ifeq ($(DEBUG),1)
 BUILD_DEBUG := /debug
 endif
+# FUZZ_SAN=undefined: libFuzzer with UBSan only (no ASan), several times the
+# executions per second, for the bulk of a long run; its corpus is then replayed
+# under ASan+UBSan (docs/fuzzing.md).
+FUZZ_SAN ?= address,undefined
 ifeq ($(FUZZ),1)
-BUILD_FUZZ := /fuzz
+BUILD_FUZZ := /fuzz$(if $(findstring address,$(FUZZ_SAN)),,-ubsan)
 endif
 LTO ?= 0
 ifeq ($(LTO),1)
@@ -64,8 +68,8 @@ LDFLAGS += -fsanitize=address,undefined
 endif
 ifeq ($(FUZZ),1)
 # libFuzzer instrumentation for `make fuzz` (clang only; docs/fuzzing.md).
-CFLAGS += -g -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
-LDFLAGS += -fsanitize=address,undefined
+CFLAGS += -g -fsanitize=fuzzer-no-link,$(FUZZ_SAN) -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+LDFLAGS += -fsanitize=$(FUZZ_SAN)
 endif
 ifeq ($(WERROR),1)
 CFLAGS += -Werror
@@ -195,8 +199,8 @@ results-mutations: $(BUILD)/restir
 FUZZ_TARGETS ?= obj mtl scene pfm dump cli exr png inflate
 FUZZ_RUNS ?= 2000000
 fuzz:
-	$(MAKE) FUZZ=1 CC=clang fuzz-build
-	sh scripts/fuzz.sh build/fuzz out/fuzz $(FUZZ_RUNS) $(FUZZ_TARGETS)
+	$(MAKE) FUZZ=1 CC=clang FUZZ_SAN=$(FUZZ_SAN) fuzz-build
+	sh scripts/fuzz.sh build/fuzz$(if $(findstring address,$(FUZZ_SAN)),,-ubsan) out/fuzz $(FUZZ_RUNS) $(FUZZ_TARGETS)
 
 fuzz-build: $(FUZZ_TARGETS:%=$(BUILD)/fuzz_%)
 

@@ -6,6 +6,10 @@
 #   sh scripts/fuzz.sh BUILD OUT RUNS TARGET[:RUNS]...
 #   FUZZ_SECONDS=600 sh scripts/fuzz.sh BUILD OUT -1 TARGET...   (a time slice per target)
 #
+# BUILD is build/fuzz (ASan + UBSan, make fuzz) or build/fuzz-ubsan (UBSan only,
+# make fuzz FUZZ_SAN=undefined: several times faster; replay its corpus under
+# ASan + UBSan afterwards, docs/fuzzing.md).
+#
 # The working corpus OUT/corpus/TARGET starts from the committed inputs of
 # tests/data/fuzz/TARGET plus the small files of ../shared/data with the right
 # extension; it grows across runs (not committed). A crash, leak or timeout is written

@@ -74,6 +74,7 @@ static int write_correlated(const char *prefix, const moments *m, double tile_sd
     meta.write_config = write_config;
     meta.ctx = &tile_sd;
     meta.correlation = MOMENTS_CORRELATED;
+    meta.image_ext = NULL;
     return moments_write_meta(prefix, m, &meta, e);
 }
 

@@ -12,7 +12,6 @@
 #include "restir/core/image.h"
 #include "restir/core/image_io.h"
 #include "restir/core/json_text.h"
-#include "restir/core/pfm.h"
 #include "restir/core/png.h"
 #include "restir/core/progress.h"
 #include "restir/core/upside_down.h"
@@ -77,11 +76,11 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
     {
         const cli_option options[] = {
             {"--a", OPT_LIST, &a->a.runs, "side A: K >= 2 independent renders", NULL, 0, 0, NULL},
-            {"--a-moments", OPT_STRING, &a->a.moments, "side A: PREFIX.moments.json (+ .mean.pfm, .var.pfm)", NULL, 0, 0, NULL},
+            {"--a-moments", OPT_STRING, &a->a.moments, "side A: PREFIX.moments.json (+ the .mean and .var images it names, PFM or EXR)", NULL, 0, 0, NULL},
             {"--b", OPT_LIST, &a->b.runs, "side B: K >= 2 independent renders", NULL, 0, 0, NULL},
             {"--b-moments", OPT_STRING, &a->b.moments, "side B: a moments file set", NULL, 0, 0, NULL},
-            {"--ref", OPT_STRING, &a->b.ref, "side B: a reference REF.pfm taken as exact (or with --ref-var, --ref-runs)", NULL, 0, 0, NULL},
-            {"--ref-var", OPT_STRING, &a->b.ref_var, "the reference's single-run variance VAR.pfm", NULL, 0, 0, NULL},
+            {"--ref", OPT_STRING, &a->b.ref, "side B: a reference REF.pfm (or .exr, .png) taken as exact (or with --ref-var, --ref-runs)", NULL, 0, 0, NULL},
+            {"--ref-var", OPT_STRING, &a->b.ref_var, "the reference's single-run variance VAR.pfm (or .exr)", NULL, 0, 0, NULL},
             {"--ref-runs", OPT_INT, &a->b.ref_runs, "the number of runs N behind --ref-var", NULL, 2, 2147483647.0, NULL},
             {"--block", OPT_INT, &a->opt.block_size, "block size in pixels (default 8; 1 = per pixel)", NULL, 1, 4096, NULL},
             {"--alpha", OPT_REAL, &a->opt.alpha, "level of the 'different' verdict, in (0, 1) (default 0.01)", NULL, 0, 0, NULL},
@@ -90,7 +89,7 @@ static int parse_args(int argc, char **argv, check_args *a, int *done)
             {"--require-equivalence", OPT_FLAG, &a->require_equivalence, "also exit 1 unless equivalence within the margin is shown", NULL, 0, 0, NULL},
             {"--paired", OPT_FLAG, &a->paired, "run k of A and run k of B share their random numbers (same seeds): test the K per-run differences (needs --a and --b with the same K)", NULL, 0, 0, NULL},
             {"--json", OPT_STRING, &a->json, "machine-readable results OUT.json", NULL, 0, 0, NULL},
-            {"--z-map", OPT_STRING, &a->z_map, "per-pixel normal-equivalent z, OUT.pfm (per channel) or OUT.png (red A>B, blue A<B)", NULL, 0, 0, NULL},
+            {"--z-map", OPT_STRING, &a->z_map, "per-pixel normal-equivalent z, OUT.pfm or OUT.exr (per channel) or OUT.png (red A>B, blue A<B)", NULL, 0, 0, NULL},
             {"--block-z-map", OPT_STRING, &a->block_z_map, "the same per block (one pixel per block)", NULL, 0, 0, NULL},
             {"--no-skew-correction", OPT_FLAG, &a->no_skew_correction, "plain Welch block tests (default: discount the tail opposite the pooled skewness of the per-run block means, Hall 1992)", NULL, 0, 0, NULL},
             {"--scale-a", OPT_REAL, &a->scale_a, "multiply side A by S (a planted relative bias S - 1, to measure power)", NULL, 1e-300, 1e6, NULL},
@@ -212,12 +211,6 @@ static int load_side(check_side *side, const side_args *s, int block, rerror *e)
 
 /* ---- outputs ---- */
 
-static int has_suffix(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), k = strlen(suffix);
-    return n >= k && !strcmp(s + n - k, suffix);
-}
-
 /* PNG view of a z map: the channel with the largest |z| decides; red where A is
  * brighter, blue where darker, full intensity at |z| >= 6. */
 static int write_z_png(const char *path, const image *z, rerror *e)
@@ -243,10 +236,11 @@ static int write_z_png(const char *path, const image *z, rerror *e)
     return status;
 }
 
-/* The format follows the name the user gave (final), not the temporary file's (staged). */
+/* The format follows the name the user gave (final), not the temporary file's (staged):
+ * .png the colour picture, .exr OpenEXR, else PFM. */
 static int write_z_map(const char *staged, const char *final, const image *z, rerror *e)
 {
-    return has_suffix(final, ".png") || has_suffix(final, ".PNG") ? write_z_png(staged, z, e) : pfm_write(staged, z, e);
+    return image_path_is(final, "png") ? write_z_png(staged, z, e) : image_write_as(staged, final, z, e);
 }
 
 static const char *side_kind_name(const check_side *s)
@@ -566,13 +560,30 @@ static int scale_side(check_side *a, double scale)
     return 0;
 }
 
+/* --z-map and --block-z-map: .png (the picture), .exr, else PFM; a name of a format
+ * that is not written is refused before any work. */
+static int check_map_names(const check_args *args)
+{
+    const char *maps[2];
+    rerror e;
+    int i;
+    maps[0] = args->z_map, maps[1] = args->block_z_map;
+    for (i = 0; i < 2; ++i)
+        if (maps[i] && !image_path_is(maps[i], "png") && image_output_check(maps[i], &e)) {
+            fprintf(stderr, "restir check: %s %s\n", i ? "--block-z-map" : "--z-map", e.msg);
+            return 2;
+        }
+    return 0;
+}
+
 /* --json, --z-map and --block-z-map can be written and must not overwrite each other or an
  * input image; no input is given twice. */
 static int check_collisions(const check_args *args)
 {
-    static const char *const moments_files[] = {".mean.pfm", ".var.pfm", ".moments.json", ".blocks.bin"};
-    named_file outs[3], ins[2 * MAX_INPUTS + 12];
-    char names[8][4200];
+    static const char *const moments_files[] = {".mean.pfm", ".var.pfm", ".mean.exr", ".var.exr", ".moments.json",
+                                                ".blocks.bin"};
+    named_file outs[3], ins[2 * MAX_INPUTS + 16];
+    char names[12][4200];
     int n = 0, side, i, m = 0, runs;
     outs[0].path = args->json, outs[0].role = "--json";
     outs[1].path = args->z_map, outs[1].role = "--z-map";
@@ -586,7 +597,7 @@ static int check_collisions(const check_args *args)
         const side_args *s = side ? &args->b : &args->a;
         ins[n].path = s->ref, ins[n++].role = "--ref";
         ins[n].path = s->ref_var, ins[n++].role = "--ref-var";
-        for (i = 0; s->moments && i < 4; ++i, ++m) { /* PREFIX or PREFIX.moments.json */
+        for (i = 0; s->moments && i < 6; ++i, ++m) { /* PREFIX or PREFIX.moments.json */
             size_t len = strlen(s->moments), suffix = strlen(".moments.json");
             int stem = (int)(len > suffix && !strcmp(s->moments + len - suffix, ".moments.json") ? len - suffix : len);
             snprintf(names[m], sizeof names[m], "%.*s%s", stem, s->moments, moments_files[i]);
@@ -606,7 +617,7 @@ int cmd_check(int argc, char **argv)
     rerror e;
     int done, status;
     if ((status = parse_args(argc, argv, &args, &done)) != 0 || done) return status;
-    if (check_collisions(&args)) return 2;
+    if (check_map_names(&args) || check_collisions(&args)) return 2;
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
     progress_set_mode((enum progress_mode)args.progress, args.progress_every);

@@ -11,7 +11,6 @@
 #include "restir/core/image.h"
 #include "restir/core/image_io.h"
 #include "restir/core/json_text.h"
-#include "restir/core/pfm.h"
 #include "restir/core/progress.h"
 #include "restir/metrics/covariance.h"
 #include "restir/metrics/output_set.h"
@@ -70,7 +69,7 @@ static int parse_args(int argc, char **argv, covariance_args *a, int *done)
             {"--radius", OPT_INT, &a->radius, "box radius R (default 8, as in Mutations Table 1)", NULL, 0, 4096, NULL},
             {"--exclude-center", OPT_FLAG, &a->exclude_center, "leave the pixel itself (its variance) out of each box", NULL, 0, 0, NULL},
             {"--curve", OPT_STRING, &a->curve, "OUT.csv: the value for every radius 0..R (CSV radius,covariance; plot with restir plot)", NULL, 0, 0, NULL},
-            {"--map", OPT_STRING, &a->map, "OUT.pfm: per-pixel box covariance at radius R", NULL, 0, 0, NULL},
+            {"--map", OPT_STRING, &a->map, "OUT.pfm or OUT.exr: per-pixel box covariance at radius R", NULL, 0, 0, NULL},
             {"--json", OPT_STRING, &a->json, "OUT.json: machine-readable result", NULL, 0, 0, NULL},
             CLI_PROGRESS_ROWS(&a->progress, &a->progress_every),
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
@@ -86,6 +85,10 @@ static int parse_args(int argc, char **argv, covariance_args *a, int *done)
     }
     if (a->file_count < 2) return usage_error("needs at least 2 images (independent renders)", "");
     if (a->exclude_center && a->radius < 1) return usage_error("--exclude-center needs --radius >= 1", "");
+    if (a->map) { /* the format follows the name (.exr or PFM): refused before any work */
+        rerror e;
+        if (image_output_check(a->map, &e)) return usage_error("--map ", e.msg);
+    }
     return check_files(a);
 }
 
@@ -163,7 +166,7 @@ static int write_outputs(const covariance_args *a, const covariance_accum *c, co
     if (a->curve && (!(staged = output_set_stage(&out, a->curve, e)) ||
                      write_curve(staged, v, a->radius, a->exclude_center, e)))
         goto fail;
-    if (a->map && (!(staged = output_set_stage(&out, a->map, e)) || pfm_write(staged, map, e))) goto fail;
+    if (a->map && (!(staged = output_set_stage(&out, a->map, e)) || image_write_as(staged, a->map, map, e))) goto fail;
     if (a->json && (!(staged = output_set_stage(&out, a->json, e)) || write_json(staged, a, c, v, e))) goto fail;
     return output_set_commit(&out, e);
 fail:

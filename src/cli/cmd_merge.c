@@ -145,6 +145,7 @@ static int check_merge_outputs(const merge_args *a, const char **inputs, int cou
 {
     named_file outs[3], *ins = calloc((size_t)count + 1, sizeof *ins);
     char png[4096], label[MERGE_MAX_INPUTS][24];
+    rerror e;
     int i, status = 0;
     if (!ins) return 2;
     if (a->no_png) png[0] = '\0';
@@ -153,6 +154,10 @@ static int check_merge_outputs(const merge_args *a, const char **inputs, int cou
     outs[0].path = a->output, outs[0].role = "-o";
     outs[1].path = png, outs[1].role = "the PNG preview";
     outs[2].path = a->checkpoint_out, outs[2].role = "--checkpoint-out";
+    if (image_output_check(a->output, &e)) { /* .exr or PFM; .png is the preview, .jpg ... not written */
+        fprintf(stderr, "restir merge: %s\n", e.msg);
+        status = 2;
+    }
     for (i = 0; i < count; ++i) {
         snprintf(label[i], sizeof label[i], "input %d", i + 1);
         ins[i].path = inputs[i], ins[i].role = label[i];

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/core/image_io.h"
 #include "restir/core/progress.h"
 #include "restir/core/threads.h"
 #include "restir/frame/frame_stats.h"
@@ -128,11 +129,13 @@ static int render_one(const render_args *a, const scene *s, uint32_t seed, const
     return render_aov_image(a, s, img);
 }
 
-/* --sequence: one PFM (+ PNG) per frame, PREFIX.0000.pfm ..., each written atomically. */
+/* --sequence: one image (+ PNG) per frame, PREFIX.0000.pfm ... (.exr when -o names an
+ * .exr), each written atomically. */
 typedef struct {
     const render_args *a;
     render_timings *t;
     char prefix[4096];
+    const char *ext;
 } sequence_sink;
 
 static int write_image(const render_args *a, const image *img, const char *out, const char *png);
@@ -148,9 +151,12 @@ static int write_frame(void *user, int frame, const image *img, const restir_sta
     k->t->frame_numbers = numbers;
     numbers[k->t->frame_count] = frame;
     grown[k->t->frame_count++] = *st;
-    snprintf(pfm, sizeof pfm, "%s.%04d.pfm", k->prefix, frame);
+    snprintf(pfm, sizeof pfm, "%s.%04d.%s", k->prefix, frame, k->ext);
     snprintf(png, sizeof png, "%s.%04d.png", k->prefix, frame);
-    if (write_image(k->a, img, pfm, k->a->no_png ? "" : png)) return rerror_set(e, "%s: not written", pfm);
+    if (write_image(k->a, img, pfm, k->a->no_png ? "" : png)) {
+        k->t->frame_count--; /* not written (nothing of it is left): not one to remove either */
+        return rerror_set(e, "%s: not written", pfm);
+    }
     return 0;
 }
 
@@ -162,10 +168,11 @@ static int render_sequence(const render_args *a, const scene *s, const char *out
     k.a = a;
     k.t = t;
     output_prefix(k.prefix, sizeof k.prefix, out);
+    k.ext = image_output_ext(out);
     if (restir_render_sequence(s, &a->restir, &a->seq, write_frame, &k, &t->restir, &e)) {
         /* Exit 2 leaves nothing: the frames and dump files this call wrote are removed (the
          * checkpoint of --resume FILE --checkpoint FILE stays: it was this call's input). */
-        int frames = remove_sequence_frames(k.prefix, t->frame_numbers, t->frame_count, !a->no_png);
+        int frames = remove_sequence_frames(k.prefix, k.ext, t->frame_numbers, t->frame_count, !a->no_png);
         int dumped = stage_io_remove_written(&a->sio);
         if (a->seq.checkpoint && t->frame_count > 0 && !(a->seq.resume && !strcmp(a->seq.resume, a->seq.checkpoint)))
             remove(a->seq.checkpoint);
@@ -178,8 +185,8 @@ static int render_sequence(const render_args *a, const scene *s, const char *out
     t->restir_seconds = t->render = now_seconds() - t0;
     restir_guard_warning(&t->restir);
     if (!a->quiet && t->frame_count > 0)
-        fprintf(stderr, "wrote frames %s.%04d.pfm .. %s.%04d.pfm\n", k.prefix, t->frame_numbers[0], k.prefix,
-                t->frame_numbers[t->frame_count - 1]);
+        fprintf(stderr, "wrote frames %s.%04d.%s .. %s.%04d.%s\n", k.prefix, t->frame_numbers[0], k.ext, k.prefix,
+                t->frame_numbers[t->frame_count - 1], k.ext);
     return 0;
 }
 
@@ -219,8 +226,9 @@ static int render_and_write(const render_args *a, scene *s, const char *out, con
         {
             char prefix[4096];
             output_prefix(prefix, sizeof prefix, out);
-            fprintf(stderr, "wrote %d runs as %s.mean.pfm, %s.var.pfm, %s.moments.json, %s.blocks.bin%s%s\n", a->runs,
-                    prefix, prefix, prefix, prefix, png[0] ? " and " : "", png);
+            const char *ext = image_output_ext(out);
+            fprintf(stderr, "wrote %d runs as %s.mean.%s, %s.var.%s, %s.moments.json, %s.blocks.bin%s%s\n", a->runs,
+                    prefix, ext, prefix, ext, prefix, prefix, png[0] ? " and " : "", png);
         }
         image_free(&img);
         return status;
@@ -259,8 +267,8 @@ static int interrupted_status(const render_args *a, const render_timings *t, con
                 stop_signal_name(), t->frame_count, a->seq.checkpoint ? ", checkpoint " : "",
                 a->seq.checkpoint ? a->seq.checkpoint : "");
     else if (a->runs > 0)
-        fprintf(stderr, "restir render: interrupted by %s: %s.mean.pfm, .var.pfm, .moments.json hold the runs finished so far (a run cut short is dropped)\n",
-                stop_signal_name(), prefix);
+        fprintf(stderr, "restir render: interrupted by %s: %s.mean.%s, .var.%s, .moments.json hold the runs finished so far (a run cut short is dropped)\n",
+                stop_signal_name(), prefix, image_output_ext(out), image_output_ext(out));
     else if (a->method == METHOD_AOV) /* not stoppable: the signal came while it was written */
         fprintf(stderr, "restir render: %s arrived during the render: %s is complete\n", stop_signal_name(), out);
     else if (a->method == METHOD_PT)

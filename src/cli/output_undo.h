@@ -5,8 +5,8 @@
 
 #include "output.h"
 
-/* --sequence failed (exit 2): removes PREFIX.NNNN.pfm (and .png) of the frames written
- * before the failure; returns how many PFMs were removed (output_undo.c). */
-int remove_sequence_frames(const char *prefix, const int *frames, int count, int with_png);
+/* --sequence failed (exit 2): removes PREFIX.NNNN.EXT (EXT pfm or exr, and .png) of the
+ * frames written before the failure; returns how many images were removed (output_undo.c). */
+int remove_sequence_frames(const char *prefix, const char *ext, const int *frames, int count, int with_png);
 
 #endif

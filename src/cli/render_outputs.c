@@ -4,13 +4,15 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/core/image_io.h"
 #include "collide.h"
 #include "output.h"
 
 /* The files one frame (or one --runs set) writes after PREFIX (render_sequence_runs.c,
  * render_runs.c, cmd_render.c's write_frame). */
-static const char *const run_suffixes[] = {".mean.pfm", ".var.pfm", ".moments.json", ".blocks.bin"};
-static const char *const frame_suffixes[] = {".pfm", ".png"};
+static const char *const run_suffixes[2][4] = {{".mean.pfm", ".var.pfm", ".moments.json", ".blocks.bin"},
+                                               {".mean.exr", ".var.exr", ".moments.json", ".blocks.bin"}};
+static const char *const frame_suffixes[2][2] = {{".pfm", ".png"}, {".exr", ".png"}}; /* -o x.pfm, -o x.exr */
 
 /* If `path` is one of the files frame F of the sequence writes (PREFIX.NNNN + a suffix, F
  * in first..last), its frame number; else -1. Only the name's shape is parsed, then the
@@ -37,17 +39,17 @@ static int sequence_frame_of(const char *path, const char *prefix, int first, in
 }
 
 /* Another output (PNG, --stats, --checkpoint) that is one of the sequence's frame files. */
-static int against_frames(const render_args *a, const char *prefix, const named_file *f)
+static int against_frames(const render_args *a, const char *prefix, int exr, const named_file *f)
 {
     int frame;
     if (!f->path || !f->path[0]) return 0;
-    frame = a->runs > 0 ? sequence_frame_of(f->path, prefix, a->seq.first, a->seq.last, run_suffixes, 4)
-                        : sequence_frame_of(f->path, prefix, a->seq.first, a->seq.last, frame_suffixes,
+    frame = a->runs > 0 ? sequence_frame_of(f->path, prefix, a->seq.first, a->seq.last, run_suffixes[exr], 4)
+                        : sequence_frame_of(f->path, prefix, a->seq.first, a->seq.last, frame_suffixes[exr],
                                             a->no_png ? 1 : 2);
     if (frame < 0) return 0;
-    fprintf(stderr, "restir render: %s %s is a file of frame %d of --sequence %d..%d (-o %s.pfm writes %s.%04d.*): one "
-                    "would overwrite the other\n", f->role, f->path, frame, a->seq.first, a->seq.last, prefix, prefix,
-            frame);
+    fprintf(stderr, "restir render: %s %s is a file of frame %d of --sequence %d..%d (-o %s.%s writes %s.%04d.*): one "
+                    "would overwrite the other\n", f->role, f->path, frame, a->seq.first, a->seq.last, prefix,
+            exr ? "exr" : "pfm", prefix, frame);
     return 2;
 }
 
@@ -83,11 +85,11 @@ int render_outputs_distinct(const render_args *a, const char *out, const char *p
 {
     char prefix[4096], runs[4][4200];
     named_file outs[8], ins[2];
-    int n = 0, i;
+    int n = 0, i, exr = image_path_is(out, "exr");
     output_prefix(prefix, sizeof prefix, out);
     if (a->runs > 0 && !a->sequence)
         for (i = 0; i < 4; ++i) {
-            snprintf(runs[i], sizeof runs[i], "%s%s", prefix, run_suffixes[i]);
+            snprintf(runs[i], sizeof runs[i], "%s%s", prefix, run_suffixes[exr][i]);
             outs[n].path = runs[i], outs[n++].role = "-o";
         }
     else if (!a->sequence)
@@ -100,11 +102,11 @@ int render_outputs_distinct(const render_args *a, const char *out, const char *p
     if (outputs_distinct("render", outs, n, ins, 2, a->pt.o.resume_path)) return 2;
     if (a->sequence)
         for (i = 0; i < n; ++i)
-            if (against_frames(a, prefix, &outs[i])) return 2;
+            if (against_frames(a, prefix, exr, &outs[i])) return 2;
     if (a->sequence) { /* the frames themselves must not land in the dump either */
         char frame0[4200];
         named_file f;
-        snprintf(frame0, sizeof frame0, "%s.%04d%s", prefix, a->seq.first, a->runs > 0 ? ".mean.pfm" : ".pfm");
+        snprintf(frame0, sizeof frame0, "%s.%04d%s", prefix, a->seq.first, a->runs > 0 ? run_suffixes[exr][0] : frame_suffixes[exr][0]);
         f.path = frame0, f.role = "the frame";
         if (against_dump(a, &f, 1)) return 2;
     }

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "restir/core/image_io.h"
 #include "collide.h"
 #include "render_outputs.h"
 #include "signal_cleanup.h"
@@ -227,6 +228,10 @@ int check_output_paths(const render_args *a, const char *out, const char *png)
     if (n >= 4 && !strcmp(out + n - 4, ".png")) {
         fprintf(stderr, "restir render: -o %s: -o names the PFM (the data); the PNG preview is written next to it "
                         "(use -o %.*s.pfm, or --png FILE for the preview's name)\n", out, (int)(n - 4), out);
+        return 2;
+    }
+    if (image_output_check(out, &e)) {
+        fprintf(stderr, "restir render: -o %s\n", e.msg);
         return 2;
     }
     paths[count++] = out;

@@ -2,6 +2,7 @@
 #include "render_runs.h"
 
 #include <stdio.h>
+#include "restir/core/image_io.h"
 #include "restir/frame/options.h"
 #include "restir/metrics/moments.h"
 #include "output.h"
@@ -56,6 +57,7 @@ int render_runs(const render_args *a, const scene *s, const char *out, image *im
     meta.method = method_names[a->method];
     meta.write_config = write_runs_config;
     meta.ctx = a;
+    meta.image_ext = image_output_ext(out);
     /* Spatial reuse shares samples between pixels of one run; everything else keeps the
      * pixels of a run independent (their random numbers are addressed by pixel). */
     meta.correlation =

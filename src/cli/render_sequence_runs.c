@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include "restir/core/image_io.h"
 #include "restir/frame/frame_stats.h"
 #include "restir/frame/options.h"
 #include "restir/frame/pipeline.h"
@@ -97,6 +98,7 @@ int render_sequence_runs(const render_args *a, const scene *s, const char *out, 
     meta.method = "restir";
     meta.write_config = write_config;
     meta.ctx = a;
+    meta.image_ext = image_output_ext(out);
     meta.correlation = a->restir.spatial_passes > 0 ? MOMENTS_CORRELATED : MOMENTS_INDEPENDENT;
     for (f = 0; f < frames && status == 0; ++f) {
         snprintf(fprefix, sizeof fprefix, "%s.%04d", prefix, a->seq.first + f);
@@ -104,8 +106,9 @@ int render_sequence_runs(const render_args *a, const scene *s, const char *out, 
     }
     if (status == 2 && e.msg[0]) fprintf(stderr, "%s\n", e.msg);
     if (!status && !a->quiet)
-        fprintf(stderr, "wrote %d runs per frame as %s.%04d.mean.pfm .. %s.%04d.mean.pfm (+ .var.pfm, .moments.json, "
-                        ".blocks.bin)\n", a->runs, prefix, a->seq.first, prefix, a->seq.last);
+        fprintf(stderr, "wrote %d runs per frame as %s.%04d.mean.%s .. %s.%04d.mean.%s (+ .var.%s, .moments.json, "
+                        ".blocks.bin)\n", a->runs, prefix, a->seq.first, meta.image_ext, prefix, a->seq.last,
+                meta.image_ext, meta.image_ext);
     for (f = 0; f < frames; ++f) moments_free(&sink.m[f]);
     free(sink.m);
     return status;

@@ -48,7 +48,7 @@ int render_table_build(cli_option *options, render_args *a, method_rows *methods
             {"--jitter", OPT_FLAG, &a->jitter, "jittered sub-pixel primary rays (default: pixel centres)", NULL, 0, 0,
              NULL},
             {"--runs", OPT_INT, &a->runs, "K >= 2 independent runs (seeds seed..seed+K-1; a variance needs two): writes PREFIX.mean.pfm, PREFIX.var.pfm, PREFIX.moments.json for restir check", NULL, 2, 1e6, NULL},
-            {"--sequence", OPT_STRING, &a->sequence, "A..B: the real-time pipeline (restir) over frames A..B inclusive, one -o NAME.pfm -> NAME.0000.pfm ... per frame", NULL, 0, 0, NULL},
+            {"--sequence", OPT_STRING, &a->sequence, "A..B: the real-time pipeline (restir) over frames A..B inclusive, one -o NAME.pfm -> NAME.0000.pfm ... per frame (NAME.0000.exr ... for -o NAME.exr)", NULL, 0, 0, NULL},
             {"--accumulate", OPT_FLAG, &a->accumulate, "with --sequence: frame f's file holds the average of frames A..f (a still camera, GRIS 6.4)", NULL, 0, 0, NULL},
             {"--mcap", OPT_STRING, &a->mcap, "with --sequence: cap the previous frame's confidence at C x the current one's (C > 0 or inf; default 20, GRIS 6.2)", NULL, 0, 0, NULL},
             {"--no-temporal", OPT_FLAG, &a->no_temporal, "with --sequence: no temporal reuse (independent frames through the same pipeline)", NULL, 0, 0, NULL},

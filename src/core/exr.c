@@ -32,6 +32,13 @@
 /* The most bytes any supported compression can expand one input byte to (deflate's
  * ~1032, PIZ's run-length symbol ~450, RLE 64): a header asking for more is corrupt. */
 #define EXR_MAX_RATIO 1100
+/* Display-window pixels that no data-window pixel covers are zeros made from nothing.
+ * Any display window up to 2^24 pixels is accepted (4096 x 4096: every 4K or UHD frame
+ * around any crop or element); beyond that the uncovered part may have at most 1024
+ * pixels per byte of the file, so a tiny file cannot make the reader allocate a
+ * gigabyte of zeros (docs/images.md, Limits). */
+#define EXR_MAX_PADDING ((double)(1 << 24))
+#define EXR_PADDING_PER_BYTE 1024.0
 
 /* ---- half <-> float ---- */
 
@@ -355,6 +362,7 @@ typedef struct {
     uint64_t first[HUF_MAX_LEN + 1]; /* code of the first symbol of each length */
     uint32_t count[HUF_MAX_LEN + 1], offset[HUF_MAX_LEN + 1];
     uint32_t sorted[HUF_SYMBOLS]; /* symbols by length, then by value */
+    uint32_t present[HUF_SYMBOLS], npresent; /* the symbols with a code, increasing */
     uint16_t lut[65536]; /* zero beyond lut_used (calloc, then kept so) */
     uint32_t lut_used;
     unsigned char bitmap[8192];
@@ -394,7 +402,7 @@ static uint64_t read_msb(msb_bits *b, int n)
 static int huf_read_lengths(piz_state *s, msb_bits *b, uint32_t lo, uint32_t hi, rerror *e)
 {
     uint32_t i = lo;
-    memset(s->len + lo, 0, hi - lo + 1); /* only lo..hi is ever looked at */
+    s->npresent = 0;
     while (i <= hi) {
         uint32_t l, run = 0;
         if (b->pos + 6 > b->nbits) return rerror_set(e, "PIZ: Huffman table is truncated");
@@ -409,6 +417,7 @@ static int huf_read_lengths(piz_state *s, msb_bits *b, uint32_t lo, uint32_t hi,
             if (run > hi + 1 - i) return rerror_set(e, "PIZ: Huffman table zero run is too long");
             i += run;
         } else {
+            if (l) s->present[s->npresent++] = i;
             s->len[i++] = (uint8_t)l;
         }
     }
@@ -417,13 +426,14 @@ static int huf_read_lengths(piz_state *s, msb_bits *b, uint32_t lo, uint32_t hi,
 
 /* OpenEXR's canonical code: longer codes take the numerically smaller values; within a
  * length, codes increase with the symbol. Builds the counts, first codes and fast table. */
-static int huf_build(piz_state *s, uint32_t lo, uint32_t hi, rerror *e)
+static int huf_build(piz_state *s, rerror *e)
 {
     uint64_t c = 0;
-    uint32_t sym, l, next[HUF_MAX_LEN + 1];
+    uint32_t i, l, next[HUF_MAX_LEN + 1];
     memset(s->count, 0, sizeof s->count);
     memset(s->fast, 0, sizeof s->fast);
-    for (sym = lo; sym <= hi; ++sym) s->count[s->len[sym]]++;
+    /* only the symbols with a code: a table may span all 65537 symbols with few codes */
+    for (i = 0; i < s->npresent; ++i) s->count[s->len[s->present[i]]]++;
     for (l = HUF_MAX_LEN; l > 0; --l) {
         uint64_t nc = (c + s->count[l]) >> 1;
         s->first[l] = c;
@@ -436,10 +446,9 @@ static int huf_build(piz_state *s, uint32_t lo, uint32_t hi, rerror *e)
         if (s->count[l] && (s->first[l] + s->count[l] - 1) >> l)
             return rerror_set(e, "PIZ: Huffman code lengths are over-subscribed");
     }
-    for (sym = lo; sym <= hi; ++sym) {
-        uint32_t len = s->len[sym];
+    for (i = 0; i < s->npresent; ++i) {
+        uint32_t sym = s->present[i], len = s->len[sym];
         uint64_t code, k, lo, hi;
-        if (!len) continue;
         code = s->first[len] + (next[len] - s->offset[len]);
         s->sorted[next[len]++] = sym;
         if (len > HUF_FAST) continue;
@@ -499,7 +508,7 @@ static int huf_decode(piz_state *s, const unsigned char *in, size_t n, uint16_t 
     b.in = in + 20;
     b.nbytes = n - 20;
     b.nbits = (uint64_t)b.nbytes * 8;
-    if (huf_read_lengths(s, &b, lo, hi, e) || huf_build(s, lo, hi, e)) return -1;
+    if (huf_read_lengths(s, &b, lo, hi, e) || huf_build(s, e)) return -1;
     /* the codes start at the next byte */
     b.in += (b.pos + 7) / 8;
     b.nbytes -= (size_t)((b.pos + 7) / 8);
@@ -615,8 +624,13 @@ static int piz_decode(piz_state *s, const exr_header *h, int width, int lines, c
     /* reverse LUT: index -> value, for 0 and every value whose bit is set; indices
      * past the last value map to 0 (only the entries the last chunk set need clearing) */
     s->lut[count++] = 0;
-    for (i = lo <= hi ? 8 * lo : 1; lo <= hi && i < 8 * (hi + 1); ++i)
+    for (i = lo <= hi ? 8 * lo : 1; lo <= hi && i < 8 * (hi + 1); ++i) {
+        if (!s->bitmap[i >> 3]) {
+            i |= 7; /* a zero byte: none of its 8 values occurs */
+            continue;
+        }
         if (i != 0 && s->bitmap[i >> 3] >> (i & 7) & 1) s->lut[count++] = (uint16_t)i;
+    }
     maxval = (uint16_t)(count - 1);
     for (i = count; i < s->lut_used; ++i) s->lut[i] = 0;
     s->lut_used = count;
@@ -744,7 +758,39 @@ static int read_chunk(exr_reader *r, const unsigned char *f, size_t size, int in
     return 0;
 }
 
-static int read_image(exr_reader *r, const unsigned char *f, size_t size, fimage *out, rerror *e)
+/* Pixels of the display window that the data window does not cover. */
+static double uncovered_pixels(const exr_header *h)
+{
+    double w = (double)h->display[2] - h->display[0] + 1, ht = (double)h->display[3] - h->display[1] + 1;
+    int64_t x0 = h->data[0] > h->display[0] ? h->data[0] : h->display[0];
+    int64_t x1 = h->data[2] < h->display[2] ? h->data[2] : h->display[2];
+    int64_t y0 = h->data[1] > h->display[1] ? h->data[1] : h->display[1];
+    int64_t y1 = h->data[3] < h->display[3] ? h->data[3] : h->display[3];
+    double covered = x1 < x0 || y1 < y0 ? 0.0 : (double)(x1 - x0 + 1) * (double)(y1 - y0 + 1);
+    return w * ht - covered;
+}
+
+/* The limits that depend on the file size, the display window and the caller's bound
+ * (max_bytes, 0 = none), all checked before any image buffer is allocated. */
+static int check_sizes(const exr_reader *r, size_t size, int64_t height, int channels, size_t max_bytes, rerror *e)
+{
+    const exr_header *h = &r->h;
+    double decoded = (double)r->line_bytes * height, uncovered = uncovered_pixels(h);
+    double shown = ((double)h->display[2] - h->display[0] + 1) * ((double)h->display[3] - h->display[1] + 1);
+    if (decoded > (double)size * EXR_MAX_RATIO + 65536)
+        return rerror_at(e, r->path, 0, "EXR: %d x %.0f pixels cannot come from a file of %lu bytes (corrupt header)",
+                         r->width, (double)height, (unsigned long)size);
+    if (uncovered > EXR_MAX_PADDING && uncovered > (double)size * EXR_PADDING_PER_BYTE)
+        return rerror_at(e, r->path, 0,
+                         "EXR: displayWindow leaves %.0f pixels outside the dataWindow, more than 2^24 or 1024 per "
+                         "byte of a file of %lu bytes (corrupt header)",
+                         uncovered, (unsigned long)size);
+    if (max_bytes && (decoded > (double)max_bytes || shown * channels * sizeof(float) > (double)max_bytes))
+        return rerror_at(e, r->path, 0, "EXR: image needs more than the %lu bytes allowed", (unsigned long)max_bytes);
+    return 0;
+}
+
+static int read_image(exr_reader *r, const unsigned char *f, size_t size, size_t max_bytes, fimage *out, rerror *e)
 {
     exr_header *h = &r->h;
     int64_t height = (int64_t)h->data[3] - h->data[1] + 1;
@@ -757,10 +803,8 @@ static int read_image(exr_reader *r, const unsigned char *f, size_t size, fimage
     for (c = 0; c < h->nch; ++c) r->line_bytes += (size_t)r->width * h->ch[c].size;
     if ((size - h->header_end) / 8 < (size_t)nchunks)
         return rerror_at(e, r->path, 0, "EXR: offset table of %d chunks runs past the end of the file", nchunks);
-    if ((double)r->line_bytes * height > (double)size * EXR_MAX_RATIO + 65536)
-        return rerror_at(e, r->path, 0, "EXR: %d x %.0f pixels cannot come from a file of %lu bytes (corrupt header)",
-                         r->width, (double)height, (unsigned long)size);
     if ((channels = choose_channels(r->path, h, e)) < 0) return -1;
+    if (check_sizes(r, size, height, channels, max_bytes, e)) return -1;
     pthread_once(&half_table_once, half_table_build);
     max_chunk = r->line_bytes * (size_t)(height < r->lpc ? height : r->lpc);
     if (!(r->unpacked = rmalloc(max_chunk, 1, e)) || !(r->scratch = rmalloc(max_chunk, 1, e))) return -1;
@@ -777,7 +821,9 @@ static int read_image(exr_reader *r, const unsigned char *f, size_t size, fimage
     return 0;
 }
 
-int exr_read(const char *path, fimage *out, rerror *e)
+int exr_read(const char *path, fimage *out, rerror *e) { return exr_read_bounded(path, 0, out, e); }
+
+int exr_read_bounded(const char *path, size_t max_bytes, fimage *out, rerror *e)
 {
     exr_reader r;
     size_t size;
@@ -788,7 +834,7 @@ int exr_read(const char *path, fimage *out, rerror *e)
     r.path = path;
     f = image_file_load(path, EXR_MAX_FILE, &size, e);
     if (!f) return -1;
-    if (!parse_header(path, f, size, &r.h, e)) status = read_image(&r, f, size, out, e);
+    if (!parse_header(path, f, size, &r.h, e)) status = read_image(&r, f, size, max_bytes, out, e);
     free(r.unpacked);
     free(r.scratch);
     free(r.words);

@@ -114,8 +114,26 @@ int image_read(const char *path, image *out, int *channels, rerror *e)
     return status;
 }
 
-int image_write(const char *path, const image *img, rerror *e)
+int image_write(const char *path, const image *img, rerror *e) { return image_write_as(path, path, img, e); }
+
+int image_write_as(const char *path, const char *name, const image *img, rerror *e)
 {
-    if (image_path_is(path, "exr")) return exr_write(path, img, EXR_ZIP, EXR_FLOAT, e);
+    if (image_path_is(name, "exr")) return exr_write(path, img, EXR_ZIP, EXR_FLOAT, e);
     return pfm_write(path, img, e);
+}
+
+const char *image_output_ext(const char *path) { return image_path_is(path, "exr") ? "exr" : "pfm"; }
+
+/* Formats restir reads (PNG) or that a user may expect, but that it does not write as
+ * data: naming one for a float output is a mistake, refused before any work. */
+static const char *const unwritable[] = {"png", "jpg", "jpeg", "hdr", "tif", "tiff", "bmp", "tga", "webp", "gif", NULL};
+
+int image_output_check(const char *path, rerror *e)
+{
+    int i;
+    for (i = 0; unwritable[i]; ++i)
+        if (image_path_is(path, unwritable[i]))
+            return rerror_at(e, path, 0, "restir does not write float data as .%s (name the file .exr or .pfm)",
+                             unwritable[i]);
+    return 0;
 }

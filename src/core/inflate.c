@@ -8,6 +8,7 @@
  * reported as truncated. Output goes only into the caller's buffer, bounded by out_cap. */
 #include "restir/core/inflate.h"
 
+#include <pthread.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -217,9 +218,14 @@ static int inflate_stored(bitin *b, outbuf *o, rerror *e)
     return 0;
 }
 
-/* Fixed code (BTYPE 01, RFC 1951 §3.2.6). */
-static void fixed_codes(huffman *lit, huffman *dist)
+/* Fixed code (BTYPE 01, RFC 1951 §3.2.6): built once (a stream of many small fixed
+ * blocks would otherwise rebuild both tables for each). */
+static huffman fixed_lit, fixed_dist;
+static pthread_once_t fixed_once = PTHREAD_ONCE_INIT;
+
+static void fixed_codes(void)
 {
+    huffman *lit = &fixed_lit, *dist = &fixed_dist;
     uint8_t l[MAX_LITLEN];
     int i;
     for (i = 0; i < 144; ++i) l[i] = 8;
@@ -299,8 +305,8 @@ int inflate_raw(const unsigned char *in, size_t in_size, unsigned char *out, siz
         if (type == 0) {
             if (inflate_stored(&b, &o, e)) return -1;
         } else if (type == 1) {
-            fixed_codes(&lit, &dist);
-            if (inflate_codes(&b, &o, &lit, &dist, e)) return -1;
+            pthread_once(&fixed_once, fixed_codes);
+            if (inflate_codes(&b, &o, &fixed_lit, &fixed_dist, e)) return -1;
         } else if (type == 2) {
             if (dynamic_codes(&b, &lit, &dist, e) || inflate_codes(&b, &o, &lit, &dist, e)) return -1;
         } else {
@@ -445,12 +451,12 @@ static size_t stored_blocks(const unsigned char *in, size_t n, unsigned char *ou
 
 size_t deflate_zlib(const unsigned char *in, size_t n, unsigned char *out)
 {
-    size_t stored_size = 5 * (n / STORED_MAX + 1) + n, k, i;
+    size_t stored_size = 5 * (n / STORED_MAX + 1) + n, k;
     uint32_t adler = adler32_update(1, in, n);
     int32_t *head = malloc(sizeof(int32_t) << HASH_BITS);
     bitout w;
     if (!head) return 0;
-    for (i = 0; i < (size_t)1 << HASH_BITS; ++i) head[i] = -1;
+    memset(head, 0xff, sizeof(int32_t) << HASH_BITS); /* every entry -1 (two's complement): no match yet */
     out[0] = 0x78; /* CM 8 (deflate), CINFO 7 (32 KB window) */
     out[1] = 0x01; /* no dictionary; 0x7801 is a multiple of 31 */
     memset(&w, 0, sizeof w);

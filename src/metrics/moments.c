@@ -9,7 +9,7 @@
 #include <string.h>
 #include "restir/core/atomic_file.h"
 #include "restir/core/json_text.h"
-#include "restir/core/pfm.h"
+#include "restir/core/image_io.h"
 #include "restir/metrics/output_set.h"
 
 const int moments_default_block_sizes[4] = {4, 8, 16, 32};
@@ -263,14 +263,15 @@ static int write_set(const char *prefix, const image *mean, const image *var, lo
     if (runs < 1) return rerror_set(e, "%s: moments need at least one run", prefix);
     if (mean->width != var->width || mean->height != var->height)
         return rerror_set(e, "%s: mean and variance images differ in size", prefix);
-    if (snprintf(mean_path, sizeof mean_path, "%s.mean.pfm", prefix) >= (int)sizeof mean_path ||
-        snprintf(var_path, sizeof var_path, "%s.var.pfm", prefix) >= (int)sizeof var_path ||
+    const char *ext = meta && meta->image_ext ? meta->image_ext : "pfm";
+    if (snprintf(mean_path, sizeof mean_path, "%s.mean.%s", prefix, ext) >= (int)sizeof mean_path ||
+        snprintf(var_path, sizeof var_path, "%s.var.%s", prefix, ext) >= (int)sizeof var_path ||
         snprintf(json_path, sizeof json_path, "%s.moments.json", prefix) >= (int)sizeof json_path ||
         snprintf(blocks_path, sizeof blocks_path, "%s.blocks.bin", prefix) >= (int)sizeof blocks_path)
         return rerror_set(e, "%s: path too long", prefix);
     output_set_init(&out);
-    if (!(staged = output_set_stage(&out, mean_path, e)) || pfm_write(staged, mean, e)) goto fail;
-    if (!(staged = output_set_stage(&out, var_path, e)) || pfm_write(staged, var, e)) goto fail;
+    if (!(staged = output_set_stage(&out, mean_path, e)) || image_write_as(staged, mean_path, mean, e)) goto fail;
+    if (!(staged = output_set_stage(&out, var_path, e)) || image_write_as(staged, var_path, var, e)) goto fail;
     if (blocks && (!(staged = output_set_stage(&out, blocks_path, e)) || write_blocks(staged, blocks, e))) goto fail;
     if (!(staged = output_set_stage(&out, json_path, e)) ||
         write_sidecar(staged, base_name(mean_path), base_name(var_path), mean, runs, run_means,
@@ -544,8 +545,8 @@ int moments_read(const char *path, moments_file *out, rerror *e)
         free(s.run_means);
         return rerror_at(e, json_path, 0, "image path too long");
     }
-    if (pfm_read(mean_path, &out->mean, NULL, e) || check_image(json_path, mean_path, &out->mean, &s, 0, e) ||
-        pfm_read(var_path, &out->var, NULL, e) || check_image(json_path, var_path, &out->var, &s, 1, e) ||
+    if (image_read(mean_path, &out->mean, NULL, e) || check_image(json_path, mean_path, &out->mean, &s, 0, e) ||
+        image_read(var_path, &out->var, NULL, e) || check_image(json_path, var_path, &out->var, &s, 1, e) ||
         (s.block_size_count > 0 && read_blocks(blocks_path, &s, out, e))) {
         free(s.run_means);
         moments_file_free(out);

@@ -32,6 +32,8 @@ int output_set_commit(output_set *s, rerror *e)
         if (rename(s->staged_path[i], s->final_path[i]) != 0) {
             int err = errno;
             int j;
+            /* no incomplete set: the files of this set already renamed go too */
+            for (j = 0; j < i; ++j) remove(s->final_path[j]);
             for (j = i; j < s->count; ++j) remove(s->staged_path[j]);
             s->count = 0;
             return rerror_set(e, "%s: cannot rename into place: %s", s->final_path[i], strerror(err));

@@ -22,7 +22,7 @@ static void remove_directory(void)
 {
     /* Only the names the targets use: the directory holds nothing else. */
     static const char *const names[] = {"quad.obj", "quad.mtl", "input.obj", "input.mtl", "input.scene",
-                                        "input.pfm", "input.rsv", NULL};
+                                        "input.pfm", "input.rsv", "input.exr", "input.png", NULL};
     char path[128];
     int i;
     for (i = 0; names[i]; ++i) {

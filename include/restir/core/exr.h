@@ -26,6 +26,10 @@ enum { EXR_UINT = 0, EXR_HALF = 1, EXR_FLOAT = 2 };
 
 /* Errors "path: EXR: what". */
 int exr_read(const char *path, fimage *out, rerror *e);
+/* exr_read with a lower bound of the caller's: refuses, before allocating, a file whose
+ * decoded data or returned image would exceed max_bytes (0: only the built-in limits).
+ * The fuzz target uses it so that inputs claiming big images do not dominate the run. */
+int exr_read_bounded(const char *path, size_t max_bytes, fimage *out, rerror *e);
 /* compression EXR_NONE or EXR_ZIP; pixel_type EXR_FLOAT or EXR_HALF (rounded to nearest even). */
 int exr_write(const char *path, const image *img, int compression, int pixel_type, rerror *e);
 

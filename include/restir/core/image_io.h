@@ -31,6 +31,16 @@ unsigned char *image_file_load(const char *path, size_t max_size, size_t *size, 
 int image_read(const char *path, image *out, int *channels, rerror *e);
 /* By extension: .exr (float channels, ZIP), else PFM. Atomic, like pfm_write. */
 int image_write(const char *path, const image *img, rerror *e);
+/* image_write to `path` in the format that `name`'s extension picks: an output staged
+ * under a temporary name (output_set.h) keeps the format of its final name. */
+int image_write_as(const char *path, const char *name, const image *img, rerror *e);
+/* "exr" if an output named `path` is written as OpenEXR, else "pfm" (the extension of
+ * the files derived from it: sequence frames, moments images). */
+const char *image_output_ext(const char *path);
+/* 0 if a float image (radiance, variance, z) may be written under `path`; an error
+ * "path: ..." if its extension names a format restir does not write as data (.png,
+ * which is the preview, .jpg, .hdr, .tif, ...). Callers check every output first. */
+int image_output_check(const char *path, rerror *e);
 /* 1 if the path ends in .exr, .png or .pfm respectively (any case). */
 int image_path_is(const char *path, const char *ext);
 

@@ -38,6 +38,7 @@ typedef struct {
     void (*write_config)(FILE *fp, const void *ctx, const char *indent);
     const void *ctx;
     enum moments_correlation correlation;
+    const char *image_ext; /* "exr": the images are PREFIX.mean.exr, .var.exr; NULL or "pfm": .pfm */
 } moments_meta;
 
 /* The block sizes `restir render --runs` keeps per-run block means for. */

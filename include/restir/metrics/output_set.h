@@ -20,7 +20,8 @@ void output_set_init(output_set *s);
 /* Registers `final_path` and returns the staged path to write it to (stable until
  * output_set_abort), or NULL with *e filled. */
 const char *output_set_stage(output_set *s, const char *final_path, rerror *e);
-/* Renames every staged file to its final path. On failure removes what is left staged. */
+/* Renames every staged file to its final path. If a rename fails, removes what is left
+ * staged and the files of the set already renamed: no incomplete set is left. */
 int output_set_commit(output_set *s, rerror *e);
 /* Removes all staged files. */
 void output_set_abort(output_set *s);
