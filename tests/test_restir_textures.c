@@ -114,6 +114,39 @@ TEST(restir_textures_spatial)
     scene_free(&s);
 }
 
+/* K = 2 spatial passes against 0 passes on the same numbers (check_compare_paired: the initial
+ * samples cancel, so spatial reuse alone is tested, per block and channel R, G, B), every
+ * shift, the MIS family alternating. */
+TEST(restir_textures_paired_every_shift)
+{
+    static const int shifts[] = {RESTIR_SHIFT_RECONNECTION, RESTIR_SHIFT_REPLAY, RESTIR_SHIFT_HYBRID};
+    static const int families[] = {MIS_TALBOT, MIS_PAIRWISE_DEFENSIVE, MIS_PAIRWISE_UNIFORM};
+    scene s;
+    int i;
+    if (rt_load_scene("scenes/textured-room.scene", RES, &s)) return;
+    for (i = 0; i < 3 && !test_has_failed(); ++i) {
+        restir_options with, without;
+        check_side a, b;
+        check_result c;
+        char what[128];
+        room_options(&with, shifts[i], families[i], 2, 20u + (uint32_t)i);
+        without = with;
+        without.spatial_passes = 0;
+        if (rt_restir_side(&s, &with, RUNS, BLOCK, &a)) break;
+        if (rt_restir_side(&s, &without, RUNS, BLOCK, &b) == 0) {
+            snprintf(what, sizeof what, "textured-room paired 2 vs 0 passes shift %s mis %s",
+                     restir_shift_names[shifts[i]], restir_mis_names[families[i]]);
+            if (rt_compare_sides(&a, &b, ALPHA, BLOCK, 1, &c) == 0) {
+                report(what, &c);
+                check_result_free(&c);
+            }
+            check_side_free(&b);
+        }
+        check_side_free(&a);
+    }
+    scene_free(&s);
+}
+
 /* Temporal reuse (still camera, frame 3 of each sequence) with the hybrid shift and one
  * spatial pass after it: Talbot temporal MIS; then with two MCMC mutations after temporal
  * reuse (Mutations Algorithm 3), rv with Talbot and pp with pairwise-defensive temporal MIS
