@@ -104,6 +104,33 @@ def worst(im, model, shift):
     return best
 
 
+def fit_offset(im, model):
+    """Per pixel, the (dx, dy) in pixels (right, up) that best explains render - model to
+    first order, from the model's one-sided gradient towards +x and raster-up; averaged."""
+    h = 1e-3
+    sx = sy = 0.0
+    n = 0
+    for q in range(64):
+        for p in range(64):
+            x, y = p / 4, q / 4
+            e = model(x, y)
+            gx = [(a - b) / h for a, b in zip(model(x + h, y), e)]
+            gy = [(a - b) / h for a, b in zip(model(x, y - h), e)]  # raster up = rows up
+            dv = [im[q][p][c] - e[c] for c in range(3)]
+            axx = sum(g * g for g in gx)
+            ayy = sum(g * g for g in gy)
+            axy = sum(a * b for a, b in zip(gx, gy))
+            bx = sum(a * b for a, b in zip(gx, dv))
+            by = sum(a * b for a, b in zip(gy, dv))
+            det = axx * ayy - axy * axy
+            if det < 1e-6:
+                continue
+            sx += (ayy * bx - axy * by) / det
+            sy += (axx * by - axy * bx) / det
+            n += 1
+    return 4 * sx / n, 4 * sy / n  # texel units to pixels (4 pixels per texel)
+
+
 def main():
     d = sys.argv[1]
     texels = read_pfm(os.path.join(d, "texels.pfm"))
@@ -120,6 +147,12 @@ def main():
         im = read_pfm(os.path.join(d, name + ".pfm"))
         w, where = worst(im, model, shift)
         print("  %-10s vs %-46s %.3g  %s" % (name, label, w, where))
+    im = read_pfm(os.path.join(d, "probe_cy.pfm"))
+    print("  Cycles' sample offset (pixels right and up; probe_cy): residual by offset %s"
+          % ", ".join("%g: %.2g" % (s, worst(im, lin, s)[0])
+                      for s in (0.0, 1 / 4096, 1 / 2048, 3 / 4096, 1 / 1024)))
+    print("  least-squares offset from the map's gradient, mean over pixels: x %+.3g, y %+.3g px"
+          % fit_offset(im, lin))
     print("2. sRGB curve at the 256 codes x 3 channels (values > 0.001: relative; else absolute)")
     blocks = codes()
     ims = {n: read_pfm(os.path.join(d, n + ".pfm")) for n in ("srgb_ours", "srgb_cy", "srgb_cys")}
