@@ -6,19 +6,26 @@
 #
 #   blender -b --factory-startup -noaudio --python-exit-code 1 \
 #       -P tools/cycles/restir_to_cycles.py -- SCENE OUT.exr --restir build/restir \
-#       [--samples 256] [--seed 1] [--max-depth 10] [--threads 1]
+#       [--samples 256] [--seed 1] [--max-depth 10] [--threads 1] [--srgb-node 0]
 #
 # What it reads: the scene file's mesh, camera, size, environment and sun lines (nothing else
 # may be needed: keyframes, animate, light lines are refused), the OBJ's v/f/usemtl lines, and
 # the materials as restir itself resolved them (`restir info SCENE`), so the MTL rules are not
 # re-implemented here. Only what maps exactly is accepted: Lambertian materials without
-# emission. Anything else stops the script with a message.
+# emission, optionally with a `map_Kd` colour map (read from the OBJ's MTL files: the
+# statement and the OBJ's vt and f v/vt corners). Anything else stops the script with a
+# message. A map's texels are decoded by restir itself (`restir merge` writes the linear
+# float texels PNG colour maps decode to) and given to Cycles as a float image in the Linear
+# colour space, times Kd: Cycles then interpolates linear values as we do (docs/environment.md
+# 8.6; `--srgb-node 1` instead loads the PNG as an sRGB image, which Cycles interpolates
+# before decoding: for measuring that difference only).
 
 import math
 import os
 import shlex
 import subprocess
 import sys
+import tempfile
 
 import bpy
 from mathutils import Matrix, Vector
@@ -45,7 +52,7 @@ def to_blender(p):
 def parse_args():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     opts = {"samples": 256, "seed": 1, "max-depth": 10, "threads": 1,
-            "restir": "build/restir"}
+            "restir": "build/restir", "srgb-node": 0}
     pos = []
     i = 0
     while i < len(argv):
@@ -61,7 +68,7 @@ def parse_args():
             i += 1
     if len(pos) != 2:
         fail("usage: ... -- SCENE OUT.exr [--restir BIN] [--samples N] [--seed S] "
-             "[--max-depth D] [--threads T]")
+             "[--max-depth D] [--threads T] [--srgb-node 0|1]")
     if opts["max-depth"] < 2:
         fail("--max-depth must be >= 2 (Cycles' 0 bounces is our depth 2)")
     return pos[0], pos[1], opts
@@ -148,10 +155,37 @@ def read_materials(restir, scene_path):
     return mats
 
 
+def read_mtl_maps(obj_path, mtllibs):
+    """map_Kd file of each material of the OBJ's MTL files (the statements restir reads);
+    refuses the maps that would not map exactly onto a Diffuse BSDF."""
+    maps = {}
+    base = os.path.dirname(os.path.abspath(obj_path))
+    for lib in mtllibs:
+        path = os.path.join(base, lib)
+        cur = None
+        with open(path) as f:
+            for lineno, line in enumerate(f, 1):
+                t = line.split("#", 1)[0].split()
+                if not t:
+                    continue
+                where = "%s:%d" % (path, lineno)
+                if t[0] == "newmtl":
+                    cur = line.split(None, 1)[1].strip()
+                elif t[0] == "map_Kd":
+                    if len(t) != 2 or t[1].startswith("-"):
+                        fail("%s: map_Kd with options or blanks is not built" % where)
+                    maps[cur] = os.path.join(os.path.dirname(path), t[1])
+                elif t[0] in ("map_Ke", "map_d", "map_Pr", "map_Ns"):
+                    fail("%s: %s does not map exactly onto a Diffuse BSDF (only map_Kd is "
+                         "built)" % (where, t[0]))
+    return maps
+
+
 def read_obj(path):
-    """Triangles (fans of the OBJ polygons, as restir's triangulation of convex faces) and
-    the material name of each."""
-    verts, tris, mat_of, cur = [], [], [], None
+    """Triangles (fans of the OBJ polygons, as restir's triangulation of convex faces), the
+    material name of each, the UVs of each triangle's corners (None: no vt on all three
+    corners, which restir reads as UV (0, 0)), and the OBJ's mtllib files."""
+    verts, uvs, tris, tri_uv, mat_of, cur, libs = [], [], [], [], [], None, []
     with open(path) as f:
         for line in f:
             t = line.split("#", 1)[0].split()
@@ -159,28 +193,93 @@ def read_obj(path):
                 continue
             if t[0] == "v":
                 verts.append([float(x) for x in t[1:4]])
+            elif t[0] == "vt":
+                uvs.append((float(t[1]), float(t[2]) if len(t) > 2 else 0.0))
             elif t[0] == "f":
-                idx = []
+                idx, tidx = [], []
                 for w in t[1:]:
-                    i = int(w.split("/")[0])
+                    parts = w.split("/")
+                    i = int(parts[0])
                     idx.append(i - 1 if i > 0 else len(verts) + i)
+                    if len(parts) > 1 and parts[1]:
+                        j = int(parts[1])
+                        tidx.append(j - 1 if j > 0 else len(uvs) + j)
+                    else:
+                        tidx.append(None)
                 for k in range(1, len(idx) - 1):
                     tris.append((idx[0], idx[k], idx[k + 1]))
+                    c = (tidx[0], tidx[k], tidx[k + 1])
+                    tri_uv.append(None if None in c else tuple(uvs[j] for j in c))
                     mat_of.append(cur)
             elif t[0] == "usemtl":
                 cur = line.split(None, 1)[1].strip()
-    return verts, tris, mat_of
+            elif t[0] == "mtllib":
+                libs.extend(t[1:])
+    return verts, tris, mat_of, tri_uv, libs
+
+
+def decoded_texels(restir, path):
+    """The map's texels as restir decodes a colour map (sRGB EOTF for PNG, EXR/PFM as
+    stored; grey to RGB): `restir merge` of one image with count 1 writes them as a PFM."""
+    fd, tmp = tempfile.mkstemp(suffix=".pfm")
+    os.close(fd)
+    try:
+        subprocess.run([restir, "merge", "-o", tmp, path, "--counts", "1", "--no-png", "--quiet"],
+                       check=True)
+        return read_pfm_flat(tmp)  # rows bottom to top, as Blender's pixel buffer
+    except (OSError, subprocess.CalledProcessError) as e:
+        fail("could not decode %s with '%s merge': %s" % (path, restir, e))
+    finally:
+        os.unlink(tmp)
+
+
+def texture_node(nt, path, kd, opts):
+    """An Image Texture node giving Kd * map at the surface's UV, bilinear with repeat
+    (docs/environment.md 8.6: Cycles' Linear lookup with Repeat is our lookup), or with
+    --srgb-node 1 the PNG as Blender loads it in the sRGB colour space (Kd by a multiply)."""
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.interpolation = "Linear"
+    tex.extension = "REPEAT"
+    tex.projection = "FLAT"
+    uv = nt.nodes.new("ShaderNodeTexCoord")
+    nt.links.new(uv.outputs["UV"], tex.inputs["Vector"])
+    if opts["srgb-node"]:
+        img = bpy.data.images.load(os.path.abspath(path))
+        img.colorspace_settings.name = "sRGB"
+        tex.image = img
+        mul = nt.nodes.new("ShaderNodeMixRGB")
+        mul.blend_type = "MULTIPLY"
+        mul.inputs["Fac"].default_value = 1.0
+        mul.inputs["Color1"].default_value = (kd[0], kd[1], kd[2], 1.0)
+        nt.links.new(tex.outputs["Color"], mul.inputs["Color2"])
+        return mul.outputs["Color"]
+    w, h, px = decoded_texels(opts["restir"], path)
+    img = bpy.data.images.new(os.path.basename(path), width=w, height=h, alpha=True,
+                              float_buffer=True)
+    img.colorspace_settings.name = "Linear"
+    rgba = []
+    for i in range(w * h):
+        rgba.extend((px[3 * i] * kd[0], px[3 * i + 1] * kd[1], px[3 * i + 2] * kd[2], 1.0))
+    img.pixels = rgba
+    tex.image = img
+    return tex.outputs["Color"]
 
 
 # ---------------------------------------------------------------- building
 
 
-def build_mesh(sc, mats):
+def build_mesh(sc, mats, opts):
     for mi, path in enumerate(sc["meshes"]):
-        verts, tris, mat_of = read_obj(path)
+        verts, tris, mat_of, tri_uv, libs = read_obj(path)
+        maps = read_mtl_maps(path, libs)
         names = sorted(set(mat_of), key=lambda n: (n is None, n or ""))
         me = bpy.data.meshes.new("mesh%d" % mi)
         me.from_pydata([tuple(to_blender(v)) for v in verts], [], tris)
+        if any(n in maps for n in names):
+            layer = me.uv_layers.new(name="UVMap")
+            for poly, corners in zip(me.polygons, tri_uv):
+                for k, li in enumerate(poly.loop_indices):
+                    layer.data[li].uv = corners[k] if corners else (0.0, 0.0)
         for n in names:
             kd = mats.get(n) if n is not None else None
             if kd is None:
@@ -192,6 +291,8 @@ def build_mesh(sc, mats):
             out = nt.nodes.new("ShaderNodeOutputMaterial")
             bsdf = nt.nodes.new("ShaderNodeBsdfDiffuse")
             bsdf.inputs["Color"].default_value = (kd[0], kd[1], kd[2], 1.0)
+            if n in maps:
+                nt.links.new(texture_node(nt, maps[n], kd, opts), bsdf.inputs["Color"])
             bsdf.inputs["Roughness"].default_value = 0.0  # Oren-Nayar off: Lambert
             nt.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
             me.materials.append(m)
@@ -362,7 +463,7 @@ def main():
     mats = read_materials(opts["restir"], scene_path)
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
-    build_mesh(sc, mats)
+    build_mesh(sc, mats, opts)
     build_camera(sc)
     build_world(sc)
     build_sun(sc)
