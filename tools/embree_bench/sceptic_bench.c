@@ -207,6 +207,19 @@ static void scene_light_above(const scene *s, float *light)
     light[2] = 0.5f * (lo[2] + hi[2]);
 }
 
+/* "shuffled": the primary rays in a random order (Fisher-Yates, fixed seed), i.e. without the
+ * coherence of scanline order, which both tracers otherwise enjoy. */
+static void shuffle_rays(plain_ray *r, long n)
+{
+    uint32_t rng = 0x2545f491u;
+    long i;
+    for (i = n - 1; i > 0; --i) {
+        long j = (long)(xorshift(&rng) % (uint32_t)(i + 1));
+        plain_ray t = r[i];
+        r[i] = r[j], r[j] = t;
+    }
+}
+
 static stamp time_restir(const scene *s, const plain_ray *q, long n, int any, long *hits)
 {
     stamp t0 = now();
@@ -275,15 +288,15 @@ int main(int argc, char **argv)
 {
     scene s;
     rerror e;
-    int w = 1024, h = 1024, reps = 7;
+    int w = 1024, h = 1024, reps = 7, shuffled = 0;
     RTCDevice dev;
     RTCScene sc;
     plain_ray *prim, *bounce, *shadow;
     long n2;
     float light[3];
     if (argc < 2 || (argc > 2 && sscanf(argv[2], "%dx%d", &w, &h) != 2) || (argc > 3 && (reps = atoi(argv[3])) < 1) ||
-        reps > 64) {
-        fprintf(stderr, "usage: sceptic_bench SCENE [WxH] [REPEATS 1..64]\n");
+        reps > 64 || (argc > 4 && !(shuffled = !strcmp(argv[4], "shuffled"))) || argc > 5) {
+        fprintf(stderr, "usage: sceptic_bench SCENE [WxH] [REPEATS 1..64] [shuffled]\n");
         return 2;
     }
     memset(&s, 0, sizeof s);
@@ -296,10 +309,11 @@ int main(int argc, char **argv)
     prim = primary_rays(&s, w, h);
     scene_light_above(&s, light);
     secondary_rays(sc, prim, (long)w * h, light, &bounce, &shadow, &n2);
-    printf("{\"harness\": \"sceptic_bench\", \"scene\": \"%s\", \"image\": [%d, %d], \"repeats\": %d, "
+    if (shuffled) shuffle_rays(prim, (long)w * h);
+    printf("{\"harness\": \"sceptic_bench\", \"scene\": \"%s\", \"image\": [%d, %d], \"repeats\": %d, \"primary_order\": \"%s\", "
            "\"timing\": \"wall clock and thread CPU time, each tracer's repetitions in a row, medians\",\n"
            " \"embree\": \"%d.%d.%d rtcIntersect1/rtcOccluded1, default build quality, threads=1\",\n \"results\": [\n",
-           argv[1], w, h, reps, RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH);
+           argv[1], w, h, reps, shuffled ? "shuffled" : "scanline", RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH);
     report("primary", &s, sc, prim, (long)w * h, 0, reps, 0);
     report("diffuse_bounce", &s, sc, bounce, n2, 0, reps, 0);
     report("shadow", &s, sc, shadow, n2, 1, reps, 1);
