@@ -87,7 +87,7 @@ static void paired_vector_scalar(const char *path, const char *name, int shift, 
 
 TEST(restir_shading_vector_paired_with_scalar)
 {
-    paired_vector_scalar(NULL, "spot", RESTIR_SHIFT_RECONNECTION, MIS_PAIRWISE_DEFENSIVE, 24);
+    paired_vector_scalar(NULL, "spot", RESTIR_SHIFT_RECONNECTION, MIS_PAIRWISE_DEFENSIVE, 48);
     if (!test_has_failed())
         paired_vector_scalar("scenes/cornell-glossy.scene", "cornell-glossy", RESTIR_SHIFT_HYBRID, MIS_TALBOT, 16);
 }
