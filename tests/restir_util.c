@@ -37,12 +37,14 @@ int rt_load_scene(const char *path, int res, scene *s)
     return 0;
 }
 
-/* A scene with a panning camera: cornell-glossy seen from eye x = 278 - pan/2 at frame
- * 0 to 278 + pan/2 at frame 16 (target moves with it); pan 0: the still camera. */
-int rt_load_glossy_pan(scene *s, int res, double pan)
+int rt_load_glossy_pan(scene *s, int res, double pan) { return rt_load_scene_pan("scenes/cornell-glossy.scene", s, res, pan); }
+
+/* The scene's camera panning along x: eye and target at x - pan/2 at frame 0 to x + pan/2 at
+ * frame 16; pan 0: the scene as it is. */
+int rt_load_scene_pan(const char *path, scene *s, int res, double pan)
 {
     camera_pose p;
-    if (rt_load_scene("scenes/cornell-glossy.scene", res, s)) return -1;
+    if (rt_load_scene(path, res, s)) return -1;
     if (pan == 0) return 0;
     p = s->camera;
     s->keyframes = calloc(2, sizeof *s->keyframes);

@@ -25,6 +25,8 @@ int rt_load_scene(const char *path, int res, scene *s);
 /* A scene with a panning camera: cornell-glossy seen from eye x = 278 - pan/2 at frame 0 to
  * 278 + pan/2 at frame 16 (target moves with it); pan 0: the still camera. 0 on success. */
 int rt_load_glossy_pan(scene *s, int res, double pan);
+/* The same pan on any scene file with a still camera (its own animation, if any, stays). */
+int rt_load_scene_pan(const char *path, scene *s, int res, double pan);
 /* rt_load_scene, then the scene's light set into *ls (lights_free it). 0 on success (a test
  * failure is recorded otherwise). */
 int rt_load_scene_lights(const char *path, int res, scene *s, light_set *ls);

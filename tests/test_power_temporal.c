@@ -36,20 +36,48 @@ static void power_pan_options(restir_options *o, int temporal, int mis, int max_
     o->threads = 2;
 }
 
+/* The scene of a temporal power test: a file and a camera pan (0: its own animation only). */
+typedef struct {
+    const char *path;
+    double pan;
+    const char *what; /* for the comparison names */
+    int camera;       /* 1: the still camera below instead of the file's */
+    double eye[3], target[3], fov;
+    const char *lambert; /* this material made Lambertian (its Kd kept), or NULL */
+} power_temporal_scene;
+
+static const power_temporal_scene glossy_pan = {"scenes/cornell-glossy.scene", 200, "glossy pan", 0, {0}, {0}, 0, NULL};
+
 /* Talbot and pairwise-defensive temporal MIS vs none at frame `frame`, K = runs. */
-static void power_temporal(int res, int runs, int frame, int max_depth, int candidates)
+static void power_temporal_on(const power_temporal_scene *sc, int res, int runs, int frame, int max_depth,
+                              int candidates)
 {
     scene s;
     restir_options talbot, pairwise, none;
     bench_paired pt, pp;
+    char name_t[128], name_p[128];
     int k;
     uint32_t seed0 = test_seed() * 2246822519u + 1013u;
-    if (rt_load_glossy_pan(&s, res, 200)) return;
+    if (rt_load_scene_pan(sc->path, &s, res, sc->pan)) return;
+    if (sc->camera) {
+        s.camera.eye = v3((real)sc->eye[0], (real)sc->eye[1], (real)sc->eye[2]);
+        s.camera.target = v3((real)sc->target[0], (real)sc->target[1], (real)sc->target[2]);
+        s.camera.fov_y_degrees = (real)sc->fov;
+    }
+    if (sc->lambert) {
+        size_t i;
+        for (i = 0; i < s.material_count; ++i)
+            if (!strcmp(s.materials[i].name, sc->lambert)) s.materials[i].type = MAT_LAMBERT;
+    }
     power_pan_options(&talbot, 1, MIS_TALBOT, max_depth, candidates);
     power_pan_options(&pairwise, 1, MIS_PAIRWISE_DEFENSIVE, max_depth, candidates);
     power_pan_options(&none, 0, MIS_TALBOT, max_depth, candidates);
-    bench_paired_init(&pt, "temporal Talbot vs none, glossy pan, 8 candidates");
-    bench_paired_init(&pp, "temporal pairwise-defensive vs none, glossy pan, 8 candidates");
+    snprintf(name_t, sizeof name_t, "temporal Talbot vs none, %s, %d candidates, %d^2, depth %d", sc->what,
+             candidates, res, max_depth);
+    snprintf(name_p, sizeof name_p, "temporal pairwise-defensive vs none, %s, %d candidates, %d^2, depth %d",
+             sc->what, candidates, res, max_depth);
+    bench_paired_init(&pt, name_t);
+    bench_paired_init(&pp, name_p);
     for (k = 0; k < runs; ++k) {
         double a[3], b[3], c[3];
         talbot.seed = pairwise.seed = none.seed = seed0 + 7919u * (uint32_t)k;
@@ -67,6 +95,11 @@ static void power_temporal(int res, int runs, int frame, int max_depth, int cand
     bench_paired_expect_consistent(&pp, BENCH_Z_CONSISTENT);
 }
 
+static void power_temporal(int res, int runs, int frame, int max_depth, int candidates)
+{
+    power_temporal_on(&glossy_pan, res, runs, frame, max_depth, candidates);
+}
+
 /* Direct light only (paths of 2 segments), 32², frame 4, 8 candidates, K = 28. */
 TEST(power_temporal_pan)
 {
@@ -80,4 +113,47 @@ TEST(power_temporal_pan)
 TEST_LONG(power_temporal_pan_long)
 {
     power_temporal(32, 192, 4, 3, 8);
+}
+
+/* The moving object: scenes/shadow.scene's red plastic box (roughness 0.4) crossing under the
+ * light (x -1 -> +1 and a quarter turn over frames 0..16), the still camera moved close to it
+ * (fov 28°, the box fills most of the image at frames 0-1); `lambert`: the box made
+ * Lambertian (the diffuse case). */
+static const power_temporal_scene moving_box = {
+    "scenes/shadow.scene", 0, "moving box (glossy)", 1, {-0.8, 2.0, 1.2}, {-0.8, 0.8, 0}, 28, NULL};
+static const power_temporal_scene moving_box_diffuse = {
+    "scenes/shadow.scene", 0, "moving box (diffuse)", 1, {-0.8, 2.0, 1.2}, {-0.8, 0.8, 0}, 28, "mover"};
+
+/* Direct light only, 32², frame 1 (the history is frame 0's reservoirs, its box posed 0.125 m
+ * and 5.6° away), 8 candidates, K = 96. */
+TEST(power_temporal_moving_object)
+{
+    power_temporal_on(&moving_box, 32, 96, 1, 2, 8);
+}
+
+/* The same with the box Lambertian. */
+TEST(power_temporal_moving_object_diffuse)
+{
+    power_temporal_on(&moving_box_diffuse, 32, 96, 1, 2, 8);
+}
+
+/* Exploration (env POWER_T_SCENE=path, POWER_T_PAN, POWER_T_RES, POWER_T_K, POWER_T_FRAME,
+ * POWER_T_DEPTH, POWER_T_CAND). */
+TEST_LONG(power_temporal_explore)
+{
+    power_temporal_scene sc = {"scenes/shadow.scene", 0, "explore", 0, {0}, {0}, 0, NULL};
+    const char *e;
+    int res = 32, k = 28, frame = 4, depth = 2, cand = 8;
+    if ((e = getenv("POWER_T_SCENE"))) sc.path = e;
+    if ((e = getenv("POWER_T_PAN"))) sc.pan = atof(e);
+    if ((e = getenv("POWER_T_RES"))) res = atoi(e);
+    if ((e = getenv("POWER_T_K"))) k = atoi(e);
+    if ((e = getenv("POWER_T_FRAME"))) frame = atoi(e);
+    if ((e = getenv("POWER_T_DEPTH"))) depth = atoi(e);
+    if ((e = getenv("POWER_T_CAND"))) cand = atoi(e);
+    sc.lambert = getenv("POWER_T_LAMBERT");
+    if ((e = getenv("POWER_T_CAM")))
+        sc.camera = sscanf(e, "%lf %lf %lf %lf %lf %lf %lf", &sc.eye[0], &sc.eye[1], &sc.eye[2], &sc.target[0],
+                           &sc.target[1], &sc.target[2], &sc.fov) == 7;
+    power_temporal_on(&sc, res, k, frame, depth, cand);
 }
