@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "bench.h"
+#include "pt_util.h"
 #include "restir/restir/mutate.h"
 #include "restir_util.h"
 #include "test.h"
@@ -64,4 +65,80 @@ TEST_LONG(power_mutate_long)
                  mutate_strategy_names[strategy]);
         power_mutate(32, 64, strategy, name);
     }
+}
+
+/* ---- Mutations Eq. 20 (the rv / pp kernel ratio) --------------------------------------- */
+
+/* A scene made for Eq. 20: a white floor seen from above, a back wall red in its upper half
+ * and blue in its lower half, and a ceiling light (2 x 0.7 m, facing down) right against the
+ * top of the wall. With indirect light only the paths are camera -> x_1 (floor) -> x_2
+ * (wall: the reconnection vertex, k = 2) -> x_3 on the light, and where x_3 is a BSDF hit
+ * (not NEE-sampled) rv moves x_2 with x_3 kept: the kernel ratio A(z)/A(y) of Eq. 20 holds
+ * G(x_2 -> x_3) = cos / r², large on the red top of the wall (close to the light) and small on
+ * the blue bottom. A chain with a wrong ratio leaves p̂ / A² or so invariant instead of p̂:
+ * it drifts between red and blue while each pixel's luminance F W stays exact. */
+static int make_eq20_wall(scene *s, int res)
+{
+    uint32_t white, red, blue, light;
+    if (test_scene_begin(s, 8, 4)) return -1;
+    white = test_scene_material(s, MAT_LAMBERT, rgb_gray((real)0.8), rgb_gray(0));
+    red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.85, (real)0.15, (real)0.1), rgb_gray(0));
+    blue = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1, (real)0.2, (real)0.85), rgb_gray(0));
+    light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_gray(5));
+    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), white);        /* y = 0, normal +y */
+    test_scene_quad(s, v3f(-1, 0.5f, 1), v3f(0, 0.5f, 0), v3f(2, 0, 0), red);      /* z = 1, normal -z */
+    test_scene_quad(s, v3f(-1, 0, 1), v3f(0, 0.5f, 0), v3f(2, 0, 0), blue);
+    test_scene_quad(s, v3f(-1, 1, 0.3f), v3f(2, 0, 0), v3f(0, 0, 0.7f), light);    /* y = 1, normal -y */
+    test_scene_camera(s, v3(0, (real)0.9, (real)-1.6), v3(0, 0, (real)0.2), v3(0, 1, 0), 40, res);
+    return test_scene_prepare(s);
+}
+
+static void power_eq20(int res, int runs, int strategy, int count, int max_depth, const char *name)
+{
+    scene s;
+    bench_sequence_config on, off;
+    bench_paired p;
+    if (make_eq20_wall(&s, res)) return;
+    restir_options_default(&on.o);
+    on.s = off.s = &s;
+    on.frame = off.frame = 0;
+    on.o.shift = RESTIR_SHIFT_HYBRID;
+    on.o.spatial_passes = 0;
+    on.o.temporal.enabled = 0;
+    on.o.candidates = 2;
+    on.o.max_depth = max_depth;
+    on.o.paths = RESTIR_PATHS_INDIRECT;
+    on.o.threads = 2;
+    on.o.mutation.count = count;
+    on.o.mutation.strategy = strategy;
+    on.o.mutation.stages = MUTATE_AFTER_INITIAL;
+    off.o = on.o;
+    off.o.mutation.count = 0;
+    bench_paired_init(&p, name);
+    if (!bench_paired_run(&p, runs, test_seed() * 69069u + 5u + 1000u * (uint32_t)strategy, bench_sequence_run, &on,
+                          bench_sequence_run, &off))
+        bench_paired_expect_consistent(&p, BENCH_Z_CONSISTENT);
+    scene_free(&s);
+}
+
+/* rv x100 right after the initial stage vs none, 24², K = 96. */
+TEST(power_mutate_eq20)
+{
+    power_eq20(24, 96, MUTATE_RV, 100, 3, "mutations rv x100 vs none after initial, eq20 wall 24^2");
+}
+
+/* Exploration: POWER_M_RES, POWER_M_K, POWER_M_STRATEGY, POWER_M_COUNT, POWER_M_DEPTH. */
+TEST_LONG(power_mutate_eq20_explore)
+{
+    const char *e;
+    int res = 24, k = 32, strategy = MUTATE_RV, count = 20, depth = 3;
+    char name[128];
+    if ((e = getenv("POWER_M_RES"))) res = atoi(e);
+    if ((e = getenv("POWER_M_K"))) k = atoi(e);
+    if ((e = getenv("POWER_M_STRATEGY"))) strategy = atoi(e);
+    if ((e = getenv("POWER_M_COUNT"))) count = atoi(e);
+    if ((e = getenv("POWER_M_DEPTH"))) depth = atoi(e);
+    snprintf(name, sizeof name, "mutations %s x%d vs none, eq20 wall %d^2 depth %d", mutate_strategy_names[strategy],
+             count, res, depth);
+    power_eq20(res, k, strategy, count, depth, name);
 }
