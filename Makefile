@@ -119,7 +119,13 @@ $(BUILD)/test_registry.h: $(TEST_SRC)
 	@mv $@.tmp $@
 
 $(BUILD)/tests/test_main.o: $(BUILD)/test_registry.h
-$(BUILD)/tests/%.o: CPPFLAGS += -I$(BUILD) -Itests -DRESTIR_BIN='"$(BUILD)/restir"' -DRESTIR_TMP='"$(BUILD)/test-tmp"'
+# The paired power tests (tests/test_power_*.c) run a reduced configuration in the float,
+# sanitizer and debug builds: a quarter of their runs, the same code paths, a weaker but still
+# honest test (bench.h BENCH_RUNS; docs/statistics.md "Power table"). Full in the default build.
+ifneq ($(PRECISION)$(SANITIZE)$(DEBUG),double00)
+TEST_REDUCED := -DRESTIR_TEST_REDUCED
+endif
+$(BUILD)/tests/%.o: CPPFLAGS += -I$(BUILD) -Itests -DRESTIR_BIN='"$(BUILD)/restir"' -DRESTIR_TMP='"$(BUILD)/test-tmp"' $(TEST_REDUCED)
 
 $(BUILD)/tests/run: $(TEST_OBJ) $(BUILD)/librestir.a
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)

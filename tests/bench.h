@@ -24,6 +24,17 @@
 #include "restir/frame/offline.h"
 #include "restir/frame/pipeline.h"
 
+/* The runs K of a power test (tests/test_power_*.c): K in the default build; a quarter of K
+ * (at least 8) where the Makefile sets RESTIR_TEST_REDUCED (the float, sanitizer and debug
+ * builds, which CI also runs: the same code paths at a fraction of the time; the verdict
+ * stays the same |z| test, so it is weaker, not looser). The power table is the default
+ * build's. */
+#ifdef RESTIR_TEST_REDUCED
+#define BENCH_RUNS(k) ((k) / 4 < 8 ? 8 : (k) / 4)
+#else
+#define BENCH_RUNS(k) (k)
+#endif
+
 #define BENCH_ALPHA 1e-4
 /* |z| of a consistent pair must stay below this (two-sided p ~ 7e-6 per channel); a planted
  * bug counts as caught at |z| >= 6 (tests/mutants/README.md). */

@@ -47,8 +47,7 @@ static int make_lit_floor(scene *s)
     if (test_scene_begin(s, 12, 5)) return -1;
     floor = test_scene_material(s, MAT_PLASTIC, rgb_gray((real)0.7), rgb_gray(0));
     test_scene_last_material(s)->specular = rgb_gray(1);
-    test_scene_last_material(s)->roughness = (real)(getenv("POWER_L_ROUGH") ? atof(getenv("POWER_L_ROUGH")) : 0.3);
-    if (getenv("POWER_L_LAMBERT")) test_scene_last_material(s)->type = MAT_LAMBERT;
+    test_scene_last_material(s)->roughness = (real)0.3;
     test_scene_last_material(s)->ior = (real)1.5;
     for (i = 0; i < 4; ++i)
         light[i] = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_make(tint[i][0], tint[i][1], tint[i][2]));
@@ -123,7 +122,7 @@ static void lit_floor_matrix(const int (*cases)[4], int count)
  * (0.8-1.1 %; the planted next-count moves them by +8 % and +11 %). */
 TEST(power_light_ris_single_points)
 {
-    static const int cases[][4] = {{2, 0, 64, 1024}, {8, 1, 32, 512}, {32, 0, 32, 512}};
+    static const int cases[][4] = {{2, 0, BENCH_RUNS(64), 1024}, {8, 1, BENCH_RUNS(32), 512}, {32, 0, BENCH_RUNS(32), 512}};
     lit_floor_matrix(cases, 3);
 }
 
@@ -137,90 +136,4 @@ TEST_LONG(power_light_ris_single_points_long)
     static const int cases[][4] = {{1, 1, 64, 2816}, {2, 0, 64, 2816}, {2, 1, 64, 2816}, {8, 0, 64, 4096},
                                    {8, 1, 64, 4096}, {32, 0, 64, 7168}, {32, 1, 64, 7168}};
     lit_floor_matrix(cases, 7);
-}
-
-/* explore: one side of test_direct_mis_sample (part 1: NEE, 2: BSDF hit) */
-static rgb explore_part(const path_context *c, const path_vertex *v, const rng_key *key, int part)
-{
-    rgb L = rgb_gray(0);
-    nee_sample nee;
-    bsdf_bounce b;
-    bsdf_sample_record rec;
-    if (part == 1) {
-        if (vertex_sample_light(c, v, key, 1, &nee))
-            L = rgb_scale(nee.contribution, path_mis_weight_nee(c, nee.pdf_light, nee.pdf_bsdf));
-        return L;
-    }
-    if (vertex_sample_bsdf(v, key, 1, &b, &rec)) {
-        ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b.wi), v3f_from(v->wo));
-        surface_hit h;
-        if (b.pdf_all < 0) b.pdf_all = path_bounce_pdf_all(v, &rec);
-        if (scene_intersect(c->scene, &r, &h)) {
-            path_vertex hv;
-            rgb Le;
-            path_vertex_make(&hv, c->scene, &h, v3_from_f(r.dir));
-            Le = path_vertex_emitted(c, &hv);
-            if (!rgb_is_black(Le)) {
-                real w = path_mis_weight_bsdf_hit(c, &b, path_light_pdf_hit(c, v, &hv, *key, 1));
-                L = rgb_add(L, rgb_scale(rgb_mul(b.weight, Le), w));
-            }
-        }
-    }
-    return L;
-}
-
-/* Exploration: the noise of A alone, B alone and A - B (env POWER_L_N, POWER_L_TILES,
- * POWER_L_BATCHES, POWER_L_PER, POWER_L_BREP: B's samples per A sample). */
-TEST_LONG(power_light_ris_explore)
-{
-    scene s;
-    light_set lights;
-    restir_context ca, cb;
-    restir_options o;
-    rerror e;
-    path_vertex v[6];
-    const char *en;
-    int n = 32, tiles = 0, batches = 32, per = 512, brep = 1, part = 0, nv, i, j, k, r, c;
-    double sa[3] = {0}, saa[3] = {0}, sb[3] = {0}, sbb[3] = {0}, sd[3] = {0}, sdd[3] = {0};
-    if ((en = getenv("POWER_L_N"))) n = atoi(en);
-    if ((en = getenv("POWER_L_TILES"))) tiles = atoi(en);
-    if ((en = getenv("POWER_L_BATCHES"))) batches = atoi(en);
-    if ((en = getenv("POWER_L_PER"))) per = atoi(en);
-    if ((en = getenv("POWER_L_BREP"))) brep = atoi(en);
-    if ((en = getenv("POWER_L_PART"))) part = atoi(en);
-    if (make_lit_floor(&s)) return;
-    if (lights_build(&lights, &s, &e)) return;
-    restir_options_default(&o);
-    restir_context_for(&cb, &s, &lights, &o);
-    o.light_ris.candidates = n;
-    o.light_ris.tiles = tiles;
-    restir_context_for(&ca, &s, &lights, &o);
-    nv = shading_points(&s, v, 6);
-    for (k = 0; k < batches; ++k) {
-        double ma[3] = {0, 0, 0}, mb[3] = {0, 0, 0};
-        for (j = 0; j < per; ++j)
-            for (i = 0; i < nv; ++i) {
-                rng_key key = rng_key_make(11, (uint32_t)i, (uint32_t)(k * per + j));
-                rgb la = part ? explore_part(&ca.path, &v[i], &key, part) : test_direct_mis_sample(&ca.path, &v[i], &key);
-                ma[0] += la.r, ma[1] += la.g, ma[2] += la.b;
-                for (r = 0; r < brep; ++r) {
-                    rng_key kb = rng_key_make(11 + 1000u * (uint32_t)r, (uint32_t)i, (uint32_t)(k * per + j));
-                    rgb lb = part ? explore_part(&cb.path, &v[i], &kb, part) : test_direct_mis_sample(&cb.path, &v[i], &kb);
-                    mb[0] += lb.r / brep, mb[1] += lb.g / brep, mb[2] += lb.b / brep;
-                }
-            }
-        for (c = 0; c < 3; ++c) {
-            double a = ma[c] / (per * nv), b = mb[c] / (per * nv);
-            sa[c] += a, saa[c] += a * a, sb[c] += b, sbb[c] += b * b, sd[c] += a - b, sdd[c] += (a - b) * (a - b);
-        }
-    }
-    for (c = 0; c < 3; ++c) {
-        double K = batches, mb = sb[c] / K;
-        double va = (saa[c] - sa[c] * sa[c] / K) / (K - 1), vb = (sbb[c] - sb[c] * sb[c] / K) / (K - 1),
-               vd = (sdd[c] - sd[c] * sd[c] / K) / (K - 1);
-        printf("  ch %d mean A %.5f B %.5f | rel sd of batch: A %.4f%% B %.4f%% A-B %.4f%% | rel diff %+.4f%%\n", c,
-               sa[c] / K, mb, 100 * sqrt(va) / mb, 100 * sqrt(vb) / mb, 100 * sqrt(vd) / mb, 100 * (sd[c] / K) / mb);
-    }
-    lights_free(&lights);
-    scene_free(&s);
 }

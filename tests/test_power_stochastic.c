@@ -82,7 +82,7 @@ static void power_sto_paired_picks(int res, int runs, int max_depth, int picks, 
 /* Direct light only, 24², K = 48 (0.17 % detectable per channel at seed 1). */
 TEST(power_stochastic_direct)
 {
-    power_sto_paired(24, 48, 2, "stochastic N~ = N~c = 24 vs all-M defensive, shadow direct only");
+    power_sto_paired(24, BENCH_RUNS(48), 2, "stochastic N~ = N~c = 24 vs all-M defensive, shadow direct only");
 }
 
 /* Indirect light only (most reservoirs empty), 64², K = 72, Ñ = Ñ_c = 48 (0.17-0.19 % in red,
@@ -92,22 +92,11 @@ TEST(power_stochastic_direct)
  * the same sample more often: 0.305 -> 0.240 % at K = 48, +0.6 s); the rest is runs. */
 TEST(power_stochastic_indirect)
 {
-    power_sto_paired_picks(64, 72, 3, 48, 1, "stochastic N~ = N~c = 48 vs all-M defensive, shadow indirect only");
+    power_sto_paired_picks(64, BENCH_RUNS(72), 3, 48, 1, "stochastic N~ = N~c = 48 vs all-M defensive, shadow indirect only");
 }
 
 /* Indirect light only at 96², K = 48. */
 TEST_LONG(power_stochastic_indirect_long)
 {
     power_sto_paired(96, 48, 3, "stochastic N~ = N~c = 24 vs all-M defensive, shadow indirect only, 96^2");
-}
-
-TEST_LONG(power_stochastic_explore)
-{
-    const char *e;
-    int res = 64, k = 48, picks = 24, cand = 1;
-    if ((e = getenv("POWER_S_RES"))) res = atoi(e);
-    if ((e = getenv("POWER_S_K"))) k = atoi(e);
-    if ((e = getenv("POWER_S_PICKS"))) picks = atoi(e);
-    if ((e = getenv("POWER_S_CAND"))) cand = atoi(e);
-    power_sto_paired_picks(res, k, 3, picks, cand, "explore");
 }
