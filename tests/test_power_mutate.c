@@ -72,30 +72,39 @@ TEST_LONG(power_mutate_long)
 
 /* ---- Mutations Eq. 20 (the rv / pp kernel ratio) --------------------------------------- */
 
-/* A scene made for Eq. 20: a white floor seen from above, a back wall red in its upper half
- * and blue in its lower half, and a ceiling light (2 x 0.7 m, facing down) right against the
- * top of the wall. With indirect light only the paths are camera -> x_1 (floor) -> x_2
- * (wall: the reconnection vertex, k = 2) -> x_3 on the light, and where x_3 is a BSDF hit
- * (not NEE-sampled) rv moves x_2 with x_3 kept: the kernel ratio A(z)/A(y) of Eq. 20 holds
- * G(x_2 -> x_3) = cos / r², large on the red top of the wall (close to the light) and small on
- * the blue bottom. A chain with a wrong ratio leaves p̂ / A² or so invariant instead of p̂:
- * it drifts between red and blue while each pixel's luminance F W stays exact. Most of the
- * ratio's leverage sits where the wall meets the light (r -> 0): with the light moved 0.5 m
- * off the wall the planted eq20-inverted fell from -8 % to -1.5 % (not detected). Every
- * difference here is the red-blue trade at a fixed luminance, so R, G and B give the same
- * |z|. */
+/* A scene made for Eq. 20: a white floor seen from above, a back wall in 16 horizontal strips
+ * from red at the top to blue at the bottom, and a ceiling light (2 x 0.7 m, facing down)
+ * right against the top of the wall. With indirect light only the paths are camera -> x_1
+ * (floor) -> x_2 (wall: the reconnection vertex, k = 2) -> x_3 on the light, and where x_3 is
+ * a BSDF hit (not NEE-sampled) rv moves x_2 with x_3 kept: the kernel ratio A(z)/A(y) of
+ * Eq. 20 holds p(w_2) and G(x_2 -> x_3) = cos / r², which vary steeply with the height of x_2
+ * near the light. A chain with a wrong ratio leaves another density than p̂ invariant: x_2
+ * drifts up or down the wall, so the colour drifts between red and blue while each pixel's
+ * luminance F W stays exact. Every difference is that red-blue trade at a fixed luminance,
+ * so R, G and B give the same |z|.
+ * Why strips: with a wall only half red, half blue (one colour edge) the colour changes only
+ * where x_2 crosses the edge: detectable 1.9-2.4 % in red, eq20-inverted |z| 8.3-8.8 and
+ * eq20-cos-at-moved-vertex 0.6-3.7 at seeds 1-3 (K = 96, 100 mutations). With a colour that
+ * follows the height every step of the chain shows in it, and the lottery between two far
+ * colours becomes one between neighbours (0.88 % at the same K; 32 strips: no better). Most
+ * of the ratio's leverage sits where the wall meets the light (r -> 0): with the light 0.5 m
+ * off the wall the two-colour wall's eq20-inverted fell from -8 % to -1.5 %. */
 static int make_eq20_wall(scene *s, int res)
 {
-    uint32_t white, red, blue, light;
-    if (test_scene_begin(s, 8, 4)) return -1;
+    enum { STRIPS = 16 };
+    uint32_t white, light;
+    int i;
+    if (test_scene_begin(s, 4 + 2 * STRIPS, 2 + STRIPS)) return -1;
     white = test_scene_material(s, MAT_LAMBERT, rgb_gray((real)0.8), rgb_gray(0));
-    red = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.85, (real)0.15, (real)0.1), rgb_gray(0));
-    blue = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1, (real)0.2, (real)0.85), rgb_gray(0));
     light = test_scene_material(s, MAT_LAMBERT, rgb_gray(0), rgb_gray(5));
-    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), white);        /* y = 0, normal +y */
-    test_scene_quad(s, v3f(-1, 0.5f, 1), v3f(0, 0.5f, 0), v3f(2, 0, 0), red);      /* z = 1, normal -z */
-    test_scene_quad(s, v3f(-1, 0, 1), v3f(0, 0.5f, 0), v3f(2, 0, 0), blue);
-    test_scene_quad(s, v3f(-1, 1, 0.3f), v3f(2, 0, 0), v3f(0, 0, 0.7f), light);    /* y = 1, normal -y */
+    test_scene_quad(s, v3f(-1, 0, -1), v3f(0, 0, 2), v3f(2, 0, 0), white);     /* y = 0, normal +y */
+    for (i = 0; i < STRIPS; ++i) {                                              /* z = 1, normal -z */
+        real t = (real)i / (STRIPS - 1);                                        /* 0 bottom, 1 top */
+        uint32_t m = test_scene_material(s, MAT_LAMBERT, rgb_make((real)0.1 + (real)0.75 * t, (real)0.15,
+                                                                  (real)0.85 - (real)0.75 * t), rgb_gray(0));
+        test_scene_quad(s, v3f(-1, (float)i / STRIPS, 1), v3f(0, 1.0f / STRIPS, 0), v3f(2, 0, 0), m);
+    }
+    test_scene_quad(s, v3f(-1, 1, 0.3f), v3f(2, 0, 0), v3f(0, 0, 0.7f), light); /* y = 1, normal -y */
     test_scene_camera(s, v3(0, (real)0.9, (real)-1.6), v3(0, 0, (real)0.2), v3(0, 1, 0), 40, res);
     return test_scene_prepare(s);
 }
@@ -128,14 +137,12 @@ static void power_eq20(int res, int runs, int strategy, int count, int max_depth
     scene_free(&s);
 }
 
-/* rv x100 right after the initial stage vs none, 24², K = 96 (detectable 1.9-2.4 / 0.56-0.70 /
- * 1.5-1.9 % at seeds 1-3: the colour lottery of a red-or-blue x_2 is loud; eq20-inverted moves
- * red by -6.6 … -7.9 %, |z| 8.3-8.8). 100 mutations, not 20: the chain must travel for the
- * wrong ratio to show (20: -2.7 %, z -2.7 at K = 32; 100: -9.6 %, z -5.4; 300: z -5.8 at
- * 3 times the cost). eq20-cos-at-moved-vertex stays below the noise here (|z| 0.6 / 0.8 /
- * 3.7; its exact test catches it), also with the red half tilted towards or away from the
- * light. */
+/* rv x25 right after the initial stage vs none, 24², K = 256. Few mutations and many runs: the
+ * more steps, the larger the drift of a wrong chain but the less the mutated sample shares with
+ * the initial one (the paired noise). At about the same cost (2.5-4 s): x100, K = 96: 0.88 %
+ * detectable in red, eq20-cos-at-moved-vertex z +6.1; x50, K = 192: 0.55 %, z +8.5; x25,
+ * K = 256: 0.40 %, z +8.8; x10, K = 384: 0.25 %, z +7.7. */
 TEST(power_mutate_eq20)
 {
-    power_eq20(24, BENCH_RUNS(96), MUTATE_RV, 100, 3, "mutations rv x100 vs none after initial, eq20 wall 24^2");
+    power_eq20(24, BENCH_RUNS(256), MUTATE_RV, 25, 3, "mutations rv x25 vs none after initial, eq20 wall 24^2");
 }
