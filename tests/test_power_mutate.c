@@ -25,30 +25,40 @@
 #include "test.h"
 #include "restir/frame/options.h"
 
-static void power_mutate(int res, int runs, int strategy, const char *name)
+/* N mutations (strategy, right after the initial stage; frame 0, 2 path trees, no temporal
+ * or spatial pass) against none on the scene s, K = runs, run k on seed seed0 + 7919 k. */
+static void power_mutate_paired(const scene *s, int runs, int strategy, int count, int max_depth,
+                                enum restir_paths paths, uint32_t seed0, const char *name)
 {
-    scene s;
     bench_sequence_config on, off;
     bench_paired p;
-    if (rt_load_scene("scenes/cornell-glossy.scene", res, &s)) return;
     restir_options_default(&on.o);
-    on.s = off.s = &s;
+    on.s = off.s = s;
     on.frame = off.frame = 0;
     on.o.shift = RESTIR_SHIFT_HYBRID;
     on.o.spatial_passes = 0;
     on.o.temporal.enabled = 0;
     on.o.candidates = 2;
-    on.o.max_depth = 4;
+    on.o.max_depth = max_depth;
+    on.o.paths = paths;
     on.o.threads = 2;
-    on.o.mutation.count = 20;
+    on.o.mutation.count = count;
     on.o.mutation.strategy = strategy;
     on.o.mutation.stages = MUTATE_AFTER_INITIAL;
     off.o = on.o;
     off.o.mutation.count = 0;
     bench_paired_init(&p, name);
-    if (!bench_paired_run(&p, runs, test_seed() * 40503u + 99u + 1000u * (uint32_t)strategy, bench_sequence_run, &on,
-                          bench_sequence_run, &off))
+    if (!bench_paired_run(&p, runs, seed0, bench_sequence_run, &on, bench_sequence_run, &off))
         bench_paired_expect_consistent(&p, BENCH_Z_CONSISTENT);
+}
+
+/* x20 on cornell-glossy, all light, paths up to 4 segments. */
+static void power_mutate(int res, int runs, int strategy, const char *name)
+{
+    scene s;
+    if (rt_load_scene("scenes/cornell-glossy.scene", res, &s)) return;
+    power_mutate_paired(&s, runs, strategy, 20, 4, RESTIR_PATHS_ALL,
+                        test_seed() * 40503u + 99u + 1000u * (uint32_t)strategy, name);
     scene_free(&s);
 }
 
@@ -109,31 +119,13 @@ static int make_eq20_wall(scene *s, int res)
     return test_scene_prepare(s);
 }
 
+/* On the Eq. 20 wall, indirect light only. */
 static void power_eq20(int res, int runs, int strategy, int count, int max_depth, const char *name)
 {
     scene s;
-    bench_sequence_config on, off;
-    bench_paired p;
     if (make_eq20_wall(&s, res)) return;
-    restir_options_default(&on.o);
-    on.s = off.s = &s;
-    on.frame = off.frame = 0;
-    on.o.shift = RESTIR_SHIFT_HYBRID;
-    on.o.spatial_passes = 0;
-    on.o.temporal.enabled = 0;
-    on.o.candidates = 2;
-    on.o.max_depth = max_depth;
-    on.o.paths = RESTIR_PATHS_INDIRECT;
-    on.o.threads = 2;
-    on.o.mutation.count = count;
-    on.o.mutation.strategy = strategy;
-    on.o.mutation.stages = MUTATE_AFTER_INITIAL;
-    off.o = on.o;
-    off.o.mutation.count = 0;
-    bench_paired_init(&p, name);
-    if (!bench_paired_run(&p, runs, test_seed() * 69069u + 5u + 1000u * (uint32_t)strategy, bench_sequence_run, &on,
-                          bench_sequence_run, &off))
-        bench_paired_expect_consistent(&p, BENCH_Z_CONSISTENT);
+    power_mutate_paired(&s, runs, strategy, count, max_depth, RESTIR_PATHS_INDIRECT,
+                        test_seed() * 69069u + 5u + 1000u * (uint32_t)strategy, name);
     scene_free(&s);
 }
 
