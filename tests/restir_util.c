@@ -37,7 +37,10 @@ int rt_load_scene(const char *path, int res, scene *s)
     return 0;
 }
 
-int rt_load_glossy_pan(scene *s, int res, double pan) { return rt_load_scene_pan("scenes/cornell-glossy.scene", s, res, pan); }
+int rt_load_glossy_pan(scene *s, int res, double pan)
+{
+    return rt_load_scene_pan("scenes/cornell-glossy.scene", s, res, pan);
+}
 
 /* The scene's camera panning along x: eye and target at x - pan/2 at frame 0 to x + pan/2 at
  * frame 16; pan 0: the scene as it is. */

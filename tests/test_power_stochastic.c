@@ -55,14 +55,8 @@ static void power_sto_options(restir_options *o, int stochastic, int picks, int 
     o->threads = 2;
 }
 
-static void power_sto_paired_picks(int res, int runs, int max_depth, int picks, int candidates, const char *name);
-
-static void power_sto_paired(int res, int runs, int max_depth, const char *name)
-{
-    power_sto_paired_picks(res, runs, max_depth, 24, 1, name);
-}
-
-static void power_sto_paired_picks(int res, int runs, int max_depth, int picks, int candidates, const char *name)
+/* picks: Ñ = Ñ_c. */
+static void power_sto_paired_picks(int res, int runs, int max_depth, int picks, const char *name)
 {
     scene s;
     power_sto_config a, b;
@@ -71,12 +65,16 @@ static void power_sto_paired_picks(int res, int runs, int max_depth, int picks, 
     a.s = b.s = &s;
     power_sto_options(&a.o, 1, picks, max_depth);
     power_sto_options(&b.o, 0, picks, max_depth);
-    a.o.candidates = b.o.candidates = candidates;
     bench_paired_init(&p, name);
     if (!bench_paired_run(&p, runs, test_seed() * 2654435761u + 4241u + (uint32_t)max_depth, run_power_sto, &a,
                           run_power_sto, &b))
         bench_paired_expect_consistent(&p, BENCH_Z_CONSISTENT);
     scene_free(&s);
+}
+
+static void power_sto_paired(int res, int runs, int max_depth, const char *name)
+{
+    power_sto_paired_picks(res, runs, max_depth, 24, name);
 }
 
 /* Direct light only, 24², K = 48 (0.17 % detectable per channel at seed 1). */
@@ -86,13 +84,14 @@ TEST(power_stochastic_direct)
 }
 
 /* Indirect light only (most reservoirs empty), 64², K = 72, Ñ = Ñ_c = 48 (0.17-0.19 % in red,
- * 0.09-0.10 % in green and blue at seeds 1-3). Red is the noisiest channel here (the red box
- * lights the floor): with Ñ = 24 and K = 48 it was 0.21-0.31 %. Twice as many picks as
- * domains make the stochastic weights closer still to the deterministic ones (A and B select
- * the same sample more often: 0.305 -> 0.240 % at K = 48, +0.6 s); the rest is runs. */
+ * 0.09-0.10 % in green and blue at seeds 1-3). Red is the noisiest channel here: with Ñ = 24
+ * and K = 48 it was 0.21-0.31 %. Twice as many picks as the box has domains make the
+ * stochastic weights closer still to the deterministic ones (0.305 -> 0.240 % at K = 48,
+ * +0.6 s); the rest is runs. */
 TEST(power_stochastic_indirect)
 {
-    power_sto_paired_picks(64, BENCH_RUNS(72), 3, 48, 1, "stochastic N~ = N~c = 48 vs all-M defensive, shadow indirect only");
+    power_sto_paired_picks(64, BENCH_RUNS(72), 3, 48,
+                           "stochastic N~ = N~c = 48 vs all-M defensive, shadow indirect only");
 }
 
 /* Indirect light only at 96², K = 48. */
