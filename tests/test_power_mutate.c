@@ -96,7 +96,7 @@ TEST_LONG(power_mutate_long)
  * where x_2 crosses the edge: detectable 1.9-2.4 % in red, eq20-inverted |z| 8.3-8.8 and
  * eq20-cos-at-moved-vertex 0.6-3.7 at seeds 1-3 (K = 96, 100 mutations). With a colour that
  * follows the height every step of the chain shows in it, and the lottery between two far
- * colours becomes one between neighbours (0.88 % at the same K; 32 strips: no better). Most
+ * colours becomes one between neighbours (0.91 % at the same K; 32 strips: 0.88 %). Most
  * of the ratio's leverage sits where the wall meets the light (r -> 0): with the light 0.5 m
  * off the wall the two-colour wall's eq20-inverted fell from -8 % to -1.5 %. */
 static int make_eq20_wall(scene *s, int res)
@@ -131,8 +131,8 @@ static void power_eq20(int res, int runs, int strategy, int count, int max_depth
 
 /* rv x25 right after the initial stage vs none, 24², K = 256. Few mutations and many runs: the
  * more steps, the larger the drift of a wrong chain but the less the mutated sample shares with
- * the initial one (the paired noise). At about the same cost (2.5-4 s): x100, K = 96: 0.88 %
- * detectable in red, eq20-cos-at-moved-vertex z +6.1; x50, K = 192: 0.55 %, z +8.5; x25,
+ * the initial one (the paired noise). At about the same cost (2.5-4 s): x100, K = 96: 0.91 %
+ * detectable in red, eq20-cos-at-moved-vertex z +5.8; x50, K = 192: 0.55 %, z +8.5; x25,
  * K = 256: 0.40 %, z +8.8; x10, K = 384: 0.25 %, z +7.7. */
 TEST(power_mutate_eq20)
 {

@@ -17,10 +17,10 @@
  * close to it, glossy and Lambertian (the diffuse case), at frame 1: the box fills most of
  * the image (the file's own camera, frame 4: 0.53 % detectable, the planted
  * temporal-mis-current-target +0.33 % in R, z +3.1; close up +3.1 %, z +19), and frame 1
- * renders 2 frames per run instead of 5 at lower noise (frame 4 close up: 1.0 %; more
- * candidates do not help: 32 give the same 0.53 % as 8 on the file's camera). The refresh of
- * history samples reconnecting on the moving box needs paths of 3 segments: a third test
- * with indirect light only. The indirect light of the glossy pan: frame 1 at 48².
+ * renders 2 frames per run instead of 5 at lower noise (the file's camera, K = 28: frame 1
+ * 0.28 %, frame 4 0.53 %; more candidates do not help: 32 give the same 0.53 % as 8). The
+ * refresh of history samples reconnecting on the moving box needs paths of 3 segments: a
+ * third test with indirect light only. The indirect light of the glossy pan: frame 1 at 48².
  *
  * Runs: BENCH_RUNS (bench.h): a quarter in the float, sanitizer and debug builds. */
 #include <math.h>
