@@ -36,10 +36,12 @@ REF="$TMP/ref.pfm"
 
 # sequence NAME PRESET OPTIONS...: FRAMES frames per seed -> $TMP/NAME.SEED.NNNN.pfm (each
 # the average of frames 0..N with --accumulate in OPTIONS, else frame N alone), and
-# $TMP/NAME.SEED.json (--stats)
+# $TMP/NAME.SEED.json (--stats); a seed whose --stats file is there is kept (the stats are
+# written after the last frame), so an interrupted measurement resumes
 sequence() {
     name=$1 preset=$2; shift 2
     for seed in $SEEDS; do
+        [ -f "$TMP/$name.$seed.json" ] && continue
         render "$SCENE" --method restir --preset "$preset" --sequence 0..$((FRAMES - 1)) \
             --seed "$seed" "$@" -o "$TMP/$name.$seed.pfm" --stats "$TMP/$name.$seed.json"
     done
@@ -78,6 +80,22 @@ CAPS="1 5 20 100 inf"
 for c in $CAPS; do sequence "frame-cap$c" gris-realtime --mcap "$c"; done
 table fig9a frame-cap "GRIS Fig. 9a: error of frame T, temporal reuse, still camera, cornell ${SIZE}^2" \
     "relMSE of frame T"
+# steady state, paired by seed (the caps share their seeds): per seed the mean per-frame relMSE
+# over frames STEADY..FRAMES-1 (every STRIDE-th), and its ratio to cap 20's on the same seed
+defaults STEADY=$((FRAMES / 4)) STRIDE=8
+steady_mean() {
+    for seed in $SEEDS; do
+        f=$STEADY
+        while [ "$f" -lt "$FRAMES" ]; do metric relmse "$TMP/$1.$seed.$(printf %04d "$f").pfm" "$REF"; f=$((f + STRIDE)); done |
+            awk '{ s += $1 } END { print s / NR }'
+    done
+}
+for c in $CAPS; do steady_mean "frame-cap$c" > "$TMP/steady.cap$c"; done
+{ echo "| cap | mean per-frame relMSE, frames $STEADY..$((FRAMES - 1)) (every $STRIDE-th) | / cap 20's (paired by seed) |"
+  echo "| --- | --- | --- |"
+  for c in $CAPS; do
+      echo "| $c | $(mean_ci < "$TMP/steady.cap$c") | $(paste "$TMP/steady.cap$c" "$TMP/steady.cap20" | awk '{ print $1 / $2 }' | mean_ci) |"
+  done; } > "$OUT/fig9a-steady.md"
 
 # ---- the running average of the same pipeline (not a panel of the paper) --------------------
 for c in $CAPS; do sequence "avg-cap$c" gris-realtime --mcap "$c" --accumulate; done
@@ -110,6 +128,26 @@ for t in $FRAME_POINTS; do
     echo "| $t | $xt | $et ± $ht | $xo | $eo ± $ho |" >> "$md.tmp"
 done
 mv "$csv.tmp" "$csv"; mv "$md.tmp" "$md"
+# equal time, paired by seed: relMSE x seconds of the real-time average of FRAMES frames over
+# the offline average's of FRAMES/16 frames (about the same time) and of FRAMES frames (the
+# offline run's seconds scaled by the frame share; each run's own --stats seconds)
+: > "$TMP/eff.rt"; : > "$TMP/eff.off16"; : > "$TMP/eff.off"
+n16=$((FRAMES / 16 > 0 ? FRAMES / 16 : 1))
+for seed in $SEEDS; do
+    trt=$(render_seconds "$TMP/$temporal.$seed.json"); tof=$(render_seconds "$TMP/offline.$seed.json")
+    last=$(printf %04d $((FRAMES - 1))); l16=$(printf %04d $((n16 - 1)))
+    awk -v e="$(metric relmse "$TMP/$temporal.$seed.$last.pfm" "$REF")" -v t="$trt" 'BEGIN { print e * t }' >> "$TMP/eff.rt"
+    awk -v e="$(metric relmse "$TMP/offline.$seed.$l16.pfm" "$REF")" -v t="$tof" -v s="$n16" -v f="$FRAMES" 'BEGIN { print e * t * s / f }' >> "$TMP/eff.off16"
+    awk -v e="$(metric relmse "$TMP/offline.$seed.$last.pfm" "$REF")" -v t="$tof" 'BEGIN { print e * t }' >> "$TMP/eff.off"
+done
+{ echo "| quantity (relMSE × seconds: lower is better at equal time) | mean ± 95% half-width over seeds |"
+  echo "| --- | --- |"
+  echo "| real-time cap 20, average of $FRAMES frames | $(mean_ci < "$TMP/eff.rt") |"
+  echo "| offline, average of $n16 frames | $(mean_ci < "$TMP/eff.off16") |"
+  echo "| offline, average of $FRAMES frames | $(mean_ci < "$TMP/eff.off") |"
+  echo "| real-time ($FRAMES) / offline ($n16), paired by seed | $(paste "$TMP/eff.rt" "$TMP/eff.off16" | awk '{ print $1 / $2 }' | mean_ci) |"
+  echo "| real-time ($FRAMES) / offline ($FRAMES), paired by seed | $(paste "$TMP/eff.rt" "$TMP/eff.off" | awk '{ print $1 / $2 }' | mean_ci) |"
+} > "$OUT/fig9b-equal-time.md"
 "$R" plot "$csv" -o "$OUT/fig9b.svg" --title "GRIS Fig. 9b: averaging frames at equal time, cornell ${SIZE}^2" \
     --xlabel "seconds" --ylabel "relMSE"
-echo "wrote $OUT/fig9a.{csv,md,svg} running-average.{csv,md,svg} running-average-bias.md fig9b.{csv,md,svg}"
+echo "wrote $OUT/fig9a.{csv,md,svg} fig9a-steady.md fig9b-equal-time.md running-average.{csv,md,svg} running-average-bias.md fig9b.{csv,md,svg}"

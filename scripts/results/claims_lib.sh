@@ -17,11 +17,14 @@ cpu_sequence() {
 metric_of() { "$R" compare "$1" "$2" | awk -v k="$3" '$1 == k { print $2 }'; }
 
 # masked_nmse RUN REF MASK LO,HI: the run's nmse (sum (run - ref)^2 / sum ref^2, luminance)
-# over the pixels whose MASK luminance lies in [LO, HI] (`compare --bias` of the run with
-# itself: K = 2 identical runs, so the mean is this run's value)
+# over the pixels whose MASK luminance lies in [LO, HI] (`compare --bias` of the run with a
+# copy of itself: K = 2 identical runs, so the mean is this run's value; a copy, because
+# compare refuses the same file twice as two inputs)
 masked_nmse() {
-    "$R" compare --bias "$1" "$1" --ref "$2" --block 1 --mask "$3" --mask-range "$4" |
+    cp "$1" "$1.dup.pfm"
+    "$R" compare --bias "$1" "$1.dup.pfm" --ref "$2" --block 1 --mask "$3" --mask-range "$4" |
         awk '$1 == "nmse" { print $2 }'
+    rm -f "$1.dup.pfm"
 }
 
 # ratio_ci NUM_FILE DEN_FILE: the per-line ratios num/den (paired: line k of both files is
