@@ -37,7 +37,8 @@ int fuzz_inflate(const uint8_t *data, size_t size);
 
 /* The readers take a path, so the input goes to a file NAME in a private directory
  * (on tmpfs, /dev/shm, when there is one; removed at exit). Next to it lie the
- * companion files quad.obj and quad.mtl (a lit quad) that fuzzed scene files and OBJ
+ * companion files quad.obj and quad.mtl (a lit quad), tex.obj and tex.mtl (a textured
+ * emissive quad) and sky.pfm (its maps; an environment map) that fuzzed scene files and OBJ
  * files can name. Returns the file's path, or NULL if it cannot be written. */
 const char *fuzz_write_file(const char *name, const uint8_t *data, size_t size);
 
