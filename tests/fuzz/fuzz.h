@@ -43,8 +43,10 @@ int fuzz_inflate(const uint8_t *data, size_t size);
 const char *fuzz_write_file(const char *name, const uint8_t *data, size_t size);
 
 /* Writes the input to NAME (.obj or .scene), loads it with scene_load and, if that
- * succeeds, builds it with scene_prepare (BVH, emitters): a hostile file must be
- * rejected with a message or give a scene every later stage can build. */
+ * succeeds and it has at most FUZZ_PREPARE_MAX_TRIANGLES triangles, builds it with
+ * scene_prepare (BVH, emitters): a hostile file must be rejected with a message or give a
+ * scene every later stage can build. */
+#define FUZZ_PREPARE_MAX_TRIANGLES 4096
 void fuzz_load_scene(const char *name, const uint8_t *data, size_t size);
 
 #endif
