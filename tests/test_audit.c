@@ -147,6 +147,28 @@ TEST(audit_progress_lines_beyond_render)
     CHECK(test_cli(out, sizeof out, "merge -o x.pfm %s --counts 1,1,1,1 --progress sometimes", runs) == 2);
 }
 
+/* `restir generate` shows render's progress per phase (building the mesh, writing the
+ * OBJ) as plain lines with the ETA in a log, none with --progress none, none by default for
+ * a call shorter than --progress-every (5 s); the files are complete either way. */
+TEST(audit_generate_progress_lines)
+{
+    const char *obj = test_tmp_path("audit-gen.obj");
+    char *text;
+    CHECKF(test_cli(out, sizeof out, "generate sphere --subdivisions 100 --progress lines --progress-every 0.01 -o %s", obj) ==
+                   0 &&
+               strstr(out, "generate: building the mesh: 100% (600/600), ") &&
+               strstr(out, "generate: writing OBJ: 100% (") && strstr(out, "ETA"),
+           "%s", out);
+    text = test_read_text(obj);
+    CHECKF(text && strstr(text, "# 60006 vertices, 120002 triangles"), "%.200s", text ? text : "(no OBJ)");
+    free(text);
+    CHECKF(test_cli(out, sizeof out, "generate sphere --subdivisions 100 --progress none --progress-every 0.01 -o %s", obj) ==
+                   0 && !strstr(out, "generate:"),
+           "%s", out);
+    CHECKF(test_cli(out, sizeof out, "generate sphere --subdivisions 20 -o %s", obj) == 0 && !strstr(out, "ETA"), "%s", out);
+    CHECK(test_cli(out, sizeof out, "generate ajar --progress sometimes -o %s", obj) == 2);
+}
+
 /* SIGINT during `bench animation` (its last step, the animated 1M-triangle sphere, takes
  * seconds): the step finishes, the JSON array is closed over the complete entries, exit
  * 130 with how many steps ran. */
