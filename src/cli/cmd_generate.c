@@ -33,7 +33,7 @@ typedef struct {
     char label[64];
 } generate_shown;
 
-static void show_step(void *ctx, const char *phase, long done, long total)
+static int show_step(void *ctx, const char *phase, long done, long total)
 {
     generate_shown *g = ctx;
     if (strcmp(g->phase, phase)) {
@@ -44,6 +44,7 @@ static void show_step(void *ctx, const char *phase, long done, long total)
         progress_expect(&g->bar, total);
     }
     progress_update(&g->bar, done, total);
+    return 0; /* generate stops on a signal by removing its outputs (signal_cleanup.h) */
 }
 
 static void show_end(generate_shown *g)

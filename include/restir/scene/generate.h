@@ -20,9 +20,11 @@ int generate_displaced_sphere(scene *s, int subdivisions, rerror *e);
  * triangles, about a minute to build and write): step(ctx, phase, done, total) is called
  * often (every grid row, every few thousand OBJ lines; the caller rate-limits its output)
  * with done = total at the end of each phase. phase names what runs ("building the mesh",
- * "writing OBJ"). The library prints nothing: the CLI shows it (progress.h). */
+ * "writing OBJ"). The library prints nothing: the CLI shows it (progress.h). A nonzero
+ * return stops the work (`restir bench` on SIGINT): the function fails ("cancelled"),
+ * leaving nothing (the scene freed, no OBJ or MTL written). */
 typedef struct {
-    void (*step)(void *ctx, const char *phase, long done, long total);
+    int (*step)(void *ctx, const char *phase, long done, long total);
     void *ctx;
 } generate_progress;
 
