@@ -235,6 +235,33 @@ TEST(oracle_gbuffer_dump_length_checked_before_allocating)
     gbuffer_free(&g);
 }
 
+/* A manifest number beyond +-2^53 is refused by name before its conversion to long (the
+ * fuzzer's finding: "y": 1e33 was converted, undefined behaviour). */
+TEST(oracle_manifest_huge_number_refused)
+{
+    char dir[1200], path[1300];
+    stage_manifest *m = malloc(sizeof *m);
+    FILE *fp;
+    rerror e;
+    snprintf(dir, sizeof dir, "%s/manifest-huge", test_tmpdir());
+    snprintf(path, sizeof path, "mkdir -p '%s'", dir);
+    CHECK(m && system(path) == 0);
+    snprintf(path, sizeof path, "%s/manifest.json", dir);
+    fp = fopen(path, "w");
+    CHECK(fp != NULL);
+    if (!fp || !m) {
+        free(m);
+        return;
+    }
+    fputs("{\"format\": \"restir-stage-dump\", \"frames\": {\"first\": 0, \"last\": 1},\n"
+          "\"stage_order\": [\"initial\"], \"region\": {\"x\": 0, \"y\": 1e33, \"width\": 1, \"height\": 1}}\n",
+          fp);
+    fclose(fp);
+    CHECK(stage_manifest_read(dir, m, &e) != 0);
+    CHECKF(strstr(e.msg, "manifest.json:2: number 1e+33 is out of range") != NULL, "%s", e.msg);
+    free(m);
+}
+
 /* Unit checks of the comparison itself. */
 TEST(oracle_dump_diff_unit)
 {

@@ -488,10 +488,15 @@ int stage_io_frame_end(stage_io *io, const void *restir_opts, rerror *e)
 
 /* ---- reading a manifest (diff-dump, restart) ----------------------------------------- */
 
+/* An integer of the manifest (frames, pixels, seed): refused beyond +-2^53 before the
+ * conversion, which is undefined for a double outside long's range (the fuzzer's finding:
+ * "y": 1e33, tests/data/fuzz/dump/crash-manifest-huge-y.json). */
 static int read_long(json_reader *r, long *v)
 {
     double d;
     if (json_read_number(r, &d)) return -1;
+    if (!(fabs(d) <= 9007199254740992.0))
+        return rerror_at(r->e, r->path, r->line, "number %g is out of range (a manifest's integers are below 2^53)", d);
     *v = (long)d;
     return 0;
 }
