@@ -188,6 +188,14 @@ row "generate on a full disk (was: the MTL left behind)" 2 "" "$DISK \$R generat
 row "generate sphere --subdivisions 8192 (was: accepted: 805M triangles, about 50 GB by extrapolation)" 2 "" "\$R generate sphere --subdivisions 8192 -o s.obj"
 row "generate -o into /dev" 2 "" "\$R generate ajar -o /dev/restir-g.obj"
 row "SIGTERM during generate (was: a 98 MB OUT.obj.tmp.PID left)" 143 "" "timeout --preserve-status -s TERM 0.5 \$R generate sphere --subdivisions 600 -o s.obj"
+row "generate --progress sometimes" 2 "" "\$R generate sphere --progress sometimes -o s.obj"
+# bench: the JSON goes to b.json; the message's last line is b.json's last entry
+BENCH_INT() { # SIGNAL SECONDS ARGS: bench ARGS > b.json, signalled; b.json's last entry on stderr
+    echo "timeout --preserve-status -s $1 $2 \$R bench $3 > b.json; s=\$?; tail -n 2 b.json | head -n 1 >&2; exit \$s"
+}
+row "SIGINT 0.3 s into bench restir (was: waited for the 6 s step, then a closed array that looked complete)" 130 "" "$(BENCH_INT INT 0.3 "restir $S/cornell.scene --threads 2")"
+row "SIGTERM 0.3 s into bench animation (the shipped scenes, then the 270k-triangle sphere)" 143 "ln -s $S scenes" "$(BENCH_INT TERM 0.3 "animation --generated 150 --threads 2")"
+row "SIGINT 0.3 s into bench pairing-sigma (was: 120 s, no step boundary)" 130 "" "$(BENCH_INT INT 0.3 pairing-sigma)"
 row "stats mean-ci of one 8.9 kB line 1..2000 (was: numbers split at 4096 bytes, mean 998.1)" 0 "seq 1 2000 | tr '\\n' ' ' > l.txt" "\$R stats mean-ci l.txt --format '%.6g +- %.3g'"
 row "stats mean-ci of 1e308 1e308 -1e308 (was: 'inf +- -nan', exit 0)" 2 "echo 1e308 1e308 -1e308 > b.txt" "\$R stats mean-ci b.txt"
 row "stats mean-ci of a directory" 2 "mkdir d" "\$R stats mean-ci d"

@@ -195,6 +195,73 @@ TEST(oracle_kit_bad_input)
     CHECK(test_cli(out, sizeof out, "diff-dump %s", a) == 2);
 }
 
+/* A G-buffer dump whose header claims more texels than the file holds is refused before
+ * anything is allocated (the fuzzer's finding: a 32-byte file claiming 8000 x 8000 made
+ * the reader allocate 7 GB, and 65536 x 65536 460 GB), and so is one with bytes after the
+ * last texel; the exact length is read. */
+static const char *gbuffer_file(const char *name, uint32_t w, uint32_t h, size_t texels, size_t extra)
+{
+    static char path[1200];
+    unsigned char head[GBUFFER_DUMP_HEADER_SIZE], *p = head;
+    const uint32_t fields[7] = {GBUFFER_DUMP_VERSION, GBUFFER_DUMP_HEADER_SIZE, GBUFFER_DUMP_RECORD_SIZE, 0, 0, 3, 0};
+    size_t i;
+    FILE *fp;
+    memcpy(p, GBUFFER_DUMP_MAGIC, 8);
+    for (i = 0; i < 6; ++i) { /* little-endian u32: version, sizes, width, height, frame */
+        uint32_t v = i == 3 ? w : i == 4 ? h : fields[i];
+        p[8 + 4 * i] = (unsigned char)v, p[9 + 4 * i] = (unsigned char)(v >> 8);
+        p[10 + 4 * i] = (unsigned char)(v >> 16), p[11 + 4 * i] = (unsigned char)(v >> 24);
+    }
+    snprintf(path, sizeof path, "%s/%s", test_tmpdir(), name);
+    if (!(fp = fopen(path, "wb"))) return path;
+    fwrite(head, 1, sizeof head, fp);
+    for (i = 0; i < texels * GBUFFER_DUMP_RECORD_SIZE + extra; ++i) fputc(0, fp);
+    fclose(fp);
+    return path;
+}
+
+TEST(oracle_gbuffer_dump_length_checked_before_allocating)
+{
+    gbuffer g;
+    uint32_t frame;
+    rerror e;
+    CHECK(gbuffer_dump_read(gbuffer_file("huge.gbuf", 8000, 8000, 0, 0), &g, &frame, &e) != 0);
+    CHECKF(strstr(e.msg, "file has 32 bytes, the header implies") != NULL, "%s", e.msg);
+    CHECK(gbuffer_dump_read(gbuffer_file("long.gbuf", 2, 1, 2, 1), &g, &frame, &e) != 0);
+    CHECKF(strstr(e.msg, "file has 249 bytes, the header implies 248") != NULL, "%s", e.msg);
+    CHECKF(gbuffer_dump_read(gbuffer_file("exact.gbuf", 2, 1, 2, 0), &g, &frame, &e) == 0, "%s", e.msg);
+    if (test_has_failed()) return;
+    CHECK(g.width == 2 && g.height == 1 && frame == 3);
+    gbuffer_free(&g);
+}
+
+/* A manifest number beyond +-2^53 is refused by name before its conversion to long (the
+ * fuzzer's finding: "y": 1e33 was converted, undefined behaviour). */
+TEST(oracle_manifest_huge_number_refused)
+{
+    char dir[1200], path[1300];
+    stage_manifest *m = malloc(sizeof *m);
+    FILE *fp;
+    rerror e;
+    snprintf(dir, sizeof dir, "%s/manifest-huge", test_tmpdir());
+    snprintf(path, sizeof path, "mkdir -p '%s'", dir);
+    CHECK(m && system(path) == 0);
+    snprintf(path, sizeof path, "%s/manifest.json", dir);
+    fp = fopen(path, "w");
+    CHECK(fp != NULL);
+    if (!fp || !m) {
+        free(m);
+        return;
+    }
+    fputs("{\"format\": \"restir-stage-dump\", \"frames\": {\"first\": 0, \"last\": 1},\n"
+          "\"stage_order\": [\"initial\"], \"region\": {\"x\": 0, \"y\": 1e33, \"width\": 1, \"height\": 1}}\n",
+          fp);
+    fclose(fp);
+    CHECK(stage_manifest_read(dir, m, &e) != 0);
+    CHECKF(strstr(e.msg, "manifest.json:2: number 1e+33 is out of range") != NULL, "%s", e.msg);
+    free(m);
+}
+
 /* Unit checks of the comparison itself. */
 TEST(oracle_dump_diff_unit)
 {

@@ -7,6 +7,7 @@
 #include <string.h>
 #include "restir/core/atomic_file.h"
 #include "restir/core/progress.h"
+#include "restir/core/threads.h"
 #include "restir/metrics/metrics.h"
 #include "restir/metrics/plot.h"
 #include "restir/metrics/plot_svg.h"
@@ -90,6 +91,8 @@ int equal_time_run(const equal_time_method *m, const image *reference, const equ
         start = now_seconds();
         status = m->render(m->ctx, units, target - units, reference->width, reference->height, sum, e);
         seconds += now_seconds() - start;
+        if (!status && threads_cancelled()) /* a stop (SIGINT) cut the render short: no curve */
+            status = rerror_set(e, "%s: equal-time run cancelled", out->name);
         units = target;
         if (!status) status = grow_points(out, &capacity, e);
         if (!status) status = record_point(sum, units, seconds, reference, &mean, &out->points[out->count], e);

@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include "restir/core/threads.h"
 #include "restir/metrics/stats.h"
 #include "restir/restir/pairing.h"
 
@@ -39,6 +40,10 @@ static int measure_passes(int passes, int textures, int size, uint32_t seed, pas
     for (k = 0; k < textures; ++k) {
         reuse_texture t;
         double s[2];
+        if (threads_cancelled()) { /* a stop (SIGINT, threads.h): the run is discarded, end it now */
+            free(sd);
+            return rerror_set(e, "bench pairing-sigma: cancelled");
+        }
         if (reuse_texture_build_passes(&t, size, 1, passes, seed, (uint32_t)k, e)) {
             free(sd);
             return -1;

@@ -44,16 +44,67 @@ typedef struct {
 /* Progress of a bench run: the total of `bench all` is not known before it runs (the
  * animated scenes are found on the way), so there is no bar and no ETA: a line as a
  * benchmark starts, with the time so far (every step on a terminal, in a log at most
- * one per --progress-every seconds); SIGINT / SIGTERM (stop.h) stop it at the
- * next benchmark boundary: the JSON array is closed over the complete entries. */
+ * one per --progress-every seconds).
+ *
+ * SIGINT / SIGTERM (stop.h) stop it within about a second: the stop flag is also the
+ * thread pool's abort flag (threads_set_abort), so every parallel loop of the running step
+ * (tiles, frames, timed repeats) hands out no more work and the step runs out quickly; its
+ * timings are then wrong, so each step writes its JSON to a temporary file (bench_out) that
+ * reaches stdout only when the step is complete. An interrupted or failed run ends the JSON
+ * array with an entry {"bench": "incomplete", ...} after the complete steps' entries (never
+ * a closed array that looks complete) and exits 128 + the signal (or 2). */
 static progress bench_progress;
-static int bench_steps;
+static int bench_steps, bench_committed; /* steps started; 1 once an entry reached stdout */
+static FILE *bench_out;                   /* the running step's JSON */
+static char bench_what[600];              /* the running step, for the interruption message */
 
-/* 0 to run the next benchmark (after its progress line), or 128 + the stop signal. */
+/* Appends the finished step's JSON to stdout (0), or -1 if it cannot. */
+static int step_commit(void)
+{
+    static char buf[65536];
+    size_t n;
+    int failed;
+    if (!bench_out) return 0;
+    rewind(bench_out);
+    while ((n = fread(buf, 1, sizeof buf, bench_out)) > 0) {
+        fwrite(buf, 1, n, stdout);
+        bench_committed = 1;
+    }
+    failed = ferror(bench_out) || fflush(stdout) != 0;
+    fclose(bench_out);
+    bench_out = NULL;
+    return failed ? -1 : 0;
+}
+
+static void step_discard(void)
+{
+    if (bench_out) fclose(bench_out);
+    bench_out = NULL;
+}
+
+/* A step's error message; none once a stop signal came (the step was cut short on
+ * purpose: what failed then is a consequence, bench_finish says what happened). */
+static void step_error(const rerror *e)
+{
+    if (!stop_signal()) fprintf(stderr, "%s\n", e->msg);
+}
+
+/* A new step's temporary JSON file. */
+static int step_open(void)
+{
+    if ((bench_out = tmpfile()) != NULL) return 0;
+    fprintf(stderr, "restir bench: cannot create a temporary file for a benchmark's output\n");
+    return -1;
+}
+
+/* 0 to run the next benchmark (after its progress line), 128 + the stop signal, or 2. The
+ * step before this one is complete (its caller went on): its JSON goes to stdout. */
 static int bench_step(const char *what, const char *name)
 {
     if (stop_signal()) return 128 + stop_signal();
+    if (step_commit() || step_open()) return 2;
     ++bench_steps;
+    snprintf(bench_what, sizeof bench_what, "%s on %s", what, name);
     if (progress_line_due(&bench_progress))
         fprintf(stderr, "bench: step %d: %s on %s, %.1f s elapsed\n", bench_steps, what, name,
                 now_seconds() - bench_progress.start_seconds);
@@ -66,7 +117,7 @@ typedef int (*scene_bench)(const scene *s, const char *name, const bench_args *a
 /* Separates the JSON objects of the output array. */
 static void next_object(int *first)
 {
-    if (!*first) printf(",\n");
+    if (!*first) fprintf(bench_out, ",\n");
     *first = 0;
 }
 
@@ -75,11 +126,10 @@ static int bench_rays_on(const scene *s, const char *name, const bench_args *a, 
     rerror e;
     (void)name;
     next_object(first);
-    if (bench_rays(s, &a->rays, stdout, &e)) {
-        fprintf(stderr, "%s\n", e.msg);
+    if (bench_rays(s, &a->rays, bench_out, &e)) {
+        step_error(&e);
         return 2;
     }
-    fflush(stdout);
     return 0;
 }
 
@@ -93,13 +143,26 @@ static int bench_pt_on(const scene *s, const char *name, const bench_args *a, in
     for (t = 0; t < 2; ++t) {
         if (t == 1 && counts[1] == 1) break;
         next_object(first);
-        if (bench_pt(stdout, s, name, 4, counts[t], &e)) {
-            fprintf(stderr, "%s\n", e.msg);
+        if (bench_pt(bench_out, s, name, 4, counts[t], &e)) {
+            step_error(&e);
             return 2;
         }
-        fflush(stdout);
     }
     return 0;
+}
+
+/* The generator's progress steps (generate.h): none shown, but a stop signal ends the
+ * building of a large sphere (1M triangles: about a second) at the next grid row. */
+static int generate_stops(void *ctx, const char *phase, long done, long total)
+{
+    (void)ctx, (void)phase, (void)done, (void)total;
+    return stop_signal();
+}
+
+static int generate_sphere(scene *s, int subdivisions, rerror *e)
+{
+    const generate_progress p = {generate_stops, NULL};
+    return generate_displaced_sphere_progress(s, subdivisions, &p, e);
 }
 
 /* Runs fn on the generated displaced sphere with 12 n^2 triangles. */
@@ -110,8 +173,9 @@ static int on_generated(int subdivisions, scene_bench fn, const bench_args *a, i
     int status;
     memset(&s, 0, sizeof s);
     if ((status = bench_step(fn == bench_rays_on ? "rays" : "benchmark", "generated:displaced_sphere")) != 0) return status;
-    if (generate_displaced_sphere(&s, subdivisions, &e) || scene_prepare(&s, &e)) {
-        fprintf(stderr, "%s\n", e.msg);
+    /* the BVH build is the one part of a step no stop interrupts (1M triangles: about 1 s) */
+    if (generate_sphere(&s, subdivisions, &e) || stop_signal() || scene_prepare(&s, &e)) {
+        step_error(&e);
         scene_free(&s);
         return 2;
     }
@@ -154,16 +218,16 @@ static int bench_restir_on(const scene *s, const char *name, const bench_args *a
     o.light_ris.candidates = a->light_ris;
     o.light_ris.tiles = a->light_tiles;
     sized.width = sized.height = 64;
-    status = bench_restir(stdout, &sized, name, &o, first, &e);
+    status = bench_restir(bench_out, &sized, name, &o, first, &e);
     if (!status && a->light_ris > 0) {
         next_object(first);
-        status = bench_light_selection(stdout, s, name, a->light_ris, a->light_tiles, &e);
+        status = bench_light_selection(bench_out, s, name, a->light_ris, a->light_tiles, &e);
     }
     if (!status) {
         sized.width = sized.height = 32;
-        status = bench_restir_equal_time(stdout, &sized, name, &o, 4096, 3, first, &e);
+        status = bench_restir_equal_time(bench_out, &sized, name, &o, 4096, 3, first, &e);
     }
-    if (status) fprintf(stderr, "%s\n", e.msg);
+    if (status) step_error(&e);
     return status ? 2 : 0;
 }
 
@@ -185,33 +249,36 @@ static int bench_animation_on(const scene *src, const char *name, const bench_ar
     int f0 = 0, f1 = 0, n = 0, f, step, frames = src->triangle_count > 200000 ? 3 : 17;
     (void)a;
     if (scene_clone(&s, src, &e)) {
-        fprintf(stderr, "%s\n", e.msg);
+        step_error(&e);
         return 2;
     }
     if (scene_frame_range(&s, &f0, &f1)) f0 = f1 = 0;
     step = (f1 - f0) / (frames - 1) > 0 ? (f1 - f0) / (frames - 1) : 1;
     for (f = f0; f <= f1 && n < frames; f += step) {
         double t0 = now_seconds(), t1;
+        if (threads_cancelled()) { /* stopped (SIGINT): the step is discarded, end it now */
+            scene_free(&s);
+            return 0;
+        }
         if (scene_pose_at(&s, f, &e)) break;
         t1 = now_seconds();
-        if (scene_prepare(&s, &e)) break;
+        if (threads_cancelled() || scene_prepare(&s, &e)) break;
         ms[n] = 1e3 * (t1 - t0);
         build[n] = 1e3 * (now_seconds() - t1);
         sum += ms[n++];
     }
     if (f <= f1 && n < frames) {
-        fprintf(stderr, "%s\n", e.msg);
+        step_error(&e);
         scene_free(&s);
         return 2;
     }
     next_object(first);
-    printf("{\"bench\": \"animation\", \"scene\": \"%s\", \"triangles\": %zu, \"animated_objects\": %zu, "
+    fprintf(bench_out, "{\"bench\": \"animation\", \"scene\": \"%s\", \"triangles\": %zu, \"animated_objects\": %zu, "
            "\"frames\": %d, \"pose_ms_mean\": %.3f, ",
            name, s.triangle_count, scene_animated_object_count(&s), n, n ? sum / n : 0.0);
     qsort(ms, (size_t)n, sizeof *ms, cmp_double);
     qsort(build, (size_t)n, sizeof *build, cmp_double);
-    printf("\"pose_ms_median\": %.3f, \"bvh_build_ms_median\": %.3f}", n ? ms[n / 2] : 0.0, n ? build[n / 2] : 0.0);
-    fflush(stdout);
+    fprintf(bench_out, "\"pose_ms_median\": %.3f, \"bvh_build_ms_median\": %.3f}", n ? ms[n / 2] : 0.0, n ? build[n / 2] : 0.0);
     scene_free(&s);
     return 0;
 }
@@ -231,9 +298,9 @@ static int bench_animation_generated(int subdivisions, const bench_args *a, int 
     k[1].angle_degrees = 180;
     k[1].translate = v3((real)0.2, 0, 0);
     if ((status = bench_step("animation", "generated:displaced_sphere(animated)")) != 0) return status;
-    if (generate_displaced_sphere(&s, subdivisions, &e) || scene_add_object_animation(&s, 0, v3(0, 0, 0), k, 2, &e) ||
-        scene_prepare(&s, &e)) {
-        fprintf(stderr, "%s\n", e.msg);
+    if (generate_sphere(&s, subdivisions, &e) || scene_add_object_animation(&s, 0, v3(0, 0, 0), k, 2, &e) ||
+        stop_signal() || scene_prepare(&s, &e)) {
+        step_error(&e);
         scene_free(&s);
         return 2;
     }
@@ -274,8 +341,8 @@ static int bench_realtime_on(const scene *s, const char *name, const bench_args 
     o.threads = a->rays.threads > 0 ? a->rays.threads : threads_default();
     sized.width = sized.height = 256;
     if (scene_frame_range(s, &f0, &f1) == 0 && f1 > f0 + 15) f1 = f0 + 15;
-    status = bench_realtime(stdout, &sized, name, &o, f0, f1, first, &e);
-    if (status) fprintf(stderr, "%s\n", e.msg);
+    status = bench_realtime(bench_out, &sized, name, &o, f0, f1, first, &e);
+    if (status) step_error(&e);
     return status ? 2 : 0;
 }
 
@@ -285,8 +352,10 @@ static int bench_realtime_on(const scene *s, const char *name, const bench_args 
 static int bench_pairing_sigma_run(const bench_args *a, int *first)
 {
     rerror e;
-    int status = bench_pairing_sigma(stdout, a->textures > 0 ? a->textures : 16, 254, 1, first, &e);
-    if (status) fprintf(stderr, "%s\n", e.msg);
+    int status = bench_step("pairing-sigma", "reuse textures");
+    if (status) return status;
+    status = bench_pairing_sigma(bench_out, a->textures > 0 ? a->textures : 16, 254, 1, first, &e);
+    if (status) step_error(&e);
     return status ? 2 : 0;
 }
 
@@ -300,9 +369,9 @@ static int bench_scaling_on(const scene *s, const char *name, const bench_args *
     restir_options_preset_gris_realtime(&o);
     sized.width = a->has_rays_size ? a->rays_size[0] : 512;
     sized.height = a->has_rays_size ? a->rays_size[1] : 512;
-    status = bench_scaling(stdout, &sized, name, &o, 4, a->rays.threads > 1 ? a->rays.threads : 2,
+    status = bench_scaling(bench_out, &sized, name, &o, 4, a->rays.threads > 1 ? a->rays.threads : 2,
                            a->has_repeats ? a->rays.repeats : 3, first, &e);
-    if (status) fprintf(stderr, "%s\n", e.msg);
+    if (status) step_error(&e);
     return status ? 2 : 0;
 }
 
@@ -313,8 +382,8 @@ static int bench_stochastic_on(const scene *s, const char *name, const bench_arg
     rerror e;
     int status;
     sized.width = sized.height = 256;
-    status = bench_stochastic(stdout, &sized, name, a->rays.threads > 0 ? a->rays.threads : threads_default(), first, &e);
-    if (status) fprintf(stderr, "%s\n", e.msg);
+    status = bench_stochastic(bench_out, &sized, name, a->rays.threads > 0 ? a->rays.threads : threads_default(), first, &e);
+    if (status) step_error(&e);
     return status ? 2 : 0;
 }
 
@@ -330,8 +399,8 @@ static int bench_mutations_on(const scene *s, const char *name, const bench_args
     o.threads = a->rays.threads > 0 ? a->rays.threads : threads_default();
     o.mutation.count = 1;
     sized.width = sized.height = 256;
-    status = bench_mutations(stdout, &sized, name, &o, 0, 3, first, &e);
-    if (status) fprintf(stderr, "%s\n", e.msg);
+    status = bench_mutations(bench_out, &sized, name, &o, 0, 3, first, &e);
+    if (status) step_error(&e);
     return status ? 2 : 0;
 }
 
@@ -407,6 +476,27 @@ static int bench_all(const bench_args *a, int *first)
     return status;
 }
 
+/* Closes the JSON array. A run that did not complete ends it with an "incomplete" entry
+ * (why, and how many steps before the one cut short are on stdout) and says on stderr, in
+ * one line, what was interrupted. */
+static void bench_finish(int status)
+{
+    int kept = bench_steps > 0 ? bench_steps - 1 : 0;
+    if (status == 0) {
+        printf("\n]\n");
+        fflush(stdout);
+        return;
+    }
+    printf("%s{\"bench\": \"incomplete\", \"complete\": false, \"reason\": \"%s\", \"complete_steps\": %d}\n]\n",
+           bench_committed ? ",\n" : "", status > 128 && stop_signal() ? stop_signal_name() : "error", kept);
+    fflush(stdout);
+    if (status > 128 && stop_signal())
+        fprintf(stderr, "restir bench: interrupted by %s during step %d (%s) after %.1f s: stdout holds the %d complete "
+                        "step(s) and an \"incomplete\" entry\n",
+                stop_signal_name(), bench_steps, bench_steps ? bench_what : "start", now_seconds() - bench_progress.start_seconds,
+                kept);
+}
+
 int cmd_bench(int argc, char **argv)
 {
     bench_args a;
@@ -460,7 +550,10 @@ int cmd_bench(int argc, char **argv)
     progress_set_mode((enum progress_mode)a.progress, a.progress_every);
     progress_begin(&bench_progress, "bench", 0);
     stop_signals_install();
+    threads_set_abort(&stop_requested);
     printf("[\n");
+    fflush(stdout);
+    if (step_open()) return 2;
     if (!strcmp(positional[0], "all")) status = bench_all(&a, &first);
     else if (!strcmp(positional[0], "restir"))
         status = on_file(count > 1 ? positional[1] : "scenes/cornell.scene", bench_restir_on, &a, &first);
@@ -478,12 +571,12 @@ int cmd_bench(int argc, char **argv)
         status = count > 1 ? on_file(positional[1], bench_realtime_on, &a, &first) : bench_realtime_animated(&a, &first);
     else if (a.generated) status = on_generated(a.generated, bench_rays_on, &a, &first);
     else status = on_file(positional[1], bench_rays_on, &a, &first);
-    printf("\n]\n");
+    if (stop_signal()) status = 128 + stop_signal(); /* a step was cut short (its errors are the stop's) */
+    if (status == 0 && step_commit()) status = 2;
+    step_discard();
+    bench_finish(status);
+    threads_set_abort(NULL);
     stop_signals_restore();
     progress_end(&bench_progress);
-    if (status == 0 && stop_signal()) status = 128 + stop_signal(); /* during the last step: all complete */
-    if (status > 128 && stop_signal())
-        fprintf(stderr, "restir bench: interrupted by %s after %d step(s): the JSON on stdout holds their complete "
-                        "entries only\n", stop_signal_name(), bench_steps);
     return status;
 }

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "restir/cli/cli.h"
+#include "restir/core/progress.h"
 #include "restir/scene/generate.h"
 #include "restir/scene/generate_atrium.h"
 #include "restir/scene/generate_rooms.h"
@@ -17,7 +18,40 @@ typedef struct {
     int subdivisions;
     int no_scene;
     int angle_seen, subdivisions_seen;
+    int progress;          /* --progress (enum progress_mode) */
+    double progress_every; /* --progress-every */
 } generate_args;
+
+/* The library's progress steps (generate.h) shown as render's progress (progress.h), one
+ * per phase: `generate: writing OBJ: 40% (...), 4.0 s elapsed, ETA 6.0 s` every
+ * --progress-every seconds in a log, a bar on a terminal. Only `sphere` with a large
+ * --subdivisions runs long enough to show any (2000: about a minute); the other kinds take
+ * well under a second. */
+typedef struct {
+    progress bar;
+    char phase[48]; /* the phase shown ("": none begun) */
+    char label[64];
+} generate_shown;
+
+static int show_step(void *ctx, const char *phase, long done, long total)
+{
+    generate_shown *g = ctx;
+    if (strcmp(g->phase, phase)) {
+        if (g->phase[0]) progress_end(&g->bar);
+        snprintf(g->phase, sizeof g->phase, "%s", phase);
+        snprintf(g->label, sizeof g->label, "generate: %s", phase);
+        progress_begin(&g->bar, g->label, 0);
+        progress_expect(&g->bar, total);
+    }
+    progress_update(&g->bar, done, total);
+    return 0; /* generate stops on a signal by removing its outputs (signal_cleanup.h) */
+}
+
+static void show_end(generate_shown *g)
+{
+    if (g->phase[0]) progress_end(&g->bar);
+    g->phase[0] = '\0';
+}
 
 #define GENERATE_KINDS_TEXT "ajar, glass, corridor, sphere, pillars, shadow, ajar-swing, ajar-swing-still, many-lights, many-lights-sky, atrium"
 
@@ -113,7 +147,7 @@ static void describe(const char *kind, const generate_args *a, char *out, size_t
                  a->subdivisions, base_name(a->output));
 }
 
-static int generate_kind(const char *kind, const generate_args *a, scene *s, rerror *e)
+static int generate_kind(const char *kind, const generate_args *a, const generate_progress *p, scene *s, rerror *e)
 {
     if (!strcmp(kind, "ajar")) return generate_ajar(s, a->door_angle, e);
     if (!strcmp(kind, "glass")) return generate_glass_room(s, e);
@@ -125,7 +159,7 @@ static int generate_kind(const char *kind, const generate_args *a, scene *s, rer
     if (!strcmp(kind, "many-lights")) return generate_many_lights(s, e);
     if (!strcmp(kind, "many-lights-sky")) return generate_many_lights_sky(s, e);
     if (!strcmp(kind, "atrium")) return generate_atrium(s, e);
-    return generate_displaced_sphere(s, a->subdivisions, e);
+    return generate_displaced_sphere_progress(s, a->subdivisions, p, e);
 }
 
 int cmd_generate(int argc, char **argv)
@@ -137,6 +171,8 @@ int cmd_generate(int argc, char **argv)
     int count, status;
     scene s;
     rerror e;
+    generate_shown shown;
+    generate_progress steps;
     memset(&a, 0, sizeof a);
     a.door_angle = AJAR_DEFAULT_DOOR_ANGLE;
     a.subdivisions = 92;
@@ -149,6 +185,7 @@ int cmd_generate(int argc, char **argv)
              * from 300: 67 MB resident, a 45 MB OBJ) */
             {"--subdivisions", OPT_INT, &a.subdivisions, "sphere: grid size per cube face, 1..2000 (default 92: 100k triangles)", NULL, 1, 2000, &a.subdivisions_seen},
             {"--no-scene", OPT_FLAG, &a.no_scene, "write only the OBJ and MTL", NULL, 0, 0, NULL},
+            CLI_PROGRESS_ROWS(&a.progress, &a.progress_every),
             {NULL, OPT_FLAG, NULL, NULL, NULL, 0, 0, NULL},
         };
         status = cli_parse("generate", argc, argv, options, positional, 2, &count);
@@ -182,7 +219,13 @@ int cmd_generate(int argc, char **argv)
         const named_file outs[] = {{a.output, "-o"}, {mtl_path, "the MTL"}, {a.no_scene ? NULL : scene_path, "the scene file"}};
         if (outputs_ready("generate", outs, 3, NULL, 0)) return 2;
     }
-    if (generate_kind(positional[0], &a, &s, &e)) {
+    memset(&shown, 0, sizeof shown);
+    steps.step = show_step;
+    steps.ctx = &shown;
+    progress_set_mode((enum progress_mode)a.progress, a.progress_every);
+    status = generate_kind(positional[0], &a, &steps, &s, &e);
+    show_end(&shown);
+    if (status) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
@@ -190,7 +233,8 @@ int cmd_generate(int argc, char **argv)
     file_before_note(&before[0], a.output);
     file_before_note(&before[1], mtl_path);
     file_before_note(&before[2], scene_path);
-    status = generate_write_obj(&s, a.output, &e);
+    status = generate_write_obj_progress(&s, a.output, &steps, &e);
+    show_end(&shown);
     if (!status && !a.no_scene) status = generate_write_scene_file(&s, scene_path, base_name(a.output), comment, &e);
     if (status) {
         /* exit 2 leaves nothing: the OBJ or MTL committed before the failure goes too */

@@ -1,6 +1,7 @@
 /* Small JSON writer helpers and a strict pull reader (json_text.h). */
 #include "restir/core/json_text.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -134,10 +135,14 @@ int json_read_string(json_reader *r, char *buf, size_t size)
                 char hex[5];
                 long code;
                 char *end;
-                memcpy(hex, r->text + r->pos, 4);
-                hex[4] = '\0';
+                size_t k;
+                /* at most the 4 digits, never past the text's end: a file ending in "\u"
+                 * was read beyond its buffer (the fuzzer's finding under ASan,
+                 * tests/data/fuzz/dump/crash-json-truncated-u-escape.json) */
+                for (k = 0; k < 4 && isxdigit((unsigned char)r->text[r->pos + k]); ++k) hex[k] = r->text[r->pos + k];
+                hex[k] = '\0';
                 code = strtol(hex, &end, 16);
-                if (end != hex + 4 || code <= 0 || code >= 128)
+                if (k < 4 || end != hex + 4 || code <= 0 || code >= 128)
                     return rerror_at(r->e, r->path, r->line, "unsupported \\u escape in a JSON string");
                 r->pos += 4;
                 c = (char)code;

@@ -62,7 +62,12 @@ volatile sig_atomic_t *threads_set_cancel(volatile sig_atomic_t *flag)
     return old;
 }
 
-int threads_cancelled(void) { return cancel_flag && *cancel_flag; }
+/* The abort flag (threads_set_abort): outside the nesting of the cancel flag. */
+static volatile sig_atomic_t *abort_flag;
+
+void threads_set_abort(volatile sig_atomic_t *flag) { abort_flag = flag; }
+
+int threads_cancelled(void) { return (cancel_flag && *cancel_flag) || (abort_flag && *abort_flag); }
 
 static void (*tick_fn)(void *);
 static void *tick_ctx;

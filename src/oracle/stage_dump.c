@@ -488,10 +488,15 @@ int stage_io_frame_end(stage_io *io, const void *restir_opts, rerror *e)
 
 /* ---- reading a manifest (diff-dump, restart) ----------------------------------------- */
 
+/* An integer of the manifest (frames, pixels, seed): refused beyond +-2^53 before the
+ * conversion, which is undefined for a double outside long's range (the fuzzer's finding:
+ * "y": 1e33, tests/data/fuzz/dump/crash-manifest-huge-y.json). */
 static int read_long(json_reader *r, long *v)
 {
     double d;
     if (json_read_number(r, &d)) return -1;
+    if (!(fabs(d) <= 9007199254740992.0))
+        return rerror_at(r->e, r->path, r->line, "number %g is out of range (a manifest's integers are below 2^53)", d);
     *v = (long)d;
     return 0;
 }
@@ -740,6 +745,7 @@ int gbuffer_dump_read(const char *path, gbuffer *g, uint32_t *frame, rerror *e)
     const unsigned char *p = head + 8;
     uint32_t version, hsize, rsize, w, h;
     size_t i, n;
+    struct stat st;
     FILE *fp = fopen(path, "rb");
     memset(g, 0, sizeof *g);
     if (!fp) return rerror_at(e, path, 0, "cannot open: %s", strerror(errno));
@@ -760,6 +766,15 @@ int gbuffer_dump_read(const char *path, gbuffer *g, uint32_t *frame, rerror *e)
                          version, hsize, rsize, w, h, GBUFFER_DUMP_VERSION);
     }
     n = (size_t)w * h;
+    /* The length before allocating: a 32-byte header claiming 8000 x 8000 texels made this
+     * allocate 7 GB (the fuzzer's finding, tests/data/fuzz/dump/crash-gbuffer-huge.gbuf). */
+    if (fstat(fileno(fp), &st) == 0 && S_ISREG(st.st_mode) &&
+        (uint64_t)st.st_size != GBUFFER_DUMP_HEADER_SIZE + (uint64_t)n * GBUFFER_DUMP_RECORD_SIZE) {
+        fclose(fp);
+        return rerror_at(e, path, 0, "file has %lld bytes, the header implies %llu (%ux%u texels)",
+                         (long long)st.st_size,
+                         (unsigned long long)(GBUFFER_DUMP_HEADER_SIZE + (uint64_t)n * GBUFFER_DUMP_RECORD_SIZE), w, h);
+    }
     g->width = (int)w;
     g->height = (int)h;
     g->texels = rmalloc(n, sizeof *g->texels, e);

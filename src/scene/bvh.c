@@ -158,11 +158,14 @@ typedef struct {
 } bin;
 
 /* Bin of a centroid coordinate; used for both binning and partitioning so that the
- * two always agree. */
+ * two always agree. Clamped as a float before the conversion: a centroid extent below
+ * about 1e-37 makes scale infinite, and (int) of inf or NaN is undefined (the fuzzer's
+ * finding, tests/data/fuzz/scene/crash-bvh-bin-inf.scene: a light disk of radius 2e-28). */
 static int bin_of(float c, float lo, float scale)
 {
-    int k = (int)((c - lo) * scale);
-    return k < 0 ? 0 : (k >= BVH_BINS ? BVH_BINS - 1 : k);
+    float t = (c - lo) * scale;
+    if (!(t >= 0)) return 0; /* negative, or NaN (0 * inf) */
+    return t >= (float)BVH_BINS ? BVH_BINS - 1 : (int)t;
 }
 
 typedef struct {

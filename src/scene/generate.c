@@ -70,10 +70,20 @@ static triangle make_triangle(uint32_t a, uint32_t b, uint32_t c, uint32_t mater
 /* Face (axis, side) of the cube: the grid spans the two other axes u = axis+1,
  * v = axis+2 (cyclic), whose cross product is +axis; the winding is reversed on the
  * negative side so that every face normal points outward. */
-static void add_cube_face(scene *s, lattice_map *m, int n, int axis, int positive)
+/* Nonzero: the caller asks to stop (generate_progress). */
+static int report(const generate_progress *p, const char *phase, long done, long total)
+{
+    return p && p->step ? p->step(p->ctx, phase, done, total) : 0;
+}
+
+/* face: 0..5, the faces before this one (for the progress in grid rows, 6 n in all).
+ * Returns nonzero if the progress callback asked to stop. */
+static int add_cube_face(scene *s, lattice_map *m, int n, int axis, int positive, int face,
+                         const generate_progress *p)
 {
     int iu, iv, u = (axis + 1) % 3, v = (axis + 2) % 3;
     for (iv = 0; iv < n; ++iv) {
+        if (report(p, "building the mesh", (long)face * n + iv, 6L * n)) return 1;
         for (iu = 0; iu < n; ++iu) {
             int p[4][3], q;
             uint32_t id[4];
@@ -93,6 +103,7 @@ static void add_cube_face(scene *s, lattice_map *m, int n, int axis, int positiv
             }
         }
     }
+    return 0;
 }
 
 static material make_material(const char *name, real albedo, real emission)
@@ -130,6 +141,11 @@ static void add_light(scene *s)
 
 int generate_displaced_sphere(scene *s, int subdivisions, rerror *e)
 {
+    return generate_displaced_sphere_progress(s, subdivisions, NULL, e);
+}
+
+int generate_displaced_sphere_progress(scene *s, int subdivisions, const generate_progress *p, rerror *e)
+{
     int n = subdivisions, axis;
     size_t max_vertices, max_triangles;
     lattice_map m;
@@ -151,10 +167,12 @@ int generate_displaced_sphere(scene *s, int subdivisions, rerror *e)
     s->object_names = rcalloc(2, sizeof *s->object_names, e);
     if (!m.keys || !m.values || !s->positions || !s->triangles || !s->materials || !s->object_names) goto fail;
 
-    for (axis = 0; axis < 3; ++axis) {
-        add_cube_face(s, &m, n, axis, 1);
-        add_cube_face(s, &m, n, axis, 0);
-    }
+    for (axis = 0; axis < 3; ++axis)
+        if (add_cube_face(s, &m, n, axis, 1, 2 * axis, p) || add_cube_face(s, &m, n, axis, 0, 2 * axis + 1, p)) {
+            rerror_at(e, s->path, 0, "cancelled");
+            goto fail;
+        }
+    report(p, "building the mesh", 6L * n, 6L * n);
     add_light(s);
 
     s->materials[0] = make_material("white", (real)0.8, 0);
@@ -240,20 +258,29 @@ static void write_vertex_ref(FILE *f, const triangle *t, int k)
         fprintf(f, " %u", t->v[k] + 1);
 }
 
-static void write_obj(FILE *f, const scene *s, const char *mtl_name)
+/* Every OBJ_PROGRESS_LINES lines of vertices, normals and faces: a progress step. */
+#define OBJ_PROGRESS_LINES 4096
+
+/* Returns nonzero if the progress callback asked to stop (the file is then incomplete). */
+static int write_obj(FILE *f, const scene *s, const char *mtl_name, const generate_progress *p)
 {
     size_t i;
     uint32_t object = UINT32_MAX, mat = UINT32_MAX;
+    const long lines = (long)(s->position_count + s->normal_count + s->triangle_count);
+    const long before_faces = (long)(s->position_count + s->normal_count);
     fprintf(f, "# restir generated scene: %s\n# %zu vertices, %zu triangles\nmtllib %s\n", s->path,
             s->position_count, s->triangle_count, mtl_name);
     /* %.9g round-trips every float exactly. */
-    for (i = 0; i < s->position_count; ++i)
+    for (i = 0; i < s->position_count; ++i) {
+        if (i % OBJ_PROGRESS_LINES == 0 && report(p, "writing OBJ", (long)i, lines)) return 1;
         fprintf(f, "v %.9g %.9g %.9g\n", (double)s->positions[i].x, (double)s->positions[i].y,
                 (double)s->positions[i].z);
+    }
     for (i = 0; i < s->normal_count; ++i)
         fprintf(f, "vn %.9g %.9g %.9g\n", (double)s->normals[i].x, (double)s->normals[i].y, (double)s->normals[i].z);
     for (i = 0; i < s->triangle_count; ++i) {
         const triangle *t = &s->triangles[i];
+        if (i % OBJ_PROGRESS_LINES == 0 && report(p, "writing OBJ", before_faces + (long)i, lines)) return 1;
         if (t->object != object && t->object < s->object_count) {
             object = t->object;
             fprintf(f, "o %s\n", s->object_names[object]);
@@ -268,9 +295,12 @@ static void write_obj(FILE *f, const scene *s, const char *mtl_name)
         write_vertex_ref(f, t, 2);
         fputc('\n', f);
     }
+    return report(p, "writing OBJ", lines, lines);
 }
 
-int generate_write_obj(const scene *s, const char *path, rerror *e)
+int generate_write_obj(const scene *s, const char *path, rerror *e) { return generate_write_obj_progress(s, path, NULL, e); }
+
+int generate_write_obj_progress(const scene *s, const char *path, const generate_progress *p, rerror *e)
 {
     char mtl_path[4200];
     const char *mtl_name;
@@ -283,7 +313,11 @@ int generate_write_obj(const scene *s, const char *path, rerror *e)
         atomic_file_abort(&mtl);
         return -1;
     }
-    write_obj(obj.fp, s, mtl_name);
+    if (write_obj(obj.fp, s, mtl_name, p)) {
+        atomic_file_abort(&obj);
+        atomic_file_abort(&mtl);
+        return rerror_at(e, path, 0, "cancelled");
+    }
     if (atomic_file_commit(&mtl, e)) {
         atomic_file_abort(&obj);
         return -1;

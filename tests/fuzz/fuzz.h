@@ -37,13 +37,16 @@ int fuzz_inflate(const uint8_t *data, size_t size);
 
 /* The readers take a path, so the input goes to a file NAME in a private directory
  * (on tmpfs, /dev/shm, when there is one; removed at exit). Next to it lie the
- * companion files quad.obj and quad.mtl (a lit quad) that fuzzed scene files and OBJ
+ * companion files quad.obj and quad.mtl (a lit quad), tex.obj and tex.mtl (a textured
+ * emissive quad) and sky.pfm (its maps; an environment map) that fuzzed scene files and OBJ
  * files can name. Returns the file's path, or NULL if it cannot be written. */
 const char *fuzz_write_file(const char *name, const uint8_t *data, size_t size);
 
 /* Writes the input to NAME (.obj or .scene), loads it with scene_load and, if that
- * succeeds, builds it with scene_prepare (BVH, emitters): a hostile file must be
- * rejected with a message or give a scene every later stage can build. */
+ * succeeds and it has at most FUZZ_PREPARE_MAX_TRIANGLES triangles, builds it with
+ * scene_prepare (BVH, emitters): a hostile file must be rejected with a message or give a
+ * scene every later stage can build. */
+#define FUZZ_PREPARE_MAX_TRIANGLES 4096
 void fuzz_load_scene(const char *name, const uint8_t *data, size_t size);
 
 #endif

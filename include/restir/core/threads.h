@@ -36,7 +36,14 @@ double threads_parallel_cpu_seconds(void);
  * incomplete and the caller must discard it (threads_cancelled() says so). Process-wide;
  * returns the previous flag so that callers can nest. NULL: nothing cancels. */
 volatile sig_atomic_t *threads_set_cancel(volatile sig_atomic_t *flag);
-/* 1 if the cancel flag is set and nonzero (a parallel call since may be incomplete). */
+/* An outer flag for a caller that discards the whole of what it runs once stopped
+ * (`restir bench`: an interrupted benchmark's timings are worthless): while set and
+ * nonzero it cancels like the cancel flag, whatever the code it runs sets with
+ * threads_set_cancel (the renderers a benchmark runs set their own, often NULL).
+ * NULL (the default): none. */
+void threads_set_abort(volatile sig_atomic_t *flag);
+/* 1 if the cancel flag or the abort flag is set and nonzero (a parallel call since may be
+ * incomplete). */
 int threads_cancelled(void);
 
 /* A process-wide hook called after every finished tile or chunk, under the pool's lock
