@@ -68,6 +68,17 @@ TEST(power_mutate_fp)
     power_mutate(24, BENCH_RUNS(64), MUTATE_FP, "mutations fp x20 vs none after initial, cornell-glossy 24^2");
 }
 
+/* rv and pp x20 after the initial stage, 24², K = 64 (session 14: every strategy in make test). */
+TEST(power_mutate_rv)
+{
+    power_mutate(24, BENCH_RUNS(64), MUTATE_RV, "mutations rv x20 vs none after initial, cornell-glossy 24^2");
+}
+
+TEST(power_mutate_pp)
+{
+    power_mutate(24, BENCH_RUNS(64), MUTATE_PP, "mutations pp x20 vs none after initial, cornell-glossy 24^2");
+}
+
 /* Every strategy at 32², K = 64. */
 TEST_LONG(power_mutate_long)
 {
