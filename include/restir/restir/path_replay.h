@@ -39,6 +39,14 @@ void path_nee_numbers(const path_sample *s, real u[4]);
  * SHIFT_OK, SHIFT_FAIL_REPLAY_SAMPLE (no direction) or SHIFT_FAIL_REPLAY_ZERO (the
  * throughput beta[n+1] is black). */
 enum shift_failure trunk_sample(path_trunk *t, const real u[3]);
+/* The ray of bounce b sampled at v, traced: its hit is built in *next (SHIFT_OK), or it
+ * missed (SHIFT_FAIL_REPLAY_MISS). With `sky` non-NULL and holding distant lights, a ray
+ * leaving the scene reaches the vertex at infinity along it instead
+ * (path_vertex_make_distant; docs/environment.md). The one step of trunk_trace and
+ * trunk_trace_escape, also for a loop that keeps only x_i and x_{i+1} (initial.c). */
+enum shift_failure path_trace_bounce(const scene *s, const light_set *sky, const path_vertex *v, const bsdf_bounce *b,
+                                     path_vertex *next);
+
 /* Traces the ray sampled at x_n and appends the hit x_{n+1}: SHIFT_OK or SHIFT_FAIL_REPLAY_MISS. */
 enum shift_failure trunk_trace(path_trunk *t, const scene *s);
 
