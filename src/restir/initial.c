@@ -69,10 +69,10 @@ static void offer_emitter(const restir_context *c, const initial_options *o, con
                           const bsdf_sample_record *rec, real survival, candidate_stream *cs, initial_stats *st)
 {
     real light_pdf;
-    rgb F;
-    if (rgb_is_black(path_vertex_emitted(&c->path, hit))) return;
+    rgb le = path_vertex_emitted(&c->path, hit), F;
+    if (rgb_is_black(le)) return;
     b->pdf_all = path_bounce_pdf_all(from, rec);
-    F = emitter_path_contribution(&c->path, beta_hit, from, hit, b, *key, i, &light_pdf);
+    F = emitted_path_contribution(&c->path, le, beta_hit, from, hit, b, *key, i, &light_pdf);
     if (!rgb_is_black(F)) offer(cs, o, key, sample, i + 1, PATH_TECH_BSDF, F, survival, st);
 }
 

@@ -99,6 +99,14 @@ rgb emitter_path_contribution(const path_context *c, rgb beta_hit, const path_ve
     rgb le = path_vertex_emitted(c, hit);
     *light_pdf = 0;
     if (rgb_is_black(le)) return le;
+    return emitted_path_contribution(c, le, beta_hit, from, hit, b, path, from_index, light_pdf);
+}
+
+rgb emitted_path_contribution(const path_context *c, rgb le, rgb beta_hit, const path_vertex *from,
+                              const path_vertex *hit, const bsdf_bounce *b, rng_key path, int from_index,
+                              real *light_pdf)
+{
+    *light_pdf = 0;
     if (!b->is_delta && c->strategy == PT_STRATEGY_MIS)
         *light_pdf = path_light_pdf_hit(c, from, hit, path, (uint32_t)from_index);
     return rgb_mul(beta_hit, rgb_scale(le, path_mis_weight_bsdf_hit(c, b, *light_pdf)));

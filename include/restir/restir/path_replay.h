@@ -71,6 +71,11 @@ rgb nee_path_contribution(const path_context *c, rgb beta, const nee_sample *n);
  * p̃ of path_light_pdf_hit, from the path's own numbers). */
 rgb emitter_path_contribution(const path_context *c, rgb beta_hit, const path_vertex *from, const path_vertex *hit,
                               const bsdf_bounce *b, rng_key path, int from_index, real *light_pdf);
+/* The same given le = path_vertex_emitted(c, hit), not black: for a caller that tests it
+ * first (initial.c computes b's all-lobe pdf only for such hits). */
+rgb emitted_path_contribution(const path_context *c, rgb le, rgb beta_hit, const path_vertex *from,
+                              const path_vertex *hit, const bsdf_bounce *b, rng_key path, int from_index,
+                              real *light_pdf);
 
 /* How a full path ends. */
 typedef struct {
