@@ -28,7 +28,7 @@ for sc in $scenes; do
 done
 
 # Stage timers (wall clock inside the process; one thread): initial and the three spatial passes.
-: > "$out/stages.txt"
+: > "$out/stages.raw"
 for sc in $scenes; do
     for bin in "$before" "$after"; do
         i=0
