@@ -2,7 +2,10 @@
  * ReSTIR's initial path trees, the recording of a selected path, and random replay share
  * (GRIS §7.2 "random replay"; docs/design.md, Conventions). It calls the reference path tracer's per-vertex
  * steps (vertex_sampling.h) with the same arguments in the same order, so the same numbers
- * from the same primary hit give bit-identical vertices, lobes and throughputs.
+ * from the same primary hit give bit-identical vertices, lobes and throughputs. (The
+ * initial trees, initial.c, run these steps on a rolling pair of vertices instead of a
+ * path_trunk: path_trace_bounce, and the tree's RNG_BSDF numbers through the path tracer's
+ * vertex_sample_bsdf, the numbers path_bsdf_numbers gives a sample without pss[].)
  *
  * Numbers: the BSDF step at x_j uses the sample's RNG_BSDF numbers at vertex j (slot 0
  * picks the lobe, slots 1-2 the direction), replaced by the explicit primary-sample
