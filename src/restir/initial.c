@@ -78,10 +78,10 @@ static void offer_emitter(const restir_context *c, const initial_options *o, con
 
 /* One path tree: the loop of the reference path tracer (pt.c trace_path), where every
  * increment to the pixel becomes a candidate instead. Like that loop it keeps x_i and
- * x_{i+1} only (x1 read in place, never copied), and its steps are those of a path_trunk
- * (the same calls, arguments and order as trunk_sample, trunk_trace_escape and
- * path_bsdf_numbers with the tree's numbers), so path_record rebuilds the selected path bit
- * for bit. */
+ * x_{i+1} only (x1 read in place, never copied). Its steps compute what a path_trunk's do,
+ * in the same order (path_bsdf_numbers's numbers, trunk_sample's sample and product,
+ * trunk_trace_escape's path_trace_bounce), so path_record rebuilds the selected path bit
+ * for bit (restir_initial_tree_is_the_path_tracer_tree checks it). */
 static void stream_tree(const restir_context *c, const initial_options *o, const path_vertex *x1, uint32_t seed,
                         uint32_t pixel, uint32_t sample, candidate_stream *cs, initial_stats *st)
 {
