@@ -27,14 +27,17 @@ rng_key initial_pixel_key(const initial_options *o, uint32_t seed, uint32_t fram
 }
 
 /* GRIS Eq. 1 with M -> N trees and W_x = 1 / roulette survival probability (the RIS
- * weight p̂/p of Stochastic MIS Eq. 2, with the 1/N of the N canonical trees). */
-static void offer(candidate_stream *cs, const initial_options *o, rng_key key, uint32_t sample, int d, int technique,
-                  rgb F, real rr_survival, initial_stats *st)
+ * weight p̂/p of Stochastic MIS Eq. 2, with the 1/N of the N canonical trees). The key by
+ * address and the number by rng_u_slots (rng_u's number bit for bit): a key passed by value
+ * or built by rng_key_at is copied to the stack just after its narrow stores, and that
+ * reload stalled the candidate loop (docs/performance.md, issue 28). */
+static void offer(candidate_stream *cs, const initial_options *o, const rng_key *key, uint32_t sample, int d,
+                  int technique, rgb F, real rr_survival, initial_stats *st)
 {
     real w, u;
     if (d < 2 || (o->indirect_only && d < 3)) return;
     w = ris_candidate_weight(luminance(F), 1 / rr_survival, (real)o->trees);
-    u = rng_u(key, RNG_RIS, RNG_VERTEX_INITIAL_RIS(d), (uint32_t)technique);
+    rng_u_slots(*key, RNG_RIS, RNG_VERTEX_INITIAL_RIS(d), (uint32_t)technique, 1, &u);
     if (w > 0) st->candidates++;
     if (!wrs_update(&cs->wsum, w, u, &cs->n_invalid)) return;
     cs->selected = 1;
@@ -58,43 +61,65 @@ static real roulette(const initial_options *o, rng_key key, int i, rgb *beta_rr)
     return q;
 }
 
+/* The BSDF path ending at the emitter `hit`, reached by bounce b (sample record rec) from
+ * x_i = `from`, as a candidate. The all-lobe pdf of b (its MIS weight, GRIS §7.6) is
+ * computed only here, as the path tracer does: most bounces reach no emitter. */
+static void offer_emitter(const restir_context *c, const initial_options *o, const rng_key *key, uint32_t sample,
+                          int i, rgb beta_hit, const path_vertex *from, const path_vertex *hit, bsdf_bounce *b,
+                          const bsdf_sample_record *rec, real survival, candidate_stream *cs, initial_stats *st)
+{
+    real light_pdf;
+    rgb le = path_vertex_emitted(&c->path, hit), F;
+    if (rgb_is_black(le)) return;
+    b->pdf_all = path_bounce_pdf_all(from, rec);
+    F = emitted_path_contribution(&c->path, le, beta_hit, from, hit, b, *key, i, &light_pdf);
+    if (!rgb_is_black(F)) offer(cs, o, key, sample, i + 1, PATH_TECH_BSDF, F, survival, st);
+}
+
 /* One path tree: the loop of the reference path tracer (pt.c trace_path), where every
- * increment to the pixel becomes a candidate instead. */
+ * increment to the pixel becomes a candidate instead. Like that loop it keeps x_i and
+ * x_{i+1} only (x1 read in place, never copied). Its steps compute what a path_trunk's do,
+ * in the same order (path_bsdf_numbers's numbers, trunk_sample's sample and product,
+ * trunk_trace_escape's path_trace_bounce), so path_record rebuilds the selected path bit
+ * for bit (restir_initial_tree_is_the_path_tracer_tree checks it). */
 static void stream_tree(const restir_context *c, const initial_options *o, const path_vertex *x1, uint32_t seed,
                         uint32_t pixel, uint32_t sample, candidate_stream *cs, initial_stats *st)
 {
     rng_key key = rng_key_make(seed, pixel, sample);
-    path_sample identity;
-    path_trunk t;
+    path_vertex pair[2], *next = &pair[0];
+    const path_vertex *v = x1; /* x_i */
+    rgb beta = rgb_gray(1);    /* the trunk's PSS throughput arriving at x_i (no roulette) */
     rgb beta_rr = rgb_gray(1); /* the path tracer's throughput, roulette compensated */
     real survival = 1;         /* product of the roulette continuation probabilities */
     int i;
-    path_sample_begin(&identity, seed, pixel, sample);
-    trunk_begin(&t, x1);
     for (i = 1; i < o->max_depth; ++i) {
-        const path_vertex *v = &t.v[i];
-        real u[3], q;
+        bsdf_bounce b;
+        bsdf_sample_record rec;
+        rgb beta_next;
+        real q;
         if (v->can_nee && !(o->indirect_only && i + 1 < 3)) {
             nee_sample n;
             if (vertex_sample_light(&c->path, v, &key, (uint32_t)i, &n))
-                offer(cs, o, key, sample, i + 1, PATH_TECH_NEE, nee_path_contribution(&c->path, t.beta[i], &n), survival,
+                offer(cs, o, &key, sample, i + 1, PATH_TECH_NEE, nee_path_contribution(&c->path, beta, &n), survival,
                       st);
         }
-        path_bsdf_numbers(&identity, i, u);
-        if (trunk_sample(&t, u) != SHIFT_OK) break;
-        beta_rr = rgb_mul(beta_rr, t.b[i].weight);
+        /* A tree's identity has no explicit numbers: path_bsdf_numbers gives its RNG_BSDF
+         * numbers, which vertex_sample_bsdf draws from the same key. */
+        if (!vertex_sample_bsdf(v, &key, (uint32_t)i, &b, &rec)) break;
+        beta_next = rgb_mul(beta, b.weight); /* trunk_sample's product */
+        if (rgb_is_black(beta_next)) break;
+        beta_rr = rgb_mul(beta_rr, b.weight);
         if (rgb_is_black(beta_rr)) break;
         if ((q = roulette(o, key, i, &beta_rr)) == 0) break;
         survival *= q;
         /* A ray that leaves the scene ends the path at the sky (docs/environment.md). */
-        if (trunk_trace_escape(&t, c) != SHIFT_OK) break;
-        {
-            real light_pdf;
-            rgb F = emitter_path_contribution(&c->path, t.beta[i + 1], &t.v[i], &t.v[i + 1], &t.b[i], key, i,
-                                               &light_pdf);
-            if (!rgb_is_black(F)) offer(cs, o, key, sample, i + 1, PATH_TECH_BSDF, F, survival, st);
-        }
-        if (path_vertex_is_distant(&t.v[i + 1])) break;
+        if (path_trace_bounce(c->path.scene, c->path.lights, v, &b, next) != SHIFT_OK) break;
+        offer_emitter(c, o, &key, sample, i, beta_next, v, next, &b, &rec, survival, cs, st);
+        if (path_vertex_is_distant(next)) break;
+        /* x_{i+1} becomes x_i; the other slot of the pair takes x_{i+2} (never x1's). */
+        v = next;
+        next = next == &pair[0] ? &pair[1] : &pair[0];
+        beta = beta_next;
     }
 }
 

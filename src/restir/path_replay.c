@@ -46,28 +46,29 @@ enum shift_failure trunk_sample(path_trunk *t, const real u[3])
     return rgb_is_black(t->beta[n + 1]) ? SHIFT_FAIL_REPLAY_ZERO : SHIFT_OK;
 }
 
+enum shift_failure path_trace_bounce(const scene *s, const light_set *sky, const path_vertex *v, const bsdf_bounce *b,
+                                     path_vertex *next)
+{
+    ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(b->wi), v3f_from(v->wo));
+    surface_hit h;
+    if (scene_intersect(s, &r, &h)) path_vertex_make(next, s, &h, v3_from_f(r.dir));
+    else if (sky && light_set_has_sky(sky)) path_vertex_make_distant(next, b->wi);
+    else return SHIFT_FAIL_REPLAY_MISS;
+    return SHIFT_OK;
+}
+
 enum shift_failure trunk_trace(path_trunk *t, const scene *s)
 {
-    const path_vertex *v = &t->v[t->n];
-    ray r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(t->b[t->n].wi), v3f_from(v->wo));
-    surface_hit h;
-    if (!scene_intersect(s, &r, &h)) return SHIFT_FAIL_REPLAY_MISS;
-    path_vertex_make(&t->v[t->n + 1], s, &h, v3_from_f(r.dir));
-    t->n++;
-    return SHIFT_OK;
+    enum shift_failure why = path_trace_bounce(s, NULL, &t->v[t->n], &t->b[t->n], &t->v[t->n + 1]);
+    if (why == SHIFT_OK) t->n++;
+    return why;
 }
 
 enum shift_failure trunk_trace_escape(path_trunk *t, const restir_context *c)
 {
-    const path_vertex *v = &t->v[t->n];
-    ray r;
-    surface_hit h;
-    if (!light_set_has_sky(c->path.lights)) return trunk_trace(t, c->path.scene);
-    r = scene_spawn_ray(v->hit.position, v->hit.ng, v3f_from(t->b[t->n].wi), v3f_from(v->wo));
-    if (scene_intersect(c->path.scene, &r, &h)) path_vertex_make(&t->v[t->n + 1], c->path.scene, &h, v3_from_f(r.dir));
-    else path_vertex_make_distant(&t->v[t->n + 1], t->b[t->n].wi);
-    t->n++;
-    return SHIFT_OK;
+    enum shift_failure why = path_trace_bounce(c->path.scene, c->path.lights, &t->v[t->n], &t->b[t->n], &t->v[t->n + 1]);
+    if (why == SHIFT_OK) t->n++;
+    return why;
 }
 
 enum shift_failure trunk_replay(path_trunk *t, const restir_context *c, const path_vertex *x1, const path_sample *s,
@@ -98,6 +99,14 @@ rgb emitter_path_contribution(const path_context *c, rgb beta_hit, const path_ve
     rgb le = path_vertex_emitted(c, hit);
     *light_pdf = 0;
     if (rgb_is_black(le)) return le;
+    return emitted_path_contribution(c, le, beta_hit, from, hit, b, path, from_index, light_pdf);
+}
+
+rgb emitted_path_contribution(const path_context *c, rgb le, rgb beta_hit, const path_vertex *from,
+                              const path_vertex *hit, const bsdf_bounce *b, rng_key path, int from_index,
+                              real *light_pdf)
+{
+    *light_pdf = 0;
     if (!b->is_delta && c->strategy == PT_STRATEGY_MIS)
         *light_pdf = path_light_pdf_hit(c, from, hit, path, (uint32_t)from_index);
     return rgb_mul(beta_hit, rgb_scale(le, path_mis_weight_bsdf_hit(c, b, *light_pdf)));

@@ -2,7 +2,10 @@
  * ReSTIR's initial path trees, the recording of a selected path, and random replay share
  * (GRIS §7.2 "random replay"; docs/design.md, Conventions). It calls the reference path tracer's per-vertex
  * steps (vertex_sampling.h) with the same arguments in the same order, so the same numbers
- * from the same primary hit give bit-identical vertices, lobes and throughputs.
+ * from the same primary hit give bit-identical vertices, lobes and throughputs. (The
+ * initial trees, initial.c, run these steps on a rolling pair of vertices instead of a
+ * path_trunk: path_trace_bounce, and the tree's RNG_BSDF numbers through the path tracer's
+ * vertex_sample_bsdf, the numbers path_bsdf_numbers gives a sample without pss[].)
  *
  * Numbers: the BSDF step at x_j uses the sample's RNG_BSDF numbers at vertex j (slot 0
  * picks the lobe, slots 1-2 the direction), replaced by the explicit primary-sample
@@ -39,6 +42,14 @@ void path_nee_numbers(const path_sample *s, real u[4]);
  * SHIFT_OK, SHIFT_FAIL_REPLAY_SAMPLE (no direction) or SHIFT_FAIL_REPLAY_ZERO (the
  * throughput beta[n+1] is black). */
 enum shift_failure trunk_sample(path_trunk *t, const real u[3]);
+/* The ray of bounce b sampled at v, traced: its hit is built in *next (SHIFT_OK), or it
+ * missed (SHIFT_FAIL_REPLAY_MISS). With `sky` non-NULL and holding distant lights, a ray
+ * leaving the scene reaches the vertex at infinity along it instead
+ * (path_vertex_make_distant; docs/environment.md). The one step of trunk_trace and
+ * trunk_trace_escape, also for a loop that keeps only x_i and x_{i+1} (initial.c). */
+enum shift_failure path_trace_bounce(const scene *s, const light_set *sky, const path_vertex *v, const bsdf_bounce *b,
+                                     path_vertex *next);
+
 /* Traces the ray sampled at x_n and appends the hit x_{n+1}: SHIFT_OK or SHIFT_FAIL_REPLAY_MISS. */
 enum shift_failure trunk_trace(path_trunk *t, const scene *s);
 
@@ -63,6 +74,11 @@ rgb nee_path_contribution(const path_context *c, rgb beta, const nee_sample *n);
  * p̃ of path_light_pdf_hit, from the path's own numbers). */
 rgb emitter_path_contribution(const path_context *c, rgb beta_hit, const path_vertex *from, const path_vertex *hit,
                               const bsdf_bounce *b, rng_key path, int from_index, real *light_pdf);
+/* The same given le = path_vertex_emitted(c, hit), not black: for a caller that tests it
+ * first (initial.c computes b's all-lobe pdf only for such hits). */
+rgb emitted_path_contribution(const path_context *c, rgb le, rgb beta_hit, const path_vertex *from,
+                              const path_vertex *hit, const bsdf_bounce *b, rng_key path, int from_index,
+                              real *light_pdf);
 
 /* How a full path ends. */
 typedef struct {
