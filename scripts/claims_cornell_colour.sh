@@ -12,15 +12,17 @@
 # 1 % of the pixels. Reported: mean ± 95% t half-width over seeds, and per seed the paired ratio
 # ReSTIR/PT of each part. About 4 minutes on two cores at the defaults. Smoke test:
 #   SIZE=16 SEEDS=2 REF_SPP=64 sh scripts/claims_cornell_colour.sh /tmp/cc
+# SCENE (default cornell) names another scene of scenes/ for the same split (its reference is
+# the path tracer too: choose a scene whose path tracer converges, not ajar).
 set -eu
 here=$(dirname "$0")
 . "$here/results/lib.sh"
 results_init out/claims-cornell-colour "$@"
-defaults SIZE=128 SEEDS=5 REF_SPP=1024 THREADS=2
+defaults SIZE=128 SEEDS=5 REF_SPP=1024 THREADS=2 SCENE=cornell
 CACHE="$OUT/ref"
 mkdir -p "$TMP" "$CACHE"
-scene=scenes/cornell.scene
-ref=$(reference cornell-all "$SIZE" "$scene" pt "$REF_SPP")
+scene=scenes/$SCENE.scene
+ref=$(reference "$SCENE-all" "$SIZE" "$scene" pt "$REF_SPP")
 split() { python3 "$here/results/relmse_channels.py" "$ref.pfm" "$@"; }
 runs="$OUT/runs.csv"
 echo "config,seed,relmse,relmse_r,relmse_g,relmse_b,relmse_y,top01_share,top1_share" > "$runs"
