@@ -33,7 +33,7 @@ set -eu
 HERE=$(dirname "$0")
 . "$HERE/results/lib.sh"
 . "$HERE/results/claims_lib.sh"
-. "$HERE/results/equal_time.sh" # geo_ci
+. "$HERE/results/equal_time.sh" # et_reference, geo_ci
 results_init out/claims-equal-time "$@"
 defaults SIZE=128 SEEDS=5 "SCENES=cornell ajar textured-room courtyard many-lights" PT_SPP=32 REF_SPP=2048 \
     REF_FRAMES=64 REF_RESTIR=ajar ROUNDS=3 REF_THREADS=2 "PARTS=refs errors times report"
@@ -49,18 +49,9 @@ has_part() { case " $PARTS " in *" $1 "*) return 0 ;; esac; return 1; }
 restir_opts() { echo "--method restir --preset gris-offline --paths $1"; }
 pt_opts() { if [ "$1" = indirect ]; then echo "--method pt --spp $PT_SPP --min-depth 3"; else echo "--method pt --spp $PT_SPP"; fi; }
 
-ref_of() { # SCENE MODE -> reference path (rendered once, cached)
-    sc=$1 mode=$2
-    THREADS=$REF_THREADS
-    case " $REF_RESTIR " in
-    *" $sc "*) reference "$sc-$mode-gris-offline" "$SIZE" "scenes/$sc.scene" restir "$REF_FRAMES" \
-        --preset gris-offline --paths "$mode" ;;
-    *) if [ "$mode" = indirect ]; then
-           reference "$sc-$mode" "$SIZE" "scenes/$sc.scene" pt "$REF_SPP" --min-depth 3
-       else
-           reference "$sc-$mode" "$SIZE" "scenes/$sc.scene" pt "$REF_SPP"
-       fi ;;
-    esac
+ref_of() { # SCENE MODE -> reference path (rendered once, cached): results/equal_time.sh's choice
+    THREADS=$REF_THREADS ET_SIZE=$SIZE ET_REF_PT_SPP=$REF_SPP ET_REF_FRAMES=$REF_FRAMES ET_REF_RESTIR=$REF_RESTIR
+    et_reference "$1" "$2"
 }
 
 # run BIN OUT_PREFIX SCENE SEED OPTIONS...: one single-threaded render; prints its CPU seconds
@@ -188,15 +179,8 @@ report() {
     echo
     echo "| scene, light | reference | its relMSE (ratio) | its MAPE (ratio) |"
     echo "|---|---|---|---|"
-    while IFS='|' read -r x ref; do
-        sc=${x% *}
-        case " $REF_RESTIR " in *" $sc "*) what="gris-offline, $REF_FRAMES frames, seed 9001" ;;
-            *) what="path tracer, $REF_SPP spp, seed 9001" ;; esac
-        minr=$(awk -F, -v x="$x" '$1 == x && $2 ~ /relMSE/ { s[$2] += $4; n[$2]++ } END { a = s["rs relMSE"] / n["rs relMSE"]; b = s["pt relMSE"] / n["pt relMSE"]; print (a < b ? a : b) }' "$OUT/errors.csv")
-        minm=$(awk -F, -v x="$x" '$1 == x && $2 ~ /MAPE/ { s[$2] += $4; n[$2]++ } END { a = s["rs MAPE"] / n["rs MAPE"]; b = s["pt MAPE"] / n["pt MAPE"]; print (a < b ? a : b) }' "$OUT/errors.csv")
-        er=$(ref_relmse "$ref") em=$(ref_mape "$ref")
-        echo "| $x | $what | $(calc "$er") ($(calc "$er / $minr")) | $(calc "$em") ($(calc "$em / $minm")) |"
-    done < "$TMP/refs"
+    ET_REF_RESTIR=$REF_RESTIR ET_REF_FRAMES=$REF_FRAMES ET_REF_PT_SPP=$REF_SPP
+    reference_rows "$OUT/errors.csv" "$TMP/refs" rs pt
 }
 
 has_part refs && refs

@@ -45,6 +45,26 @@ geo_ci() {
         }' "$1"
 }
 
+# reference_rows RUNS REFS RS PT: the table rows "| x | reference | its relMSE (ratio) | its
+# MAPE (ratio) |" of the references in REFS ("x|path" lines). RUNS has "x,NAME,seed,value"
+# rows with NAME "RS relMSE", "PT MAPE", ...; ratio = the reference's own error / the smaller
+# of the two methods' mean errors it judges. The reference's kind from ET_REF_RESTIR,
+# ET_REF_FRAMES and ET_REF_PT_SPP (as et_reference chose it).
+reference_rows() {
+    while IFS='|' read -r x ref; do
+        case " $ET_REF_RESTIR " in *" ${x% *} "*) what="ReSTIR gris-offline, $ET_REF_FRAMES frames, seed 9001" ;;
+            *) what="path tracer, $ET_REF_PT_SPP spp, seed 9001" ;; esac
+        minr=$(smaller_mean "$1" "$x" "$3 relMSE" "$4 relMSE") minm=$(smaller_mean "$1" "$x" "$3 MAPE" "$4 MAPE")
+        er=$(ref_relmse "$ref") em=$(ref_mape "$ref")
+        echo "| $x | $what | $(calc "$er") ($(calc "$er / $minr")) | $(calc "$em") ($(calc "$em / $minm")) |"
+    done < "$2"
+}
+# smaller_mean RUNS X NAME_A NAME_B: the smaller of the mean values of rows X,NAME_A and X,NAME_B
+smaller_mean() {
+    awk -F, -v x="$2" -v a="$3" -v b="$4" '$1 == x && ($2 == a || $2 == b) { s[$2] += $4; n[$2]++ }
+        END { p = s[a] / n[a]; q = s[b] / n[b]; print (p < q ? p : q) }' "$1"
+}
+
 equal_time() {
     runs="$OUT/equal_time.runs.csv"; : > "$runs"
     speed="$OUT/equal_time.speedup.csv"; : > "$speed"
@@ -114,16 +134,6 @@ equal_time_section() {
         echo
         echo "| scene, light | reference | its relMSE (ratio) | its MAPE (ratio) |"
         echo "|---|---|---|---|"
-        while IFS='|' read -r x ref; do
-            sc=${x% *}
-            case " $ET_REF_RESTIR " in *" $sc "*) what="ReSTIR gris-offline, $ET_REF_FRAMES frames, seed 9001" ;;
-                *) what="path tracer, $ET_REF_PT_SPP spp, seed 9001" ;; esac
-            minr=$(awk -F, -v x="$x" '$1 == x && ($2 == "ReSTIR relMSE" || $2 == "PT relMSE") { s[$2] += $4; n[$2]++ }
-                END { a = s["ReSTIR relMSE"] / n["ReSTIR relMSE"]; b = s["PT relMSE"] / n["PT relMSE"]; print (a < b ? a : b) }' "$runs")
-            minm=$(awk -F, -v x="$x" '$1 == x && ($2 == "ReSTIR MAPE" || $2 == "PT MAPE") { s[$2] += $4; n[$2]++ }
-                END { a = s["ReSTIR MAPE"] / n["ReSTIR MAPE"]; b = s["PT MAPE"] / n["PT MAPE"]; print (a < b ? a : b) }' "$runs")
-            er=$(ref_relmse "$ref"); em=$(ref_mape "$ref")
-            echo "| $x | $what | $(calc "$er") ($(calc "$er / $minr")) | $(calc "$em") ($(calc "$em / $minm")) |"
-        done < "$refs"
+        reference_rows "$runs" "$refs" ReSTIR PT
     } > "$OUT/equal_time.section.md"
 }
