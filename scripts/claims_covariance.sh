@@ -35,6 +35,7 @@ results_init out/claims-covariance "$@"
 defaults SIZE=128 LAST=15 K=100 NGROUPS=3 "NS=1 5" STRATEGY=rv KERNEL=gaussian MCAP=50 MCAP_MODE=absolute \
     CANDIDATES=32 SCENE=scenes/cornell-glossy.scene THREADS=2 COV_RADIUS=8
 defaults RADIUS="$(awk -v s="$SIZE" 'BEGIN { r = 20 * s / 1080; printf "%.3g", r < 1 ? 1 : r }')"
+MUTATION_OPTS=${MUTATION_OPTS:-} # more mutation options, e.g. "--mutation-sigma 0.1" (a fixed step)
 defaults COV_RADIUS_SMALL="$(awk -v r="$RADIUS" 'BEGIN { b = int(r * 8 / 20 + 0.5); print b < 1 ? 1 : b }')"
 mkdir -p "$TMP"
 F=$(printf %04d "$LAST")
@@ -71,7 +72,8 @@ while [ "$g" -lt "$NGROUPS" ]; do
     while [ "$i" -le "$K" ]; do
         seed=$((g * K + i))
         image n0 "$seed" --mutations 0
-        for n in $NS; do image "n$n" "$seed" --mutations "$n" --mutation "$STRATEGY" --mutation-kernel "$KERNEL"; done
+        # shellcheck disable=SC2086
+        for n in $NS; do image "n$n" "$seed" --mutations "$n" --mutation "$STRATEGY" --mutation-kernel "$KERNEL" $MUTATION_OPTS; done
         i=$((i + 1))
     done
     for c in $CONFIGS; do for box in $BOXES; do
@@ -82,7 +84,7 @@ while [ "$g" -lt "$NGROUPS" ]; do
 done
 
 echo "## Mutations covariance (Eq. 21, r = $COV_RADIUS), $(basename "$SCENE" .scene) ${SIZE}², frame $LAST, $CANDIDATES candidates,"
-echo "## cap $MCAP ($MCAP_MODE), radius $RADIUS px, $STRATEGY mutations with the $KERNEL kernel; $NGROUPS groups of $K paired images"
+echo "## cap $MCAP ($MCAP_MODE), radius $RADIUS px, $STRATEGY mutations with the $KERNEL kernel${MUTATION_OPTS:+ ($MUTATION_OPTS)}; $NGROUPS groups of $K paired images"
 echo
 echo "| box radius | centre | mutations | covariance (mean over groups) | covariance / 0 mutations' (paired per group) | reduction 1 - ratio |"
 echo "| --- | --- | --- | --- | --- | --- |"
