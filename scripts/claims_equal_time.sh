@@ -57,9 +57,9 @@ ref_of() { # SCENE MODE -> reference path (rendered once, cached): results/equal
 # run BIN OUT_PREFIX SCENE SEED OPTIONS...: one single-threaded render; prints its CPU seconds
 run() {
     bin=$1 prefix=$2 scene=$3 seed=$4; shift 4
-    /usr/bin/time -f "%U %S" -o "$prefix.time" "$bin" render "scenes/$scene.scene" "$@" --size "${SIZE}x${SIZE}" \
+    cpu_run "$prefix" "$bin" render "scenes/$scene.scene" "$@" --size "${SIZE}x${SIZE}" \
         --threads 1 --seed "$seed" --quiet --no-png -o "$prefix.pfm" --stats "$prefix.json" > /dev/null
-    awk '{ printf "%.3f\n", $1 + $2 }' "$prefix.time"
+    cpu_seconds "$prefix"
 }
 # stage_ms JSON: "initial spatial rest" milliseconds of a ReSTIR run (rest = the render's
 # seconds minus both: G-buffer, shading, frame set-up)
@@ -86,9 +86,10 @@ errors() {
             run "$AFTER" "$TMP/rs" "$sc" "$seed" $(restir_opts "$mode") > /dev/null
             run "$AFTER" "$TMP/pt" "$sc" "$seed" $(pt_opts "$mode") > /dev/null
             for m in rs pt; do
-                echo "$x,$m relMSE,$seed,$(metric relmse "$TMP/$m.pfm" "$ref.pfm")"
-                echo "$x,$m MAPE,$seed,$(metric mape "$TMP/$m.pfm" "$ref.pfm")"
-            done >> "$runs"
+                e=$(need "$x $m relMSE" "$(metric relmse "$TMP/$m.pfm" "$ref.pfm")")
+                a=$(need "$x $m MAPE" "$(metric mape "$TMP/$m.pfm" "$ref.pfm")")
+                printf '%s,%s relMSE,%s,%s\n%s,%s MAPE,%s,%s\n' "$x" "$m" "$seed" "$e" "$x" "$m" "$seed" "$a" >> "$runs"
+            done
         done
     done; done
 }
@@ -102,7 +103,7 @@ time_runs() {
             for b in $bins; do
                 bin=$AFTER; [ "$b" = before ] && bin=$BEFORE
                 t_rs=$(run "$bin" "$TMP/t-rs" "$sc" 1 $(restir_opts "$mode"))
-                st=$(stage_ms "$TMP/t-rs.json")
+                st=$(need "$sc $mode stage times" "$(stage_ms "$TMP/t-rs.json")")
                 t_pt=$(run "$bin" "$TMP/t-pt" "$sc" 1 $(pt_opts "$mode"))
                 echo "$sc $mode,$b,$k,$t_rs,$(echo "$st" | tr ' ' ,),$t_pt" >> "$rows"
                 cp "$TMP/t-rs.pfm" "$TMP/t-rs.$b.pfm"; cp "$TMP/t-pt.pfm" "$TMP/t-pt.$b.pfm"

@@ -6,12 +6,21 @@
 # PREFIX.pfm, the --stats as PREFIX.json, and prints the process CPU seconds (user + system).
 cpu_sequence() {
     prefix=$1 last=$2 scene=$3; shift 3
-    /usr/bin/time -f "%U %S" -o "$prefix.time" "$R" render "$scene" --method restir --sequence "0..$last" "$@" \
+    cpu_run "$prefix" "$R" render "$scene" --method restir --sequence "0..$last" "$@" \
         --threads 1 --quiet --no-png -o "$prefix.run.pfm" --stats "$prefix.json" >/dev/null
     mv "$prefix.run.$(printf %04d "$last").pfm" "$prefix.pfm"
     rm -f "$prefix".run.*.pfm
-    awk '{ printf "%.3f\n", $1 + $2 }' "$prefix.time"
+    cpu_seconds "$prefix"
 }
+
+# cpu_run PREFIX COMMAND...: runs COMMAND, its CPU time (user, system) kept in PREFIX.time;
+# fails as the command fails. cpu_seconds PREFIX: that time as user + system seconds.
+cpu_run() { prefix=$1; shift; /usr/bin/time -f "%U %S" -o "$prefix.time" "$@"; }
+cpu_seconds() { awk '{ printf "%.3f\n", $1 + $2 }' "$1.time"; }
+
+# need WHAT VALUE: VALUE, or stop the script if it is empty (a metric whose command failed
+# inside a pipeline or a substitution would otherwise enter the tables as a blank)
+need() { [ -n "$2" ] || { echo "${0##*/}: no value for $1" >&2; exit 1; }; echo "$2"; }
 
 # metric_of TEST REF NAME: one value of `restir compare` (relmse, mape, ...)
 metric_of() { "$R" compare "$1" "$2" | awk -v k="$3" '$1 == k { print $2 }'; }
